@@ -1,0 +1,58 @@
+"""Atomic file writing: a result file is either the previous one or a complete new one.
+
+Write to a temporary file in the destination's directory, flush and fsync it, then
+``os.replace`` it onto the destination (atomic on POSIX within one filesystem). On any
+exception, including ``KeyboardInterrupt``, the temporary file is removed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from pathlib import Path
+from typing import Iterator
+
+__all__ = ["atomic_path", "atomic_write_text"]
+
+
+@contextlib.contextmanager
+def atomic_path(destination: str | os.PathLike, suffix: str | None = None) -> Iterator[Path]:
+    """Yield a temporary path next to ``destination``; rename it onto ``destination`` on success.
+
+    Parameters
+    ----------
+    destination : path-like
+        Final file path. Its parent directory is created if needed.
+    suffix : str, optional
+        Suffix of the temporary file (defaults to the destination's, so that libraries
+        that choose a format from the extension, like matplotlib, still work).
+
+    Examples
+    --------
+    >>> with atomic_path("out.h5") as tmp:          # doctest: +SKIP
+    ...     with h5py.File(tmp, "w") as f: ...
+    """
+    destination = Path(destination)
+    destination.parent.mkdir(parents=True, exist_ok=True)
+    fd, name = tempfile.mkstemp(prefix=f".{destination.name}.partial-",
+                                suffix=destination.suffix if suffix is None else suffix,
+                                dir=destination.parent)
+    os.close(fd)
+    tmp = Path(name)
+    try:
+        yield tmp
+        with open(tmp, "rb") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, destination)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            tmp.unlink()
+        raise
+
+
+def atomic_write_text(destination: str | os.PathLike, text: str) -> Path:
+    """Write ``text`` to ``destination`` atomically and return the path."""
+    with atomic_path(destination) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return Path(destination)

@@ -1,0 +1,1 @@
+"""Semi-active controllers that turn the benchmark's measurements into coil voltages."""

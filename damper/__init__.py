@@ -1,0 +1,1 @@
+"""MR damper models, the virtual benchmark damper, its virtual laboratory and identification."""

@@ -1,0 +1,1 @@
+"""Ground-motion records: readers, the benchmark catalogue, checks and a synthetic generator."""
