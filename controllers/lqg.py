@@ -1,0 +1,304 @@
+"""H2/LQG design on a linear model: modal reduction, LQR gain, discrete Kalman filter, and the
+observer-based controller in the compiled form :math:`(A_c, B_c, C_c, D_c)`.
+
+Plant (continuous, linearised isolation; from :mod:`benchmark.linear_model` for the
+benchmark building, or any model in tests):
+
+.. math::
+
+    \\dot x = A x + B f + E \\ddot u_g, \\qquad y = C x + D f,
+
+with ``f`` the device forces [N], ``ü_g`` the ground acceleration (x, y) [m/s²] and ``y``
+the measurement vector. The controller uses the *sensor* rows ``y_s = S y`` (absolute
+accelerations and base drift) and takes the measured device forces ``f_m = S_f y`` as a known
+input, as in the benchmark's sample controllers (Nagarajaiah & Narasimhan 2006, Part II).
+
+**LQR** (continuous): minimise :math:`\\int z^T W_z z + f^T W_f f\\, dt` with regulated outputs
+:math:`z = C_z x + D_z f`, i.e. :math:`Q = C_z^T W_z C_z`, :math:`N = C_z^T W_z D_z`,
+:math:`R = D_z^T W_z D_z + W_f`; the gain :math:`K` solves
+
+.. math:: A^T P + P A - (P B + N) R^{-1} (B^T P + N^T) + Q = 0, \\quad K = R^{-1}(B^T P + N^T).
+
+**Kalman filter** (discrete, at the control step Δt, zero-order hold): the ground
+acceleration is held over a step, so :math:`x[k+1] = A_d x[k] + B_d f[k] + E_d \\ddot u_g[k]`,
+with :math:`\\ddot u_g[k]` modelled as white with covariance :math:`W` and the sensor noise
+with covariance :math:`V`. With the a-priori covariance :math:`P_e` of the discrete Riccati
+equation, the filter gain :math:`M = P_e C_s^T (C_s P_e C_s^T + V)^{-1}` and the current estimate
+
+.. math::
+
+    \\hat x[k|k] = \\hat x[k|k-1] + M (y_s[k] - C_s \\hat x[k|k-1] - D_s f_m[k]), \\qquad
+    \\hat x[k+1|k] = A_d \\hat x[k|k] + B_d f_m[k].
+
+**Compiled form**: with controller state :math:`x_c = \\hat x[k|k-1]` and an output gain
+:math:`G` (``-K`` for LQR, :math:`B^T P` for the Lyapunov sign term), :math:`f_c = G \\hat x[k|k]`:
+
+.. math::
+
+    A_c = A_d (I - M C_s), \\quad B_c = A_d M (S - D_s S_f) + B_d S_f, \\quad
+    C_c = G (I - M C_s), \\quad D_c = G M (S - D_s S_f).
+
+References
+----------
+Dyke S.J., Spencer B.F., Sain M.K., Carlson J.D. (1996) Smart Mater. Struct. 5:565–575.
+Nagarajaiah S., Narasimhan S. (2006) Smart base-isolated benchmark building. Part II:
+phase I sample controllers for linear isolation systems. Struct. Control Health Monit. 13:589–604.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import control as ct
+import numpy as np
+import scipy.linalg
+
+from benchmark.errors import NumericalError, ParameterError
+
+__all__ = [
+    "LinearPlant",
+    "ReducedPlant",
+    "modal_reduction",
+    "lqr_design",
+    "kalman_design",
+    "observer_controller",
+    "continuous_riccati_residual",
+    "discrete_riccati_residual",
+    "simulate_linear",
+    "estimator_fit",
+]
+
+
+@dataclass(frozen=True)
+class LinearPlant:
+    """A continuous linear plant :math:`\\dot x = Ax + Bf + E\\ddot u_g`, :math:`y = Cx + Df` (SI).
+
+    Parameters
+    ----------
+    A : (n, n), B : (n, n_dev), E : (n, n_g), C : (n_meas, n), D : (n_meas, n_dev)
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    E: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+
+    def __post_init__(self) -> None:
+        n = np.shape(self.A)[0]
+        shapes = {"A": (n, n), "B": (n, None), "E": (n, None), "C": (None, n), "D": (None, None)}
+        for name, shape in shapes.items():
+            value = np.asarray(getattr(self, name), dtype=np.float64)
+            if value.ndim != 2 or any(s is not None and s != v for s, v in zip(shape, value.shape)):
+                raise ParameterError(f"LinearPlant.{name} has shape {value.shape}, expected {shape} "
+                                     f"(None: any)")
+            if not np.all(np.isfinite(value)):
+                raise ParameterError(f"LinearPlant.{name} contains NaN or inf")
+            object.__setattr__(self, name, value)
+        if self.D.shape != (self.C.shape[0], self.B.shape[1]):
+            raise ParameterError(f"LinearPlant.D has shape {self.D.shape}, expected "
+                                 f"{(self.C.shape[0], self.B.shape[1])}")
+
+    @property
+    def n_states(self) -> int:
+        return self.A.shape[0]
+
+    @property
+    def n_inputs(self) -> int:
+        return self.B.shape[1]
+
+    def discretise(self, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Zero-order-hold discretisation ``(A_d, B_d, E_d)`` at step ``dt`` [s]."""
+        n, m, g = self.n_states, self.B.shape[1], self.E.shape[1]
+        big = np.zeros((n + m + g, n + m + g))
+        big[:n, :n] = self.A
+        big[:n, n:n + m] = self.B
+        big[:n, n + m:] = self.E
+        phi = scipy.linalg.expm(big * dt)
+        return phi[:n, :n], phi[:n, n:n + m], phi[:n, n + m:]
+
+
+@dataclass(frozen=True)
+class ReducedPlant:
+    """A plant reduced by modal truncation and the map back to the full state.
+
+    ``plant`` is the reduced plant; full states are approximately ``T_r @ x_r`` and
+    ``x_r = W_r @ x`` projects a full state onto the retained modes. ``eigenvalues`` are the
+    retained continuous eigenvalues.
+    """
+
+    plant: LinearPlant
+    T_r: np.ndarray
+    W_r: np.ndarray
+    eigenvalues: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+
+def modal_reduction(plant: LinearPlant, n_modes: int, static_correction: bool = True) -> ReducedPlant:
+    """Keep the ``n_modes`` slowest modes (complex pairs count once) of ``plant``.
+
+    The state is transformed to real modal coordinates (a complex pair ``v, v̄`` becomes the
+    columns ``Re v, Im v``); the retained block is kept and, with ``static_correction``, the
+    truncated modes' static contribution :math:`-C_t A_t^{-1} B_t` is added to ``D`` (so that
+    absolute accelerations keep their instantaneous response to device forces).
+
+    Raises
+    ------
+    ParameterError
+        If ``n_modes`` is not between 1 and the number of modes.
+    """
+    A = plant.A
+    lam, V = scipy.linalg.eig(A)
+    order = np.argsort(np.abs(lam) + 1e-9 * np.abs(lam.imag))
+    columns, kept_lambdas, groups = [], [], []
+    used = np.zeros(lam.size, dtype=bool)
+    for i in order:
+        if used[i]:
+            continue
+        used[i] = True
+        if abs(lam[i].imag) > 1e-9 * max(1.0, abs(lam[i])):
+            # find the conjugate partner
+            partner = np.argmin(np.abs(lam - np.conj(lam[i])) + used * 1e300)
+            used[partner] = True
+            v = V[:, i] if lam[i].imag > 0 else V[:, partner]
+            groups.append([len(columns), len(columns) + 1])
+            columns += [v.real, v.imag]
+            kept_lambdas.append(lam[i] if lam[i].imag > 0 else lam[partner])
+        else:
+            groups.append([len(columns)])
+            columns.append(V[:, i].real)
+            kept_lambdas.append(lam[i].real)
+    n_total = len(groups)
+    if not 1 <= n_modes <= n_total:
+        raise ParameterError(f"modal_reduction: n_modes must lie in [1, {n_total}], got {n_modes}")
+    T = np.column_stack(columns)
+    T_inv = np.linalg.inv(T)
+    keep = np.concatenate([groups[j] for j in range(n_modes)]).astype(int)
+    drop = np.setdiff1d(np.arange(A.shape[0]), keep)
+    Am, Bm, Em, Cm = T_inv @ A @ T, T_inv @ plant.B, T_inv @ plant.E, plant.C @ T
+    D = plant.D.copy()
+    if static_correction and drop.size:
+        D = D - Cm[:, drop] @ np.linalg.solve(Am[np.ix_(drop, drop)], Bm[drop])
+    reduced = LinearPlant(A=Am[np.ix_(keep, keep)], B=Bm[keep], E=Em[keep], C=Cm[:, keep], D=D)
+    return ReducedPlant(plant=reduced, T_r=T[:, keep], W_r=T_inv[keep], eigenvalues=np.array(kept_lambdas[:n_modes]))
+
+
+def continuous_riccati_residual(A, B, Q, R, N, P) -> float:
+    """Relative residual ‖AᵀP + PA − (PB+N)R⁻¹(BᵀP+Nᵀ) + Q‖ / ‖Q‖ (Frobenius) of the LQR equation."""
+    res = A.T @ P + P @ A - (P @ B + N) @ np.linalg.solve(R, B.T @ P + N.T) + Q
+    return float(np.linalg.norm(res) / max(np.linalg.norm(Q), np.finfo(float).tiny))
+
+
+def discrete_riccati_residual(A, C, Qd, V, P) -> float:
+    """Relative residual of the filter Riccati equation
+    ‖A P Aᵀ − A P Cᵀ(C P Cᵀ + V)⁻¹ C P Aᵀ + Q_d − P‖ / ‖P‖."""
+    S = C @ P @ C.T + V
+    res = A @ P @ A.T - A @ P @ C.T @ np.linalg.solve(S, C @ P @ A.T) + Qd - P
+    return float(np.linalg.norm(res) / max(np.linalg.norm(P), np.finfo(float).tiny))
+
+
+def lqr_design(A, B, Cz, Dz, Wz, Wf) -> dict:
+    """Continuous LQR on regulated outputs (see the module docstring).
+
+    Returns
+    -------
+    dict
+        ``K`` (gain, f = −K x), ``P`` (Riccati solution), ``Q``, ``R``, ``N``,
+        ``closed_loop_poles`` (eig(A − BK)), ``riccati_residual`` (relative).
+
+    Raises
+    ------
+    NumericalError
+        If the Riccati equation has no stabilising solution.
+    """
+    Wz = np.atleast_2d(Wz)
+    Wf = np.atleast_2d(Wf)
+    Q = Cz.T @ Wz @ Cz
+    N = Cz.T @ Wz @ Dz
+    R = Dz.T @ Wz @ Dz + Wf
+    Q = 0.5 * (Q + Q.T)
+    R = 0.5 * (R + R.T)
+    try:
+        K, P, poles = ct.lqr(A, B, Q, R, N)
+    except Exception as exc:  # python-control raises several types for a failed ARE
+        raise NumericalError(f"LQR design failed: {exc}",
+                             hint="check that the weights are positive and the model stabilisable") from None
+    K, P = np.asarray(K), np.asarray(P)
+    return {"K": K, "P": P, "Q": Q, "R": R, "N": N, "closed_loop_poles": np.asarray(poles),
+            "riccati_residual": continuous_riccati_residual(A, B, Q, R, N, P)}
+
+
+def kalman_design(Ad, Ed, Cs, W, V) -> dict:
+    """Stationary discrete Kalman filter for :math:`x[k+1] = A_d x + E_d w`, :math:`y_s = C_s x + v`.
+
+    Returns
+    -------
+    dict
+        ``M`` (filter gain, current estimate), ``L`` (predictor gain, ``A_d M``), ``P``
+        (a-priori covariance), ``Qd`` (= E_d W E_dᵀ), ``poles`` (eig(A_d − L C_s)),
+        ``riccati_residual`` (relative).
+    """
+    W = np.atleast_2d(W)
+    V = np.atleast_2d(V)
+    try:
+        L, P, poles = ct.dlqe(Ad, Ed, Cs, W, V)
+    except Exception as exc:
+        raise NumericalError(f"Kalman filter design failed: {exc}",
+                             hint="check the sensor set (observability) and noise intensities") from None
+    P = np.asarray(P)
+    P = 0.5 * (P + P.T)
+    M = P @ Cs.T @ np.linalg.inv(Cs @ P @ Cs.T + V)
+    Qd = Ed @ W @ Ed.T
+    return {"M": M, "L": Ad @ M, "P": P, "Qd": Qd, "poles": np.linalg.eigvals(Ad - Ad @ M @ Cs),
+            "riccati_residual": discrete_riccati_residual(Ad, Cs, Qd, V, P)}
+
+
+def observer_controller(Ad, Bd, Cs, Ds, M, G, sensor_rows, force_rows, n_meas) -> tuple:
+    """Assemble ``(Ac, Bc, Cc, Dc)`` of the observer-based controller (module docstring).
+
+    Parameters
+    ----------
+    Ad, Bd : discrete plant matrices (force input)
+    Cs, Ds : sensor rows of the plant output (``y_s = C_s x + D_s f``)
+    M : filter gain
+    G : output gain (``f_c = G x̂[k|k]``)
+    sensor_rows, force_rows : index arrays into the measurement vector (``S``, ``S_f``)
+    n_meas : int
+        Length of the measurement vector.
+    """
+    n = Ad.shape[0]
+    S = np.zeros((len(sensor_rows), n_meas))
+    S[np.arange(len(sensor_rows)), sensor_rows] = 1.0
+    Sf = np.zeros((len(force_rows), n_meas))
+    Sf[np.arange(len(force_rows)), force_rows] = 1.0
+    innovation_input = S - Ds @ Sf          # y_s - D_s f_m as a map of y
+    I_MC = np.eye(n) - M @ Cs
+    Ac = Ad @ I_MC
+    Bc = Ad @ M @ innovation_input + Bd @ Sf
+    Cc = G @ I_MC
+    Dc = G @ M @ innovation_input
+    return Ac, Bc, Cc, Dc
+
+
+def simulate_linear(plant: LinearPlant, dt: float, ground: np.ndarray, forces: np.ndarray | None = None,
+                    x0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Exact ZOH simulation of ``plant`` with inputs held over each step.
+
+    Returns ``(x, y)`` with ``x[k]``, ``y[k] = C x[k] + D f[k]`` for ``k = 0..n-1``.
+    """
+    Ad, Bd, Ed = plant.discretise(dt)
+    n = ground.shape[0]
+    f = np.zeros((n, plant.n_inputs)) if forces is None else forces
+    x = np.zeros((n, plant.n_states))
+    xk = np.zeros(plant.n_states) if x0 is None else x0.copy()
+    for k in range(n):
+        x[k] = xk
+        xk = Ad @ xk + Bd @ f[k] + Ed @ ground[k]
+    y = x @ plant.C.T + f @ plant.D.T
+    return x, y
+
+
+def estimator_fit(true: np.ndarray, estimate: np.ndarray) -> np.ndarray:
+    """Fit per column, 100·(1 − ‖x − x̂‖/‖x − mean x‖) [%] (100 % = perfect)."""
+    err = np.linalg.norm(true - estimate, axis=0)
+    spread = np.linalg.norm(true - true.mean(axis=0), axis=0)
+    return 100.0 * (1.0 - err / np.where(spread > 0, spread, np.inf))
