@@ -1,0 +1,395 @@
+"""Cycles of a periodic damper test: reversals, the limit cycle, the loading and unloading branches.
+
+The closed-form identification (Ikhouane & Rodellar 2007, ch. 3; Rodríguez et al. 2009; Bahar
+et al. 2009, appendix) reads the parameters off the *limit cycle* of a test driven at constant
+voltage by a periodic "wave" input, i.e. a displacement that increases from
+:math:`X_{min}` to :math:`X_{max}` and decreases back over each period. This module
+
+* finds the displacement reversals with a Schmitt trigger (robust to measurement noise),
+* splits the test into cycles (minimum → maximum → next minimum),
+* discards the leading cycles that are still transient ("wait for the limit cycle"),
+* averages the loading and unloading branches of the remaining cycles over displacement bins,
+* checks that the excitation is large enough for the plastic assumption :math:`\\bar w \\approx 1`.
+
+The excitation check uses the exact limit cycle of the normalized Bouc-Wen model: on the
+loading branch :math:`dw/dx = \\rho\\,h(w)` with :math:`h(w) = 1 - w^n` for :math:`w \\ge 0` and
+:math:`h(w) = 1 + (2\\sigma - 1)|w|^n` for :math:`w < 0`, so the peak :math:`w_0` of the cycle solves
+
+.. math:: H_{\\sigma,n}(w_0) + G_n(w_0) = \\rho\\,(X_{max} - X_{min}),
+
+with :math:`G_n(w) = \\int_0^w d\\mu/(1-\\mu^n) = w\\,{}_2F_1(1, 1/n; 1 + 1/n; w^n)` and
+:math:`H_{\\sigma,n}(w) = \\int_0^w d\\mu/(1 + (2\\sigma-1)\\mu^n) = w\\,{}_2F_1(1, 1/n; 1+1/n; -(2\\sigma-1) w^n)`.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import hyp2f1
+
+from benchmark.errors import InputError
+
+__all__ = [
+    "Cycle",
+    "Branches",
+    "ExcitationWarning",
+    "detect_cycles",
+    "steady_cycles",
+    "average_branches",
+    "g_integral",
+    "h_integral",
+    "limit_cycle_peak",
+    "plastic_distance",
+    "check_excitation",
+    "MIN_RHO_STROKE",
+    "RECOMMENDED_RHO_STROKE",
+]
+
+#: Below this value of rho*(X_max - X_min) the closed-form steps are not applicable (w0 < 0.95
+#: for n = 1, sigma = 1/2): :func:`check_excitation` raises.
+MIN_RHO_STROKE = 4.0
+#: Below this value the plastic region is short and the closed-form start is biased: a warning.
+RECOMMENDED_RHO_STROKE = 7.0
+
+
+class ExcitationWarning(UserWarning):
+    """The test's stroke is only marginally large enough for the plastic assumption."""
+
+
+@dataclass(frozen=True)
+class Cycle:
+    """One period of a wave input, as sample indices into the test arrays.
+
+    Attributes
+    ----------
+    start : int
+        Index of the displacement minimum that opens the cycle.
+    peak : int
+        Index of the maximum (end of the loading branch, start of the unloading branch).
+    end : int
+        Index of the next minimum (closes the cycle; the next cycle's ``start``).
+    """
+
+    start: int
+    peak: int
+    end: int
+
+    @property
+    def loading(self) -> slice:
+        """Samples of the loading branch (increasing displacement)."""
+        return slice(self.start, self.peak + 1)
+
+    @property
+    def unloading(self) -> slice:
+        """Samples of the unloading branch (decreasing displacement)."""
+        return slice(self.peak, self.end + 1)
+
+    @property
+    def samples(self) -> slice:
+        """All samples of the cycle."""
+        return slice(self.start, self.end + 1)
+
+
+@dataclass(frozen=True)
+class Branches:
+    """Loading and unloading branches of the limit cycle, averaged over cycles in displacement bins.
+
+    All arrays are ordered by increasing displacement and share the bin centres ``x`` [m]
+    (bins that no sample of a branch fell into hold NaN).
+
+    Attributes
+    ----------
+    x : ndarray
+        Bin centres [m].
+    force_loading, force_unloading : ndarray
+        Mean force on each branch [N].
+    velocity_loading, velocity_unloading : ndarray
+        Mean velocity on each branch [m/s].
+    count_loading, count_unloading : ndarray
+        Number of samples in each bin.
+    x_min, x_max : float
+        Mean displacement minimum and maximum of the cycles [m].
+    n_cycles : int
+        Number of cycles averaged.
+    """
+
+    x: np.ndarray
+    force_loading: np.ndarray
+    force_unloading: np.ndarray
+    velocity_loading: np.ndarray
+    velocity_unloading: np.ndarray
+    count_loading: np.ndarray
+    count_unloading: np.ndarray
+    x_min: float
+    x_max: float
+    n_cycles: int
+
+    @property
+    def stroke(self) -> float:
+        """Peak-to-peak displacement :math:`X_{max} - X_{min}` [m]."""
+        return self.x_max - self.x_min
+
+
+def _as_1d(name: str, a: np.ndarray) -> np.ndarray:
+    arr = np.asarray(a, dtype=float)
+    if arr.ndim != 1:
+        raise InputError(f"{name}: expected a one-dimensional array, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        bad = int(np.flatnonzero(~np.isfinite(arr))[0])
+        raise InputError(f"{name}: non-finite value at sample {bad}")
+    return arr
+
+
+def detect_cycles(displacement: np.ndarray, hysteresis: float = 0.25) -> list[Cycle]:
+    """Split a periodic wave test into cycles (minimum → maximum → minimum).
+
+    A Schmitt trigger finds the reversals: while the displacement rises, a maximum is
+    confirmed once it has fallen by ``hysteresis`` times the stroke below the running
+    maximum, and symmetrically for minima. Noise smaller than that band cannot create
+    spurious reversals.
+
+    Parameters
+    ----------
+    displacement : ndarray, shape (n,)
+        Displacement history [m].
+    hysteresis : float
+        Fraction of the stroke (robust peak-to-peak, 0.5–99.5 percentiles) a reversal must be
+        confirmed by; in (0, 0.5).
+
+    Returns
+    -------
+    list of Cycle
+        Complete cycles, in time order; the partial cycles at both ends are dropped.
+
+    Raises
+    ------
+    InputError
+        If the displacement is not finite, has no stroke, or holds no complete cycle.
+    """
+    x = _as_1d("displacement", displacement)
+    if not 0.0 < hysteresis < 0.5:
+        raise InputError(f"hysteresis: expected a fraction in (0, 0.5), got {hysteresis}")
+    lo, hi = np.percentile(x, [0.5, 99.5])
+    stroke = hi - lo
+    if not stroke > 0.0:
+        raise InputError("displacement: the test has no stroke (constant displacement)")
+    band = hysteresis * stroke
+    extrema: list[tuple[int, int]] = []  # (index, +1 for max / -1 for min)
+    i_max = i_min = 0
+    direction = 0  # unknown until the first band crossing
+    for i in range(1, x.size):
+        xi = x[i]
+        if xi > x[i_max]:
+            i_max = i
+        if xi < x[i_min]:
+            i_min = i
+        # An extreme is recorded once the signal has left it by the band. The first one is
+        # confirmed on one side only (the record may start mid-branch) and is therefore not
+        # recorded: a cycle starts at a genuine minimum.
+        if direction >= 0 and xi < x[i_max] - band:
+            if direction == 1:
+                extrema.append((i_max, +1))
+            direction = -1
+            i_min = i
+        elif direction <= 0 and xi > x[i_min] + band:
+            if direction == -1:
+                extrema.append((i_min, -1))
+            direction = +1
+            i_max = i
+    extrema.sort()
+    cycles = []
+    for k in range(len(extrema) - 2):
+        (a, ka), (b, kb), (c, kc) = extrema[k], extrema[k + 1], extrema[k + 2]
+        if ka == -1 and kb == +1 and kc == -1:
+            cycles.append(Cycle(a, b, c))
+    if not cycles:
+        raise InputError(f"displacement: no complete cycle (minimum → maximum → minimum) found in "
+                         f"{x.size} samples; a periodic test needs at least two periods")
+    return cycles
+
+
+def _loop_on_grid(x: np.ndarray, force: np.ndarray, cycle: Cycle, grid: np.ndarray) -> np.ndarray:
+    """Force of one cycle's loading then unloading branch on a common displacement grid."""
+    out = []
+    for sl in (cycle.loading, cycle.unloading):
+        xb, fb = x[sl], force[sl]
+        order = np.argsort(xb, kind="stable")
+        out.append(np.interp(grid, xb[order], fb[order]))
+    return np.concatenate(out)
+
+
+def steady_cycles(displacement: np.ndarray, force: np.ndarray, cycles: list[Cycle],
+                  tol: float = 0.01) -> tuple[list[Cycle], np.ndarray]:
+    """Wait for the limit cycle: drop the leading cycles that still differ from the steady loop.
+
+    Each cycle's loop (loading and unloading force on a common displacement grid) is compared
+    with the median loop of the second half of the cycles; its deviation is
+    :math:`d_k = \\|F_k - F_{med}\\|_2 / \\|F_{med}\\|_2`. Leading cycles with
+    :math:`d_k > \\max(\\mathrm{tol}, 3\\,\\mathrm{median}(d))` are transient (the median
+    deviation is the noise floor, so noisy data are not rejected wholesale).
+
+    Parameters
+    ----------
+    displacement, force : ndarray, shape (n,)
+        Test histories [m], [N].
+    cycles : list of Cycle
+        From :func:`detect_cycles`.
+    tol : float
+        Relative deviation accepted as "steady" on noise-free data.
+
+    Returns
+    -------
+    kept : list of Cycle
+        The steady cycles (at least one).
+    deviation : ndarray
+        :math:`d_k` of every input cycle.
+    """
+    x = _as_1d("displacement", displacement)
+    f = _as_1d("force", force)
+    if f.size != x.size:
+        raise InputError(f"force: expected {x.size} samples like the displacement, got {f.size}")
+    lo = max(x[c.start] for c in cycles)
+    hi = min(x[c.peak] for c in cycles)
+    if not hi > lo:
+        return list(cycles), np.zeros(len(cycles))
+    grid = np.linspace(lo, hi, 64)
+    loops = np.array([_loop_on_grid(x, f, c, grid) for c in cycles])
+    reference = np.median(loops[len(cycles) // 2:], axis=0)
+    scale = np.linalg.norm(reference) or 1.0
+    deviation = np.linalg.norm(loops - reference, axis=1) / scale
+    threshold = max(tol, 3.0 * float(np.median(deviation)))
+    first = 0
+    while first < len(cycles) - 1 and deviation[first] > threshold:
+        first += 1
+    return list(cycles[first:]), deviation
+
+
+def average_branches(displacement: np.ndarray, velocity: np.ndarray, force: np.ndarray,
+                     cycles: list[Cycle], n_bins: int | None = None) -> Branches:
+    """Average the loading and unloading branches of the given cycles in displacement bins.
+
+    Binning (rather than interpolation) tolerates noise that makes the displacement locally
+    non-monotonic near the reversals, and averages the cycles in one pass.
+
+    Parameters
+    ----------
+    displacement, velocity, force : ndarray, shape (n,)
+        Test histories [m, m/s, N].
+    cycles : list of Cycle
+        Steady cycles.
+    n_bins : int, optional
+        Number of displacement bins between the mean minimum and maximum; by default about one
+        bin per two samples of one branch, clipped to [100, 2000].
+    """
+    x = _as_1d("displacement", displacement)
+    v = _as_1d("velocity", velocity)
+    f = _as_1d("force", force)
+    if not cycles:
+        raise InputError("cycles: at least one cycle is needed")
+    x_min = float(np.mean([x[c.start] for c in cycles] + [x[c.end] for c in cycles]))
+    x_max = float(np.mean([x[c.peak] for c in cycles]))
+    if n_bins is None:
+        per_branch = np.mean([c.peak - c.start for c in cycles])
+        n_bins = int(np.clip(per_branch / 2, 100, 2000))
+    edges = np.linspace(x_min, x_max, n_bins + 1)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+
+    def binned(sl_name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        idx = np.concatenate([np.arange(getattr(c, sl_name).start, getattr(c, sl_name).stop)
+                              for c in cycles])
+        b = np.clip(np.searchsorted(edges, x[idx], side="right") - 1, 0, n_bins - 1)
+        count = np.bincount(b, minlength=n_bins).astype(float)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fm = np.bincount(b, weights=f[idx], minlength=n_bins) / count
+            vm = np.bincount(b, weights=v[idx], minlength=n_bins) / count
+        return fm, vm, count
+
+    fl, vl, cl = binned("loading")
+    fu, vu, cu = binned("unloading")
+    return Branches(centres, fl, fu, vl, vu, cl, cu, x_min, x_max, len(cycles))
+
+
+def g_integral(w: np.ndarray | float, n: float) -> np.ndarray:
+    """:math:`G_n(w) = \\int_0^w d\\mu/(1 - \\mu^n)` for :math:`0 \\le w < 1`.
+
+    Closed form :math:`w\\,{}_2F_1(1, 1/n; 1 + 1/n; w^n)` (term-wise integration of the
+    geometric series). On the loading branch of the normalized Bouc-Wen model,
+    :math:`G_n(\\bar w(x)) = \\rho (x - x^*)` for :math:`x \\ge x^*`.
+    """
+    w = np.asarray(w, dtype=float)
+    return w * hyp2f1(1.0, 1.0 / n, 1.0 + 1.0 / n, np.abs(w) ** n)
+
+
+def h_integral(w: np.ndarray | float, sigma: float, n: float) -> np.ndarray:
+    """:math:`H_{\\sigma,n}(w) = \\int_0^w d\\mu / (1 + (2\\sigma - 1)\\mu^n)` for :math:`w \\ge 0`.
+
+    On the loading branch for :math:`x < x^*` (where :math:`\\bar w < 0`),
+    :math:`H_{\\sigma,n}(-\\bar w(x)) = \\rho (x^* - x)`.
+    """
+    w = np.asarray(w, dtype=float)
+    return w * hyp2f1(1.0, 1.0 / n, 1.0 + 1.0 / n, -(2.0 * sigma - 1.0) * np.abs(w) ** n)
+
+
+def limit_cycle_peak(rho_stroke: float, sigma: float, n: float) -> float:
+    """Peak :math:`w_0` of the normalized Bouc-Wen limit cycle for a given :math:`\\rho(X_{max}-X_{min})`.
+
+    Solves :math:`H_{\\sigma,n}(w_0) + G_n(w_0) = \\rho (X_{max} - X_{min})` for
+    :math:`w_0 \\in (0, 1)`.
+    """
+    if not rho_stroke > 0.0:
+        return 0.0
+
+    def gap(w0: float) -> float:
+        return float(h_integral(w0, sigma, n) + g_integral(w0, n)) - rho_stroke
+
+    hi = 1.0 - 1e-15
+    if gap(hi) <= 0.0:
+        return hi
+    return brentq(gap, 0.0, hi, xtol=1e-14)
+
+
+def plastic_distance(rho: float, sigma: float, n: float, w0: float, level: float = 0.99) -> float:
+    """Distance along a branch from its reversal to where :math:`\\bar w` reaches ``level`` [m].
+
+    :math:`(H_{\\sigma,n}(w_0) + G_n(\\mathrm{level}))/\\rho`: from :math:`-w_0` to 0, then to
+    ``level``. Beyond it the branch is "plastic" (:math:`\\bar w \\approx 1`) and the force is
+    :math:`\\kappa_x x + \\kappa_{\\dot x}\\dot x \\pm \\kappa_w`.
+    """
+    return float(h_integral(w0, sigma, n) + g_integral(min(level, w0), n)) / rho
+
+
+def check_excitation(rho: float, sigma: float, n: float, stroke: float,
+                     strict: bool = True) -> tuple[float, float]:
+    """Check the stroke is large enough for the plastic assumption; return ``(rho*stroke, w0)``.
+
+    Parameters
+    ----------
+    rho, sigma, n : float
+        (Estimated) normalized Bouc-Wen parameters [1/m, -, -].
+    stroke : float
+        :math:`X_{max} - X_{min}` [m].
+    strict : bool
+        Raise :class:`InputError` below :data:`MIN_RHO_STROKE`; otherwise only warn.
+
+    Warns
+    -----
+    ExcitationWarning
+        If :math:`\\rho \\cdot \\mathrm{stroke}` is below :data:`RECOMMENDED_RHO_STROKE`.
+    """
+    rho_stroke = rho * stroke
+    w0 = limit_cycle_peak(rho_stroke, sigma, n)
+    message = (f"excitation: rho*(X_max - X_min) = {rho_stroke:.3g} (rho = {rho:.4g} 1/m, stroke = "
+               f"{stroke:.4g} m) gives a limit-cycle peak w0 = {w0:.3f}")
+    if rho_stroke < MIN_RHO_STROKE:
+        text = (message + f"; the closed-form steps need rho*stroke >= {MIN_RHO_STROKE:g} "
+                f"(plastic assumption w0 ~ 1): increase the test amplitude")
+        if strict:
+            raise InputError(text)
+        warnings.warn(text, ExcitationWarning, stacklevel=2)
+    elif rho_stroke < RECOMMENDED_RHO_STROKE:
+        warnings.warn(message + f"; below the recommended {RECOMMENDED_RHO_STROKE:g}, the closed-form "
+                      "start is biased (the refinement corrects it)", ExcitationWarning, stacklevel=2)
+    return rho_stroke, w0

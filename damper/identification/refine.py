@@ -1,0 +1,260 @@
+"""Joint nonlinear least-squares refinement of all Bouc-Wen parameters, with their uncertainty.
+
+Starting from the closed-form values, minimise over :math:`p = (\\kappa_x, \\kappa_{\\dot x},
+\\kappa_w, \\rho, \\sigma, n)` (without :math:`\\kappa_x` for the normalized model)
+
+.. math:: \\sum_{k \\in \\mathcal{W}} c_k \\left(\\hat F_k(p) - F_k\\right)^2 / F_{rms}^2,
+
+where :math:`\\hat F(p)` is the model force simulated with :func:`damper.simulate` (the same
+compiled kernels the building runs) over the whole test from rest, :math:`\\mathcal W` the
+samples of the steady cycles and :math:`c_k` the multiplicity of sample :math:`k`'s cycle (1,
+or a bootstrap count). The search runs on :math:`p/p_0` with the admissible class as bounds
+(:math:`\\kappa > 0`, :math:`\\kappa_x \\ge 0`, :math:`\\sigma \\ge 1/2`, :math:`n \\ge 1`).
+
+Uncertainty
+-----------
+* ``standard_error``: from the Jacobian at the optimum, :math:`\\mathrm{cov} = s^2 (J^T J)^{-1}`,
+  :math:`s^2 = \\mathrm{RSS}/(m - p)`. It assumes independent residuals, which sampled, filtered
+  signals are not: read it as a lower bound.
+* ``bootstrap_std`` (``n_bootstrap > 0``): the cycles are resampled with replacement and the fit
+  repeated from the optimum; the spread of the refits is the bootstrap standard deviation,
+  which includes cycle-to-cycle variation and correlated noise.
+* ``correlation``: parameter correlation matrix; entries near ±1 flag the near-equivalent
+  parameter sets that give almost the same loop.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from benchmark.errors import InputError, NumericalError, ParameterError
+from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.identification.closed_form import MODELS, PARAMETER_NAMES
+from damper.identification.cycles import Cycle
+from damper.simulate import simulate
+
+__all__ = ["RefinedFit", "refine", "make_model", "model_parameters", "free_parameters"]
+
+_UPPER = {"sigma": 50.0, "n": 20.0}
+_LOWER = {"kappa_x": 0.0, "sigma": 0.5, "n": 1.0}
+
+
+def free_parameters(model: str) -> tuple[str, ...]:
+    """Names of the parameters identified for ``model`` ("normalized": no ``kappa_x``)."""
+    if model not in MODELS:
+        raise InputError(f"model: expected one of {MODELS}, got {model!r}")
+    return PARAMETER_NAMES if model == "extended" else PARAMETER_NAMES[1:]
+
+
+def make_model(model: str, parameters: dict[str, float]):
+    """The :class:`~damper.bouc_wen.ExtendedBoucWen` or :class:`~damper.bouc_wen.NormalizedBoucWen`
+    with constant ``parameters`` (SI)."""
+    if model == "extended":
+        return ExtendedBoucWen(*(parameters[k] for k in PARAMETER_NAMES))
+    if model == "normalized":
+        return NormalizedBoucWen(*(parameters[k] for k in PARAMETER_NAMES[1:]))
+    raise InputError(f"model: expected one of {MODELS}, got {model!r}")
+
+
+def model_parameters(model_object) -> dict[str, float]:
+    """The six parameters of a constant-parameter Bouc-Wen model object (``kappa_x`` = 0 if absent)."""
+    return {k: float(getattr(model_object, k, 0.0)) for k in PARAMETER_NAMES}
+
+
+@dataclass(frozen=True)
+class RefinedFit:
+    """Result of :func:`refine`.
+
+    Attributes
+    ----------
+    model_name : str
+        ``"normalized"`` or ``"extended"``.
+    model : NormalizedBoucWen or ExtendedBoucWen
+        The fitted model (constant parameters), ready for :func:`damper.simulate`.
+    parameters, start : dict
+        Fitted and starting values of the six parameters (SI; ``kappa_x`` = 0 for normalized).
+    standard_error : dict
+        Jacobian-based standard errors (0 for fixed parameters).
+    correlation : ndarray
+        Correlation matrix of the free parameters (order of ``free``).
+    free : tuple of str
+        The parameters fitted.
+    bootstrap_std : dict or None
+        Standard deviation over the cycle bootstrap.
+    bootstrap : ndarray or None
+        The bootstrap refits, shape (n_bootstrap, len(free)).
+    force : ndarray
+        The fitted model's force over the whole test [N].
+    rel_rms_error : float
+        Relative RMS force error over the fit window.
+    nfev : int
+        Model simulations used by the main fit.
+    success : bool
+    message : str
+    """
+
+    model_name: str
+    model: object = field(repr=False)
+    parameters: dict
+    start: dict
+    standard_error: dict
+    correlation: np.ndarray = field(repr=False)
+    free: tuple
+    bootstrap_std: dict | None
+    bootstrap: np.ndarray | None = field(repr=False)
+    force: np.ndarray = field(repr=False)
+    rel_rms_error: float
+    nfev: int
+    success: bool
+    message: str
+
+
+class _Problem:
+    """Residuals of one test for one model, on scaled parameters q = p / p0."""
+
+    def __init__(self, model: str, t, x, xdot, force, window: np.ndarray, start: dict):
+        self.model = model
+        self.free = free_parameters(model)
+        self.t, self.x, self.xdot, self.force = t, x, xdot, force
+        self.window = window
+        scale = float(np.sqrt(np.mean(force[window] ** 2)))
+        if not scale > 0:
+            raise InputError("force: identically zero over the steady cycles")
+        self.scale = scale
+        p0 = np.array([float(start[k]) for k in self.free])
+        # A zero start (kappa_x of a device without stiffness) still needs a scale.
+        for j, k in enumerate(self.free):
+            if p0[j] <= 0 and k == "kappa_x":
+                p0[j] = 1e-3 * start["kappa_w"] / max(np.ptp(x), 1e-12)
+        self.p0 = p0
+        self.lower = np.array([_LOWER.get(k, 1e-9 * p) / p for k, p in zip(self.free, p0)])
+        self.upper = np.array([_UPPER.get(k, math.inf) / p for k, p in zip(self.free, p0)])
+        self.weights = np.ones(window.size)
+        self.nsim = 0
+
+    def parameters(self, q: np.ndarray) -> dict[str, float]:
+        p = dict(zip(self.free, q * self.p0))
+        p.setdefault("kappa_x", 0.0)
+        return {k: float(p[k]) for k in PARAMETER_NAMES}
+
+    def simulate(self, q: np.ndarray) -> np.ndarray:
+        self.nsim += 1
+        try:
+            m = make_model(self.model, self.parameters(q))
+        except ParameterError:
+            return np.full(self.t.size, np.nan)
+        return simulate(m, self.t, self.x, self.xdot, 0.0).force
+
+    def residuals(self, q: np.ndarray) -> np.ndarray:
+        f = self.simulate(q)
+        r = (f[self.window] - self.force[self.window]) / self.scale
+        if not np.all(np.isfinite(r)):
+            return np.full(self.window.size, 1e3)  # pushes the trust region back
+        return r * self.weights
+
+
+def _fit(problem: _Problem, q0: np.ndarray, max_nfev: int | None):
+    q0 = np.clip(q0, problem.lower + 1e-12, problem.upper - 1e-12)
+    return least_squares(problem.residuals, q0, bounds=(problem.lower, problem.upper),
+                         method="trf", x_scale=1.0, diff_step=1e-5, xtol=1e-12, ftol=1e-12,
+                         gtol=1e-12, max_nfev=max_nfev)
+
+
+def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
+           cycles: list[Cycle], start: dict[str, float], model: str = "extended",
+           n_bootstrap: int = 0, seed: int = 0, max_nfev: int = 200) -> RefinedFit:
+    """Refine the parameters of ``model`` jointly by nonlinear least squares.
+
+    Parameters
+    ----------
+    t, x, xdot, force : ndarray, shape (n,)
+        Test histories [s, m, m/s, N] (the whole test: the model is simulated from rest).
+    cycles : list of Cycle
+        Steady cycles: their samples form the fit window and the bootstrap units.
+    start : dict
+        Starting values of the six parameters (SI), e.g. ``ClosedFormResult.parameters()``.
+    model : {"extended", "normalized"}
+    n_bootstrap : int
+        Number of cycle-bootstrap refits (0: none).
+    seed : int
+        Seed of the bootstrap resampling.
+    max_nfev : int
+        Cap on the residual evaluations of the main fit.
+
+    Returns
+    -------
+    RefinedFit
+
+    Raises
+    ------
+    InputError
+        Inconsistent inputs or no steady cycle.
+    NumericalError
+        The least-squares search could not evaluate the model at its start.
+    """
+    t = np.asarray(t, dtype=float)
+    x = np.asarray(x, dtype=float)
+    xdot = np.asarray(xdot, dtype=float)
+    force = np.asarray(force, dtype=float)
+    if not (t.shape == x.shape == xdot.shape == force.shape) or t.ndim != 1:
+        raise InputError("refine: t, x, xdot and force must be 1-D arrays of equal length")
+    if not cycles:
+        raise InputError("refine: at least one steady cycle is needed")
+    # Fit window: every sample of the steady cycles once (consecutive cycles share an end point).
+    window = np.arange(cycles[0].start, cycles[-1].end + 1)
+    owner = np.full(window.size, -1)
+    for j, c in enumerate(cycles):
+        owner[c.start - window[0]: c.end - window[0] + 1] = j
+    problem = _Problem(model, t, x, xdot, force, window, start)
+    q_start = np.ones(len(problem.free))
+    r0 = problem.residuals(q_start)
+    if np.all(r0 == 1e3):
+        raise NumericalError(f"refine: the {model} model cannot be simulated at the starting values",
+                             state=start, hint="check the closed-form start")
+    sol = _fit(problem, q_start, max_nfev)
+    nfev = problem.nsim
+    q = sol.x
+    params = problem.parameters(q)
+    fitted = make_model(model, params)
+    f_fit = problem.simulate(q)
+
+    # Jacobian-based covariance in physical units.
+    m, p = window.size, q.size
+    jac = sol.jac / problem.p0[None, :]           # d r / d p  (r already divided by scale)
+    rss = float(np.sum(sol.fun ** 2))
+    s2 = rss / max(m - p, 1)
+    try:
+        cov = np.linalg.pinv(jac.T @ jac) * s2 * 1.0
+    except np.linalg.LinAlgError:
+        cov = np.full((p, p), np.nan)
+    std = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(std, std)
+    standard_error = {k: 0.0 for k in PARAMETER_NAMES}
+    standard_error.update({k: float(s) for k, s in zip(problem.free, std)})
+
+    boot = None
+    boot_std = None
+    if n_bootstrap > 0 and len(cycles) >= 2:
+        rng = np.random.default_rng(seed)
+        samples = []
+        for _ in range(n_bootstrap):
+            counts = np.bincount(rng.integers(0, len(cycles), len(cycles)), minlength=len(cycles))
+            problem.weights = np.sqrt(counts[owner].astype(float))
+            refit = _fit(problem, q, max_nfev=60)
+            samples.append(refit.x * problem.p0)
+        problem.weights = np.ones(window.size)
+        boot = np.array(samples)
+        boot_std = {k: 0.0 for k in PARAMETER_NAMES}
+        boot_std.update({k: float(s) for k, s in zip(problem.free, boot.std(axis=0, ddof=1))})
+
+    rel = float(np.linalg.norm(f_fit[window] - force[window]) / np.linalg.norm(force[window]))
+    return RefinedFit(model_name=model, model=fitted, parameters=params,
+                      start={k: float(start.get(k, 0.0)) for k in PARAMETER_NAMES},
+                      standard_error=standard_error, correlation=corr, free=problem.free,
+                      bootstrap_std=boot_std, bootstrap=boot, force=f_fit, rel_rms_error=rel,
+                      nfev=nfev, success=bool(sol.success), message=str(sol.message))
