@@ -1,0 +1,99 @@
+"""Registry of damper models: names and integer ids, and the one dispatch kernel.
+
+Every damper model is a frozen parameter dataclass in its own module with ``name``,
+``model_id``, ``n_states``, ``to_array()``, ``initial_state()``, ``voltage_range`` and
+plain-numpy ``rates``/``force`` (see ``docs/ARCHITECTURE.md``). The building's stepping
+kernel and :func:`damper.simulate` call :func:`device_step` with a model's id, its packed
+parameters and its state vector. Adding a model means one module plus one entry in
+``_MODEL_CLASSES`` and one branch in each of :func:`device_step` and :func:`device_force`.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from benchmark.errors import InputError
+from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, ExtendedBoucWen,
+                             NormalizedBoucWen, bouc_wen_force, bouc_wen_step)
+
+__all__ = [
+    "MODELS",
+    "MODELS_BY_ID",
+    "get_model_class",
+    "model_id_of",
+    "device_step",
+    "device_force",
+]
+
+_MODEL_CLASSES = (
+    NormalizedBoucWen,
+    ExtendedBoucWen,
+)
+
+#: Model classes by name.
+MODELS: dict[str, type] = {cls.name: cls for cls in _MODEL_CLASSES}
+#: Model classes by integer id (the id the kernels dispatch on).
+MODELS_BY_ID: dict[int, type] = {cls.model_id: cls for cls in _MODEL_CLASSES}
+
+if len(MODELS) != len(_MODEL_CLASSES) or len(MODELS_BY_ID) != len(_MODEL_CLASSES):
+    raise RuntimeError("damper.registry: duplicate model name or id")  # a programming error
+
+
+def get_model_class(name: str) -> type:
+    """The model class registered as ``name`` (raises :class:`InputError` listing the names)."""
+    try:
+        return MODELS[name]
+    except KeyError:
+        raise InputError(f"damper model: unknown name {name!r}; expected one of "
+                         + ", ".join(sorted(MODELS))) from None
+
+
+def model_id_of(model) -> int:
+    """The registered integer id of a model instance (checks it is registered)."""
+    model_id = getattr(model, "model_id", None)
+    if model_id not in MODELS_BY_ID or not isinstance(model, MODELS_BY_ID[model_id]):
+        raise InputError(f"damper model: {type(model).__name__} is not a registered damper model; "
+                         "expected one of " + ", ".join(sorted(MODELS)))
+    return int(model_id)
+
+
+@numba.njit(cache=True)
+def device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt):
+    """Advance one device over one step; return its force at the end of the step [N].
+
+    Parameters
+    ----------
+    model_id : int
+        Registered model id (``model.model_id``).
+    params : float64 array
+        ``model.to_array()``.
+    state : float64 array
+        The device's internal states (``model.initial_state()`` at rest), advanced in place.
+    x0, x1 : float
+        Device displacement at the start and end of the step [m].
+    xd0, xd1 : float
+        Device velocity at the start and end of the step [m/s].
+    v : float
+        Commanded voltage [V], held over the step.
+    dt : float
+        Step length [s].
+
+    Notes
+    -----
+    The motion inside the step is the cubic Hermite path through ``(x0, xd0)`` and
+    ``(x1, xd1)``; each model sub-steps as its stiffness needs (DOMAIN.md §5). An unknown
+    ``model_id`` returns NaN (the caller turns it into a :class:`NumericalError`).
+    """
+    if model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID:
+        return bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt)
+    return np.nan
+
+
+@numba.njit(cache=True)
+def device_force(model_id, params, state, x, xd, v):
+    """Force [N] of a device at its current state, displacement ``x`` [m], velocity ``xd`` [m/s]
+    and voltage ``v`` [V] (no state change); NaN for an unknown ``model_id``."""
+    if model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID:
+        return bouc_wen_force(params, state, x, xd, v)
+    return np.nan

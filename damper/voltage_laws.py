@@ -1,0 +1,350 @@
+"""Voltage laws: how an MR damper parameter depends on the coil voltage ``v`` [V].
+
+A model parameter (``kappa_w``, ``rho``, ...) is either a number or a :class:`VoltageLaw`.
+Each law evaluates in plain numpy (``law(v)``) and packs into a flat ``float64`` segment
+``[kind, length, payload...]`` that the numba kernels evaluate with :func:`law_value`, so a
+model's voltage dependence travels inside its ``params`` array.
+
+Laws
+----
+* :class:`Constant` -- :math:`p(v) = c`.
+* :class:`Polynomial` -- :math:`p(v) = \\sum_k a_k v^k` (ascending powers); the seed's
+  eq. (6) :math:`\\kappa_{\\dot x}(v) = \\kappa_{\\dot x,a} + \\kappa_{\\dot x,b} v` is
+  ``Polynomial((a, b))``.
+* :class:`Exponential` -- :math:`p(v) = a + b\\,e^{-c v}`, the seed's eq. (7)-(9) for
+  ``n`` (c = 13), ``rho`` and ``sigma`` (c = 14).
+* :class:`SeedKappaW` -- the seed's three-region law eq. (10) for :math:`\\kappa_w`:
+
+  .. math::
+
+     \\kappa_w(v) = \\begin{cases}
+        k_1 + k_2 v^{1.15} & v \\le 0.3 \\\\
+        k_3 + k_4 \\sin\\frac{\\pi (v-0.3)}{0.8} + k_5 \\sin\\frac{3\\pi (v-0.3)}{0.8}
+            & 0.3 \\le v \\le 0.7 \\\\
+        k_6 + k_7 v + k_8 v^3 + k_9 v^5 & 0.7 \\le v
+     \\end{cases}
+
+* :class:`Tabulated` -- a smooth, shape-preserving law through values on a voltage grid:
+  the piecewise-cubic Hermite interpolant with Fritsch-Carlson (PCHIP) slopes, monotone
+  wherever the data are, held constant outside the grid. This turns parameters identified at
+  a voltage grid (0, 0.1, ..., 1 V) into a model valid over the whole voltage range.
+
+References
+----------
+Bahar, Pozo, Acho, Rodellar, Barbat (2009), *Parameter identification of large-scale
+magnetorheological dampers in a benchmark building*, eq. (5)-(10).
+Fritsch & Carlson (1980), *Monotone piecewise cubic interpolation*, SIAM J. Numer. Anal. 17.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar, Sequence, Union
+
+import numba
+import numpy as np
+
+from benchmark.errors import ParameterError
+
+__all__ = [
+    "VoltageLaw",
+    "Constant",
+    "Polynomial",
+    "Exponential",
+    "SeedKappaW",
+    "Tabulated",
+    "as_law",
+    "law_value",
+    "law_length",
+    "check_law",
+    "ParameterLike",
+]
+
+LAW_CONSTANT = 0
+LAW_POLYNOMIAL = 1
+LAW_EXPONENTIAL = 2
+LAW_SEED_KAPPA_W = 3
+LAW_TABULATED = 4
+
+#: Voltages at which :func:`check_law` samples a law (in addition to grid nodes).
+_CHECK_SAMPLES = 1001
+
+
+class VoltageLaw:
+    """Base class of the voltage laws: ``law(v)`` evaluates, ``to_array()`` packs."""
+
+    kind: ClassVar[int]
+
+    def __call__(self, v):
+        """Value of the law at voltage(s) ``v`` [V]; a float for a scalar ``v``."""
+        v_arr = np.asarray(v, dtype=float)
+        out = self._evaluate(np.atleast_1d(v_arr))
+        return float(out[0]) if v_arr.ndim == 0 else out.reshape(v_arr.shape)
+
+    def _evaluate(self, v: np.ndarray) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def _payload(self) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def to_array(self) -> np.ndarray:
+        """Packed form ``[kind, length, payload...]`` (``length`` counts the whole segment)."""
+        payload = np.asarray(self._payload(), dtype=np.float64).ravel()
+        return np.concatenate(([float(self.kind), float(payload.size + 2)], payload))
+
+    @property
+    def is_constant(self) -> bool:
+        """True when the law does not depend on the voltage."""
+        return False
+
+
+@dataclass(frozen=True)
+class Constant(VoltageLaw):
+    """:math:`p(v) = c`."""
+
+    value: float
+    kind: ClassVar[int] = LAW_CONSTANT
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "value", _finite(self.value, "Constant.value"))
+
+    def _evaluate(self, v):
+        return np.full(v.shape, self.value)
+
+    def _payload(self):
+        return [self.value]
+
+    @property
+    def is_constant(self) -> bool:
+        return True
+
+
+@dataclass(frozen=True)
+class Polynomial(VoltageLaw):
+    """:math:`p(v) = a_0 + a_1 v + a_2 v^2 + \\dots` (``coefficients`` in ascending powers)."""
+
+    coefficients: tuple[float, ...]
+    kind: ClassVar[int] = LAW_POLYNOMIAL
+
+    def __post_init__(self) -> None:
+        coeffs = tuple(_finite(c, f"Polynomial.coefficients[{i}]")
+                       for i, c in enumerate(np.atleast_1d(np.asarray(self.coefficients, float))))
+        if not coeffs:
+            raise ParameterError("Polynomial.coefficients: expected at least one coefficient")
+        object.__setattr__(self, "coefficients", coeffs)
+
+    def _evaluate(self, v):
+        return np.polynomial.polynomial.polyval(v, self.coefficients)
+
+    def _payload(self):
+        return list(self.coefficients)
+
+    @property
+    def is_constant(self) -> bool:
+        return all(c == 0.0 for c in self.coefficients[1:])
+
+
+@dataclass(frozen=True)
+class Exponential(VoltageLaw):
+    """:math:`p(v) = a + b\\,e^{-c v}` (seed eq. 7-9 with c = 13 or 14 V⁻¹)."""
+
+    a: float
+    b: float
+    c: float
+    kind: ClassVar[int] = LAW_EXPONENTIAL
+
+    def __post_init__(self) -> None:
+        for name in ("a", "b", "c"):
+            object.__setattr__(self, name, _finite(getattr(self, name), f"Exponential.{name}"))
+
+    def _evaluate(self, v):
+        return self.a + self.b * np.exp(-self.c * v)
+
+    def _payload(self):
+        return [self.a, self.b, self.c]
+
+    @property
+    def is_constant(self) -> bool:
+        return self.b == 0.0 or self.c == 0.0
+
+
+@dataclass(frozen=True)
+class SeedKappaW(VoltageLaw):
+    """The seed paper's piecewise law for :math:`\\kappa_w(v)`, eq. (10), coefficients k1..k9.
+
+    Regions: ``v <= 0.3`` power law :math:`k_1 + k_2 v^{1.15}`; ``0.3 <= v <= 0.7`` two sines;
+    ``v >= 0.7`` odd polynomial :math:`k_6 + k_7 v + k_8 v^3 + k_9 v^5` [N, v in V].
+    """
+
+    k: tuple[float, ...]
+    kind: ClassVar[int] = LAW_SEED_KAPPA_W
+
+    def __post_init__(self) -> None:
+        k = tuple(_finite(c, f"SeedKappaW.k[{i + 1}]")
+                  for i, c in enumerate(np.atleast_1d(np.asarray(self.k, float))))
+        if len(k) != 9:
+            raise ParameterError(f"SeedKappaW.k: expected 9 coefficients k1..k9, got {len(k)}")
+        object.__setattr__(self, "k", k)
+
+    def _evaluate(self, v):
+        return np.array([_seed_kappa_w(np.asarray(self.k), float(vi)) for vi in v])
+
+    def _payload(self):
+        return list(self.k)
+
+
+@dataclass(frozen=True)
+class Tabulated(VoltageLaw):
+    """Shape-preserving cubic (PCHIP) law through ``values`` at ``voltages`` [V].
+
+    Constant extrapolation outside the grid. The slopes at the nodes follow Fritsch &
+    Carlson (as :class:`scipy.interpolate.PchipInterpolator`), so the law is monotone
+    between nodes wherever the data are monotone, and C¹.
+    """
+
+    voltages: tuple[float, ...]
+    values: tuple[float, ...]
+    kind: ClassVar[int] = LAW_TABULATED
+
+    def __post_init__(self) -> None:
+        vg = np.atleast_1d(np.asarray(self.voltages, float))
+        vals = np.atleast_1d(np.asarray(self.values, float))
+        if vg.ndim != 1 or vals.shape != vg.shape:
+            raise ParameterError(f"Tabulated: voltages and values must be 1-D of equal length, "
+                                 f"got {vg.shape} and {vals.shape}")
+        if vg.size < 1:
+            raise ParameterError("Tabulated: expected at least one grid voltage")
+        if not (np.all(np.isfinite(vg)) and np.all(np.isfinite(vals))):
+            raise ParameterError("Tabulated: voltages and values must be finite")
+        if np.any(np.diff(vg) <= 0):
+            raise ParameterError("Tabulated.voltages: expected strictly increasing voltages")
+        object.__setattr__(self, "voltages", tuple(float(x) for x in vg))
+        object.__setattr__(self, "values", tuple(float(x) for x in vals))
+
+    @property
+    def slopes(self) -> np.ndarray:
+        """PCHIP node slopes [unit/V]."""
+        vg, vals = np.asarray(self.voltages), np.asarray(self.values)
+        if vg.size < 2:
+            return np.zeros(vg.size)
+        from scipy.interpolate import PchipInterpolator
+        return PchipInterpolator(vg, vals).derivative()(vg)
+
+    def _evaluate(self, v):
+        arr = self.to_array()
+        return np.array([law_value(arr, 0, float(vi)) for vi in v])
+
+    def _payload(self):
+        return [float(len(self.voltages)), *self.voltages, *self.values, *self.slopes]
+
+    @property
+    def is_constant(self) -> bool:
+        return len(set(self.values)) == 1
+
+
+ParameterLike = Union[float, int, VoltageLaw]
+
+
+def as_law(value: ParameterLike, field: str = "parameter") -> VoltageLaw:
+    """Return ``value`` as a :class:`VoltageLaw` (a number becomes :class:`Constant`)."""
+    if isinstance(value, VoltageLaw):
+        return value
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        return Constant(_finite(value, field))
+    raise ParameterError(f"{field}: expected a number or a VoltageLaw, got {type(value).__name__}")
+
+
+def check_law(law: VoltageLaw, field: str, voltage_range: Sequence[float], *,
+              lower: float | None = None, strict: bool = True) -> None:
+    """Raise :class:`ParameterError` unless ``law(v) > lower`` (or ``>=``) over ``voltage_range``.
+
+    The law is sampled at 1001 voltages across the range and at its grid nodes.
+    """
+    v_lo, v_hi = float(voltage_range[0]), float(voltage_range[1])
+    if law.is_constant:
+        samples = np.array([v_lo])
+    else:
+        samples = np.linspace(v_lo, v_hi, _CHECK_SAMPLES)
+        if isinstance(law, Tabulated):
+            nodes = np.asarray(law.voltages)
+            samples = np.concatenate((samples, nodes[(nodes >= v_lo) & (nodes <= v_hi)]))
+    values = np.atleast_1d(law(samples))
+    if not np.all(np.isfinite(values)):
+        bad = samples[~np.isfinite(values)][0]
+        raise ParameterError(f"{field}: value is not finite at v = {bad:.4g} V")
+    if lower is None:
+        return
+    bad = values <= lower if strict else values < lower
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        relation = ">" if strict else ">="
+        where = "" if law.is_constant else f" at v = {samples[i]:.4g} V"
+        raise ParameterError(f"{field}: expected {field} {relation} {lower:g}, "
+                             f"got {values[i]:.6g}{where}")
+
+
+def _finite(value, field: str) -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{field}: expected a number, got {value!r}") from None
+    if not math.isfinite(out):
+        raise ParameterError(f"{field}: expected a finite number, got {out}")
+    return out
+
+
+# --------------------------------------------------------------------------- numba kernels
+
+@numba.njit(cache=True)
+def law_length(params, offset):
+    """Number of array entries of the law packed at ``params[offset]``."""
+    return int(params[offset + 1])
+
+
+@numba.njit(cache=True)
+def _seed_kappa_w(k, v):
+    if v <= 0.3:
+        return k[0] + k[1] * max(v, 0.0) ** 1.15
+    if v <= 0.7:
+        s = math.pi * (v - 0.3) / 0.8
+        return k[2] + k[3] * math.sin(s) + k[4] * math.sin(3.0 * s)
+    return k[5] + k[6] * v + k[7] * v ** 3 + k[8] * v ** 5
+
+
+@numba.njit(cache=True)
+def law_value(params, offset, v):
+    """Evaluate the law packed at ``params[offset]`` at voltage ``v`` [V]."""
+    kind = int(params[offset])
+    p = offset + 2
+    if kind == 0:
+        return params[p]
+    if kind == 1:
+        m = int(params[offset + 1]) - 2
+        acc = 0.0
+        for i in range(m - 1, -1, -1):  # Horner
+            acc = acc * v + params[p + i]
+        return acc
+    if kind == 2:
+        return params[p] + params[p + 1] * math.exp(-params[p + 2] * v)
+    if kind == 3:
+        return _seed_kappa_w(params[p:p + 9], v)
+    if kind == 4:
+        m = int(params[p])
+        vg = params[p + 1:p + 1 + m]
+        yv = params[p + 1 + m:p + 1 + 2 * m]
+        dv = params[p + 1 + 2 * m:p + 1 + 3 * m]
+        if v <= vg[0]:
+            return yv[0]
+        if v >= vg[m - 1]:
+            return yv[m - 1]
+        i = 0
+        while i < m - 2 and v > vg[i + 1]:
+            i += 1
+        h = vg[i + 1] - vg[i]
+        s = (v - vg[i]) / h
+        s2 = s * s
+        s3 = s2 * s
+        return ((2.0 * s3 - 3.0 * s2 + 1.0) * yv[i] + (s3 - 2.0 * s2 + s) * h * dv[i]
+                + (-2.0 * s3 + 3.0 * s2) * yv[i + 1] + (s3 - s2) * h * dv[i + 1])
+    return math.nan

@@ -1,0 +1,99 @@
+"""DamperTest: CSV round trip, malformed files with file:line messages, UTFSM adapter units."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from benchmark.errors import DataNotFoundError, InputError
+from damper.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm, utfsm_files, write_csv
+
+
+def _test_record(**extra):
+    t = np.linspace(0.0, 1.0, 101)
+    return DamperTest(time=t, displacement=0.01 * np.sin(2 * np.pi * t),
+                      velocity=0.02 * np.pi * np.cos(2 * np.pi * t), force=1e3 * np.cos(2 * np.pi * t),
+                      name="unit test", source="synthetic", **extra)
+
+
+def test_csv_round_trip(tmp_path):
+    record = _test_record(voltage=0.5)
+    path = write_csv(record, tmp_path / "out.csv")
+    again = read_csv(path)
+    assert again.name == "unit test"
+    for name in ("time", "displacement", "velocity", "force", "voltage"):
+        assert np.allclose(getattr(again, name), getattr(record, name), rtol=1e-9, atol=1e-12)
+    assert again.current is None
+    assert again.constant_voltage == pytest.approx(0.5)
+
+
+def test_csv_without_velocity_and_with_constant_current(tmp_path):
+    path = tmp_path / "min.csv"
+    t = np.linspace(0, 1, 201)
+    x = 0.01 * np.sin(2 * np.pi * t)
+    lines = ["time [s],displacement [m],force [N]"] + [f"{a},{b},{c}" for a, b, c in zip(t, x, x * 1e5)]
+    path.write_text("\n".join(lines) + "\n")
+    record = read_csv(path, current=0.25)
+    assert np.allclose(record.velocity, 0.02 * np.pi * np.cos(2 * np.pi * t), atol=2e-4)
+    assert np.all(record.current == 0.25) and record.voltage is None
+
+
+@pytest.mark.parametrize("content, match", [
+    ("", "empty file"),
+    ("time,displacement\n0,0\n1,1\n", r":1: header: missing column\(s\) force"),
+    ("time,displacement,force,speed\n0,0,0,0\n", r":1: header: unknown column 'speed'"),
+    ("time,displacement [mm],force\n0,0,0\n1,1,1\n", r":1: header: column 'displacement' in 'mm'"),
+    ("# name: x\ntime,displacement,force\n0,0,0\n1,abc,1\n", r":4: column 'displacement': expected a number, got 'abc'"),
+    ("time,displacement,force\n0,0,0\n1,1\n", r":3: expected 3 values"),
+    ("time,displacement,force\n0,0,0\n1,1,nan\n", r":3: column 'force': expected a finite"),
+    ("time,displacement,force\n0,0,0\n1,1,1\n1,2,2\n", r":4: column 'time': expected strictly increasing"),
+    ("time,displacement,force,voltage,current\n0,0,0,0,0\n", "not both"),
+    ("time,displacement,force\n0,0,0\n", "at least 2 data lines"),
+])
+def test_malformed_csv_names_file_and_line(tmp_path, content, match):
+    path = tmp_path / "bad.csv"
+    path.write_text(content)
+    with pytest.raises(InputError, match=match) as info:
+        read_csv(path)
+    assert "bad.csv" in str(info.value)
+
+
+def test_missing_file_and_bad_arrays(tmp_path):
+    with pytest.raises(DataNotFoundError):
+        read_csv(tmp_path / "absent.csv")
+    with pytest.raises(InputError, match="force: expected 3 samples"):
+        DamperTest(time=[0, 1, 2], displacement=[0, 1, 2], velocity=[0, 1, 2], force=[0, 1])
+    with pytest.raises(InputError, match="not both"):
+        _test_record(voltage=0.0, current=0.0)
+
+
+def test_utfsm_name_parsing():
+    assert parse_utfsm_name("25mm0x1Hz0x75A.txt") == pytest.approx(
+        {"amplitude": 0.025, "frequency": 0.1, "current": 0.75})
+    assert parse_utfsm_name("2mm5Hz1A.txt") == pytest.approx({"amplitude": 0.002, "frequency": 5.0, "current": 1.0})
+    with pytest.raises(InputError, match="file name"):
+        parse_utfsm_name("whatever.txt")
+
+
+def test_utfsm_files_load_in_si_units(shared_dir):
+    files = utfsm_files(shared_dir)
+    assert len(files) == 30
+    for path in files:
+        record = read_utfsm(path)
+        info = record.metadata
+        # displacement amplitude in metres matches the name (mm); the press falls short of the
+        # nominal stroke (2 mm at 5 Hz reaches 1.62 mm, 25 mm reaches 24.4 mm), never by 10x
+        half_range = 0.5 * np.ptp(record.displacement)
+        assert 0.75 * info["amplitude"] < half_range <= 1.02 * info["amplitude"], path.name
+        assert np.all(record.current == info["current"])
+        # velocity column (converted from mm/s) agrees with the derivative of the displacement
+        slope = np.gradient(record.displacement, record.time)
+        assert np.corrcoef(slope, record.velocity)[0, 1] > 0.95, path.name
+        assert 10.0 < np.max(np.abs(record.force)) < 1e4, path.name  # a small damper: N
+
+
+def test_utfsm_malformed(tmp_path):
+    bad = tmp_path / "10mm1Hz0A.txt"
+    bad.write_text("0 1 2 3\n0.001 1 2\n")
+    with pytest.raises(InputError, match=r"10mm1Hz0A.txt:2: expected 4 columns"):
+        read_utfsm(bad)
