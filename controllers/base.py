@@ -29,6 +29,7 @@ from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 
+from benchmark import sensors as _sensors
 from benchmark.errors import InputError, NumericalError, ParameterError
 from controllers.compiled import STATUS_OK, CompiledController, controller_update
 
@@ -51,25 +52,18 @@ N_ACCELERATION_MEASUREMENTS = 27
 
 
 def measurement_slices(n_devices: int) -> dict[str, slice]:
-    """Return the slices of the measurement vector, in the order of :mod:`benchmark.sensors`.
+    """Slices of the measurement vector (:func:`benchmark.sensors.measurement_slices`).
 
     Keys: ``base_acceleration`` (3, absolute, [m/s², rad/s²]), ``floor_acceleration`` (24,
     absolute, floor 1 → 8, (x, y, θ) each), ``base_displacement`` (3, relative to the ground
     [m, rad]), ``device_displacement`` (``n_devices`` [m]), ``device_force`` (``n_devices`` [N]).
     """
-    n = int(n_devices)
-    return {
-        "base_acceleration": slice(0, 3),
-        "floor_acceleration": slice(3, 27),
-        "base_displacement": slice(27, 30),
-        "device_displacement": slice(30, 30 + n),
-        "device_force": slice(30 + n, 30 + 2 * n),
-    }
+    return _sensors.measurement_slices(n_devices)
 
 
 def n_measurements(n_devices: int) -> int:
     """Length of the measurement vector for ``n_devices`` devices (``30 + 2 n_devices``)."""
-    return 30 + 2 * int(n_devices)
+    return _sensors.n_measurements(n_devices)
 
 
 @dataclass(frozen=True)
