@@ -24,6 +24,8 @@ Laws
         k_6 + k_7 v + k_8 v^3 + k_9 v^5 & 0.7 \\le v
      \\end{cases}
 
+* :class:`Saturating` -- :math:`p(v) = a + b\\tanh\\left((v/c)^e\\right)`: grows like
+  :math:`v^e` at small voltage and saturates smoothly (magnetic saturation of the fluid).
 * :class:`Tabulated` -- a smooth, shape-preserving law through values on a voltage grid:
   the piecewise-cubic Hermite interpolant with Fritsch-Carlson (PCHIP) slopes, monotone
   wherever the data are, held constant outside the grid. This turns parameters identified at
@@ -54,6 +56,7 @@ __all__ = [
     "Exponential",
     "SeedKappaW",
     "Tabulated",
+    "Saturating",
     "as_law",
     "law_value",
     "law_length",
@@ -66,6 +69,7 @@ LAW_POLYNOMIAL = 1
 LAW_EXPONENTIAL = 2
 LAW_SEED_KAPPA_W = 3
 LAW_TABULATED = 4
+LAW_SATURATING = 5
 
 #: Voltages at which :func:`check_law` samples a law (in addition to grid nodes).
 _CHECK_SAMPLES = 1001
@@ -243,6 +247,36 @@ class Tabulated(VoltageLaw):
         return len(set(self.values)) == 1
 
 
+@dataclass(frozen=True)
+class Saturating(VoltageLaw):
+    """:math:`p(v) = a + b\\tanh((v/c)^e)` for ``v >= 0`` (``a`` at 0 V, ``a + b`` when saturated).
+
+    ``c`` [V] > 0 sets the voltage scale, ``e`` > 0 the initial shape (``e > 1``: slow start).
+    """
+
+    a: float
+    b: float
+    c: float
+    e: float = 1.0
+    kind: ClassVar[int] = LAW_SATURATING
+
+    def __post_init__(self) -> None:
+        for name in ("a", "b", "c", "e"):
+            object.__setattr__(self, name, _finite(getattr(self, name), f"Saturating.{name}"))
+        if self.c <= 0 or self.e <= 0:
+            raise ParameterError(f"Saturating: expected c > 0 and e > 0, got c={self.c}, e={self.e}")
+
+    def _evaluate(self, v):
+        return self.a + self.b * np.tanh((np.maximum(v, 0.0) / self.c) ** self.e)
+
+    def _payload(self):
+        return [self.a, self.b, self.c, self.e]
+
+    @property
+    def is_constant(self) -> bool:
+        return self.b == 0.0
+
+
 ParameterLike = Union[float, int, VoltageLaw]
 
 
@@ -347,4 +381,6 @@ def law_value(params, offset, v):
         s3 = s2 * s
         return ((2.0 * s3 - 3.0 * s2 + 1.0) * yv[i] + (s3 - 2.0 * s2 + s) * h * dv[i]
                 + (-2.0 * s3 + 3.0 * s2) * yv[i + 1] + (s3 - s2) * h * dv[i + 1])
+    if kind == 5:
+        return params[p] + params[p + 1] * math.tanh((max(v, 0.0) / params[p + 2]) ** params[p + 3])
     return math.nan
