@@ -19,9 +19,9 @@ end, every ``checkpoint_seconds`` and on interruption. Re-running the same comma
 Ctrl-C or ``kill -9`` runs only the cases missing from the journal.
 
 Reproducibility: every case carries two seeds derived with :class:`numpy.random.SeedSequence`
-from the base seed and a hash of a key — ``motion_seed`` from the *motion* key (record,
-orientation, realisation), so that every controller and parameter set sees the same synthetic
-motion, and ``seed`` from the full case key (measurement noise and anything else random in
+from the base seed and a hash of a key — ``motion_seed`` from the *motion* key (template and
+realisation: every controller, parameter set, PGA and both orientations see the same synthetic
+pair), and ``seed`` from the full case key (measurement noise and anything else random in
 the run). Results therefore do not depend on the number of processes, on the order in which
 cases finish, on the machine that ran them, or on interruptions.
 
@@ -137,7 +137,8 @@ class Case:
     seed : int
         Seed of everything random in the run (from the full key).
     motion_seed : int
-        Seed of the synthetic motion (from the motion key: same motion for every controller).
+        Seed of the synthetic motion, from (template, realisation): the same pair for every
+        controller, parameter set, PGA and orientation.
     """
 
     index: int
@@ -358,7 +359,9 @@ class EnsembleConfig:
         for record, orientation, synthetic, realisation, pga in self.motions():
             motion = (f"synthetic={record}#{realisation}" if synthetic else f"record={record}")
             motion += f"|orientation={orientation}"
-            motion_seed_key = motion  # the PGA scales a motion; it does not change it
+            # The PGA scales a motion, it does not change it; a synthetic realisation in FP-x is
+            # its FN-x pair swapped (records.synthetic.benchmark_like), as for recorded pairs.
+            motion_seed_key = f"synthetic={record}#{realisation}" if synthetic else f"record={record}"
             if not math.isnan(pga):
                 motion += f"|pga={_fmt(pga)}"
             motion_seed = derive_seed(self.base_seed, motion_seed_key)

@@ -66,7 +66,7 @@ def test_expansion_counts_keys_and_shared_motion_seeds(tmp_path):
     # every controller/parameter set sees the same motion; PGA scaling does not change the motion
     by_motion: dict[tuple, set[int]] = {}
     for c in cases:
-        by_motion.setdefault((c.record, c.orientation, c.synthetic, c.realisation), set()).add(c.motion_seed)
+        by_motion.setdefault((c.record, c.synthetic, c.realisation), set()).add(c.motion_seed)
     assert all(len(s) == 1 for s in by_motion.values())
     assert len({next(iter(s)) for s in by_motion.values()}) == len(by_motion)
     assert len({c.seed for c in cases}) == len(cases)
