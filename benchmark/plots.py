@@ -138,8 +138,8 @@ def plot_floor_envelopes(result: Any, path: str | os.PathLike, reference: Any = 
         disp, drift, acc = _envelopes(run)
         levels = np.arange(disp.size)
         axes[0].plot(100 * disp, levels, marker="o", ms=3, **style)
-        axes[1].step(np.concatenate([100 * drift, [100 * drift[-1]]]), np.arange(drift.size + 1),
-                     where="post", **style)
+        # storey i spans levels i-1 .. i: draw each drift as a vertical segment over its storey
+        axes[1].plot(np.repeat(100 * drift, 2), np.repeat(np.arange(drift.size + 1), 2)[1:-1], **style)
         axes[2].plot(acc, levels, marker="o", ms=3, **style)
     axes[0].set_xlabel("peak displacement [cm]")
     axes[1].set_xlabel("peak inter-storey drift ratio [%]")

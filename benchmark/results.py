@@ -77,6 +77,12 @@ FIELD_UNITS: dict[str, tuple[str, str, str]] = {
     "measurements": ("SI", "measurement vector at the control steps (benchmark.sensors order)",
                      "control step, measurement"),
     "control_time": ("s", "times of the control steps", "control step"),
+    "desired_force": ("N", "desired device forces of the controller at the control steps",
+                      "control step, device"),
+    "ground_acceleration": ("m/s^2", "ground acceleration (record, oriented)", "time, (x, y)"),
+    "iterations": ("1", "fixed-point iterations of each structural step", "time"),
+    "state": ("m, rad, m/s, rad/s", "state of the stepping kernel [q, u_b, q', u_b'] "
+              "(benchmark.linear_model ordering)", "time, state"),
 }
 _ENERGY_DESCRIPTIONS = {
     "input": "input energy", "kinetic": "kinetic energy", "strain": "elastic strain energy",
