@@ -24,6 +24,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "benchmark.cli_study",
     "benchmark.cli_run",
     "benchmark.cli_ensemble",
+    "controllers.cli",
 )
 
 EXIT_INPUT_ERROR = 2
