@@ -22,8 +22,10 @@ __all__ = ["main", "build_parser", "COMMAND_MODULES"]
 # Modules that contribute sub-commands, in the order they appear in ``sbib --help``.
 COMMAND_MODULES: tuple[str, ...] = (
     "benchmark.cli_study",
+    "records.cli",
     "benchmark.cli_run",
     "benchmark.cli_ensemble",
+    "benchmark.cli_bench",
     "controllers.cli",
 )
 
