@@ -1,0 +1,645 @@
+"""Readers for the ground-motion file formats users bring; units are converted here, at the edge.
+
+Every reader returns a :class:`records.Record` in m/s² and rejects a malformed file with
+an :class:`~benchmark.errors.InputError` whose one-line message names the file, the line
+and what was expected (empty file, text where a number belongs, NaN or infinity, ragged
+rows, a missing, zero or negative time step, time that does not increase).
+
+Formats
+-------
+``benchmark``
+    The smart base-isolated benchmark's two-column files (Narasimhan et al. 2006): header
+    lines start with ``%``, two whitespace-separated columns (tabs or spaces, CRLF allowed),
+    acceleration in cm/s², dt = 0.005 s. A ``dt=...`` or a unit written in the header
+    (``cm/sec^2``) is read and must agree with an explicit argument.
+``at2``
+    PEER NGA ``.AT2``: four header lines (the third names the units, e.g. ``UNITS OF G``;
+    the fourth gives ``NPTS=..., DT=...`` or the older ``3908  .0100  NPTS, DT``), then the
+    values, several per line; the number of values must equal NPTS.
+``single``
+    One value per line, no time column (e.g. the USGS SLAMMER library, in g). The time step
+    is not in the file and must be given (``dt=``, ``--dt``).
+``csv``
+    A time column then one or more acceleration columns (``time, ax[, ay]``), separated by
+    commas, semicolons or whitespace. Lines starting with ``#`` are comments. An optional
+    header row names the columns and may carry units in brackets (``ax [g]``); a comment
+    ``# units: g`` works too. Time must increase with a uniform step (relative tolerance
+    ``1e-3``); the record's time origin is moved to zero and the first time kept in metadata.
+
+Units accepted (case-insensitive): ``g``; ``m/s2``, ``m/s^2``, ``m/s/s``, ``m/s**2``;
+``cm/s2``, ``cm/s^2``, ``cm/s/s``, ``cm/sec^2``, ``gal``; ``mm/s2``, ``mm/s^2``. One g is
+9.80665 m/s².
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from benchmark.atomic import atomic_path
+from benchmark.errors import DataNotFoundError, InputError
+from records.record import STANDARD_GRAVITY, Record
+
+__all__ = [
+    "FORMATS",
+    "BENCHMARK_DT",
+    "unit_factor",
+    "read_benchmark",
+    "read_at2",
+    "read_single_column",
+    "read_csv",
+    "load_record",
+    "detect_format",
+    "write_csv",
+]
+
+#: Format names accepted by :func:`load_record`.
+FORMATS = ("auto", "benchmark", "at2", "single", "csv")
+
+#: The benchmark's sampling step [s] (Narasimhan et al. 2006; every FDZ file).
+BENCHMARK_DT = 0.005
+
+_UNIT_FACTORS = {
+    "g": STANDARD_GRAVITY,
+    "m/s2": 1.0, "m/s^2": 1.0, "m/s/s": 1.0, "m/s**2": 1.0, "m/sec^2": 1.0, "m/sec2": 1.0, "m/sec/sec": 1.0,
+    "cm/s2": 0.01, "cm/s^2": 0.01, "cm/s/s": 0.01, "cm/s**2": 0.01, "cm/sec^2": 0.01, "cm/sec2": 0.01,
+    "cm/sec/sec": 0.01, "gal": 0.01,
+    "mm/s2": 0.001, "mm/s^2": 0.001, "mm/s/s": 0.001, "mm/s**2": 0.001,
+}
+_CANONICAL_UNITS = {"g": "g", 1.0: "m/s2", 0.01: "cm/s2", 0.001: "mm/s2"}
+
+
+def unit_factor(units: str, where: str = "units") -> float:
+    """Return the factor that converts ``units`` to m/s².
+
+    Parameters
+    ----------
+    units : str
+        A name from the module docstring (``"g"``, ``"cm/s2"``, ``"gal"``, ``"m/s^2"``, ...).
+    where : str
+        What to name in the error message (a file, an option).
+
+    Raises
+    ------
+    InputError
+        If the unit is not known.
+    """
+    key = str(units).strip().lower().replace(" ", "").replace("²", "^2")
+    try:
+        return _UNIT_FACTORS[key]
+    except KeyError:
+        raise InputError(f"{where}: unknown acceleration unit {units!r}; expected one of "
+                         "g, m/s2, cm/s2 (gal), mm/s2") from None
+
+
+def _canonical(units: str) -> str:
+    f = unit_factor(units)
+    return "g" if f == STANDARD_GRAVITY else _CANONICAL_UNITS[f]
+
+
+# --------------------------------------------------------------------------- low-level parsing
+def _read_lines(path: str | os.PathLike) -> tuple[Path, list[str]]:
+    path = Path(path)
+    if not path.exists():
+        raise DataNotFoundError(f"{path}: record file not found")
+    if not path.is_file():
+        raise InputError(f"{path}: not a regular file")
+    raw = path.read_bytes()
+    if not raw.strip():
+        raise InputError(f"{path}: file is empty; expected acceleration values")
+    if b"\x00" in raw[:4096]:
+        raise InputError(f"{path}: looks like a binary file; expected a text record")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        text = raw.decode("latin-1")  # old headers carry degree signs and the like
+    return path, text.splitlines()
+
+
+def _number(token: str, path: Path, lineno: int, what: str) -> float:
+    try:
+        value = float(token.replace("D", "E").replace("d", "e"))  # Fortran exponents (1.0D-03)
+    except ValueError:
+        raise InputError(f"{path}:{lineno}: {token!r} is not a number; expected {what}") from None
+    if not math.isfinite(value):
+        raise InputError(f"{path}:{lineno}: {token!r} is not finite; expected {what}")
+    return value
+
+
+def _check_dt(dt: float | None, where: str) -> float:
+    try:
+        value = float(dt)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InputError(f"{where}: time step dt = {dt!r}; expected a positive number of seconds") from None
+    if not math.isfinite(value) or value <= 0.0:
+        raise InputError(f"{where}: time step dt = {dt!r} s; expected a positive finite number of seconds")
+    return value
+
+
+def _parse_table(lines: Sequence[str], path: Path, first_lineno: int, n_columns: int | None,
+                 comment: tuple[str, ...], what: str) -> tuple[np.ndarray, list[int]]:
+    """Parse whitespace/delimiter-split numeric rows; return (values, line numbers of the rows)."""
+    rows: list[list[float]] = []
+    linenos: list[int] = []
+    for offset, line in enumerate(lines):
+        lineno = first_lineno + offset
+        stripped = line.strip()
+        if not stripped or stripped.startswith(comment):
+            continue
+        tokens = stripped.split()
+        if n_columns is None:
+            n_columns = len(tokens)
+        if len(tokens) != n_columns:
+            raise InputError(f"{path}:{lineno}: row has {len(tokens)} values, expected {n_columns} "
+                             f"({what}); ragged rows are not accepted")
+        rows.append([_number(t, path, lineno, what) for t in tokens])
+        linenos.append(lineno)
+    if not rows:
+        raise InputError(f"{path}: no data rows; expected {what}")
+    return np.asarray(rows, dtype=float), linenos
+
+
+# --------------------------------------------------------------------------- benchmark format
+_DT_IN_HEADER = re.compile(r"\bdt\s*=\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)", re.IGNORECASE)
+_UNITS_IN_HEADER = re.compile(r"\b(cm/sec\^?2|cm/s\^?2|cm/s/s|m/sec\^?2|m/s\^?2|m/s/s|gal)\b|"
+                              r"\bunits? of g\b|\bin g\b", re.IGNORECASE)
+
+
+def _header_units(header: str) -> str | None:
+    m = _UNITS_IN_HEADER.search(header)
+    if not m:
+        return None
+    return m.group(1) if m.group(1) else "g"
+
+
+def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str | None = None,
+                   name: str | None = None, labels: Sequence[str] | None = None) -> Record:
+    """Read one of the benchmark's two-column record files.
+
+    Parameters
+    ----------
+    path : path-like
+        The file (``%`` header lines, two columns, CRLF or LF, tabs or spaces).
+    dt : float, optional
+        Time step [s]. Default: the ``dt=`` in the header, else the benchmark's 0.005 s.
+    units : str, optional
+        Units of the values. Default: the unit named in the header, else cm/s² (the benchmark's).
+    name : str, optional
+        Record name (default: the file stem).
+    labels : sequence of str, optional
+        Component labels (default ``("column 1", "column 2")``).
+
+    Returns
+    -------
+    Record
+        Two components in file order, in m/s² (cm/s² × 0.01).
+
+    Raises
+    ------
+    InputError
+        Malformed file, or an explicit ``dt``/``units`` that contradicts the header.
+    """
+    path, lines = _read_lines(path)
+    header = "\n".join(line for line in lines if line.lstrip().startswith("%"))
+    where = str(path)
+
+    header_dt = None
+    m = _DT_IN_HEADER.search(header)
+    if m:
+        header_dt = _check_dt(m.group(1), f"{where}: header dt")
+    if dt is not None:
+        dt = _check_dt(dt, f"{where}: dt argument")
+        if header_dt is not None and not math.isclose(dt, header_dt, rel_tol=1e-9):
+            raise InputError(f"{where}: dt = {dt} s given but the header says dt = {header_dt} s")
+        dt_from = "argument"
+    elif header_dt is not None:
+        dt, dt_from = header_dt, "header"
+    else:
+        dt, dt_from = BENCHMARK_DT, "benchmark default 0.005 s (not in the header)"
+
+    found_units = _header_units(header)
+    if units is not None:
+        factor = unit_factor(units, f"{where}: units argument")
+        if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
+            raise InputError(f"{where}: units {units!r} given but the header says {found_units!r}")
+        units_from = "argument"
+    elif found_units is not None:
+        units, units_from = found_units, "header"
+    else:
+        units, units_from = "cm/s2", "benchmark default cm/s2 (not in the header)"
+    factor = unit_factor(units, where)
+
+    values, _ = _parse_table(lines, path, 1, 2, ("%", "#"), "two columns of acceleration")
+    return Record(
+        name=name or path.stem,
+        dt=dt,
+        acceleration=values * factor,
+        labels=tuple(labels) if labels else ("column 1", "column 2"),
+        source=str(path),
+        synthetic=False,
+        metadata={"format": "benchmark", "units_in_file": _canonical(units), "units_from": units_from,
+                  "dt_from": dt_from, "header": header.replace("%", "").strip()},
+    )
+
+
+# --------------------------------------------------------------------------- PEER NGA .AT2
+_NPTS_DT_NEW = re.compile(r"NPTS\s*=\s*(\S+?)\s*,\s*DT\s*=\s*(\S+?)(?:\s|,|$)", re.IGNORECASE)
+_NPTS_DT_OLD = re.compile(r"^\s*(\S+)\s+(\S+)\s+NPTS\s*,\s*DT", re.IGNORECASE)
+
+
+def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None = None) -> Record:
+    """Read a PEER NGA ``.AT2`` acceleration file (one component).
+
+    Parameters
+    ----------
+    path : path-like
+        The file: line 1 title, line 2 event/station/component, line 3 units
+        (``ACCELERATION TIME HISTORY IN UNITS OF G``), line 4 ``NPTS= n, DT= dt SEC``
+        (or ``n dt NPTS, DT``), then the values.
+    units : str, optional
+        Units if line 3 does not name them (if it does, they must agree).
+    name : str, optional
+        Record name (default: the file stem).
+
+    Returns
+    -------
+    Record
+        One component in m/s², labelled with the component named on line 2.
+
+    Raises
+    ------
+    InputError
+        Missing header, NPTS/DT absent or not positive, a value count different from NPTS,
+        text or non-finite values (message names the line).
+    """
+    path, lines = _read_lines(path)
+    where = str(path)
+    if len(lines) < 5:
+        raise InputError(f"{where}: {len(lines)} lines; a PEER .AT2 file has 4 header lines then values")
+    m = _NPTS_DT_NEW.search(lines[3]) or _NPTS_DT_OLD.search(lines[3])
+    if not m:
+        raise InputError(f"{where}:4: expected 'NPTS= n, DT= dt SEC' (PEER .AT2 header), found {lines[3].strip()!r}")
+    npts_value = _number(m.group(1), path, 4, "NPTS (an integer)")
+    if npts_value != int(npts_value) or npts_value < 2:
+        raise InputError(f"{where}:4: NPTS = {m.group(1)}; expected an integer >= 2")
+    npts = int(npts_value)
+    dt = _check_dt(_number(m.group(2), path, 4, "DT in seconds"), f"{where}:4")
+
+    found_units = _header_units(lines[2])
+    if found_units is None and re.search(r"\bG\s*$", lines[2].strip(), re.IGNORECASE):
+        found_units = "g"
+    if units is not None:
+        factor = unit_factor(units, f"{where}: units argument")
+        if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
+            raise InputError(f"{where}:3: units {units!r} given but the header says {found_units!r}")
+    elif found_units is None:
+        raise InputError(f"{where}:3: units not recognised in {lines[2].strip()!r}; give units (e.g. units='g')")
+    else:
+        units = found_units
+    factor = unit_factor(units, where)
+
+    values: list[float] = []
+    for lineno, line in enumerate(lines[4:], start=5):
+        for token in line.split():
+            values.append(_number(token, path, lineno, "acceleration values"))
+    if len(values) != npts:
+        raise InputError(f"{where}: header says NPTS = {npts} but the file holds {len(values)} values")
+    component = lines[1].rsplit(",", 1)[-1].strip() if "," in lines[1] else "component 1"
+    return Record(
+        name=name or path.stem,
+        dt=dt,
+        acceleration=np.asarray(values) * factor,
+        labels=(component or "component 1",),
+        source=str(path),
+        metadata={"format": "at2", "units_in_file": _canonical(units), "title": lines[0].strip(),
+                  "event": lines[1].strip()},
+    )
+
+
+# --------------------------------------------------------------------------- single column
+def read_single_column(path: str | os.PathLike, dt: float | None, units: str = "g",
+                       name: str | None = None, label: str | None = None) -> Record:
+    """Read a one-value-per-line acceleration file (e.g. the USGS SLAMMER library).
+
+    Parameters
+    ----------
+    path : path-like
+        The file: one number per line; blank lines and lines starting with ``#`` or ``%`` skipped.
+    dt : float
+        Time step [s]; the file does not hold it, so it must be given (SLAMMER lists it in its
+        ``eq.sql`` table).
+    units : str
+        Units of the values (default g, as in SLAMMER).
+    name, label : str, optional
+        Record name (default: the file stem) and component label (default: the file name).
+
+    Raises
+    ------
+    InputError
+        ``dt`` missing or not positive, more than one value on a line, text or non-finite values.
+    """
+    where = str(path)
+    if dt is None:
+        raise InputError(f"{where}: a single-column file holds no time step; give dt (option --dt)")
+    dt = _check_dt(dt, f"{where}: dt")
+    factor = unit_factor(units, f"{where}: units")
+    path, lines = _read_lines(path)
+    values, _ = _parse_table(lines, path, 1, 1, ("#", "%"), "one acceleration value per line")
+    return Record(
+        name=name or path.stem,
+        dt=dt,
+        acceleration=values * factor,
+        labels=(label or path.name,),
+        source=str(path),
+        metadata={"format": "single", "units_in_file": _canonical(units)},
+    )
+
+
+# --------------------------------------------------------------------------- generic CSV
+_TRAILING_UNIT = re.compile(r"^(.*?)\s*([\[(])\s*([^\[\]()]*?)\s*[\])]\s*$")
+
+
+def _split_header_unit(token: str, where: str) -> tuple[str, str | None]:
+    """Split ``"ax [g]"`` into ``("ax", "g")``.
+
+    A trailing ``[...]`` is always a unit; a trailing ``(...)`` only when it names a known
+    unit (so ``"N-S (FN)"`` stays a label) or the time unit s/ms.
+    """
+    m = _TRAILING_UNIT.match(token)
+    if not m:
+        return token.strip(), None
+    name, bracket, unit = m.group(1).strip(), m.group(2), m.group(3)
+    if bracket == "(":
+        known = unit.lower() in ("s", "sec", "seconds", "ms")
+        if not known:
+            try:
+                unit_factor(unit)
+                known = True
+            except InputError:
+                known = False
+        if not known:
+            return token.strip(), None
+    return name, unit
+_UNITS_COMMENT = re.compile(r"^#\s*units?\s*[:=]\s*(\S+)", re.IGNORECASE)
+_TIME_NAMES = {"t", "time", "times", "time_s", "t_s", "time(s)", "time[s]", "seconds", "sec", "s"}
+
+
+def _split_csv(line: str, delimiter: str | None) -> list[str]:
+    parts = line.split(delimiter) if delimiter else line.split()
+    return [p.strip() for p in parts]
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None = None,
+             name: str | None = None, dt_tolerance: float = 1e-3) -> Record:
+    """Read a CSV record ``time, ax[, ay, ...]``.
+
+    Parameters
+    ----------
+    path : path-like
+        The file (see the module docstring for the layout).
+    units : str, optional
+        Units of the acceleration columns. Default: the units in the header brackets or a
+        ``# units:`` comment, else m/s². An explicit value must agree with the file's.
+    dt : float, optional
+        Expected time step [s]; if given it must agree with the time column.
+    name : str, optional
+        Record name (default: the file stem).
+    dt_tolerance : float
+        Largest accepted relative deviation of a time step from the median step.
+
+    Raises
+    ------
+    InputError
+        Fewer than two columns, ragged rows, text or non-finite numbers, time that does not
+        increase or is not uniformly sampled (the message names the line), unit conflicts.
+    """
+    path, lines = _read_lines(path)
+    where = str(path)
+    comment_units = None
+    data_lines: list[tuple[int, str]] = []
+    for lineno, line in enumerate(lines, start=1):
+        stripped = line.strip()
+        if not stripped:
+            continue
+        if stripped.startswith("#"):
+            m = _UNITS_COMMENT.match(stripped)
+            if m:
+                comment_units = m.group(1)
+            continue
+        data_lines.append((lineno, stripped))
+    if not data_lines:
+        raise InputError(f"{where}: no data rows; expected columns time, ax[, ay]")
+
+    first = data_lines[0][1]
+    delimiter = "," if "," in first else (";" if ";" in first else None)
+
+    header_names: list[str] | None = None
+    header_units: list[str | None] = []
+    tokens = _split_csv(first, delimiter)
+    if not all(_is_number(t) for t in tokens if t):
+        header_names, header_units = [], []
+        for t in tokens:
+            name_part, unit = _split_header_unit(t, where)
+            header_names.append(name_part)
+            header_units.append(unit)
+        data_lines = data_lines[1:]
+        if not data_lines:
+            raise InputError(f"{where}: header row only; expected data rows time, ax[, ay]")
+
+    n_columns = len(header_names) if header_names else len(_split_csv(data_lines[0][1], delimiter))
+    if n_columns < 2:
+        raise InputError(f"{where}:{data_lines[0][0]}: {n_columns} column; expected time and at least one "
+                         "acceleration column (time, ax[, ay])")
+    rows = np.empty((len(data_lines), n_columns))
+    for i, (lineno, line) in enumerate(data_lines):
+        parts = _split_csv(line, delimiter)
+        if len(parts) != n_columns:
+            raise InputError(f"{where}:{lineno}: row has {len(parts)} values, expected {n_columns} "
+                             "(time, ax[, ay]); ragged rows are not accepted")
+        for j, token in enumerate(parts):
+            rows[i, j] = _number(token, path, lineno, "time" if j == 0 else "acceleration")
+    linenos = [lineno for lineno, _ in data_lines]
+
+    # units: header brackets, then the '# units:' comment, then the argument, else m/s²
+    acc_units = {u for u in header_units[1:] if u} if header_units else set()
+    if len(acc_units) > 1:
+        raise InputError(f"{where}: acceleration columns have different units {sorted(acc_units)}")
+    file_units = next(iter(acc_units)) if acc_units else comment_units
+    if units is not None:
+        factor = unit_factor(units, f"{where}: units argument")
+        if file_units is not None and not math.isclose(factor, unit_factor(file_units, where)):
+            raise InputError(f"{where}: units {units!r} given but the file says {file_units!r}")
+        units_from = "argument"
+    elif file_units is not None:
+        units, units_from = file_units, "file"
+    else:
+        units, units_from = "m/s2", "default m/s2 (no units in the file)"
+    factor = unit_factor(units, where)
+
+    time_scale = 1.0
+    if header_units and header_units[0]:
+        tu = header_units[0].lower()
+        if tu in ("s", "sec", "seconds"):
+            time_scale = 1.0
+        elif tu == "ms":
+            time_scale = 1e-3
+        else:
+            raise InputError(f"{where}: time column unit {header_units[0]!r}; expected s or ms")
+    if header_names and header_names[0].lower().replace(" ", "") not in _TIME_NAMES:
+        raise InputError(f"{where}:{linenos[0] - 1}: first column is {header_names[0]!r}; expected the time "
+                         "column (time, ax[, ay])")
+
+    time = rows[:, 0] * time_scale
+    if len(time) < 2:
+        raise InputError(f"{where}: one data row; expected at least two samples")
+    steps = np.diff(time)
+    bad = np.flatnonzero(steps <= 0)
+    if bad.size:
+        k = bad[0] + 1
+        raise InputError(f"{where}:{linenos[k]}: time {time[k]:g} s does not increase (previous {time[k - 1]:g} s); "
+                         "expected increasing time")
+    step = float(np.median(steps))
+    off = np.flatnonzero(np.abs(steps - step) > dt_tolerance * step)
+    if off.size:
+        k = off[0] + 1
+        raise InputError(f"{where}:{linenos[k]}: time step {steps[k - 1]:g} s differs from the record's "
+                         f"step {step:g} s; expected uniform sampling (resample the record first)")
+    if dt is not None:
+        dt = _check_dt(dt, f"{where}: dt argument")
+        if abs(dt - step) > dt_tolerance * step:
+            raise InputError(f"{where}: dt = {dt} s given but the time column has step {step:g} s")
+    # the mean step over the record is the best estimate when the times are rounded
+    step = float((time[-1] - time[0]) / (len(time) - 1))
+
+    labels = tuple(header_names[1:]) if header_names else tuple(
+        ("ax", "ay", "az")[i] if i < 3 else f"component {i + 1}" for i in range(n_columns - 1))
+    return Record(
+        name=name or path.stem,
+        dt=step,
+        acceleration=rows[:, 1:] * factor,
+        labels=labels,
+        source=str(path),
+        metadata={"format": "csv", "units_in_file": _canonical(units), "units_from": units_from,
+                  "time_start_s": float(time[0])},
+    )
+
+
+def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2") -> Path:
+    """Write ``record`` as CSV (``time [s], <label> [units], ...``), atomically; :func:`read_csv` reads it back.
+
+    A comment line states the source and, for generated motions, that the record is synthetic.
+    """
+    factor = unit_factor(units, "units")
+    path = Path(path)
+    kind = "SYNTHETIC ground motion" if record.synthetic else "ground motion"
+    lines = [f"# {kind}: {record.name}; source: {record.source}; written by sbib",
+             ",".join(["time [s]"] + [f"{label.replace(',', ';')} [{_canonical(units)}]" for label in record.labels])]
+    data = np.column_stack([record.time, record.acceleration / factor])
+    lines.extend(",".join(f"{v:.10g}" for v in row) for row in data)
+    with atomic_path(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+# --------------------------------------------------------------------------- dispatch
+def detect_format(path: str | os.PathLike) -> str:
+    """Guess a file's format from its name and first lines (``benchmark``, ``at2``, ``single`` or ``csv``).
+
+    Rules, in order: suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
+    lines or a first line starting with ``PEER`` → at2; a first line starting with ``%`` →
+    benchmark; a comma or semicolon in the first data line → csv; one value per line →
+    single; two values whose first column increases with a constant step → csv (time, a);
+    two values otherwise → benchmark.
+    """
+    path, lines = _read_lines(path)
+    suffix = path.suffix.lower()
+    if suffix == ".at2":
+        return "at2"
+    if suffix == ".csv":
+        return "csv"
+    head = [line.strip() for line in lines[:4]]
+    if any("NPTS" in line.upper() for line in head) or (head and head[0].upper().startswith("PEER")):
+        return "at2"
+    nonblank = [line.strip() for line in lines if line.strip()]
+    if nonblank[0].startswith("%"):
+        return "benchmark"
+    data = [line for line in nonblank if not line.startswith(("#", "%"))][:50]
+    if not data:
+        raise InputError(f"{path}: no data rows; cannot tell the format")
+    if "," in data[0] or ";" in data[0]:
+        return "csv"
+    width = len(data[0].split())
+    if width == 1:
+        return "single"
+    if width == 2:
+        try:
+            first = np.array([float(line.split()[0]) for line in data if len(line.split()) == 2])
+        except ValueError:
+            return "csv" if not _is_number(data[0].split()[0]) else "benchmark"
+        steps = np.diff(first)
+        if first.size > 2 and np.all(steps > 0) and np.allclose(steps, steps[0], rtol=1e-3):
+            return "csv"
+        return "benchmark"
+    if not all(_is_number(t) for t in data[0].split()):
+        return "csv"
+    raise InputError(f"{path}: {width} columns without a header; cannot tell the format "
+                     "(give format='csv' with a time column, or 'benchmark')")
+
+
+def load_record(path: str | os.PathLike, format: str = "auto", dt: float | None = None,
+                units: str | None = None, name: str | None = None) -> Record:
+    """Read a record file in any supported format.
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+    format : {"auto", "benchmark", "at2", "single", "csv"}
+        File format; ``"auto"`` uses :func:`detect_format`.
+    dt : float, optional
+        Time step [s]: required for ``single``; for the other formats it must agree with the file.
+    units : str, optional
+        Units of the values (see :func:`unit_factor`); default per format: benchmark cm/s²
+        (or the header's), at2 from the header, single g, csv from the header else m/s².
+    name : str, optional
+        Record name (default: the file stem).
+
+    Returns
+    -------
+    Record
+        In m/s².
+
+    Raises
+    ------
+    InputError
+        Unknown format, malformed file, or missing/inconsistent ``dt``/``units``.
+    DataNotFoundError
+        The file does not exist.
+    """
+    if format not in FORMATS:
+        raise InputError(f"format {format!r} is not known; expected one of {', '.join(FORMATS)}")
+    fmt = detect_format(path) if format == "auto" else format
+    if fmt == "benchmark":
+        return read_benchmark(path, dt=dt, units=units, name=name)
+    if fmt == "at2":
+        record = read_at2(path, units=units, name=name)
+        if dt is not None and not math.isclose(_check_dt(dt, f"{path}: dt argument"), record.dt, rel_tol=1e-6):
+            raise InputError(f"{path}: dt = {dt} s given but the .AT2 header says DT = {record.dt} s")
+        return record
+    if fmt == "single":
+        return read_single_column(path, dt=dt, units=units or "g", name=name)
+    return read_csv(path, units=units, dt=dt, name=name)
+
