@@ -55,9 +55,9 @@ DEFAULT_Y_POSITIONS = ((-17.25, -39.93), (-17.25, -16.18), (-17.25, 7.35), (-17.
 
 def default_damper_model() -> Any:
     """Return the default damper model of a device slot: the virtual benchmark damper."""
-    from damper import virtual
+    from damper.virtual import VirtualBenchmarkDamper
 
-    return virtual.virtual_damper()
+    return VirtualBenchmarkDamper()
 
 
 def _check_model(model: Any, where: str) -> None:
