@@ -75,7 +75,7 @@ class FrictionPendulumBearing(BearingParameters):
     A, beta, gamma : float
         Park–Wen shape parameters (defaults 1, 0.1, 0.9; gamma >= beta, beta + gamma > 0).
     substep_tolerance : float
-        Sub-step tolerance of the kernel (default 0.25; see :class:`LeadRubberBearing`).
+        Sub-step tolerance of the kernel (default 0.5; see :class:`LeadRubberBearing`).
     """
 
     weight: float
@@ -88,7 +88,7 @@ class FrictionPendulumBearing(BearingParameters):
     A: float = 1.0
     beta: float = 0.1
     gamma: float = 0.9
-    substep_tolerance: float = 0.25
+    substep_tolerance: float = 0.5
 
     name: ClassVar[str] = "friction-pendulum"
     type_id: ClassVar[int] = TYPE_ID

@@ -74,9 +74,10 @@ def run_kernel(bearing, u, v, t):
 def run_oracle(bearing, u, v, t):
     """solve_ivp (DOP853, tight tolerances, bounded step) of the same equations; force (n, 2)."""
     def rhs(tt, s):
-        return bearing.rates(s, *u(tt), *v(tt))
+        uu, vv = u(tt), v(tt)
+        return bearing.rates(s, uu[0], uu[1], vv[0], vv[1])
     sol = solve_ivp(rhs, (t[0], t[-1]), bearing.initial_state(), method="DOP853", t_eval=t,
-                    rtol=1e-10, atol=1e-12, max_step=2e-4)
+                    rtol=1e-10, atol=1e-12, max_step=5e-4)
     assert sol.success
     f = np.array([bearing.force(sol.y[:, k], *u(tk), *v(tk)) for k, tk in enumerate(t)])
     return f, sol.y.T
@@ -88,6 +89,15 @@ def rel_err(a, b):
 
 MOTIONS = {"circle": circle(0.15, 2.0), "figure-eight": figure_eight(0.15, 2.0)}
 BEARINGS = {"lead-rubber": lrb(), "friction-pendulum": fp()}
+T_ORACLE = np.arange(0.0, 2.0 + 1e-12, 0.005)
+_ORACLE_CACHE: dict = {}
+
+
+def oracle(name, motion):
+    """The solve_ivp reference for a bearing and motion on T_ORACLE (computed once)."""
+    if (name, motion) not in _ORACLE_CACHE:
+        _ORACLE_CACHE[name, motion] = run_oracle(BEARINGS[name], *MOTIONS[motion], T_ORACLE)
+    return _ORACLE_CACHE[name, motion]
 
 
 @pytest.mark.parametrize("motion", sorted(MOTIONS))
@@ -95,26 +105,26 @@ BEARINGS = {"lead-rubber": lrb(), "friction-pendulum": fp()}
 def test_kernel_matches_solve_ivp_oracle(name, motion):
     bearing = BEARINGS[name]
     u, v = MOTIONS[motion]
-    t = np.arange(0.0, 2.5 + 1e-12, 0.005)
+    t = T_ORACLE
     f_k, _ = run_kernel(bearing, u, v, t)
-    f_o, _ = run_oracle(bearing, u, v, t)
+    f_o, _ = oracle(name, motion)
     # the hysteretic part alone (the linear part is identical by construction)
     k, c = bearing.linear_part()
     U = np.array([u(tk) for tk in t])
     V = np.array([v(tk) for tk in t])
     h_k = f_k - k * U - c * V
     h_o = f_o - k * U - c * V
-    assert rel_err(h_k, h_o) < 2e-3
-    assert rel_err(f_k, f_o) < 1e-3
+    assert rel_err(h_k, h_o) < 3e-4
+    assert rel_err(f_k, f_o) < 1e-4
 
 
 @pytest.mark.parametrize("name", sorted(BEARINGS))
 def test_kernel_converges_as_tolerance_tightens(name):
     u, v = MOTIONS["figure-eight"]
-    t = np.arange(0.0, 2.0 + 1e-12, 0.005)
+    t = T_ORACLE
     base = BEARINGS[name]
     import dataclasses
-    f_o, _ = run_oracle(base, u, v, t)
+    f_o, _ = oracle(name, "figure-eight")
     errors = []
     for tol in (1.5, 0.5, 0.1):
         f_k, _ = run_kernel(dataclasses.replace(base, substep_tolerance=tol), u, v, t)
