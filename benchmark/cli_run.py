@@ -248,7 +248,7 @@ def _print_table(summary: dict[str, Any]) -> None:
 
 
 def main_run(args: argparse.Namespace) -> int:
-    """Entry point of ``sbib run`` (returns the exit status)."""
+    """Entry point of ``sbib run``: run :func:`run_case` with the parsed ``args``; return the exit status."""
     summary = run_case(args.record, orientation=args.orientation, isolation=args.isolation,
                        controller=args.controller, records_dir=args.records_dir, out=args.out,
                        plot_dir=args.plot, n_modes=args.n_modes, control_step=args.control_step,
@@ -264,7 +264,7 @@ def main_run(args: argparse.Namespace) -> int:
 
 
 def register(subparsers: Any) -> None:
-    """Add ``sbib run`` to the ``sbib`` command line."""
+    """Add ``sbib run`` to the ``sbib`` command line (``subparsers`` of :mod:`benchmark.cli`)."""
     from benchmark.isolation.configurations import DEFAULT_NONLINEAR, ISOLATION_NAMES
 
     p = subparsers.add_parser(

@@ -213,7 +213,7 @@ def evaluate(result: Any, reference: Any) -> dict[str, float | None]:
 
 
 def plan_corners(plan_xy: np.ndarray) -> np.ndarray:
-    """Outer corners of a plan: the convex-hull vertices of the given points (n, 2) [m].
+    """Outer corners of a plan: the convex-hull vertices of the points ``plan_xy`` (n, 2) [m].
 
     For the benchmark's bearing positions these are the five outer corners of the L-shaped
     plan, (−17.25, 30.69), (−17.25, −47.79), (12.53, −47.79), (32.83, −11.16), (32.83, 30.69) m.

@@ -129,7 +129,16 @@ def _envelopes(run: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def plot_floor_envelopes(result: Any, path: str | os.PathLike, reference: Any = None) -> Path:
     """Peak responses over height: displacement (relative to the ground), drift ratio, absolute
-    acceleration, each the x–y resultant at the centre of mass; level 0 is the base."""
+    acceleration, each the x–y resultant at the centre of mass; level 0 is the base.
+
+    Parameters
+    ----------
+    result : SimulationResult
+    path : path-like
+        Output file (``.png``, or ``.pdf``/``.svg``).
+    reference : SimulationResult, optional
+        The uncontrolled run, drawn in grey.
+    """
     fig = _figure(9.0, 4.2)
     axes = fig.subplots(1, 3, sharey=True)
     runs = ([(reference, _REF_STYLE)] if reference is not None else []) + \
@@ -246,6 +255,18 @@ def plot_run(result: Any, directory: str | os.PathLike, reference: Any = None,
     Files: ``<prefix>_orbit.png``, ``<prefix>_envelopes.png``, ``<prefix>_bearings.png`` and,
     with devices, ``<prefix>_devices.png``. ``prefix`` defaults to
     ``record_orientation_isolation_controller`` from the run's ``info``.
+
+    Parameters
+    ----------
+    result : SimulationResult
+    directory : path-like
+    reference : SimulationResult, optional
+        The uncontrolled run (grey in the orbit and envelope figures).
+    prefix : str, optional
+    bearing_xy : (n_bearings, 2) array, optional
+        Bearing plan positions [m] (default from the structure file).
+    corners : (n_c, 2) array, optional
+        Plan corners for the orbit figure.
     """
     directory = Path(directory)
     if prefix is None:

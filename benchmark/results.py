@@ -276,6 +276,12 @@ def _attr(value: Any) -> Any:
 def read_result(path: str | os.PathLike, which: str = "run") -> StoredResult:
     """Read a run (``which="run"``) or its reference run (``"reference"``) from a result file.
 
+    Parameters
+    ----------
+    path : path-like
+        A file written by :func:`write_result`.
+    which : {"run", "reference"}
+
     Raises
     ------
     DataNotFoundError
@@ -302,7 +308,7 @@ def read_result(path: str | os.PathLike, which: str = "run") -> StoredResult:
 
 
 def read_evaluation(path: str | os.PathLike) -> dict[str, float | None]:
-    """J1–J9 stored in a result file (``None`` where undefined); empty if none were stored."""
+    """J1–J9 stored in the result file ``path`` (``None`` where undefined); empty if none were stored."""
     with _open(path) as f:
         if "evaluation" not in f:
             return {}

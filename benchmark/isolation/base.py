@@ -49,7 +49,10 @@ def require_nonnegative(obj: object, field: str) -> None:
 
 def require_range(obj: object, field: str, low: float, high: float,
                   low_open: bool = False, high_open: bool = False) -> None:
-    """Raise :class:`ParameterError` unless ``low <= obj.field <= high`` (bounds open if asked)."""
+    """Raise :class:`ParameterError` unless ``low <= obj.field <= high``.
+
+    ``low_open`` / ``high_open`` make the lower / upper bound strict.
+    """
     x = _check_number(type(obj).__name__, field, getattr(obj, field))
     ok_low = x > low if low_open else x >= low
     ok_high = x < high if high_open else x <= high

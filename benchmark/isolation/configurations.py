@@ -261,7 +261,22 @@ def _format_numbers(numbers: Iterable[int]) -> str:
 
 def parse_bearing_numbers(spec: str | Iterable[int], n_bearings: int = N_BEARINGS,
                           where: str = "bearings") -> tuple[int, ...]:
-    """Parse 1-based bearing numbers (``"1-61"``, ``"1-10,15"`` or a list) into 0-based indices."""
+    """Parse 1-based bearing numbers into 0-based indices.
+
+    Parameters
+    ----------
+    spec : str or iterable of int
+        ``"1-61"``, ``"1-10,15,20-30"`` or a list of numbers (1-based).
+    n_bearings : int
+        Largest admissible number.
+    where : str
+        Location named in error messages (file and field).
+
+    Raises
+    ------
+    InputError
+        Malformed ranges or numbers outside ``1..n_bearings``.
+    """
     out: list[int] = []
     if isinstance(spec, str):
         for part in spec.replace(" ", "").split(","):
@@ -290,7 +305,22 @@ def parse_bearing_numbers(spec: str | Iterable[int], n_bearings: int = N_BEARING
 
 
 def isolation_from_dict(data: dict, where: str = "isolation") -> IsolationLayer:
-    """Build an :class:`IsolationLayer` from a dict (the JSON format in the module docstring)."""
+    """Build an :class:`IsolationLayer` from a dict.
+
+    Parameters
+    ----------
+    data : dict
+        ``{"name", "description", "n_bearings", "groups": [{"type", "bearings", "parameters",
+        "label"}]}`` (the JSON format of the module docstring; parameters in SI).
+    where : str
+        Location named in error messages (e.g. the file path).
+
+    Raises
+    ------
+    InputError, ParameterError
+        Missing or unknown fields, bad bearing numbers, inadmissible parameters, bearings in no
+        group or in two.
+    """
     if not isinstance(data, dict) or "groups" not in data:
         raise InputError(f"{where}: expected an object with a 'groups' list")
     n = int(data.get("n_bearings", N_BEARINGS))
@@ -319,7 +349,15 @@ def isolation_from_dict(data: dict, where: str = "isolation") -> IsolationLayer:
 
 
 def load_isolation(path: str | os.PathLike) -> IsolationLayer:
-    """Read an isolation layer from a JSON file (format in the module docstring)."""
+    """Read an isolation layer from the JSON file ``path`` (format in the module docstring).
+
+    Raises
+    ------
+    DataNotFoundError
+        If the file does not exist.
+    InputError
+        Invalid JSON (with the line number) or content (see :func:`isolation_from_dict`).
+    """
     path = Path(path)
     if not path.is_file():
         raise DataNotFoundError(f"isolation configuration file {path} not found")

@@ -50,7 +50,17 @@ N_PARAMS = 11
 
 def friction_coefficient(speed: float | np.ndarray, mu_max: float, mu_min: float,
                          rate_parameter: float) -> float | np.ndarray:
-    r"""Sliding friction coefficient :math:`\mu(v) = f_\max - (f_\max - f_\min) e^{-a |v|}`."""
+    r"""Sliding friction coefficient :math:`\mu(v) = f_\max - (f_\max - f_\min) e^{-a |v|}`.
+
+    Parameters
+    ----------
+    speed : float or ndarray
+        Sliding speed :math:`v` [m/s].
+    mu_max, mu_min : float
+        Coefficients at high and vanishing speed.
+    rate_parameter : float
+        :math:`a` [s/m].
+    """
     return mu_max - (mu_max - mu_min) * np.exp(-rate_parameter * np.abs(speed))
 
 

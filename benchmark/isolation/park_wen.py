@@ -88,7 +88,17 @@ def park_wen_substeps(ux0: float, uy0: float, ux1: float, uy1: float,
                       vx0: float, vy0: float, vx1: float, vy1: float, dt: float,
                       yield_displacement: float, A: float, beta: float, gamma: float,
                       tolerance: float) -> int:
-    """Number of RK4 sub-steps for one structural step (the rule in the module docstring)."""
+    """Number of RK4 sub-steps for one structural step (the rule in the module docstring).
+
+    Parameters
+    ----------
+    ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt : float
+        Path of the step (displacements [m], velocities [m/s], duration [s]).
+    yield_displacement, A, beta, gamma : float
+        Park–Wen parameters (Y [m]).
+    tolerance : float
+        Largest product of the hysteretic stiffness bound and the sub-step length.
+    """
     lx = max(abs(ux1 - ux0), 0.5 * (abs(vx0) + abs(vx1)) * dt)
     ly = max(abs(uy1 - uy0), 0.5 * (abs(vy0) + abs(vy1)) * dt)
     rho = max(A, 2.0 * (beta + gamma)) / yield_displacement
@@ -116,7 +126,22 @@ def park_wen_advance(state: np.ndarray, offset: int,
                      tolerance: float) -> int:
     """Advance ``state[offset:offset+2]`` = (z_x, z_y) in place along one step's Hermite path.
 
-    Returns the number of sub-steps used (for diagnostics).
+    Parameters
+    ----------
+    state : ndarray
+        State array holding (z_x, z_y) at ``offset``.
+    offset : int
+    ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt : float
+        Path of the step (displacements [m], velocities [m/s], duration [s]).
+    yield_displacement, A, beta, gamma : float
+        Park–Wen parameters (Y [m]).
+    tolerance : float
+        Sub-step tolerance (:func:`park_wen_substeps`).
+
+    Returns
+    -------
+    int
+        The number of sub-steps used (for diagnostics).
     """
     n = park_wen_substeps(ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,
                           yield_displacement, A, beta, gamma, tolerance)

@@ -59,7 +59,18 @@ assert sorted(BEARING_TYPES) == list(range(len(_TYPES)))
 
 
 def bearing_type(key: int | str) -> type[BearingParameters]:
-    """Return the parameter class for a type id or name; :class:`ParameterError` if unknown."""
+    """Return the parameter class of a bearing type.
+
+    Parameters
+    ----------
+    key : int or str
+        Type id (0 linear, 1 lead-rubber, 2 friction pendulum) or name (:data:`BEARING_NAMES`).
+
+    Raises
+    ------
+    ParameterError
+        If the type is unknown (the message lists the known ones).
+    """
     if isinstance(key, str):
         for cls in _TYPES:
             if cls.name == key:
@@ -73,14 +84,19 @@ def bearing_type(key: int | str) -> type[BearingParameters]:
 
 
 def n_states_of(type_id: int) -> int:
-    """Number of internal states of a bearing type."""
+    """Number of internal states of the bearing type ``type_id``."""
     return bearing_type(type_id).n_states
 
 
 def linear_part(type_id: int, params: np.ndarray) -> tuple[float, float]:
     """``(k, c)`` of a packed bearing: linear stiffness [N/m] and damping [N·s/m] per direction.
 
-    The same for every type: ``params[0], params[1]`` (``type_id`` is checked only).
+    Parameters
+    ----------
+    type_id : int
+        Bearing type id (checked only: the layout is the same for every type).
+    params : ndarray
+        The bearing's packed parameters; returns ``params[0], params[1]``.
     """
     bearing_type(type_id)
     return float(params[0]), float(params[1])
