@@ -13,6 +13,7 @@ Quick start::
 
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, StandardBoucWen, limit_cycle_peak
 from damper.data import DamperTest, read_csv, read_utfsm, write_csv
+from damper.laboratory import general_test, periodic_test
 from damper.registry import MODELS, device_force, device_step, get_model_class
 from damper.simulate import DamperResponse, simulate
 from damper.voltage_laws import Constant, Exponential, Polynomial, SeedKappaW, Tabulated
@@ -21,6 +22,6 @@ __all__ = [
     "NormalizedBoucWen", "ExtendedBoucWen", "StandardBoucWen", "limit_cycle_peak",
     "DamperTest", "read_csv", "write_csv", "read_utfsm",
     "MODELS", "get_model_class", "device_step", "device_force",
-    "DamperResponse", "simulate",
+    "DamperResponse", "simulate", "periodic_test", "general_test",
     "Constant", "Polynomial", "Exponential", "SeedKappaW", "Tabulated",
 ]

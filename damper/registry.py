@@ -16,6 +16,8 @@ import numpy as np
 from benchmark.errors import InputError
 from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, ExtendedBoucWen,
                              NormalizedBoucWen, bouc_wen_force, bouc_wen_step)
+from damper.spencer import SPENCER_ID, Spencer, spencer_type_force_kernel, spencer_type_step
+from damper.virtual import VIRTUAL_DAMPER_ID, VirtualBenchmarkDamper
 
 __all__ = [
     "MODELS",
@@ -29,6 +31,8 @@ __all__ = [
 _MODEL_CLASSES = (
     NormalizedBoucWen,
     ExtendedBoucWen,
+    Spencer,
+    VirtualBenchmarkDamper,
 )
 
 #: Model classes by name.
@@ -87,6 +91,8 @@ def device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt):
     """
     if model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID:
         return bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt)
+    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID:
+        return spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt)
     return np.nan
 
 
@@ -96,4 +102,6 @@ def device_force(model_id, params, state, x, xd, v):
     and voltage ``v`` [V] (no state change); NaN for an unknown ``model_id``."""
     if model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID:
         return bouc_wen_force(params, state, x, xd, v)
+    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID:
+        return spencer_type_force_kernel(params, state, x, xd, v)
     return np.nan

@@ -1,0 +1,327 @@
+"""Spencer et al. (1997) phenomenological MR damper model, with first-order field dynamics.
+
+.. math::
+
+   F &= c_1 \\dot y + k_1 (x - x_0) \\\\
+   \\dot y &= \\frac{\\alpha z + c_0 \\dot x + k_0 (x - y)}{c_0 + c_1} \\\\
+   \\dot z &= -\\gamma|\\dot x - \\dot y| z |z|^{n-1} - \\beta(\\dot x - \\dot y)|z|^n + A(\\dot x - \\dot y) \\\\
+   \\alpha &= \\alpha_a + \\alpha_b u,\\quad c_0 = c_{0a} + c_{0b} u,\\quad c_1 = c_{1a} + c_{1b} u \\\\
+   \\dot u &= -\\eta (u - v)
+
+``x`` the device displacement, ``y`` the internal displacement of the Bouc-Wen/dashpot
+element, ``v`` the commanded voltage and ``u`` the voltage the fluid "sees". Note that Spencer
+attaches ``gamma`` to the :math:`|\\dot x - \\dot y|` term, the reverse of Wen's convention.
+
+The kernel works with the normalized hysteretic variable :math:`w = z/z_0`,
+:math:`z_0 = (A/(\\beta+\\gamma))^{1/n}` (DOMAIN.md §3), so the element's force is
+:math:`\\alpha z = (\\alpha z_0) w` and
+:math:`\\dot w = \\rho(\\dot r - \\sigma|\\dot r||w|^{n-1}w + (\\sigma-1)\\dot r|w|^n)` with
+:math:`\\dot r = \\dot x - \\dot y`, :math:`\\rho = A/z_0`, :math:`\\sigma = \\gamma/(\\beta+\\gamma)`
+(Spencer's γ is Wen's β). Admissible: ``A > 0``, ``beta + gamma > 0``, ``gamma >= beta``
+(σ ≥ ½), ``n >= 1``, positive dashpots, non-negative springs, ``eta > 0``.
+
+The same kernel (:func:`spencer_type_step`) serves every "Spencer-type" device, with any
+:mod:`~damper.voltage_laws` for the hysteretic force scale and the two dashpots: the virtual
+benchmark damper (:mod:`damper.virtual`) uses it with saturating laws.
+
+Numerics: the filtered voltage is advanced exactly,
+:math:`u(\\tau) = v + (u_0 - v)e^{-\\eta\\tau}`; ``(y, w)`` are integrated with classical RK4
+in time along the cubic Hermite path of the step, in
+:math:`N = \\lceil \\lambda\\,\\Delta t/\\mathrm{tol} \\rceil` sub-steps with
+:math:`\\lambda = (\\rho\\,\\alpha z_0 + k_0)/(c_0+c_1) + \\rho n\\max(1, 2\\sigma-1)\\max(1,|w|)^{n-1}
+(|\\dot x|_{max} + |\\dot y|)` (DOMAIN.md §5).
+
+Parameters of the 1.5 kN prototype (:meth:`Spencer.prototype_1997`, Spencer et al. 1997, as
+listed in DOMAIN.md §3, **unverified against the paper's table**): c0a 21.0 N·s/cm,
+c0b 3.50 N·s/(cm·V), k0 46.9 N/cm, c1a 283 N·s/cm, c1b 2.95 N·s/(cm·V), k1 5.00 N/cm,
+x0 14.3 cm, αa 140 N/cm, αb 695 N/(cm·V), γ = β = 363 cm⁻², A = 301, n = 2, η = 190 s⁻¹,
+voltage 0-2.25 V.
+
+References
+----------
+Spencer B.F. Jr., Dyke S.J., Sain M.K., Carlson J.D. (1997) *Phenomenological model of a
+magnetorheological damper*, J. Eng. Mech. 123(3):230-238.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import ClassVar
+
+import numba
+import numpy as np
+
+from benchmark.errors import InputError, ParameterError
+from damper.bouc_wen import _abs_pow, _check_voltage_range, hermite_position, DEFAULT_SUBSTEP_TOLERANCE
+from damper.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value
+
+__all__ = [
+    "Spencer",
+    "SPENCER_ID",
+    "pack_spencer_type",
+    "spencer_type_rates",
+    "spencer_type_step",
+    "spencer_type_force",
+    "spencer_type_force_kernel",
+]
+
+SPENCER_ID = 3
+MAX_SUBSTEPS = 200_000
+
+
+def pack_spencer_type(tol: float, k0: float, k1: float, x0: float, eta: float, rho: float,
+                      sigma: float, n: float, alpha_w: VoltageLaw, c0: VoltageLaw,
+                      c1: VoltageLaw) -> np.ndarray:
+    """Kernel parameters ``[tol, k0, k1, x0, eta, rho, sigma, n, law(alpha_w), law(c0), law(c1)]``.
+
+    ``alpha_w`` is the force scale of the normalized hysteretic variable [N] (``alpha * z0``).
+    """
+    head = np.array([tol, k0, k1, x0, eta, rho, sigma, n], dtype=np.float64)
+    return np.ascontiguousarray(np.concatenate((head, alpha_w.to_array(), c0.to_array(),
+                                                c1.to_array())))
+
+
+def spencer_type_rates(state, x, xdot, v, *, k0, k1, x0, eta, rho, sigma, n, alpha_w, c0, c1):
+    """Plain-numpy time derivatives ``[ydot, wdot, udot]`` (laws evaluated at the state's u)."""
+    y, w, u = (float(s) for s in state)
+    a, d0, d1 = float(alpha_w(u)), float(c0(u)), float(c1(u))
+    ydot = (a * w + d0 * xdot + k0 * (x - y)) / (d0 + d1)
+    r = xdot - ydot
+    aw = abs(w)
+    wdot = rho * (r - sigma * abs(r) * aw ** (n - 1.0) * w + (sigma - 1.0) * r * aw ** n)
+    return np.array([ydot, wdot, -eta * (u - v)])
+
+
+def spencer_type_force(state, x, xdot, *, k0, k1, x0, rho, sigma, n, alpha_w, c0, c1, **_):
+    """Plain-numpy force [N] ``c1 ydot + k1 (x - x0)``."""
+    y, w, u = (float(s) for s in state)
+    a, d0, d1 = float(alpha_w(u)), float(c0(u)), float(c1(u))
+    ydot = (a * w + d0 * xdot + k0 * (x - y)) / (d0 + d1)
+    return float(d1 * ydot + k1 * (x - x0))
+
+
+@dataclass(frozen=True)
+class Spencer:
+    """Spencer et al. (1997) phenomenological MR damper model (SI units).
+
+    Parameters
+    ----------
+    alpha_a, alpha_b : float
+        Hysteretic stiffness :math:`\\alpha = \\alpha_a + \\alpha_b u` [N/m, N/(m·V)].
+    c0a, c0b : float
+        Viscous damping at large velocities [N·s/m, N·s/(m·V)].
+    k0 : float
+        Stiffness at large velocities [N/m].
+    c1a, c1b : float
+        Dashpot producing the roll-off at low velocities [N·s/m, N·s/(m·V)].
+    k1 : float
+        Accumulator stiffness [N/m].
+    x0 : float
+        Initial displacement of the accumulator spring [m] (force offset ``-k1 x0``).
+    gamma, beta : float
+        Hysteresis shape [1/m^n] (Spencer's convention: ``gamma`` on the ``|xdot|`` term).
+    A : float
+        Hysteresis scale [-].
+    n : float
+        Hysteresis exponent, >= 1.
+    eta : float
+        Field (voltage filter) rate [1/s].
+    voltage_range : tuple of float
+        Admissible command voltages [V] (default (0, 2.25), the prototype's range).
+    substep_tolerance : float
+        RK4 sub-step size as ``lambda * h`` (default 0.05).
+    """
+
+    alpha_a: float
+    alpha_b: float
+    c0a: float
+    c0b: float
+    k0: float
+    c1a: float
+    c1b: float
+    k1: float
+    x0: float
+    gamma: float
+    beta: float
+    A: float
+    n: float
+    eta: float
+    voltage_range: tuple[float, float] = (0.0, 2.25)
+    substep_tolerance: float = DEFAULT_SUBSTEP_TOLERANCE
+
+    name: ClassVar[str] = "spencer"
+    model_id: ClassVar[int] = SPENCER_ID
+    n_states: ClassVar[int] = 3
+    state_names: ClassVar[tuple[str, ...]] = ("y", "w", "u")
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            if f.name == "voltage_range":
+                continue
+            value = getattr(self, f.name)
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                raise ParameterError(f"Spencer.{f.name}: expected a number, got {value!r}") from None
+            if not math.isfinite(value):
+                raise ParameterError(f"Spencer.{f.name}: expected a finite number, got {value}")
+            object.__setattr__(self, f.name, value)
+        object.__setattr__(self, "voltage_range", _check_voltage_range(self.voltage_range))
+        checks = [("A", self.A > 0, "A > 0"), ("n", self.n >= 1, "n >= 1"),
+                  ("beta", self.beta + self.gamma > 0, "beta + gamma > 0"),
+                  ("gamma", self.gamma >= self.beta,
+                   "gamma >= beta (Spencer's gamma is on |xdot|; sigma >= 1/2)"),
+                  ("k0", self.k0 >= 0, "k0 >= 0"), ("k1", self.k1 >= 0, "k1 >= 0"),
+                  ("eta", self.eta > 0, "eta > 0"),
+                  ("substep_tolerance", 0 < self.substep_tolerance <= 1, "0 < tol <= 1")]
+        for name, ok, expected in checks:
+            if not ok:
+                raise ParameterError(f"Spencer.{name}: expected {expected}, got {getattr(self, name):g}")
+        rng = self.voltage_range
+        check_law(Polynomial((self.alpha_a, self.alpha_b)), "alpha", rng, lower=0.0)
+        check_law(Polynomial((self.c0a, self.c0b)), "c0", rng, lower=0.0)
+        check_law(Polynomial((self.c1a, self.c1b)), "c1", rng, lower=0.0)
+
+    @classmethod
+    def prototype_1997(cls, **overrides) -> "Spencer":
+        """The 1.5 kN prototype of Spencer et al. (1997) in SI units (see module docstring)."""
+        values = dict(alpha_a=140.0e2, alpha_b=695.0e2, c0a=21.0e2, c0b=3.50e2, k0=46.9e2,
+                      c1a=283.0e2, c1b=2.95e2, k1=5.00e2, x0=0.143, gamma=363.0e4, beta=363.0e4,
+                      A=301.0, n=2.0, eta=190.0)
+        values.update(overrides)
+        return cls(**values)
+
+    @property
+    def z0(self) -> float:
+        """Scale of Spencer's z: :math:`(A/(\\beta+\\gamma))^{1/n}` [m]."""
+        return (self.A / (self.beta + self.gamma)) ** (1.0 / self.n)
+
+    def _kernel_parameters(self) -> dict:
+        z0 = self.z0
+        return dict(k0=self.k0, k1=self.k1, x0=self.x0, eta=self.eta, rho=self.A / z0,
+                    sigma=self.gamma / (self.beta + self.gamma), n=self.n,
+                    alpha_w=Polynomial((self.alpha_a * z0, self.alpha_b * z0)),
+                    c0=Polynomial((self.c0a, self.c0b)), c1=Polynomial((self.c1a, self.c1b)))
+
+    def to_array(self) -> np.ndarray:
+        """Packed parameters (:func:`pack_spencer_type` layout)."""
+        return pack_spencer_type(self.substep_tolerance, **self._kernel_parameters())
+
+    def initial_state(self) -> np.ndarray:
+        """``[y, w, u] = [0, 0, v_min]``: at rest, field off."""
+        return np.array([0.0, 0.0, self.voltage_range[0]])
+
+    def rates(self, state, x: float, xdot: float, v: float) -> np.ndarray:
+        """``[ydot, wdot, udot]`` (plain numpy, for the scipy oracle); ``w = z / z0``."""
+        return spencer_type_rates(state, x, xdot, v, **self._kernel_parameters())
+
+    def force(self, state, x: float, xdot: float, v: float = 0.0) -> float:
+        """Force [N] at the state (depends on the filtered voltage ``u = state[2]``, not ``v``)."""
+        return spencer_type_force(state, x, xdot, **self._kernel_parameters())
+
+
+# ------------------------------------------------------------------------ numba kernels
+
+@numba.njit(cache=True)
+def _laws(params, u):
+    off = 8
+    a = law_value(params, off, u)
+    off += law_length(params, off)
+    d0 = law_value(params, off, u)
+    off += law_length(params, off)
+    d1 = law_value(params, off, u)
+    return a, d0, d1
+
+
+@numba.njit(cache=True, inline="always")
+def _rates(y, w, x, xd, a, d0, d1, k0, rho, sigma, n):
+    ydot = (a * w + d0 * xd + k0 * (x - y)) / (d0 + d1)
+    r = xd - ydot
+    s = 1.0 if r * w > 0.0 else -1.0
+    wdot = rho * r * (1.0 - (sigma * s + 1.0 - sigma) * _abs_pow(abs(w), n))
+    return ydot, wdot
+
+
+@numba.njit(cache=True, inline="always")
+def _hermite_velocity(x0, x1, xd0, xd1, dt, s):
+    s2 = s * s
+    return ((6.0 * s2 - 6.0 * s) * (x0 - x1) / dt + (3.0 * s2 - 4.0 * s + 1.0) * xd0
+            + (3.0 * s2 - 2.0 * s) * xd1)
+
+
+@numba.njit(cache=True)
+def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
+    """Advance ``state = [y, w, u]`` over one step; return the force at its end [N]."""
+    tol = params[0]
+    k0 = params[1]
+    eta = params[4]
+    rho = params[5]
+    sigma = params[6]
+    n = params[7]
+    y = state[0]
+    w = state[1]
+    u0 = state[2]
+    field_settled = abs(u0 - v) <= 1e-12 * (1.0 + abs(v))
+    a, d0, d1 = _laws(params, u0)
+    a_v, d0_v, d1_v = _laws(params, v)
+    ratio = max(a / (d0 + d1), a_v / (d0_v + d1_v))
+    kratio = k0 / min(d0 + d1, d0_v + d1_v)
+    ydot0 = (a * w + d0 * xd0 + k0 * (x0 - y)) / (d0 + d1)
+    lam = (rho * ratio + kratio
+           + rho * n * max(1.0, 2.0 * sigma - 1.0) * max(1.0, abs(w)) ** (n - 1.0)
+           * (max(abs(xd0), abs(xd1), abs(x1 - x0) / dt) + abs(ydot0)))
+    n_sub = int(math.ceil(lam * dt / tol))
+    if n_sub < 1:
+        n_sub = 1
+    elif n_sub > MAX_SUBSTEPS:
+        n_sub = MAX_SUBSTEPS
+    h = dt / n_sub
+    hs = 1.0 / n_sub
+    if field_settled:
+        a, d0, d1 = a_v, d0_v, d1_v
+    for k in range(n_sub):
+        s_a = k * hs
+        s_m = s_a + 0.5 * hs
+        s_b = s_a + hs
+        xa = hermite_position(x0, x1, xd0, xd1, dt, s_a)
+        xm = hermite_position(x0, x1, xd0, xd1, dt, s_m)
+        xb = x1 if k == n_sub - 1 else hermite_position(x0, x1, xd0, xd1, dt, s_b)
+        va = _hermite_velocity(x0, x1, xd0, xd1, dt, s_a)
+        vm = _hermite_velocity(x0, x1, xd0, xd1, dt, s_m)
+        vb = _hermite_velocity(x0, x1, xd0, xd1, dt, s_b)
+        if field_settled:
+            aa, da0, da1 = a, d0, d1
+            am, dm0, dm1 = a, d0, d1
+            ab, db0, db1 = a, d0, d1
+        else:
+            aa, da0, da1 = _laws(params, v + (u0 - v) * math.exp(-eta * s_a * dt))
+            am, dm0, dm1 = _laws(params, v + (u0 - v) * math.exp(-eta * s_m * dt))
+            ab, db0, db1 = _laws(params, v + (u0 - v) * math.exp(-eta * s_b * dt))
+        ky1, kw1 = _rates(y, w, xa, va, aa, da0, da1, k0, rho, sigma, n)
+        ky2, kw2 = _rates(y + 0.5 * h * ky1, w + 0.5 * h * kw1, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
+        ky3, kw3 = _rates(y + 0.5 * h * ky2, w + 0.5 * h * kw2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
+        ky4, kw4 = _rates(y + h * ky3, w + h * kw3, xb, vb, ab, db0, db1, k0, rho, sigma, n)
+        y += h * (ky1 + 2.0 * ky2 + 2.0 * ky3 + ky4) / 6.0
+        w += h * (kw1 + 2.0 * kw2 + 2.0 * kw3 + kw4) / 6.0
+    u1 = v + (u0 - v) * math.exp(-eta * dt)
+    state[0] = y
+    state[1] = w
+    state[2] = u1
+    return _force(params, state, x1, xd1)
+
+
+@numba.njit(cache=True)
+def _force(params, state, x, xd):
+    k0 = params[1]
+    k1 = params[2]
+    xs = params[3]
+    a, d0, d1 = _laws(params, state[2])
+    ydot = (a * state[1] + d0 * xd + k0 * (x - state[0])) / (d0 + d1)
+    return d1 * ydot + k1 * (x - xs)
+
+
+@numba.njit(cache=True)
+def spencer_type_force_kernel(params, state, x, xd, v):
+    """Force [N] at the current state (the filtered voltage is ``state[2]``; ``v`` unused)."""
+    return _force(params, state, x, xd)
