@@ -214,3 +214,28 @@ def test_substep_rule_scales_with_displacement_and_survives_nan():
     assert n2 == pytest.approx(2 * n1, abs=1)
     n_nan = park_wen_substeps(0.0, 0.0, float("nan"), 0.0, 0.0, 0.0, 0.0, 0.0, 0.005, 5e-4, 1.0, 0.1, 0.9, 0.1)
     assert n_nan >= 1
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), amplitude=st.floats(1e-4, 0.5), tol=st.sampled_from([0.1, 0.5, 1.0]))
+def test_hysteretic_state_stays_bounded_on_random_biaxial_paths(seed, amplitude, tol):
+    """With A = beta + gamma = 1 the resultant |z| never exceeds 1 (up to the RK4 error)."""
+    rng = np.random.default_rng(seed)
+    n = 200
+    dt = 0.005
+    u = amplitude * np.cumsum(rng.standard_normal((n, 2)), axis=0) / np.sqrt(n)
+    v = np.gradient(u, dt, axis=0)
+    p = fp(substep_tolerance=tol).to_array()
+    state = np.zeros(2)
+    out = np.zeros(2)
+    zmax = 0.0
+    for k in range(1, n):
+        bearing_step(2, p, state, u[k - 1, 0], u[k - 1, 1], u[k, 0], u[k, 1],
+                     v[k - 1, 0], v[k - 1, 1], v[k, 0], v[k, 1], dt, out)
+        zmax = max(zmax, math.hypot(state[0], state[1]))
+    assert np.all(np.isfinite(state))
+    assert zmax <= 1.0 + 1e-3
+    assert math.hypot(*out) <= 0.06 * W * (1.0 + 1e-3)
