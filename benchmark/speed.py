@@ -43,12 +43,12 @@ import tempfile
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, NamedTuple, Sequence
 
 import numpy as np
 
 __all__ = ["BenchCase", "time_call", "machine_description", "bench_single_run", "bench_suite",
-           "bench_identify", "bench_scaling", "run_bench", "format_table", "plot_scaling",
+           "bench_identify", "bench_scaling", "Timing", "run_bench", "format_table", "plot_scaling",
            "compile_counts", "SUITE_CONTROLLERS"]
 
 #: The five controllers of the suite case.
@@ -93,17 +93,33 @@ class BenchCase:
     details: dict = field(default_factory=dict)
 
 
-def time_call(function: Callable[[], Any], repeat: int = 5, warmup: int = 1) -> tuple[float, list[float], Any]:
-    """Call ``function`` ``warmup`` times, then ``repeat`` times; return (min, all times [s], last result)."""
+class Timing(NamedTuple):
+    """Result of :func:`time_call`: wall-clock and CPU times [s] of the repeats, and the last result."""
+
+    best: float
+    times: list
+    result: Any
+    cpu_best: float
+    cpu_times: list
+
+
+def time_call(function: Callable[[], Any], repeat: int = 5, warmup: int = 1) -> Timing:
+    """Call ``function`` ``warmup`` times, then ``repeat`` times, timing each call.
+
+    Returns a :class:`Timing` (unpacks as ``best, times, result, cpu_best, cpu_times``): the
+    minimum and every wall-clock time, the last result, and the process CPU times (which other
+    processes' load on a shared machine does not inflate).
+    """
     result = None
     for _ in range(warmup):
         result = function()
-    times = []
+    times, cpu_times = [], []
     for _ in range(max(1, repeat)):
-        t0 = time.perf_counter()
+        c0, t0 = time.process_time(), time.perf_counter()
         result = function()
         times.append(time.perf_counter() - t0)
-    return min(times), times, result
+        cpu_times.append(time.process_time() - c0)
+    return Timing(min(times), times, result, min(cpu_times), cpu_times)
 
 
 def machine_description() -> dict[str, Any]:
@@ -227,12 +243,12 @@ def bench_single_run(repeat: int = 7, reference: bool = True) -> list[BenchCase]
     t0 = time.perf_counter()
     _simulate(building, record)  # compile or load the cache
     first = time.perf_counter() - t0
-    best, times, result = time_call(lambda: _simulate(building, record), repeat=repeat, warmup=0)
+    best, times, result, cpu_best, _ = time_call(lambda: _simulate(building, record), repeat=repeat, warmup=0)
     single = BenchCase("single-run", project_s=best, target="<= 0.050 s (warm, one core)", met=best <= 0.050,
                        note=f"{record.name} first 30 s, {record.acceleration.shape[0]} steps, "
                             f"{building.n_devices} devices, clipped-optimal; median "
-                            f"{np.median(times):.4f} s; first call {first:.2f} s",
-                       details={"times_s": times, "first_call_s": first,
+                            f"{np.median(times):.4f} s; CPU {cpu_best:.4f} s; first call {first:.2f} s",
+                       details={"times_s": times, "cpu_s": cpu_best, "first_call_s": first,
                                 "steps_per_s": record.acceleration.shape[0] / best})
     cases = [single]
     if not reference:
@@ -273,10 +289,11 @@ for _ in range(args["repeat"]):
     res = compare(records="all", orientations="both", controllers=list(args["controllers"]),
                   jobs=args["jobs"], synthetic=args["synthetic"], progress=False)
     times.append(time.perf_counter() - t2)
-self_kb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-child_kb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+ru_self, ru_child = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+self_kb, child_kb = ru_self.ru_maxrss, ru_child.ru_maxrss
+cpu_s = ru_self.ru_utime + ru_self.ru_stime + ru_child.ru_utime + ru_child.ru_stime
 print("BENCH-JSON " + json.dumps({"import_s": t_import, "first_run_s": t_first, "suite_s": times,
-      "n_runs": len(res.runs), "peak_rss_parent_mb": self_kb / 1024, "peak_rss_worker_mb": child_kb / 1024,
+      "n_runs": len(res.runs), "cpu_total_s": cpu_s, "peak_rss_parent_mb": self_kb / 1024, "peak_rss_worker_mb": child_kb / 1024,
       "compile": counts}))
 """
 
@@ -318,7 +335,8 @@ def bench_suite(jobs: int = 2, controllers: Sequence[str] = SUITE_CONTROLLERS, r
         BenchCase("suite-warm", project_s=warm, target="<= 5 s (2 cores, warm)", met=warm <= 5.0,
                   note=f"{n_runs} controlled runs (14 x {len(controllers)}) + 14 uncontrolled, {label}, "
                        f"jobs={jobs}; fresh process, after one short warm-up run",
-                  details={"times_s": first["suite_s"] + second["suite_s"], "per_run_s": warm / n_runs}),
+                  details={"times_s": first["suite_s"] + second["suite_s"], "per_run_s": warm / n_runs,
+                           "cpu_total_s_first_process": first["cpu_total_s"]}),
         BenchCase("cold-start", project_s=second["import_s"] + second["first_run_s"],
                   note=f"imports {second['import_s']:.2f} s + first (1-s) run loading the numba cache "
                        f"{second['first_run_s']:.2f} s (second fresh process)",
@@ -357,10 +375,10 @@ def bench_identify(repeat: int = 1) -> list[BenchCase]:
         t0 = time.perf_counter()
         run()
         cold = time.perf_counter() - t0
-        best, times, _ = time_call(run, repeat=repeat, warmup=0)
+        best, times, _, cpu_best, _ = time_call(run, repeat=repeat, warmup=0)
     return [BenchCase("identify-warm", project_s=best, target="<= 10 s (warm)", met=best <= 10.0,
-                      note=f"sbib identify, second run in one process; first run {cold:.1f} s",
-                      details={"times_s": times, "first_run_s": cold})]
+                      note=f"sbib identify, second run in one process (CPU {cpu_best:.2f} s); first run {cold:.1f} s",
+                      details={"times_s": times, "cpu_s": cpu_best, "first_run_s": cold})]
 
 
 def _fit_linear(x: np.ndarray, y: np.ndarray) -> dict[str, float]:
@@ -378,29 +396,37 @@ def bench_scaling(quick: bool = False, repeat: int = 3, jobs: int = 2) -> dict[s
     Returns a dict of tables: name → ``{"x": [...], "time_s": [...], "x_label": ..., "fit": ...}``.
     """
     tables: dict[str, Any] = {}
+
+    def cpu(function: Callable[[], Any]) -> float:
+        return time_call(function, repeat=repeat).cpu_best
+
     lengths = (5.0, 10.0, 20.0, 40.0) if quick else (5.0, 10.0, 20.0, 40.0, 80.0)
     building = _building()
-    t = [time_call(lambda: _simulate(building, _r), repeat=repeat)[0] for _r in (_record(d) for d in lengths)]
-    tables["record_length"] = {"x": list(lengths), "time_s": t, "x_label": "record length [s]",
+    t = []
+    for duration in lengths:
+        r = _record(duration)
+        t.append(cpu(lambda: _simulate(building, r)))
+    tables["record_length"] = {"x": list(lengths), "time_s": t, "measure": "CPU", "x_label": "record length [s]",
                                "fit": _fit_linear(np.array(lengths), np.array(t))}
     devices = (4, 8, 16, 32) if quick else (2, 4, 8, 16, 32, 64)
     record = _record(30.0)
     t = []
     for n in devices:
         b = _building(n_devices=n)
-        t.append(time_call(lambda: _simulate(b, record), repeat=repeat)[0])
-    tables["devices"] = {"x": list(devices), "time_s": t, "x_label": "number of MR dampers",
+        t.append(cpu(lambda: _simulate(b, record)))
+    tables["devices"] = {"x": list(devices), "time_s": t, "measure": "CPU", "x_label": "number of MR dampers (30-s record)",
                          "fit": _fit_linear(np.array(devices, float), np.array(t))}
     modes = (3, 6, 12, 24) if quick else (3, 6, 9, 12, 18, 24)
     t = []
     for m in modes:
         b = _building(n_modes=m)
-        t.append(time_call(lambda: _simulate(b, record), repeat=repeat)[0])
-    tables["modes"] = {"x": list(modes), "time_s": t, "x_label": "retained superstructure modes",
+        t.append(cpu(lambda: _simulate(b, record)))
+    tables["modes"] = {"x": list(modes), "time_s": t, "measure": "CPU",
+                       "x_label": "retained superstructure modes (30-s record)",
                        "fit": _fit_linear(np.array(modes, float), np.array(t))}
     sizes = (2, 4, 8, 16) if quick else (4, 8, 16, 32, 64)
     t = [_time_ensemble(n, jobs) for n in sizes]
-    tables["ensemble_size"] = {"x": list(sizes), "time_s": t,
+    tables["ensemble_size"] = {"x": list(sizes), "time_s": t, "measure": "wall",
                                "x_label": f"ensemble size (runs, {jobs} processes, incl. start-up)",
                                "fit": _fit_linear(np.array(sizes, float), np.array(t))}
     return tables
@@ -461,7 +487,7 @@ def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
         ax.plot(xs, (fit["intercept_s"] + fit["slope"] * xs) * 1e3, "-", color="C1",
                 label=f"linear fit: {fit['intercept_s'] * 1e3:.1f} ms + {fit['slope'] * 1e3:.2f} ms/unit")
         ax.set_xlabel(table["x_label"])
-        ax.set_ylabel("wall time [ms]")
+        ax.set_ylabel(f"{table.get('measure', 'wall')} time [ms]")
         ax.set_xlim(0, None)
         ax.set_ylim(0, None)
         ax.grid(alpha=0.3)
@@ -543,7 +569,7 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
         lines = [f"{'scaling':<16} {'x':>8} {'time':>10}"]
         for name, table in scaling.items():
             for x, t in zip(table["x"], table["time_s"]):
-                lines.append(f"{name:<16} {x:>8g} {_fmt_s(t):>10}")
+                lines.append(f"{name:<16} {x:>8g} {_fmt_s(t):>10} {table.get('measure', 'wall')}")
             lines.append(f"{'':<16} linear fit: {table['fit']['intercept_s'] * 1e3:.1f} ms + "
                          f"{table['fit']['slope'] * 1e3:.3f} ms/unit, worst deviation "
                          f"{100 * table['fit']['max_relative_deviation']:.0f} %")

@@ -17,9 +17,9 @@ from benchmark.speed import BenchCase, format_table, run_bench, time_call
 
 def test_time_call_counts_calls_and_returns_minimum():
     calls = []
-    best, times, result = time_call(lambda: calls.append(1) or len(calls), repeat=4, warmup=2)
-    assert len(calls) == 6 and result == 6 and len(times) == 4
-    assert best == min(times) and best >= 0
+    best, times, result, cpu_best, cpu_times = time_call(lambda: calls.append(1) or len(calls), repeat=4, warmup=2)
+    assert len(calls) == 6 and result == 6 and len(times) == 4 and len(cpu_times) == 4
+    assert best == min(times) and best >= 0 and cpu_best == min(cpu_times)
 
 
 def test_linear_fit_is_exact_on_linear_data():
