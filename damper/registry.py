@@ -18,6 +18,10 @@ from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, Exten
                              NormalizedBoucWen, bouc_wen_force, bouc_wen_step)
 from damper.spencer import SPENCER_ID, Spencer, spencer_type_force_kernel, spencer_type_step
 from damper.virtual import VIRTUAL_DAMPER_ID, VirtualBenchmarkDamper
+from damper.bingham import BINGHAM_ID, Bingham, bingham_force, bingham_step
+from damper.dahl import DAHL_ID, Dahl
+from damper.hyperbolic_tangent import (HYPERBOLIC_TANGENT_ID, HyperbolicTangent,
+                                       hyperbolic_tangent_force, hyperbolic_tangent_step)
 
 __all__ = [
     "MODELS",
@@ -33,6 +37,9 @@ _MODEL_CLASSES = (
     ExtendedBoucWen,
     Spencer,
     VirtualBenchmarkDamper,
+    Bingham,
+    Dahl,
+    HyperbolicTangent,
 )
 
 #: Model classes by name.
@@ -89,10 +96,15 @@ def device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt):
     ``(x1, xd1)``; each model sub-steps as its stiffness needs (DOMAIN.md §5). An unknown
     ``model_id`` returns NaN (the caller turns it into a :class:`NumericalError`).
     """
-    if model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID:
+    if (model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID
+            or model_id == DAHL_ID):
         return bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt)
     if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID:
         return spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt)
+    if model_id == BINGHAM_ID:
+        return bingham_step(params, state, x0, x1, xd0, xd1, v, dt)
+    if model_id == HYPERBOLIC_TANGENT_ID:
+        return hyperbolic_tangent_step(params, state, x0, x1, xd0, xd1, v, dt)
     return np.nan
 
 
@@ -100,8 +112,13 @@ def device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt):
 def device_force(model_id, params, state, x, xd, v):
     """Force [N] of a device at its current state, displacement ``x`` [m], velocity ``xd`` [m/s]
     and voltage ``v`` [V] (no state change); NaN for an unknown ``model_id``."""
-    if model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID:
+    if (model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID
+            or model_id == DAHL_ID):
         return bouc_wen_force(params, state, x, xd, v)
     if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID:
         return spencer_type_force_kernel(params, state, x, xd, v)
+    if model_id == BINGHAM_ID:
+        return bingham_force(params, state, x, xd, v)
+    if model_id == HYPERBOLIC_TANGENT_ID:
+        return hyperbolic_tangent_force(params, state, x, xd, v)
     return np.nan
