@@ -1,0 +1,538 @@
+"""Augmented damper model: a base Bouc-Wen model composed with effect terms, and its joint refit.
+
+An :class:`AugmentedModel` holds a base model from :mod:`damper.bouc_wen` (normalized or
+extended, constant parameters or voltage laws) and a tuple of effects from
+:mod:`damper.effects`. It does not copy the base model: the base force comes from
+:func:`damper.simulate` (the same compiled kernels the building runs), and the effects are
+applied around it,
+
+.. math::
+
+   u = \\mathcal{I}(v), \\qquad
+   F = \\Big[\\prod_j g_j(F_\\text{base})\\Big] F_\\text{base}(x, \\dot x; u)
+       + \\sum_k f_k(x, \\dot x, \\ddot x, t),
+
+with :math:`\\mathcal I` the input effects (``voltage_lag``), :math:`g_j` the factor effects
+(``asymmetry``, ``fade``) and :math:`f_k` the additive ones (``stiffness``, ``offset``,
+``inertia``, ``quadratic_damping``).
+
+:class:`Parametrization` maps the free parameters of an augmented model (the base model's
+parameters, constant or as node values of :class:`~damper.voltage_laws.Tabulated` laws, and one
+value per effect) to a flat vector and back, with bounds and scales; :func:`refit` adjusts them
+all jointly by bounded nonlinear least squares (:func:`scipy.optimize.least_squares`, trust-region
+reflective) on a set of tests, counting only the samples a mask selects (the training part)
+while every test is simulated from its start.
+
+References
+----------
+Bahar, Pozo, Acho, Rodellar, Barbat (2009): the extended model is the normalized model
+composed with ``stiffness``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Sequence
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from benchmark.errors import InputError, NumericalError, ParameterError
+from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.effects import EFFECTS, EFFECT_NAMES, Effect, Motion, get_effect
+from damper.simulate import simulate
+from damper.voltage_laws import Tabulated, VoltageLaw
+
+__all__ = [
+    "Motion",
+    "AugmentedModel",
+    "AugmentedResponse",
+    "Parametrization",
+    "RefitResult",
+    "refit",
+    "BASE_MODELS",
+    "make_base",
+]
+
+#: Base model kinds accepted by the loop.
+BASE_MODELS: dict[str, type] = {"normalized": NormalizedBoucWen, "extended": ExtendedBoucWen}
+
+_ROLE_ORDER = {"input": 0, "factor": 1, "additive": 2}
+# Admissible class of the base parameters (bouc_wen: kappa > 0, sigma >= 1/2, n >= 1); n is capped
+# to keep the kernel's sub-stepping affordable.
+_BASE_LOWER_REL = 1e-9
+_BASE_BOUNDS = {"sigma": (0.5, 50.0), "n": (1.0, 10.0)}
+
+
+@dataclass(frozen=True)
+class AugmentedResponse:
+    """Response of an augmented model to a prescribed motion (SI).
+
+    Attributes
+    ----------
+    force : ndarray (n,)
+        Total force [N].
+    base_force : ndarray (n,)
+        Force of the base model alone (under the transformed input) [N].
+    model_input : ndarray (n,)
+        Coil input the base model saw (after input effects) [V or A].
+    terms : dict of str to ndarray
+        Each effect's contribution to the force [N] (for a factor effect:
+        :math:`(g_j - 1)` times the force it scaled).
+    """
+
+    force: np.ndarray
+    base_force: np.ndarray
+    model_input: np.ndarray
+    terms: dict = field(default_factory=dict)
+
+
+def make_base(kind: str, parameters: dict, voltage_range: tuple[float, float] = (0.0, 1.0)):
+    """The base model of ``kind`` ("normalized" or "extended") from a parameter dict (SI).
+
+    Values may be numbers or :class:`~damper.voltage_laws.VoltageLaw` objects; extra keys
+    (``kappa_x`` for the normalized model) are ignored.
+    """
+    try:
+        cls = BASE_MODELS[kind]
+    except KeyError:
+        raise InputError(f"model: expected one of {', '.join(BASE_MODELS)}, got {kind!r}") from None
+    values = {k: parameters[k] for k in cls.parameter_names}
+    return cls(**values, voltage_range=tuple(voltage_range))
+
+
+def _base_kind(base) -> str:
+    for kind, cls in BASE_MODELS.items():
+        if type(base) is cls:
+            return kind
+    raise InputError(f"augmented model: base must be NormalizedBoucWen or ExtendedBoucWen, got "
+                     f"{type(base).__name__}")
+
+
+@dataclass(frozen=True)
+class AugmentedModel:
+    """A base damper model composed with effect terms (see the module docstring).
+
+    Parameters
+    ----------
+    base : NormalizedBoucWen or ExtendedBoucWen
+        The base model (constant parameters or voltage laws).
+    effects : sequence of Effect
+        Effect terms, at most one of each name; ``stiffness`` is refused on an extended base
+        (it already declares :math:`\\kappa_x x`). They are kept in composition order (input,
+        factor, additive; library order within a role).
+
+    Examples
+    --------
+    >>> from damper.bouc_wen import NormalizedBoucWen
+    >>> from damper.effects import Stiffness
+    >>> m = AugmentedModel(NormalizedBoucWen(1e3, 5e3, 300.0, 1.0, 1.0), (Stiffness(2e4),))
+    >>> m.effect_names
+    ('stiffness',)
+    """
+
+    base: object
+    effects: tuple = ()
+
+    def __post_init__(self) -> None:
+        kind = _base_kind(self.base)
+        effects = tuple(self.effects)
+        for e in effects:
+            if not isinstance(e, Effect):
+                raise ParameterError(f"augmented model: effects: expected Effect instances, got "
+                                     f"{type(e).__name__}")
+        names = [e.name for e in effects]
+        if len(set(names)) != len(names):
+            raise ParameterError(f"augmented model: effects: each effect at most once, got {names}")
+        if kind == "extended" and "stiffness" in names:
+            raise ParameterError("augmented model: the extended base already has kappa_x*x; "
+                                 "do not add the stiffness effect")
+        order = {n: i for i, n in enumerate(EFFECT_NAMES)}
+        effects = tuple(sorted(effects, key=lambda e: (_ROLE_ORDER[e.role], order[e.name])))
+        object.__setattr__(self, "effects", effects)
+
+    # -- description ------------------------------------------------------------------------
+    @property
+    def base_kind(self) -> str:
+        """``"normalized"`` or ``"extended"``."""
+        return _base_kind(self.base)
+
+    @property
+    def effect_names(self) -> tuple[str, ...]:
+        """Names of the effects, in composition order."""
+        return tuple(e.name for e in self.effects)
+
+    @property
+    def name(self) -> str:
+        """``base kind`` followed by ``+ effect`` for each effect."""
+        return " + ".join((self.base_kind, *self.effect_names))
+
+    def effect(self, name: str) -> Effect | None:
+        """The effect named ``name``, or ``None``."""
+        get_effect(name)
+        for e in self.effects:
+            if e.name == name:
+                return e
+        return None
+
+    def with_effect(self, effect: Effect) -> "AugmentedModel":
+        """A copy with ``effect`` added (replacing an effect of the same name)."""
+        kept = tuple(e for e in self.effects if e.name != effect.name)
+        return AugmentedModel(self.base, kept + (effect,))
+
+    def with_base(self, base) -> "AugmentedModel":
+        """A copy with another base model."""
+        return AugmentedModel(base, self.effects)
+
+    def base_parameters(self) -> dict:
+        """The base model's parameters (numbers or voltage laws), by name."""
+        return {k: getattr(self.base, k) for k in self.base.parameter_names}
+
+    def to_dict(self) -> dict:
+        """Plain description: base kind, base parameters (laws as node lists), effects."""
+        def plain(value):
+            if isinstance(value, Tabulated):
+                return {"voltages": list(value.voltages), "values": list(value.values)}
+            if isinstance(value, VoltageLaw):
+                return repr(value)
+            return float(value)
+        return {"base": self.base_kind,
+                "base_parameters": {k: plain(v) for k, v in self.base_parameters().items()},
+                "effects": [{"name": e.name, "parameters": e.parameters} for e in self.effects]}
+
+    # -- simulation ---------------------------------------------------------------------------
+    def response(self, motion: Motion) -> AugmentedResponse:
+        """Force history under the prescribed ``motion`` (base force, input and terms too).
+
+        Raises
+        ------
+        InputError
+            The coil input leaves the base model's ``voltage_range``.
+        NumericalError
+            The base model's force is not finite.
+        """
+        u = motion.v
+        for e in self.effects:
+            if e.role == "input":
+                u = e.transform_input(motion, u)
+        base_force = simulate(self.base, motion.t, motion.x, motion.xdot, u).force
+        force = base_force.copy()
+        terms: dict[str, np.ndarray] = {}
+        for e in self.effects:
+            if e.role == "factor":
+                g = e.factor(motion, base_force)
+                terms[e.name] = (g - 1.0) * force
+                force = force * g
+        for e in self.effects:
+            if e.role == "additive":
+                f = e.force(motion)
+                terms[e.name] = f
+                force = force + f
+        return AugmentedResponse(force=force, base_force=base_force, model_input=u, terms=terms)
+
+    def force(self, motion: Motion) -> np.ndarray:
+        """Total force [N] under ``motion``."""
+        return self.response(motion).force
+
+    def simulate(self, t, x, xdot=None, xddot=None, v=0.0) -> AugmentedResponse:
+        """Force history under displacement ``x(t)`` [m] and coil input ``v(t)``.
+
+        Parameters
+        ----------
+        t : array_like (n,)
+            Strictly increasing times [s].
+        x : array_like (n,)
+            Displacement [m].
+        xdot, xddot : array_like (n,), optional
+            Velocity [m/s] and acceleration [m/s²]; default to finite differences
+            (``numpy.gradient``, second order) of ``x`` and ``xdot``.
+        v : float or array_like (n,)
+            Coil input [V] (or [A] for a model identified on currents).
+
+        Returns
+        -------
+        AugmentedResponse
+        """
+        t = np.asarray(t, dtype=float)
+        x = np.asarray(x, dtype=float)
+        if t.ndim != 1 or t.size < 3 or x.shape != t.shape:
+            raise InputError(f"simulate: t and x must be 1-D of equal length >= 3, got shapes "
+                             f"{t.shape} and {x.shape}")
+        xdot = np.gradient(x, t, edge_order=2) if xdot is None else np.asarray(xdot, dtype=float)
+        xddot = np.gradient(xdot, t, edge_order=2) if xddot is None else np.asarray(xddot, dtype=float)
+        return self.response(Motion(t, x, xdot, xddot, v))
+
+
+# ------------------------------------------------------------------------------ parametrization
+
+def _law_nodes(value, nodes: np.ndarray) -> np.ndarray:
+    if isinstance(value, VoltageLaw):
+        return np.array([float(value(float(v))) for v in nodes])
+    return np.full(nodes.size, float(value))
+
+
+class Parametrization:
+    """Free parameters of an augmented model as one flat vector, with bounds and scales.
+
+    Layout: the base parameters in ``parameter_names`` order, each a single value (constant
+    parameters, ``nodes is None``) or its values at the voltage ``nodes`` (a
+    :class:`~damper.voltage_laws.Tabulated` law, PCHIP between nodes); then one value per effect
+    in composition order.
+
+    Parameters
+    ----------
+    template : AugmentedModel
+        Gives the base kind, the effects and the voltage range.
+    nodes : sequence of float, optional
+        Voltage nodes of the base parameters' laws (``None``: constant parameters).
+    scales : dict of str to float, optional
+        Typical size of each base parameter and effect (name -> value) to scale the search;
+        defaults to the template's values.
+    fixed_base : bool
+        Keep the base parameters at the template's values (only the effects are free).
+    """
+
+    def __init__(self, template: AugmentedModel, nodes: Sequence[float] | None = None,
+                 scales: dict | None = None, fixed_base: bool = False) -> None:
+        self.template = template
+        self.kind = template.base_kind
+        self.base_names = tuple(template.base.parameter_names)
+        self.voltage_range = tuple(template.base.voltage_range)
+        self.nodes = None if nodes is None else np.unique(np.asarray(nodes, dtype=float))
+        if self.nodes is not None and self.nodes.size < 2:
+            self.nodes = None
+        self.fixed_base = bool(fixed_base)
+        self.effect_classes = tuple(type(e) for e in template.effects)
+        scales = dict(scales or {})
+        names, lower, upper, scale = [], [], [], []
+        if not self.fixed_base:
+            base_values = template.base_parameters()
+            for p in self.base_names:
+                typical = abs(float(scales.get(p, 0.0))) or float(np.max(np.abs(
+                    _law_nodes(base_values[p], self._nodes_or_zero()))))
+                typical = typical if typical > 0 else 1.0
+                lo, hi = _BASE_BOUNDS.get(p, (0.0 if p == "kappa_x" else _BASE_LOWER_REL * typical,
+                                              math.inf))
+                labels = ([p] if self.nodes is None
+                          else [f"{p}@{v:g}" for v in self.nodes])
+                for label in labels:
+                    names.append(label)
+                    lower.append(lo)
+                    upper.append(hi)
+                    scale.append(typical if p not in _BASE_BOUNDS else 1.0)
+        for e in template.effects:
+            cls = type(e)
+            names.append(f"{cls.name}.{cls.parameter_name}")
+            lower.append(cls.lower)
+            upper.append(cls.upper)
+            typical = abs(float(scales.get(cls.name, 0.0))) or abs(e.value) or 1.0
+            scale.append(typical)
+        self.names = tuple(names)
+        self.lower = np.array(lower, dtype=float)
+        self.upper = np.array(upper, dtype=float)
+        self.scale = np.array(scale, dtype=float)
+
+    def _nodes_or_zero(self) -> np.ndarray:
+        return self.nodes if self.nodes is not None else np.array([self.voltage_range[0]])
+
+    @property
+    def size(self) -> int:
+        """Number of free parameters."""
+        return len(self.names)
+
+    @property
+    def n_base(self) -> int:
+        """Number of free base-model values."""
+        return 0 if self.fixed_base else len(self.base_names) * (1 if self.nodes is None
+                                                                  else self.nodes.size)
+
+    def vector(self, model: AugmentedModel) -> np.ndarray:
+        """The free parameters of ``model`` (same base kind and effect names as the template)."""
+        if model.base_kind != self.kind or tuple(type(e) for e in model.effects) != self.effect_classes:
+            raise InputError(f"parametrization: model {model.name!r} does not match "
+                             f"{self.template.name!r}")
+        out = []
+        if not self.fixed_base:
+            values = model.base_parameters()
+            for p in self.base_names:
+                if self.nodes is None:
+                    v = values[p]
+                    out.append(float(v(self.voltage_range[0])) if isinstance(v, VoltageLaw) else float(v))
+                else:
+                    out.extend(_law_nodes(values[p], self.nodes))
+        out.extend(e.value for e in model.effects)
+        return np.array(out, dtype=float)
+
+    def model(self, vector: np.ndarray, validate: bool = True) -> AugmentedModel:
+        """The augmented model with the free parameters ``vector`` (raises ParameterError).
+
+        ``validate=False`` (used inside the optimiser) skips the base model's check of its
+        voltage laws over the whole voltage range: the bounds keep every node value in the
+        admissible class, and a PCHIP law stays between its node values, so the check cannot fail
+        there; it costs more than a simulation. Constant parameters are always checked.
+        """
+        vector = np.asarray(vector, dtype=float)
+        if vector.shape != (self.size,):
+            raise InputError(f"parametrization: expected {self.size} values, got {vector.shape}")
+        if self.fixed_base:
+            base = self.template.base
+            k = 0
+        else:
+            params, k = {}, 0
+            for p in self.base_names:
+                if self.nodes is None:
+                    params[p] = float(vector[k])
+                    k += 1
+                else:
+                    vals = vector[k:k + self.nodes.size]
+                    params[p] = Tabulated(tuple(self.nodes), tuple(float(x) for x in vals))
+                    k += self.nodes.size
+            if validate or self.nodes is None:
+                base = make_base(self.kind, params, self.voltage_range)
+            else:
+                base = _unchecked_base(self.kind, params, self.voltage_range,
+                                       self.template.base.substep_tolerance, vector[:k],
+                                       self.lower[:k], self.upper[:k])
+        effects = tuple(cls(float(vector[k + j])) for j, cls in enumerate(self.effect_classes))
+        return AugmentedModel(base, effects)
+
+
+def _unchecked_base(kind, params, voltage_range, tolerance, values, lower, upper):
+    """Base model with Tabulated laws built without the law check (values within bounds)."""
+    if not (np.all(np.isfinite(values)) and np.all(values >= lower) and np.all(values <= upper)):
+        raise ParameterError("base parameters outside their bounds")
+    cls = BASE_MODELS[kind]
+    obj = object.__new__(cls)
+    for name in cls.parameter_names:
+        object.__setattr__(obj, name, params[name])
+    object.__setattr__(obj, "voltage_range", tuple(float(v) for v in voltage_range))
+    object.__setattr__(obj, "substep_tolerance", float(tolerance))
+    return obj
+
+
+# ------------------------------------------------------------------------------------ joint refit
+
+@dataclass(frozen=True)
+class RefitResult:
+    """Result of :func:`refit`.
+
+    Attributes
+    ----------
+    model : AugmentedModel
+        The refitted model.
+    relative_rms_error : float
+        :math:`\\|F - \\hat F\\|_2/\\|F\\|_2` over the fitted samples.
+    nfev : int
+        Residual evaluations (each simulates every test once).
+    success : bool
+    message : str
+    """
+
+    model: AugmentedModel
+    relative_rms_error: float
+    nfev: int
+    success: bool
+    message: str
+
+
+def _check_data(motions, forces, masks):
+    motions = list(motions)
+    forces = [np.asarray(f, dtype=float) for f in forces]
+    if not motions or len(forces) != len(motions):
+        raise InputError(f"refit: expected one force history per motion, got {len(motions)} "
+                         f"motions and {len(forces)} forces")
+    if masks is None:
+        masks = [np.ones(m.n_samples, dtype=bool) for m in motions]
+    masks = [np.asarray(k, dtype=bool) for k in masks]
+    for m, f, k in zip(motions, forces, masks):
+        if f.shape != m.t.shape or k.shape != m.t.shape:
+            raise InputError(f"refit: test {m.name!r}: force and mask must have {m.n_samples} samples")
+    if sum(int(k.sum()) for k in masks) < 2:
+        raise InputError("refit: fewer than 2 samples selected for fitting")
+    return motions, forces, masks
+
+
+def predict(model: AugmentedModel, motions: Sequence[Motion]) -> list[np.ndarray]:
+    """The force histories of ``model`` for each motion."""
+    return [model.force(m) for m in motions]
+
+
+def refit(start: AugmentedModel, motions: Sequence[Motion], forces: Sequence[np.ndarray],
+          masks: Sequence[np.ndarray] | None = None, nodes: Sequence[float] | None = None,
+          scales: dict | None = None, fixed_base: bool = False, max_nfev: int = 200) -> RefitResult:
+    """Refit the base parameters and every effect's parameter jointly by least squares.
+
+    Minimises :math:`\\sum_i \\sum_{k \\in \\mathcal M_i} (\\hat F_{ik}(p) - F_{ik})^2` over the
+    free parameters :math:`p` (:class:`Parametrization`), with the admissible class as bounds,
+    by the trust-region-reflective method on :math:`p/s` (``s`` the scales). Each test ``i`` is
+    simulated from its first sample; only the samples of its mask :math:`\\mathcal M_i` count.
+
+    Parameters
+    ----------
+    start : AugmentedModel
+        Starting model (its effects define the terms that are fitted).
+    motions : sequence of Motion
+        Prescribed motions of the tests.
+    forces : sequence of ndarray
+        Measured forces [N], one per motion.
+    masks : sequence of bool ndarray, optional
+        Samples that count (default: all).
+    nodes : sequence of float, optional
+        Voltage nodes for the base parameters' laws (``None``: constant base parameters).
+    scales : dict, optional
+        Typical parameter sizes (see :class:`Parametrization`).
+    fixed_base : bool
+        Fit only the effects' parameters.
+    max_nfev : int
+        Cap on residual evaluations.
+
+    Returns
+    -------
+    RefitResult
+
+    Raises
+    ------
+    InputError
+        Inconsistent data.
+    NumericalError
+        The model cannot be evaluated at the start.
+    """
+    motions, forces, masks = _check_data(motions, forces, masks)
+    par = Parametrization(start, nodes=nodes, scales=scales, fixed_base=fixed_base)
+    measured = np.concatenate([f[k] for f, k in zip(forces, masks)])
+    norm = float(np.linalg.norm(measured))
+    if not norm > 0:
+        raise InputError("refit: the measured force is identically zero over the fitted samples")
+    force_scale = norm / math.sqrt(measured.size)
+    bad = np.full(measured.size, 1e3)
+    count = {"n": 0}
+
+    def residuals(q):
+        count["n"] += 1
+        try:
+            model = par.model(q * par.scale, validate=False)
+            pred = np.concatenate([model.force(m)[k] for m, k in zip(motions, masks)])
+        except (ParameterError, NumericalError, InputError):
+            return bad
+        r = (pred - measured) / force_scale
+        return r if np.all(np.isfinite(r)) else bad
+
+    p0 = par.vector(start)
+    q0 = np.clip(p0 / par.scale, par.lower / par.scale, par.upper / par.scale)
+    # keep strictly inside the bounds (trf needs an interior start)
+    span = np.where(np.isfinite(par.upper - par.lower), (par.upper - par.lower) / par.scale, 1.0)
+    q0 = np.clip(q0, par.lower / par.scale + 1e-9 * span, par.upper / par.scale - 1e-9 * span)
+    r0 = residuals(q0)
+    if r0 is bad:
+        raise NumericalError(f"refit: the model {start.name!r} cannot be evaluated at its start",
+                             hint="check the starting parameters")
+    if par.size == 0:
+        return RefitResult(start, float(np.linalg.norm(r0) * force_scale / norm), 1, True, "nothing to fit")
+    sol = least_squares(residuals, q0, bounds=(par.lower / par.scale, par.upper / par.scale),
+                        method="trf", x_scale=1.0, diff_step=1e-6, xtol=1e-10, ftol=1e-10,
+                        gtol=1e-10, max_nfev=max_nfev)
+    model = par.model(sol.x * par.scale)
+    rel = float(np.linalg.norm(sol.fun) * force_scale / norm)
+    return RefitResult(model=model, relative_rms_error=rel, nfev=count["n"],
+                       success=bool(sol.success), message=str(sol.message))

@@ -1,0 +1,270 @@
+"""Tests prepared for the residual loop: motions, forces, training and held-out samples.
+
+From a list of :class:`~damper.data.DamperTest` records this module builds
+
+* one :class:`~damper.effects.Motion` per test, with the acceleration the ``inertia`` term needs
+  (Savitzky-Golay derivative of the measured velocity over about 1/20 of the dominant period,
+  so that measurement noise is not amplified);
+* the *warm-up* of each test (the samples before the first displacement reversal, where a model
+  started from rest cannot match a device that was already moving) -- excluded everywhere;
+* the split into training and held-out samples: either the last ``holdout`` fraction of each
+  test (the model is still simulated over the whole test, so the held-out samples are a true
+  prediction from the fitted parameters), or separate validation tests.
+
+The coil input is the voltage [V] when the tests give voltages, the current [A] when they give
+currents (the fitted model then reads the current as its input); mixing both is an error.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+from scipy.signal import savgol_filter
+
+from benchmark.errors import InputError
+from damper.data import DamperTest
+from damper.effects import Motion
+
+__all__ = ["DiagnosisData", "acceleration_from_velocity", "first_reversal", "DEFAULT_HOLDOUT"]
+
+#: Default held-out fraction of each test.
+DEFAULT_HOLDOUT = 0.25
+#: At most this many distinct input levels become law nodes; more (or varying input) use a grid.
+_MAX_LEVEL_NODES = 6
+_GRID_NODES = 4
+
+
+def _dominant_frequency(t: np.ndarray, x: np.ndarray) -> float:
+    """Frequency [Hz] of the largest spectral peak of the displacement (excluding the mean)."""
+    n = t.size
+    dt = (t[-1] - t[0]) / (n - 1)
+    spectrum = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(n)))
+    freqs = np.fft.rfftfreq(n, dt)
+    if spectrum.size < 2 or not np.any(spectrum[1:] > 0):
+        return 1.0 / max(t[-1] - t[0], dt)
+    return float(freqs[1 + int(np.argmax(spectrum[1:]))])
+
+
+def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
+                               displacement: np.ndarray | None = None) -> np.ndarray:
+    """Acceleration [m/s²] as the Savitzky-Golay derivative (order 2) of the velocity.
+
+    The window spans about 1/20 of the dominant period of the displacement (at least 5 samples),
+    so the derivative follows the motion but not the noise. Non-uniform sampling falls back to
+    :func:`numpy.gradient`.
+    """
+    t = np.asarray(t, dtype=float)
+    velocity = np.asarray(velocity, dtype=float)
+    steps = np.diff(t)
+    if t.size < 7 or np.ptp(steps) > 1e-6 * np.mean(steps):
+        return np.gradient(velocity, t, edge_order=2)
+    dt = float(np.mean(steps))
+    x = velocity if displacement is None else np.asarray(displacement, dtype=float)
+    f = _dominant_frequency(t, x)
+    window = int(round(1.0 / (20.0 * f * dt))) if f > 0 else 5
+    window = max(5, min(window, (t.size // 4) | 1))
+    if window % 2 == 0:
+        window += 1
+    if window >= t.size:
+        return np.gradient(velocity, t, edge_order=2)
+    return savgol_filter(velocity, window, 2, deriv=1, delta=dt, mode="interp")
+
+
+def first_reversal(x: np.ndarray, hysteresis: float = 0.25) -> int:
+    """Index of the first displacement reversal (0 when the motion never reverses).
+
+    A reversal is confirmed once the displacement has come back by ``hysteresis`` times the
+    stroke from its running extreme (a Schmitt trigger, insensitive to noise).
+    """
+    x = np.asarray(x, dtype=float)
+    stroke = float(np.ptp(x))
+    if stroke == 0.0:
+        return 0
+    moved = np.flatnonzero(np.abs(x - x[0]) > 0.05 * stroke)
+    if moved.size == 0:
+        return 0
+    rising = x[moved[0]] > x[0]
+    y = x if rising else -x
+    running = np.maximum.accumulate(y)
+    back = np.flatnonzero(running - y > hysteresis * stroke)
+    if back.size == 0:
+        return 0
+    return int(np.argmax(y[:back[0] + 1]))
+
+
+def _input_of(test: DamperTest) -> tuple[str, np.ndarray]:
+    if test.voltage is not None:
+        return "voltage", np.asarray(test.voltage, dtype=float)
+    if test.current is not None:
+        return "current", np.asarray(test.current, dtype=float)
+    return "none", np.zeros(test.n_samples)
+
+
+@dataclass(frozen=True)
+class DiagnosisData:
+    """Tests prepared for the loop (build with :meth:`from_tests`).
+
+    Attributes
+    ----------
+    motions : tuple of Motion
+        One per test (fitting tests first, then validation tests).
+    forces : tuple of ndarray
+        Measured forces [N].
+    train, heldout : tuple of bool ndarray
+        Samples used for fitting, and for the held-out errors and traces.
+    input_name : str
+        ``"voltage"`` [V] or ``"current"`` [A] (``"voltage"`` at 0 V when the tests give neither).
+    holdout : float or None
+        Held-out fraction of each test, or ``None`` when validation tests were given.
+    """
+
+    motions: tuple
+    forces: tuple
+    train: tuple
+    heldout: tuple
+    input_name: str
+    holdout: float | None
+
+    @classmethod
+    def from_tests(cls, tests: Sequence[DamperTest], holdout: float | None = DEFAULT_HOLDOUT,
+                   validate: Sequence[DamperTest] | None = None) -> "DiagnosisData":
+        """Prepare ``tests`` (and optional ``validate`` tests) for the loop.
+
+        Parameters
+        ----------
+        tests : sequence of DamperTest
+            Tests to fit.
+        holdout : float, optional
+            Fraction (0 < holdout < 1) of each test, at its end, held out; ignored when
+            ``validate`` is given.
+        validate : sequence of DamperTest, optional
+            Separate tests for the held-out errors (then every sample of ``tests`` is fitted).
+
+        Raises
+        ------
+        InputError
+            No tests, a mix of voltage and current, a bad holdout fraction, or too few samples.
+        """
+        tests = list(tests)
+        validate = list(validate or [])
+        if not tests:
+            raise InputError("diagnose: expected at least one test to fit")
+        for test in tests + validate:
+            if not isinstance(test, DamperTest):
+                raise InputError(f"diagnose: expected DamperTest objects, got {type(test).__name__}")
+        kinds = {_input_of(t)[0] for t in tests + validate} - {"none"}
+        if len(kinds) > 1:
+            raise InputError("diagnose: the tests mix voltage and current inputs; expected one kind")
+        input_name = kinds.pop() if kinds else "voltage"
+        if not validate:
+            if holdout is None or not (isinstance(holdout, (int, float)) and 0.0 < holdout < 1.0):
+                raise InputError(f"--holdout: expected a fraction 0 < holdout < 1, got {holdout!r}")
+        motions, forces, train, held = [], [], [], []
+        for test, is_validation in [(t, False) for t in tests] + [(t, True) for t in validate]:
+            t = np.asarray(test.time, dtype=float)
+            x = np.asarray(test.displacement, dtype=float)
+            xd = np.asarray(test.velocity, dtype=float)
+            _, v = _input_of(test)
+            motion = Motion(t, x, xd, acceleration_from_velocity(t, xd, x), v,
+                            name=test.name or test.source or f"test {len(motions) + 1}")
+            start = first_reversal(x)
+            usable = np.zeros(t.size, dtype=bool)
+            usable[start:] = True
+            if usable.sum() < 10:
+                raise InputError(f"{motion.name}: fewer than 10 samples after the first reversal")
+            if validate:
+                tr = usable if not is_validation else np.zeros(t.size, dtype=bool)
+                ho = usable if is_validation else np.zeros(t.size, dtype=bool)
+            else:
+                idx = np.flatnonzero(usable)
+                cut = idx[0] + int(math.floor((1.0 - holdout) * idx.size))
+                tr = usable.copy()
+                tr[cut:] = False
+                ho = usable & ~tr
+                if tr.sum() < 5 or ho.sum() < 5:
+                    raise InputError(f"{motion.name}: holdout {holdout:g} leaves fewer than 5 "
+                                     "training or held-out samples")
+            motions.append(motion)
+            forces.append(np.asarray(test.force, dtype=float))
+            train.append(tr)
+            held.append(ho)
+        return cls(tuple(motions), tuple(forces), tuple(train), tuple(held), input_name,
+                   None if validate else float(holdout))
+
+    # -- derived quantities --------------------------------------------------------------------
+    @property
+    def names(self) -> list[str]:
+        """Test labels."""
+        return [m.name for m in self.motions]
+
+    @property
+    def input_unit(self) -> str:
+        """``"V"`` or ``"A"``."""
+        return "A" if self.input_name == "current" else "V"
+
+    def levels(self) -> np.ndarray:
+        """Distinct coil-input values over all tests (rounded to 1e-9)."""
+        return np.unique(np.round(np.concatenate([m.v for m in self.motions]), 9))
+
+    @property
+    def input_varies_within_tests(self) -> bool:
+        """Whether the coil input changes during some test."""
+        return any(np.ptp(m.v) > 1e-12 for m in self.motions)
+
+    def nodes(self) -> np.ndarray | None:
+        """Voltage nodes for the base model's laws: ``None`` for one input level, the distinct
+        levels when there are few (voltage steps between a few levels included: the laws are
+        then PCHIP between the levels), else a uniform grid of four nodes."""
+        levels = self.levels()
+        if levels.size <= 1:
+            return None
+        if levels.size <= _MAX_LEVEL_NODES:
+            return levels
+        return np.linspace(levels[0], levels[-1], _GRID_NODES)
+
+    def voltage_range(self) -> tuple[float, float]:
+        """Range of the base model's input: contains every input value and [0, 1]."""
+        levels = self.levels()
+        lo = min(0.0, float(levels[0]))
+        hi = max(1.0, float(levels[-1]))
+        return lo, hi
+
+    def concat(self, arrays: Sequence[np.ndarray], which: str = "heldout") -> np.ndarray:
+        """Concatenate per-test arrays over the ``which`` samples ("train", "heldout", "all")."""
+        masks = self._masks(which)
+        return np.concatenate([np.asarray(a)[k] for a, k in zip(arrays, masks)])
+
+    def _masks(self, which: str):
+        if which == "train":
+            return self.train
+        if which == "heldout":
+            return self.heldout
+        if which == "all":
+            return tuple(a | b for a, b in zip(self.train, self.heldout))
+        raise InputError(f"which: expected 'train', 'heldout' or 'all', got {which!r}")
+
+    def measured(self, which: str = "heldout") -> np.ndarray:
+        """Measured force [N] over the ``which`` samples."""
+        return self.concat(self.forces, which)
+
+    def signals(self, which: str = "heldout") -> dict[str, np.ndarray]:
+        """The variables a residual is traced against, over the ``which`` samples (SI):
+        displacement, velocity, acceleration, voltage (the coil input), voltage_rate, time (since
+        the start of each test)."""
+        rate = [np.gradient(m.v, m.t, edge_order=2) for m in self.motions]
+        return {
+            "displacement": self.concat([m.x for m in self.motions], which),
+            "velocity": self.concat([m.xdot for m in self.motions], which),
+            "acceleration": self.concat([m.xddot for m in self.motions], which),
+            "voltage": self.concat([m.v for m in self.motions], which),
+            "voltage_rate": self.concat(rate, which),
+            "time": self.concat([m.elapsed for m in self.motions], which),
+        }
+
+    def force_rms(self, which: str = "train") -> float:
+        """RMS of the measured force over the ``which`` samples [N]."""
+        f = self.measured(which)
+        return float(np.sqrt(np.mean(f ** 2)))

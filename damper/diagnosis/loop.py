@@ -1,0 +1,260 @@
+"""The residual loop end to end: base fit, residual trace, effect selection, verdict.
+
+:func:`diagnose` runs, on a set of damper tests,
+
+1. the fit of a base model (normalized or extended Bouc-Wen; constant parameters for one coil
+   input level, voltage laws otherwise) on the training samples (:mod:`~damper.diagnosis.base_fit`);
+2. the trace of its held-out residual (:mod:`~damper.diagnosis.trace`);
+3. the forward selection of library effects by held-out BIC, each refitted jointly with the
+   model (:mod:`~damper.diagnosis.selection`);
+4. the trace of the final held-out residual and the verdict: the residual keeps *unexplained*
+   structure when some variable explains at least ``structure_share`` of its variance **and** that
+   part is at least ``structure_level`` of the measured force RMS (a tiny residual may be
+   structured without mattering). Where it lives is reported (``unexplained_in``), no term is
+   forced.
+
+Errors are relative RMS force errors :math:`\\|F - \\hat F\\|_2/\\|F\\|_2` on the held-out samples.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from benchmark.errors import InputError
+from damper.augmented import AugmentedModel
+from damper.data import DamperTest
+from damper.diagnosis.base_fit import fit_base
+from damper.diagnosis.dataset import DEFAULT_HOLDOUT, DiagnosisData
+from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_TRIALS, SelectionResult,
+                                        select_effects)
+from damper.diagnosis.trace import TRACE_VARIABLES, ResidualTrace, trace_residual
+
+__all__ = ["Diagnosis", "diagnose", "unexplained_structure", "DEFAULT_STRUCTURE_SHARE",
+           "DEFAULT_STRUCTURE_LEVEL"]
+
+#: A variable "holds" residual structure when it explains at least this share of its variance ...
+DEFAULT_STRUCTURE_SHARE = 0.2
+#: ... and that part is at least this fraction of the measured force RMS.
+DEFAULT_STRUCTURE_LEVEL = 0.02
+
+
+def unexplained_structure(trace: ResidualTrace, force_rms: float,
+                          min_share: float = DEFAULT_STRUCTURE_SHARE,
+                          min_level: float = DEFAULT_STRUCTURE_LEVEL) -> list[tuple[str, float, float]]:
+    """Variables holding residual structure: ``(variable, share, level)``, largest level first.
+
+    ``level`` is the RMS of the part of the residual the variable explains over ``force_rms``:
+    :math:`\\sqrt{\\eta^2\\,\\mathrm{var}(r)}/F_{rms}`; for ``mean`` the constant part
+    :math:`|\\bar r|/F_{rms}`.
+    """
+    if not force_rms > 0:
+        raise InputError("unexplained_structure: force_rms must be > 0")
+    var = max(trace.rms ** 2 * (1.0 - trace.mean_share), 0.0)
+    found = []
+    for name, share in trace.shares.items():
+        level = math.sqrt(share * var) / force_rms
+        if share >= min_share and level >= min_level:
+            found.append((name, float(share), float(level)))
+    mean_level = math.sqrt(trace.mean_share) * trace.rms / force_rms
+    if trace.mean_share >= min_share and mean_level >= min_level:
+        found.append(("mean", float(trace.mean_share), float(mean_level)))
+    return sorted(found, key=lambda f: -f[2])
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """Result of :func:`diagnose`.
+
+    Attributes
+    ----------
+    data : DiagnosisData
+    model_kind : str
+        Base model kind.
+    base_model, final_model : AugmentedModel
+        The fitted base model and the augmented model the loop ends with.
+    error_before, error_after : float
+        Held-out relative RMS force errors of the two.
+    selection : SelectionResult
+        Steps (one per effect added, with the error after each) and the trials of each round.
+    trace_before, trace_after : ResidualTrace
+        Held-out residual traces of the two models.
+    unexplained : bool
+        The final residual keeps structure no library term explained.
+    unexplained_in : list of (variable, share, level)
+        Where it lives (:func:`unexplained_structure`).
+    errors_by_test : dict
+        Test name -> (error before, error after) on its held-out samples.
+    errors_by_input : dict
+        Coil-input level -> (error before, error after) (tests at a constant input only).
+    """
+
+    data: DiagnosisData = field(repr=False)
+    model_kind: str
+    base_model: AugmentedModel
+    final_model: AugmentedModel
+    error_before: float
+    error_after: float
+    selection: SelectionResult = field(repr=False)
+    trace_before: ResidualTrace = field(repr=False)
+    trace_after: ResidualTrace = field(repr=False)
+    unexplained: bool
+    unexplained_in: list
+    errors_by_test: dict
+    errors_by_input: dict
+    settings: dict = field(default_factory=dict)
+
+    @property
+    def effects(self) -> list[str]:
+        """Names of the effects added, in order."""
+        return [s.name for s in self.selection.steps]
+
+    def to_json(self) -> dict:
+        """The ``sbib diagnose --json`` document.
+
+        Keys: ``model``, ``error_before``, ``error_after``, ``effects`` (``name``, ``parameters``,
+        ``error_after_adding``), ``unexplained``, ``residual_trace`` (variable -> share of the
+        final held-out residual's variance), plus ``unexplained_in``, ``residual_trace_before``,
+        ``whiteness``, ``errors_by_test``, ``errors_by_input``, ``input``, ``final_model``.
+        """
+        final_effects = {e.name: e.parameters for e in self.final_model.effects}
+        return {
+            "model": self.model_kind,
+            "error_before": float(self.error_before),
+            "error_after": float(self.error_after),
+            "effects": [{"name": s.name, "parameters": final_effects.get(s.name, s.parameters),
+                         "error_after_adding": float(s.error_after)}
+                        for s in self.selection.steps],
+            "unexplained": bool(self.unexplained),
+            "unexplained_in": [{"variable": v, "share": round(s, 4), "level": round(lv, 4)}
+                               for v, s, lv in self.unexplained_in],
+            "residual_trace": {**{k: round(float(v), 4) for k, v in self.trace_after.shares.items()},
+                               "mean": round(float(self.trace_after.mean_share), 4)},
+            "residual_trace_before": {**{k: round(float(v), 4)
+                                         for k, v in self.trace_before.shares.items()},
+                                      "mean": round(float(self.trace_before.mean_share), 4)},
+            "whiteness": {"before": _whiteness(self.trace_before),
+                          "after": _whiteness(self.trace_after)},
+            "errors_by_test": {k: {"before": b, "after": a} for k, (b, a) in self.errors_by_test.items()},
+            "errors_by_input": {f"{k:g}": {"before": b, "after": a}
+                                for k, (b, a) in self.errors_by_input.items()},
+            "input": self.data.input_name,
+            "base_model": self.base_model.to_dict(),
+            "final_model": self.final_model.to_dict(),
+            "settings": dict(self.settings),
+        }
+
+
+def _whiteness(trace: ResidualTrace) -> dict:
+    return {"ljung_box": float(trace.ljung_box), "p_value": float(trace.ljung_box_p),
+            "lags": int(trace.lags), "lag1_autocorrelation": float(trace.lag1),
+            "effective_samples": float(trace.effective_samples),
+            "noise_fraction": float(trace.noise_fraction)}
+
+
+def _errors(data: DiagnosisData, before: list, after: list) -> tuple[dict, dict]:
+    by_test, grouped = {}, {}
+    for m, f, k, fb, fa in zip(data.motions, data.forces, data.heldout, before, after):
+        if not k.any():
+            continue
+        norm = float(np.linalg.norm(f[k]))
+        eb = float(np.linalg.norm(f[k] - fb[k]) / norm)
+        ea = float(np.linalg.norm(f[k] - fa[k]) / norm)
+        by_test[m.name] = (eb, ea)
+        if np.ptp(m.v) == 0.0:
+            g = grouped.setdefault(round(float(m.v[0]), 9), [0.0, 0.0, 0.0])
+            g[0] += float(np.sum((f[k] - fb[k]) ** 2))
+            g[1] += float(np.sum((f[k] - fa[k]) ** 2))
+            g[2] += norm ** 2
+    by_input = {lvl: (math.sqrt(g[0] / g[2]), math.sqrt(g[1] / g[2])) for lvl, g in sorted(grouped.items())}
+    return by_test, by_input
+
+
+def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
+             holdout: float | None = DEFAULT_HOLDOUT, validate: Sequence[DamperTest] | None = None,
+             candidates: Sequence[str] | None = None, *, min_gain: float = DEFAULT_MIN_GAIN,
+             trials: int = DEFAULT_TRIALS, max_effects: int | None = None,
+             structure_share: float = DEFAULT_STRUCTURE_SHARE,
+             structure_level: float = DEFAULT_STRUCTURE_LEVEL, max_nfev: int = 200,
+             progress: Callable[[str], None] | None = None) -> Diagnosis:
+    """Run the residual loop on damper tests (see the module docstring).
+
+    Parameters
+    ----------
+    tests : sequence of DamperTest
+        Tests to fit (any motion, constant or varying coil input; all voltage or all current).
+    model : {"normalized", "extended"}
+        Base model.
+    holdout : float
+        Fraction of each test, at its end, held out (ignored with ``validate``).
+    validate : sequence of DamperTest, optional
+        Separate held-out tests.
+    candidates : sequence of str, optional
+        Effect names to consider (default: the whole library).
+    min_gain : float
+        Smallest relative drop of the held-out error an effect must bring.
+    trials : int
+        Candidates refitted per round.
+    max_effects : int, optional
+        At most this many effects.
+    structure_share, structure_level : float
+        Thresholds of the unexplained-structure verdict (:func:`unexplained_structure`).
+    max_nfev : int
+        Residual evaluations per joint refit.
+    progress : callable, optional
+        Receives one-line progress messages.
+
+    Returns
+    -------
+    Diagnosis
+
+    Raises
+    ------
+    InputError
+        Bad tests or options.
+    NumericalError
+        The base model could not be fitted.
+    """
+    say = progress or (lambda msg: None)
+    data = DiagnosisData.from_tests(tests, holdout=holdout, validate=validate)
+    nodes = data.nodes()
+    say(f"fitting the {model} base model to {len(data.motions)} test(s)"
+        + ("" if nodes is None else f" with {data.input_name} laws on nodes {list(np.round(nodes, 4))}"))
+    base = fit_base(data, model, max_nfev=max_nfev).model
+    forces_before = [base.force(m) for m in data.motions]
+    residual_before = data.measured("heldout") - data.concat(forces_before, "heldout")
+    norm_h = float(np.linalg.norm(data.measured("heldout")))
+    error_before = float(np.linalg.norm(residual_before) / norm_h)
+    say(f"base model: held-out relative RMS error {error_before:.4f}")
+    signals = data.signals("heldout")
+    trace_before = trace_residual(residual_before, signals)
+    selection = select_effects(base, data, candidates, nodes=nodes, min_gain=min_gain,
+                               trials=trials, max_effects=max_effects, max_nfev=max_nfev,
+                               progress=say)
+    final = selection.model
+    forces_after = [final.force(m) for m in data.motions]
+    residual_after = data.measured("heldout") - data.concat(forces_after, "heldout")
+    error_after = float(np.linalg.norm(residual_after) / norm_h)
+    trace_after = trace_residual(residual_after, signals)
+    f_rms = float(norm_h / math.sqrt(residual_after.size))
+    where = unexplained_structure(trace_after, f_rms, structure_share, structure_level)
+    by_test, by_input = _errors(data, forces_before, forces_after)
+    for s in selection.steps:
+        say(f"added {s.name} {s.parameters}: held-out error {s.error_before:.4f} -> {s.error_after:.4f}")
+    if where:
+        say("unexplained structure in " + ", ".join(f"{v} (share {s:.2f}, level {lv:.3f})"
+                                                    for v, s, lv in where))
+    settings = {"holdout": data.holdout, "validated": data.holdout is None, "min_gain": min_gain,
+                "trials": trials, "structure_share": structure_share,
+                "structure_level": structure_level,
+                "nodes": None if nodes is None else [float(x) for x in nodes],
+                "candidates": list(candidates) if candidates is not None else None}
+    return Diagnosis(data=data, model_kind=model, base_model=base, final_model=final,
+                     error_before=error_before, error_after=error_after, selection=selection,
+                     trace_before=trace_before, trace_after=trace_after,
+                     unexplained=bool(where), unexplained_in=where, errors_by_test=by_test,
+                     errors_by_input=by_input, settings=settings)
+

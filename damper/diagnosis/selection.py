@@ -1,0 +1,354 @@
+"""Matching the residual against the effect library and choosing terms by held-out BIC.
+
+One round of the forward selection, from the current (fitted) model :math:`\\hat F(p)`:
+
+1. **Screen** (a score, or Lagrange-multiplier, test). For each candidate effect :math:`e` not
+   yet in the model, its sensitivity :math:`j_e = \\partial \\hat F/\\partial\\theta_e` at the neutral
+   value (finite difference) is projected off the span of the model's own sensitivities
+   :math:`J = \\partial\\hat F/\\partial p`, :math:`j_e^\\perp = (I - JJ^+)j_e`. On the training
+   residual :math:`r`, the first-order share of the residual sum of squares the term can remove is
+
+   .. math:: s_e = \\frac{(j_e^{\\perp\\top} r)^2}{(j_e^{\\perp\\top} j_e^\\perp)\\,(r^\\top r)},
+             \\qquad \\hat\\theta_e = \\frac{j_e^{\\perp\\top} r}{j_e^{\\perp\\top} j_e^\\perp},
+
+   and a candidate whose :math:`\\hat\\theta_e` leaves its admissible interval (a negative mass,
+   stiffness, turbulent coefficient or time constant) scores 0.
+2. **Refit** the best-scoring candidates jointly with the model
+   (:func:`damper.augmented.refit`, from :math:`\\hat\\theta_e`).
+3. **Choose** by the Bayesian information criterion on the held-out samples,
+
+   .. math:: \\mathrm{BIC} = N_\\text{eff}\\ln(\\mathrm{RSS}_h/N_h) + k\\ln N_\\text{eff},
+
+   with :math:`k` the number of free parameters and :math:`N_\\text{eff}` the effective sample size of
+   the current held-out residual (:func:`~damper.diagnosis.trace.effective_sample_size`): model
+   residuals are strongly autocorrelated, and the raw sample count would make any term look
+   worth its parameter. The best candidate is added when it lowers the BIC *and* lowers the
+   held-out relative RMS error by at least ``min_gain`` (a fraction of the current error).
+   Rounds repeat while a term pays.
+
+References
+----------
+Schwarz G. (1978) *Estimating the dimension of a model*, Ann. Statist. 6(2).
+Breusch T.S., Pagan A.R. (1980) *The Lagrange multiplier test and its applications to model
+specification in econometrics*, Rev. Econ. Stud. 47(1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from benchmark.errors import InputError, NumericalError, ParameterError
+from damper.augmented import AugmentedModel, Parametrization, refit
+from damper.diagnosis.dataset import DiagnosisData
+from damper.diagnosis.trace import effective_sample_size
+from damper.effects import EFFECT_NAMES, Effect, get_effect
+
+__all__ = [
+    "ScreenScore",
+    "Trial",
+    "Step",
+    "SelectionResult",
+    "heldout_bic",
+    "bic_delta",
+    "relative_rms_error",
+    "screen_columns",
+    "screen_effects",
+    "model_jacobian",
+    "select_effects",
+    "DEFAULT_MIN_GAIN",
+]
+
+#: An effect must lower the held-out error by at least this fraction of the current error.
+DEFAULT_MIN_GAIN = 0.02
+#: Candidates refitted per round (the best screening scores).
+DEFAULT_TRIALS = 3
+#: Screening scores below this are not refitted.
+MIN_SCORE = 1e-3
+
+
+def relative_rms_error(measured: np.ndarray, predicted: np.ndarray) -> float:
+    """:math:`\\|F - \\hat F\\|_2/\\|F\\|_2`."""
+    measured = np.asarray(measured, dtype=float)
+    norm = float(np.linalg.norm(measured))
+    if not norm > 0:
+        raise InputError("relative RMS error: the measured force is identically zero")
+    return float(np.linalg.norm(measured - np.asarray(predicted, dtype=float)) / norm)
+
+
+def heldout_bic(rss: float, n_samples: int, n_effective: float, n_parameters: int) -> float:
+    """:math:`N_\\text{eff}\\ln(\\mathrm{RSS}/N) + k\\ln N_\\text{eff}` (see the module docstring)."""
+    if not (rss > 0 and n_samples > 0 and n_effective >= 1):
+        raise InputError(f"heldout_bic: expected rss > 0, n > 0, n_eff >= 1; got {rss}, "
+                         f"{n_samples}, {n_effective}")
+    return float(n_effective * math.log(rss / n_samples) + n_parameters * math.log(n_effective))
+
+
+def bic_delta(rss_old: float, rss_new: float, n_effective: float, added_parameters: int) -> float:
+    """Change of :func:`heldout_bic` when ``added_parameters`` bring the RSS from old to new."""
+    if not (rss_old > 0 and rss_new > 0):
+        return -math.inf if rss_new <= 0 < rss_old else math.inf
+    return float(n_effective * math.log(rss_new / rss_old) + added_parameters * math.log(n_effective))
+
+
+@dataclass(frozen=True)
+class ScreenScore:
+    """Screening of one candidate: ``score`` (share of the training RSS it can remove to first
+    order), ``estimate`` (its parameter at that first order), ``reason`` when it scores 0."""
+
+    name: str
+    score: float
+    estimate: float
+    reason: str = ""
+
+
+def screen_columns(residual: np.ndarray, base_columns: np.ndarray | None,
+                   columns: dict, lower: dict | None = None) -> dict:
+    """Score candidate columns against a residual, orthogonally to ``base_columns``.
+
+    Parameters
+    ----------
+    residual : ndarray (N,)
+        Residual :math:`F - \\hat F` to explain.
+    base_columns : ndarray (N, p) or None
+        Directions the current model can already move in (its sensitivities).
+    columns : dict of str to ndarray (N,)
+        Candidate sensitivities :math:`\\partial\\hat F/\\partial\\theta_e`.
+    lower : dict of str to float, optional
+        Lower bound of each candidate's parameter relative to its neutral value (0: only
+        positive changes are admissible); absent means unbounded below.
+
+    Returns
+    -------
+    dict of str to ScreenScore
+    """
+    r = np.asarray(residual, dtype=float)
+    rr = float(r @ r)
+    lower = dict(lower or {})
+    q = None
+    if base_columns is not None and np.size(base_columns):
+        b = np.asarray(base_columns, dtype=float)
+        norms = np.linalg.norm(b, axis=0)
+        b = b[:, norms > 0] / norms[norms > 0]
+        if b.shape[1]:
+            u, s, _ = np.linalg.svd(b, full_matrices=False)
+            q = u[:, s > 1e-10 * s[0]]
+    out = {}
+    for name, col in columns.items():
+        j = np.asarray(col, dtype=float)
+        if j.shape != r.shape:
+            raise InputError(f"screen: column {name!r} has shape {j.shape}, expected {r.shape}")
+        jp = j - q @ (q.T @ j) if q is not None else j
+        jj = float(jp @ jp)
+        if not np.isfinite(jj) or jj <= 1e-20 * max(float(j @ j), 1e-300) or rr <= 0:
+            out[name] = ScreenScore(name, 0.0, 0.0, "no direction of its own (collinear with the "
+                                    "model's parameters or zero)")
+            continue
+        jr = float(jp @ r)
+        estimate = jr / jj
+        if name in lower and estimate < lower[name]:
+            out[name] = ScreenScore(name, 0.0, estimate, "the residual asks for an inadmissible "
+                                    "(negative) value")
+            continue
+        out[name] = ScreenScore(name, jr * jr / (jj * rr), estimate)
+    return out
+
+
+def _train_forces(model: AugmentedModel, data: DiagnosisData) -> np.ndarray:
+    return data.concat([model.force(m) for m in data.motions], "train")
+
+
+def model_jacobian(model: AugmentedModel, data: DiagnosisData, nodes=None,
+                   relative_step: float = 1e-4) -> np.ndarray:
+    """Forward-difference sensitivities of the training force to every free parameter, (N, p)."""
+    par = Parametrization(model, nodes=nodes)
+    p0 = par.vector(model)
+    f0 = _train_forces(model, data)
+    cols = []
+    for i in range(par.size):
+        step = relative_step * max(abs(p0[i]), par.scale[i] * 1e-3, 1e-12)
+        p = p0.copy()
+        p[i] = p0[i] + step if p0[i] + step <= par.upper[i] else p0[i] - step
+        try:
+            fi = _train_forces(par.model(p, validate=False), data)
+        except (ParameterError, NumericalError):
+            continue
+        cols.append((fi - f0) / (p[i] - p0[i]))
+    return np.column_stack(cols) if cols else np.zeros((f0.size, 0))
+
+
+def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Sequence[str],
+                   scales: dict, nodes=None) -> dict:
+    """Screen ``candidates`` (effect names) for the current ``model`` (see the module docstring).
+
+    Returns a dict of :class:`ScreenScore`; a candidate that cannot be seen in these data
+    (e.g. ``voltage_lag`` at constant voltage) scores 0 with the reason.
+    """
+    f0 = _train_forces(model, data)
+    residual = data.measured("train") - f0
+    columns, lower, out = {}, {}, {}
+    for name in candidates:
+        cls = get_effect(name)
+        why = cls.not_identifiable(list(data.motions))
+        if why:
+            out[name] = ScreenScore(name, 0.0, 0.0, f"not identifiable: {why}")
+            continue
+        step = 1e-2 * scales[name]
+        try:
+            trial = model.with_effect(cls(cls.neutral + step))
+            columns[name] = (_train_forces(trial, data) - f0) / step
+        except (ParameterError, NumericalError, InputError) as exc:
+            out[name] = ScreenScore(name, 0.0, 0.0, f"cannot be evaluated: {exc}")
+            continue
+        if cls.lower >= cls.neutral:
+            lower[name] = 0.0
+    base_columns = model_jacobian(model, data, nodes=nodes)
+    out.update(screen_columns(residual, base_columns, columns, lower))
+    for name, s in list(out.items()):
+        if s.score > 0:  # estimate is a change from neutral
+            out[name] = ScreenScore(name, s.score, get_effect(name).neutral + s.estimate, s.reason)
+    return {name: out[name] for name in candidates}
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One candidate refitted in a round: its held-out error and BIC change."""
+
+    name: str
+    score: float
+    error: float
+    bic_delta: float
+    parameters: dict
+    accepted: bool = False
+    note: str = ""
+
+
+@dataclass(frozen=True)
+class Step:
+    """One effect added: the model after it and the held-out errors around it."""
+
+    name: str
+    parameters: dict
+    error_before: float
+    error_after: float
+    bic_delta: float
+    effective_samples: float
+    model: AugmentedModel = field(repr=False)
+
+
+@dataclass(frozen=True)
+class SelectionResult:
+    """Outcome of :func:`select_effects`: the steps taken, the rounds' trials and screens."""
+
+    model: AugmentedModel
+    steps: tuple
+    rounds: tuple  # per round: (screen dict, list of Trial)
+
+
+def _heldout_rss(model: AugmentedModel, data: DiagnosisData) -> tuple[float, np.ndarray]:
+    pred = data.concat([model.force(m) for m in data.motions], "heldout")
+    residual = data.measured("heldout") - pred
+    return float(residual @ residual), residual
+
+
+def select_effects(model: AugmentedModel, data: DiagnosisData,
+                   candidates: Sequence[str] | None = None, *, nodes=None,
+                   min_gain: float = DEFAULT_MIN_GAIN, trials: int = DEFAULT_TRIALS,
+                   max_effects: int | None = None, max_nfev: int = 200,
+                   progress: Callable[[str], None] | None = None) -> SelectionResult:
+    """Forward selection of library effects by held-out BIC (see the module docstring).
+
+    Parameters
+    ----------
+    model : AugmentedModel
+        The fitted starting model (usually the base model alone).
+    data : DiagnosisData
+    candidates : sequence of str, optional
+        Effect names to consider (default: the whole library, minus what the model declares).
+    nodes : sequence of float, optional
+        Voltage nodes of the base parameters' laws (as used for the base fit).
+    min_gain : float
+        Smallest relative drop of the held-out error that counts as paying.
+    trials : int
+        Candidates refitted per round.
+    max_effects : int, optional
+        Stop after this many effects.
+    max_nfev : int
+        Residual evaluations per joint refit.
+    progress : callable, optional
+        Called with a one-line message after each trial.
+
+    Returns
+    -------
+    SelectionResult
+    """
+    if not 0.0 <= min_gain < 1.0:
+        raise InputError(f"min_gain: expected 0 <= min_gain < 1, got {min_gain}")
+    names = list(EFFECT_NAMES if candidates is None else candidates)
+    for n in names:
+        get_effect(n)
+    if model.base_kind == "extended" and "stiffness" in names:
+        names.remove("stiffness")  # the extended base declares kappa_x x already
+    motions = list(data.motions)
+    f_rms = data.force_rms("train")
+    scales = {n: get_effect(n).scale(motions, f_rms) for n in EFFECT_NAMES}
+    measured_h = data.measured("heldout")
+    norm_h = float(np.linalg.norm(measured_h))
+    steps, rounds = [], []
+    current = model
+    while True:
+        remaining = [n for n in names if n not in current.effect_names]
+        if not remaining or (max_effects is not None and len(steps) >= max_effects):
+            break
+        rss_old, res_old = _heldout_rss(current, data)
+        err_old = math.sqrt(rss_old) / norm_h
+        n_eff = effective_sample_size(res_old)
+        screens = screen_effects(current, data, remaining, scales, nodes=nodes)
+        ranked = sorted((s for s in screens.values() if s.score >= MIN_SCORE),
+                        key=lambda s: -s.score)[:trials]
+        round_trials, best = [], None
+        for s in ranked:
+            cls = get_effect(s.name)
+            start = current.with_effect(cls.from_value(s.estimate))
+            try:
+                fit = refit(start, motions, data.forces, data.train, nodes=nodes,
+                            scales={**scales, **{k: abs(v) for k, v in _base_scales(current).items()}},
+                            max_nfev=max_nfev)
+                rss_new, _ = _heldout_rss(fit.model, data)
+            except (NumericalError, ParameterError, InputError) as exc:
+                round_trials.append(Trial(s.name, s.score, math.nan, math.inf, {}, note=str(exc)))
+                continue
+            err_new = math.sqrt(rss_new) / norm_h
+            delta = bic_delta(rss_old, rss_new, n_eff, 1)
+            effect = fit.model.effect(s.name)
+            trial = Trial(s.name, s.score, err_new, delta, effect.parameters)
+            round_trials.append(trial)
+            if progress:
+                progress(f"  tried {s.name}: held-out error {err_old:.4f} -> {err_new:.4f}, "
+                         f"BIC change {delta:+.1f}")
+            pays = delta < 0.0 and err_new <= (1.0 - min_gain) * err_old
+            if pays and (best is None or delta < best[0].bic_delta):
+                best = (trial, fit.model)
+        if best is not None:
+            trial, new_model = best
+            round_trials = [Trial(**{**t.__dict__, "accepted": t is trial}) for t in round_trials]
+            steps.append(Step(trial.name, trial.parameters, err_old, trial.error, trial.bic_delta,
+                              n_eff, new_model))
+            current = new_model
+        rounds.append((screens, round_trials))
+        if best is None:
+            break
+    return SelectionResult(current, tuple(steps), tuple(rounds))
+
+
+def _base_scales(model: AugmentedModel) -> dict:
+    out = {}
+    for k, v in model.base_parameters().items():
+        try:
+            out[k] = float(v) if not hasattr(v, "values") else float(np.max(np.abs(v.values)))
+        except TypeError:
+            continue
+    return out

@@ -1,0 +1,528 @@
+"""A library of physical effects that a base MR damper model may lack, each a term with its own parameter.
+
+The residual loop (:mod:`damper.diagnosis`) extends a base model (normalized or extended
+Bouc-Wen, :mod:`damper.bouc_wen`) by *composition* with these terms
+(:class:`damper.augmented.AugmentedModel`). Every effect has one parameter, a *neutral* value at
+which it vanishes (the base model is recovered exactly), physical bounds, and a role that says
+where it enters the composition:
+
+``input``
+    transforms the coil input the base model sees;
+``factor``
+    multiplies the base model's force;
+``additive``
+    adds a force.
+
+The augmented force is therefore
+
+.. math::
+
+   F = \\Big[\\prod_{\\text{factor}} g_j\\Big]\\,
+       F_\\text{base}\\big(x, \\dot x;\\, u\\big) + \\sum_{\\text{additive}} f_k ,
+   \\qquad u = \\text{input effects applied to } v .
+
+The library (names are part of the command line and the JSON output):
+
+=====================  ==========  ===============================================  ============
+name                   role        term                                             parameter
+=====================  ==========  ===============================================  ============
+``stiffness``          additive    :math:`\\kappa_x\\,x` (accumulator, seed eq. 3)   ``kappa_x`` [N/m], >= 0
+``offset``             additive    :math:`f_0` (accumulator preload)                ``f0`` [N]
+``inertia``            additive    :math:`m\\,\\ddot x` (fluid and piston mass)      ``mass`` [kg], >= 0
+``quadratic_damping``  additive    :math:`c_2\\,\\dot x|\\dot x|` (turbulent losses)  ``c2`` [N·s²/m²], >= 0
+``asymmetry``          factor      :math:`1 + a\\,\\mathrm{sgn}(F_\\text{base})`      ``ratio`` [-], |a| < 1
+``fade``               factor      :math:`1 + \\phi\\,(t - t_0)`                     ``rate`` [1/s]
+``voltage_lag``        input       :math:`\\tau\\dot u = v - u`                      ``tau`` [s], >= 0
+=====================  ==========  ===============================================  ============
+
+* ``asymmetry``: extension (positive) forces are scaled by :math:`1 + a`, compression (negative)
+  forces by :math:`1 - a`; :math:`F_\\text{base}(1 + a\\,\\mathrm{sgn}F_\\text{base}) =
+  F_\\text{base} + a|F_\\text{base}|` is continuous in the force, so the term has no jump.
+* ``fade``: a slow linear change of the force level from the start :math:`t_0` of each test
+  (heating thins the fluid); over one test a linear law is the first term of any smooth drift.
+* ``voltage_lag``: first-order field build-up (coil inductance, eddy currents). The filter is
+  integrated exactly for an input that is linear between samples, so ``tau = 0`` returns the
+  input unchanged.
+
+References
+----------
+Bahar, Pozo, Acho, Rodellar, Barbat (2009): the elastic term :math:`\\kappa_x x` (seed eq. 3).
+Spencer, Dyke, Sain, Carlson (1997), *Phenomenological model for magnetorheological dampers*,
+J. Eng. Mech. 123(3): the first-order voltage filter :math:`\\dot u = -\\eta(u - v)`.
+Wang & Liao (2011), *Magnetorheological fluid dampers: a review of parametric modelling*,
+Smart Mater. Struct. 20: accumulator stiffness and preload, fluid inertia, turbulence,
+temperature, asymmetry.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numba
+import numpy as np
+
+from benchmark.errors import InputError, ParameterError
+
+__all__ = [
+    "Motion",
+    "Effect",
+    "Stiffness",
+    "Offset",
+    "Inertia",
+    "VoltageLag",
+    "QuadraticDamping",
+    "Asymmetry",
+    "Fade",
+    "EFFECTS",
+    "EFFECT_NAMES",
+    "get_effect",
+    "first_order_filter",
+]
+
+
+# ----------------------------------------------------------------------------- prescribed motion
+
+@dataclass(frozen=True)
+class Motion:
+    """A prescribed motion of one test, the signals every model term may read (SI).
+
+    Attributes
+    ----------
+    t : ndarray (n,)
+        Strictly increasing time [s].
+    x, xdot, xddot : ndarray (n,)
+        Displacement [m], velocity [m/s], acceleration [m/s²].
+    v : ndarray (n,)
+        Coil input: voltage [V], or current [A] when the test gives a current (the model then
+        reads the current as its input, in the same units).
+    name : str
+        Label of the test.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    xdot: np.ndarray
+    xddot: np.ndarray
+    v: np.ndarray
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        t = np.ascontiguousarray(np.asarray(self.t, dtype=np.float64))
+        if t.ndim != 1 or t.size < 2:
+            raise InputError(f"Motion {self.name!r}: t: expected a 1-D array of >= 2 samples, "
+                             f"got shape {t.shape}")
+        if not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+            raise InputError(f"Motion {self.name!r}: t: expected finite, strictly increasing times")
+        object.__setattr__(self, "t", t)
+        for field in ("x", "xdot", "xddot", "v"):
+            arr = np.asarray(getattr(self, field), dtype=np.float64)
+            if arr.ndim == 0:
+                arr = np.full(t.size, float(arr))
+            if arr.shape != t.shape:
+                raise InputError(f"Motion {self.name!r}: {field}: expected {t.size} samples "
+                                 f"(as many as t), got shape {arr.shape}")
+            if not np.all(np.isfinite(arr)):
+                i = int(np.argmax(~np.isfinite(arr)))
+                raise InputError(f"Motion {self.name!r}: {field}: expected finite values, "
+                                 f"sample {i} is {arr[i]}")
+            object.__setattr__(self, field, np.ascontiguousarray(arr))
+
+    @property
+    def elapsed(self) -> np.ndarray:
+        """Time since the start of the test, :math:`t - t_0` [s]."""
+        return self.t - self.t[0]
+
+    @property
+    def n_samples(self) -> int:
+        """Number of samples."""
+        return int(self.t.size)
+
+
+# ----------------------------------------------------------------------------------- base class
+
+class Effect:
+    """One physical effect: a term with one named parameter (see the module docstring).
+
+    Subclasses are frozen dataclasses with a single field named ``parameter_name``. Class
+    attributes: ``name`` (the library name), ``role`` (``"input"``, ``"factor"`` or
+    ``"additive"``), ``unit``, ``neutral`` (the value at which the term vanishes), ``lower`` and
+    ``upper`` (admissible interval), ``description``.
+    """
+
+    name: ClassVar[str]
+    role: ClassVar[str]
+    parameter_name: ClassVar[str]
+    unit: ClassVar[str]
+    neutral: ClassVar[float] = 0.0
+    lower: ClassVar[float] = -math.inf
+    upper: ClassVar[float] = math.inf
+    description: ClassVar[str]
+
+    def _validate(self) -> None:
+        raw = getattr(self, self.parameter_name)
+        if isinstance(raw, bool):
+            raise ParameterError(f"{self.name}.{self.parameter_name}: expected a number, got {raw!r}")
+        try:
+            value = float(raw)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{self.name}.{self.parameter_name}: expected a number, "
+                                 f"got {raw!r}") from None
+        if not math.isfinite(value) or not (self.lower <= value <= self.upper):
+            raise ParameterError(f"{self.name}.{self.parameter_name}: expected a finite value in "
+                                 f"[{self.lower:g}, {self.upper:g}] {self.unit}, got {value!r}")
+        object.__setattr__(self, self.parameter_name, value)
+
+    # -- parameter access --------------------------------------------------------------------
+    @property
+    def value(self) -> float:
+        """The parameter value (SI, unit ``self.unit``)."""
+        return float(getattr(self, self.parameter_name))
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        """``{parameter_name: value}``."""
+        return {self.parameter_name: self.value}
+
+    def to_array(self) -> np.ndarray:
+        """The parameter as a one-element ``float64`` array."""
+        return np.array([self.value])
+
+    @classmethod
+    def from_value(cls, value: float) -> "Effect":
+        """The effect with parameter ``value`` (clipped into ``[lower, upper]``)."""
+        return cls(float(min(max(float(value), cls.lower), cls.upper)))
+
+    @classmethod
+    def off(cls) -> "Effect":
+        """The effect at its neutral value (the term vanishes)."""
+        return cls(cls.neutral)
+
+    @classmethod
+    def scale(cls, motions: "list[Motion]", force_rms: float) -> float:
+        """A typical parameter size for these data: the value whose term is about the force RMS.
+
+        Used to scale the optimiser's variables and finite-difference steps.
+        """
+        raise NotImplementedError
+
+    @classmethod
+    def not_identifiable(cls, motions: "list[Motion]") -> str | None:
+        """Why the effect cannot be seen in these data (``None`` when it can)."""
+        return None
+
+    # -- the term ---------------------------------------------------------------------------
+    def transform_input(self, motion: Motion, v: np.ndarray) -> np.ndarray:
+        """Input role: the coil input the base model sees."""
+        raise NotImplementedError
+
+    def factor(self, motion: Motion, base_force: np.ndarray) -> np.ndarray:
+        """Factor role: the multiplier of the base force."""
+        raise NotImplementedError
+
+    def force(self, motion: Motion) -> np.ndarray:
+        """Additive role: the added force [N]."""
+        raise NotImplementedError
+
+    def __str__(self) -> str:
+        return f"{self.name}({self.parameter_name}={self.value:.6g} {self.unit})"
+
+
+def _rms(a: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(np.square(a)))) if a.size else 0.0
+
+
+def _pooled_rms(motions, field: str) -> float:
+    values = np.concatenate([getattr(m, field) for m in motions])
+    return _rms(values)
+
+
+# ------------------------------------------------------------------------------- the library
+
+@dataclass(frozen=True)
+class Stiffness(Effect):
+    """Linear elastic force :math:`\\kappa_x x` [N] (accumulator stiffness; seed eq. 3).
+
+    Parameters
+    ----------
+    kappa_x : float
+        Stiffness [N/m], >= 0.
+    """
+
+    kappa_x: float
+    name: ClassVar[str] = "stiffness"
+    role: ClassVar[str] = "additive"
+    parameter_name: ClassVar[str] = "kappa_x"
+    unit: ClassVar[str] = "N/m"
+    lower: ClassVar[float] = 0.0
+    description: ClassVar[str] = "linear elastic force kappa_x*x (accumulator stiffness)"
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return force_rms / max(_pooled_rms(motions, "x"), 1e-12)
+
+    def force(self, motion):
+        return self.kappa_x * motion.x
+
+
+@dataclass(frozen=True)
+class Offset(Effect):
+    """Constant force :math:`f_0` [N] (accumulator preload).
+
+    Parameters
+    ----------
+    f0 : float
+        Offset force [N].
+    """
+
+    f0: float
+    name: ClassVar[str] = "offset"
+    role: ClassVar[str] = "additive"
+    parameter_name: ClassVar[str] = "f0"
+    unit: ClassVar[str] = "N"
+    description: ClassVar[str] = "constant force f0 (accumulator preload)"
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return force_rms
+
+    def force(self, motion):
+        return np.full(motion.n_samples, self.f0)
+
+
+@dataclass(frozen=True)
+class Inertia(Effect):
+    """Inertial force :math:`m\\ddot x` [N] (fluid and piston mass).
+
+    Parameters
+    ----------
+    mass : float
+        Effective mass [kg], >= 0.
+    """
+
+    mass: float
+    name: ClassVar[str] = "inertia"
+    role: ClassVar[str] = "additive"
+    parameter_name: ClassVar[str] = "mass"
+    unit: ClassVar[str] = "kg"
+    lower: ClassVar[float] = 0.0
+    description: ClassVar[str] = "inertial force m*xddot (fluid and piston mass)"
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return force_rms / max(_pooled_rms(motions, "xddot"), 1e-12)
+
+    @classmethod
+    def not_identifiable(cls, motions):
+        if _pooled_rms(motions, "xddot") == 0.0:
+            return "the acceleration is zero throughout"
+        return None
+
+    def force(self, motion):
+        return self.mass * motion.xddot
+
+
+@dataclass(frozen=True)
+class QuadraticDamping(Effect):
+    """Turbulent (velocity-squared) loss :math:`c_2\\dot x|\\dot x|` [N].
+
+    Parameters
+    ----------
+    c2 : float
+        Quadratic damping coefficient [N·s²/m²], >= 0.
+    """
+
+    c2: float
+    name: ClassVar[str] = "quadratic_damping"
+    role: ClassVar[str] = "additive"
+    parameter_name: ClassVar[str] = "c2"
+    unit: ClassVar[str] = "N*s^2/m^2"
+    lower: ClassVar[float] = 0.0
+    description: ClassVar[str] = "turbulent loss c2*xdot*|xdot|"
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return force_rms / max(_pooled_rms(motions, "xdot") ** 2, 1e-24)
+
+    def force(self, motion):
+        return self.c2 * motion.xdot * np.abs(motion.xdot)
+
+
+@dataclass(frozen=True)
+class Asymmetry(Effect):
+    """Different force levels in extension and compression: factor :math:`1 + a\\,\\mathrm{sgn}F_\\text{base}`.
+
+    Parameters
+    ----------
+    ratio : float
+        :math:`a` [-], ``-0.9 <= a <= 0.9``: extension forces are scaled by ``1 + a``,
+        compression forces by ``1 - a``.
+    """
+
+    ratio: float
+    name: ClassVar[str] = "asymmetry"
+    role: ClassVar[str] = "factor"
+    parameter_name: ClassVar[str] = "ratio"
+    unit: ClassVar[str] = "-"
+    lower: ClassVar[float] = -0.9
+    upper: ClassVar[float] = 0.9
+    description: ClassVar[str] = "force level (1+a) in extension, (1-a) in compression"
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return 0.1
+
+    def factor(self, motion, base_force):
+        return 1.0 + self.ratio * np.sign(base_force)
+
+
+@dataclass(frozen=True)
+class Fade(Effect):
+    """Slow linear change of the force level over a test: factor :math:`1 + \\phi\\,(t - t_0)`.
+
+    Parameters
+    ----------
+    rate : float
+        :math:`\\phi` [1/s], the fractional change of the force level per second (negative
+        when the force fades, e.g. as the fluid heats). The factor must stay positive over the
+        test (checked when the term is evaluated).
+    """
+
+    rate: float
+    name: ClassVar[str] = "fade"
+    role: ClassVar[str] = "factor"
+    parameter_name: ClassVar[str] = "rate"
+    unit: ClassVar[str] = "1/s"
+    description: ClassVar[str] = "force level changing linearly with the time since the test began"
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        longest = max(float(m.t[-1] - m.t[0]) for m in motions)
+        return 0.1 / max(longest, 1e-9)
+
+    def factor(self, motion, base_force):
+        g = 1.0 + self.rate * motion.elapsed
+        if np.any(g <= 0.0):
+            raise ParameterError(f"fade.rate: {self.rate:g} 1/s drives the force level to zero "
+                                 f"within test {motion.name!r}; expected rate > "
+                                 f"{-1.0 / float(motion.elapsed[-1]):.4g} 1/s")
+        return g
+
+
+@dataclass(frozen=True)
+class VoltageLag(Effect):
+    """First-order field dynamics: the base model sees :math:`u` with :math:`\\tau\\dot u = v - u`.
+
+    Parameters
+    ----------
+    tau : float
+        Time constant [s], >= 0 (``0``: no lag). Spencer et al. (1997) write
+        :math:`\\eta = 1/\\tau`.
+    """
+
+    tau: float
+    name: ClassVar[str] = "voltage_lag"
+    role: ClassVar[str] = "input"
+    parameter_name: ClassVar[str] = "tau"
+    unit: ClassVar[str] = "s"
+    lower: ClassVar[float] = 0.0
+    upper: ClassVar[float] = 10.0
+    description: ClassVar[str] = "first-order filter tau*du/dt = v - u on the coil input"
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return 0.01
+
+    @classmethod
+    def not_identifiable(cls, motions):
+        if all(np.ptp(m.v) == 0.0 for m in motions):
+            return "the coil input is constant in every test"
+        return None
+
+    def transform_input(self, motion, v):
+        return first_order_filter(motion.t, v, self.tau)
+
+
+@numba.njit(cache=True)
+def _first_order_filter(t, v, tau, out):
+    out[0] = v[0]
+    for k in range(t.size - 1):
+        h = t[k + 1] - t[k]
+        if tau <= 0.0:
+            out[k + 1] = v[k + 1]
+            continue
+        e = math.exp(-h / tau)
+        # exact solution of tau u' = v - u for v linear over the step
+        out[k + 1] = e * out[k] + (1.0 - e) * v[k] + (v[k + 1] - v[k]) * (1.0 - tau * (1.0 - e) / h)
+
+
+def first_order_filter(t: np.ndarray, v: np.ndarray, tau: float) -> np.ndarray:
+    """Output of :math:`\\tau\\dot u = v - u`, :math:`u(t_0) = v(t_0)`, for ``v`` linear between samples.
+
+    Over a step of length :math:`h` with :math:`e = e^{-h/\\tau}`:
+
+    .. math:: u_{k+1} = e\\,u_k + (1-e)\\,v_k + (v_{k+1}-v_k)\\Big(1 - \\frac{\\tau(1-e)}{h}\\Big),
+
+    exact for piecewise-linear input; ``tau = 0`` returns ``v``.
+
+    Parameters
+    ----------
+    t : ndarray (n,)
+        Strictly increasing times [s].
+    v : ndarray (n,)
+        Input samples.
+    tau : float
+        Time constant [s], >= 0.
+
+    Returns
+    -------
+    ndarray (n,)
+    """
+    t = np.ascontiguousarray(t, dtype=np.float64)
+    v = np.ascontiguousarray(v, dtype=np.float64)
+    if t.shape != v.shape or t.ndim != 1:
+        raise InputError(f"first_order_filter: t and v must be 1-D of equal length, got "
+                         f"{t.shape} and {v.shape}")
+    if not (math.isfinite(tau) and tau >= 0.0):
+        raise ParameterError(f"voltage_lag.tau: expected a finite value >= 0 s, got {tau!r}")
+    out = np.empty_like(v)
+    _first_order_filter(t, v, float(tau), out)
+    return out
+
+
+#: The library, in the order the loop lists candidates.
+EFFECTS: dict[str, type[Effect]] = {cls.name: cls for cls in (
+    Stiffness, Offset, Inertia, VoltageLag, QuadraticDamping, Asymmetry, Fade)}
+#: The library's names.
+EFFECT_NAMES: tuple[str, ...] = tuple(EFFECTS)
+
+
+def get_effect(name: str) -> type[Effect]:
+    """The effect class named ``name`` (raises :class:`InputError` listing the library)."""
+    try:
+        return EFFECTS[name]
+    except KeyError:
+        raise InputError(f"effect: unknown name {name!r}; expected one of "
+                         + ", ".join(EFFECT_NAMES)) from None
