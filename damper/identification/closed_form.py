@@ -44,13 +44,14 @@ A. Bahar, F. Pozo, L. Acho, J. Rodellar, A. Barbat, preprint 2009 (the seed pape
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq
 
 from benchmark.errors import InputError
-from damper.identification.cycles import (Branches, check_excitation, g_integral, h_integral,
+from damper.identification.cycles import (Branches, ExcitationWarning, check_excitation, g_integral, h_integral,
                                           limit_cycle_peak, plastic_distance)
 
 __all__ = ["DesignPoints", "ClosedFormResult", "closed_form", "MODELS", "PARAMETER_NAMES"]
@@ -93,7 +94,9 @@ class ClosedFormResult:
     n_method : str
         ``"integral"`` or ``"derivative"``.
     kappa_x_inclination : float
-        Slope of the loop's mid-line (seed step a) [N/m]; equals ``kappa_x`` for the extended model.
+        Slope of the loop's mid-line (seed step a) [N/m].
+    kappa_x_regression : float
+        :math:`\\kappa_x` of the joint plastic regression [N/m].
     kappa_w_plastic : float
         Plateau of the plastic regression [N].
     force_offset : float
@@ -120,6 +123,7 @@ class ClosedFormResult:
     n: float
     n_method: str
     kappa_x_inclination: float
+    kappa_x_regression: float
     kappa_w_plastic: float
     force_offset: float
     a: float
@@ -222,6 +226,7 @@ def _solve_sigma(w3: float, n: float, target: float) -> float:
 
 
 def closed_form(branches: Branches, model: str = "extended", n_method: str = "integral",
+                kappa_x_method: str = "inclination",
                 levels: tuple[float, float, float] = (0.5, 0.85, -0.5), max_iterations: int = 6,
                 strict: bool = True) -> ClosedFormResult:
     """Closed-form parameters of the (extended) normalized Bouc-Wen model from the limit cycle.
@@ -236,6 +241,11 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
     n_method : {"integral", "derivative"}
         How :math:`n`, :math:`\\rho`, :math:`\\sigma` (and for ``"derivative"`` :math:`\\kappa_w`) are
         computed: the derivative-free :math:`G_n` variant or the original eq. 17–22.
+    kappa_x_method : {"inclination", "regression"}
+        Extended model only: :math:`\\kappa_x` from the loop's average inclination (the seed's step a,
+        then the regression on :math:`F - \\kappa_x x`), or jointly with :math:`\\kappa_{\\dot x}`,
+        :math:`\\kappa_w` in the plastic regression (less biased at moderate strokes). The
+        inclination falls back to the regression when it leaves no dry friction.
     levels : (float, float, float)
         Levels of :math:`\\bar w` at which the design points :math:`x_1^*, x_2^*, x_3^*` are placed
         (:math:`0 < w_1 < w_2 < 1`, :math:`-1 < w_3 < 0`; :math:`w_3` is scaled by the cycle peak
@@ -259,6 +269,8 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
     """
     if model not in MODELS:
         raise InputError(f"model: expected one of {MODELS}, got {model!r}")
+    if kappa_x_method not in ("inclination", "regression"):
+        raise InputError(f"kappa_x_method: expected 'inclination' or 'regression', got {kappa_x_method!r}")
     if n_method not in ("integral", "derivative"):
         raise InputError(f"n_method: expected 'integral' or 'derivative', got {n_method!r}")
     w1_level, w2_level, w3_level = levels
@@ -289,25 +301,44 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
         else:
             central = np.abs(x - 0.5 * (x_min + x_max)) <= 0.25 * stroke
         kappa_x_incl = float(np.polyfit(x[central], mid[central], 1)[0])
-        kappa_x = kappa_x_incl if extended else 0.0
         # (b) plastic regression F - kappa_x x = kappa_xdot xdot + kappa_w s + c on both branches.
         if np.count_nonzero(pl_load) < 3 or np.count_nonzero(pl_unload) < 3:
             raise InputError(f"branches: no plastic region (distance {distance:.4g} m from a reversal "
                              f"exceeds the stroke {stroke:.4g} m): increase the test amplitude")
+        x_pl = np.concatenate([x[pl_load], x[pl_unload]])
         v_pl = np.concatenate([vl[pl_load], vu[pl_unload]])
-        y_pl = np.concatenate([fl[pl_load], fu[pl_unload]]) - kappa_x * np.concatenate(
-            [x[pl_load], x[pl_unload]])
+        f_pl = np.concatenate([fl[pl_load], fu[pl_unload]])
         s_pl = np.concatenate([np.ones(np.count_nonzero(pl_load)), -np.ones(np.count_nonzero(pl_unload))])
         speed = np.abs(v_pl)
-        if np.std(speed) < 0.02 * np.mean(speed):
+        q25, q50, q75 = np.percentile(speed, [25, 50, 75])
+        if q75 - q25 < 0.02 * q50:
             raise InputError("test: the velocity is (nearly) constant over the plastic region, so the "
                              "viscous term kappa_xdot*xdot cannot be told from the dry friction kappa_w; "
                              "use a sinusoidal displacement")
-        coef = np.linalg.lstsq(np.column_stack([v_pl, s_pl, np.ones_like(v_pl)]), y_pl, rcond=None)[0]
+        columns = [v_pl, s_pl, np.ones_like(v_pl)]
+        joint = np.linalg.lstsq(np.column_stack([x_pl] + columns), f_pl, rcond=None)[0]
+        kappa_x_regression = float(joint[0])
+        method = kappa_x_method if extended else "none"
+        if method == "inclination":
+            kappa_x = kappa_x_incl
+            coef = np.linalg.lstsq(np.column_stack(columns), f_pl - kappa_x * x_pl, rcond=None)[0]
+            if not coef[1] > 0.0:
+                notes.append(f"the loop's inclination {kappa_x_incl:.4g} N/m leaves no dry friction "
+                             f"(kappa_w = {coef[1]:.4g} N): kappa_x taken from the joint plastic "
+                             "regression instead (is the excitation large enough?)")
+                method = "regression"
+        if method == "regression":
+            kappa_x = kappa_x_regression
+            coef = joint[1:]
+        elif method == "none":
+            kappa_x = 0.0
+            coef = np.linalg.lstsq(np.column_stack(columns), f_pl, rcond=None)[0]
         kappa_xdot, kappa_w_pl, offset = (float(c) for c in coef)
+        disagreement = abs(kappa_x_incl - kappa_x_regression) / max(abs(kappa_x_regression), 1e-300)
         if not (kappa_w_pl > 0.0):
             raise InputError(f"branches: the plastic regression gives kappa_w = {kappa_w_pl:.4g} N <= 0; "
-                             "the loop is not hysteretic (is the force sign consistent with the velocity?)")
+                             "the loop shows no dry friction (too small an excitation for the plastic "
+                             "assumption, or a force sign inconsistent with the velocity)")
         if kappa_xdot <= 0.0:
             notes.append(f"plastic regression gave kappa_xdot = {kappa_xdot:.4g} N s/m <= 0; "
                          "started the refinement from 1 % of kappa_w/|xdot|_max instead")
@@ -367,6 +398,7 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
         result = ClosedFormResult(
             model=model, kappa_x=kappa_x, kappa_xdot=kappa_xdot, kappa_w=float(kappa_w), rho=float(rho),
             sigma=float(sigma), n=float(n), n_method=n_method, kappa_x_inclination=kappa_x_incl,
+            kappa_x_regression=kappa_x_regression,
             kappa_w_plastic=kappa_w_pl, force_offset=offset, a=a, n_derivative=n_der, n_integral=n_int,
             design=DesignPoints(x_star, x1, x2, x3, w1_level, w2_level, w3_target),
             rho_stroke=float(rho * stroke), w0=float(w0), plastic_distance=float(distance),
@@ -379,5 +411,10 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
         distance = new_distance
 
     assert result is not None
+    if extended and disagreement > 0.1:
+        warnings.warn(f"kappa_x: the loop's inclination ({kappa_x_incl:.4g} N/m) and the plastic "
+                      f"regression ({kappa_x_regression:.4g} N/m) differ by {100 * disagreement:.0f} %: "
+                      "the branches are not plastic over most of the stroke (increase the amplitude)",
+                      ExcitationWarning, stacklevel=2)
     check_excitation(result.rho, result.sigma, result.n, stroke, strict=strict)
     return result

@@ -222,9 +222,11 @@ def _loop_on_grid(x: np.ndarray, force: np.ndarray, cycle: Cycle, grid: np.ndarr
 
 
 def steady_cycles(displacement: np.ndarray, force: np.ndarray, cycles: list[Cycle],
-                  tol: float = 0.01) -> tuple[list[Cycle], np.ndarray]:
-    """Wait for the limit cycle: drop the leading cycles that still differ from the steady loop.
+                  tol: float = 0.01, stroke_tol: float = 0.05) -> tuple[list[Cycle], np.ndarray]:
+    """Wait for the limit cycle: keep the full-amplitude cycles that have reached the steady loop.
 
+    First the longest run of consecutive cycles whose stroke is within ``stroke_tol`` of the
+    largest is selected (tests that ramp the amplitude up and down keep only their plateau).
     Each cycle's loop (loading and unloading force on a common displacement grid) is compared
     with the median loop of the second half of the cycles; its deviation is
     :math:`d_k = \\|F_k - F_{med}\\|_2 / \\|F_{med}\\|_2`. Leading cycles with
@@ -239,32 +241,54 @@ def steady_cycles(displacement: np.ndarray, force: np.ndarray, cycles: list[Cycl
         From :func:`detect_cycles`.
     tol : float
         Relative deviation accepted as "steady" on noise-free data.
+    stroke_tol : float
+        Relative shortfall of stroke that still counts as full amplitude.
 
     Returns
     -------
     kept : list of Cycle
-        The steady cycles (at least one).
+        The steady cycles (at least one), consecutive.
     deviation : ndarray
-        :math:`d_k` of every input cycle.
+        :math:`d_k` of every input cycle (``inf`` for cycles outside the full-amplitude run).
     """
     x = _as_1d("displacement", displacement)
     f = _as_1d("force", force)
     if f.size != x.size:
         raise InputError(f"force: expected {x.size} samples like the displacement, got {f.size}")
+    if not cycles:
+        raise InputError("cycles: at least one cycle is needed")
+    # Full-amplitude cycles only: tests often ramp the amplitude up and down (UTFSM files);
+    # keep the longest run of consecutive cycles whose stroke is within stroke_tol of the largest.
+    strokes = np.array([x[c.peak] - 0.5 * (x[c.start] + x[c.end]) for c in cycles])
+    full = strokes >= (1.0 - stroke_tol) * strokes.max()
+    best, run_start = (0, 0), None
+    for k, ok in enumerate(list(full) + [False]):
+        if ok and run_start is None:
+            run_start = k
+        elif not ok and run_start is not None:
+            if k - run_start > best[1] - best[0]:
+                best = (run_start, k)
+            run_start = None
+    offset = best[0]
+    all_cycles = cycles
+    cycles = list(cycles[best[0]:best[1]])
     lo = max(x[c.start] for c in cycles)
     hi = min(x[c.peak] for c in cycles)
+    deviation = np.full(len(all_cycles), np.inf)
     if not hi > lo:
-        return list(cycles), np.zeros(len(cycles))
+        deviation[offset:offset + len(cycles)] = 0.0
+        return cycles, deviation
     grid = np.linspace(lo, hi, 64)
     loops = np.array([_loop_on_grid(x, f, c, grid) for c in cycles])
     reference = np.median(loops[len(cycles) // 2:], axis=0)
     scale = np.linalg.norm(reference) or 1.0
-    deviation = np.linalg.norm(loops - reference, axis=1) / scale
-    threshold = max(tol, 3.0 * float(np.median(deviation)))
+    dev = np.linalg.norm(loops - reference, axis=1) / scale
+    deviation[offset:offset + len(cycles)] = dev
+    threshold = max(tol, 3.0 * float(np.median(dev)))
     first = 0
-    while first < len(cycles) - 1 and deviation[first] > threshold:
+    while first < len(cycles) - 1 and dev[first] > threshold:
         first += 1
-    return list(cycles[first:]), deviation
+    return cycles[first:], deviation
 
 
 def average_branches(displacement: np.ndarray, velocity: np.ndarray, force: np.ndarray,
@@ -281,8 +305,9 @@ def average_branches(displacement: np.ndarray, velocity: np.ndarray, force: np.n
     cycles : list of Cycle
         Steady cycles.
     n_bins : int, optional
-        Number of displacement bins between the mean minimum and maximum; by default about one
-        bin per two samples of one branch, clipped to [100, 2000].
+        Number of displacement bins between the mean minimum and maximum, uniform in the phase
+        :math:`u` of :math:`x = X_{min} + (X_{max} - X_{min})(1 - \\cos u)/2`; by default one bin
+        per sample of one branch of one cycle, clipped to [100, 2000].
     """
     x = _as_1d("displacement", displacement)
     v = _as_1d("velocity", velocity)
@@ -293,8 +318,12 @@ def average_branches(displacement: np.ndarray, velocity: np.ndarray, force: np.n
     x_max = float(np.mean([x[c.peak] for c in cycles]))
     if n_bins is None:
         per_branch = np.mean([c.peak - c.start for c in cycles])
-        n_bins = int(np.clip(per_branch / 2, 100, 2000))
-    edges = np.linspace(x_min, x_max, n_bins + 1)
+        n_bins = int(np.clip(per_branch, 100, 2000))
+    # Bins uniform in the phase u of a sinusoid between the extremes, x = x_min + stroke (1 - cos u)/2:
+    # dense near the reversals, where the hysteretic transition (length ~ 1/rho) lies and where a
+    # sinusoidal test spends most samples per unit of displacement.
+    u = np.linspace(0.0, np.pi, n_bins + 1)
+    edges = x_min + (x_max - x_min) * 0.5 * (1.0 - np.cos(u))
     centres = 0.5 * (edges[1:] + edges[:-1])
 
     def binned(sl_name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

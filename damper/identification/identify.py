@@ -22,8 +22,8 @@ import numpy as np
 
 from benchmark.errors import InputError
 from damper.identification.closed_form import ClosedFormResult, closed_form
-from damper.identification.cycles import (Branches, Cycle, average_branches, detect_cycles,
-                                          steady_cycles)
+from damper.identification.cycles import (Branches, Cycle, average_branches, check_excitation,
+                                          detect_cycles, steady_cycles)
 from damper.identification.metrics import force_errors
 from damper.identification.refine import RefinedFit, refine
 
@@ -144,7 +144,9 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
     n_bootstrap : int
         Cycle-bootstrap refits for the uncertainty (0: Jacobian only).
     strict : bool
-        Raise when the excitation is too small for the plastic assumption.
+        Raise :class:`InputError` when the refined :math:`\\rho(X_{max} - X_{min})` is below
+        :data:`~damper.identification.cycles.MIN_RHO_STROKE` (the closed-form steps' plastic
+        assumption fails and near-equivalent parameter sets abound); otherwise only warn.
     seed : int
         Bootstrap seed.
     start : dict, optional
@@ -176,10 +178,13 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
         if len(cycles) >= 3 and len(kept) == len(cycles):
             kept = kept[1:]   # the first cycle starts from rest: never part of the limit cycle
         branches = average_branches(x, xdot, force, kept)
-        cf = closed_form(branches, model=model, n_method=n_method,
-                         strict=strict and start is None)
+        # The closed form only warns: its own estimate of rho is biased exactly when the
+        # excitation is small; the check that may raise uses the refined parameters.
+        cf = closed_form(branches, model=model, n_method=n_method, strict=False)
         fit = refine(t, x, xdot, force, kept, start if start is not None else cf.parameters(),
                      model=model, n_bootstrap=n_bootstrap, seed=seed)
+        p = fit.parameters
+        check_excitation(p["rho"], p["sigma"], p["n"], branches.stroke, strict=strict)
     for w in record:
         caught.append(str(w.message))
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)

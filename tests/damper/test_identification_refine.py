@@ -1,0 +1,112 @@
+"""Identification end to end on a device with known parameters: recovery within 1 % / 5 %."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from benchmark.errors import InputError
+from damper.bouc_wen import ExtendedBoucWen
+from damper.identification.identify import identify, identify_arrays
+from damper.identification.metrics import (dissipated_energy, energy_error, force_errors,
+                                           peak_error, relative_rms_error, spencer_errors)
+from damper.simulate import simulate
+
+# A device of the benchmark's scale (DOMAIN.md §3: kappa_x ~ 207 kN/m, kappa_xdot ~ 100 kN s/m).
+TRUE = dict(kappa_x=2.07e5, kappa_xdot=1.0e5, kappa_w=1.2e5, rho=120.0, sigma=0.9, n=1.4)
+
+
+def periodic_data(p=TRUE, amplitude=0.1, frequency=0.5, cycles=6, dt=2e-3, noise=0.0, seed=0):
+    t = np.arange(0.0, cycles / frequency + dt / 2, dt)
+    om = 2 * np.pi * frequency
+    x = amplitude * np.sin(om * t)
+    xd = amplitude * om * np.cos(om * t)
+    force = simulate(ExtendedBoucWen(**p), t, x, xd).force
+    if noise:
+        force = force + noise * np.std(force) * np.random.default_rng(seed).standard_normal(t.size)
+    return t, x, xd, force
+
+
+def _relative(params: dict) -> dict:
+    return {k: params[k] / TRUE[k] - 1.0 for k in TRUE}
+
+
+def test_noise_free_extended_device_is_recovered_within_one_percent():
+    t, x, xd, force = periodic_data()
+    ident = identify_arrays(t, x, force, xd, model="extended")
+    rel = _relative(ident.parameters)
+    assert max(abs(v) for v in rel.values()) < 0.01, rel
+    assert ident.errors["rel_rms_error"] < 1e-4
+    assert ident.fit.success
+
+
+def test_two_percent_noise_recovers_within_five_percent_and_reports_uncertainty():
+    t, x, xd, force = periodic_data(noise=0.02, seed=3)
+    ident = identify_arrays(t, x, force, xd, model="extended", n_bootstrap=8, seed=1)
+    rel = _relative(ident.parameters)
+    assert max(abs(v) for v in rel.values()) < 0.05, rel
+    # The residual is the noise: its relative RMS is about 2 % of std/rms.
+    assert 0.01 < ident.errors["rel_rms_error"] < 0.03
+    for k in TRUE:
+        assert ident.fit.standard_error[k] > 0.0
+        assert ident.fit.bootstrap_std[k] > 0.0
+        # The truth lies within a few standard errors (bootstrap spread) of the estimate.
+        spread = max(ident.fit.standard_error[k], ident.fit.bootstrap_std[k])
+        assert abs(ident.parameters[k] - TRUE[k]) < 6 * spread + 1e-3 * TRUE[k], k
+
+
+def test_normalized_model_cannot_fit_an_inclined_loop():
+    t, x, xd, force = periodic_data()
+    ext = identify_arrays(t, x, force, xd, model="extended")
+    nor = identify_arrays(t, x, force, xd, model="normalized")
+    assert nor.parameters["kappa_x"] == 0.0
+    assert nor.errors["rel_rms_error"] > 20 * ext.errors["rel_rms_error"]
+    assert nor.errors["rel_rms_error"] > 0.01
+
+
+def test_identify_takes_a_damper_test_and_rejects_varying_voltage():
+    from damper.data import DamperTest
+    t, x, xd, force = periodic_data(cycles=4)
+    test = DamperTest(time=t, displacement=x, velocity=xd, force=force, voltage=np.full(t.size, 0.3),
+                      name="unit")
+    ident = identify(test)
+    assert ident.level == pytest.approx(0.3) and ident.level_unit == "V"
+    assert ident.summary()["parameters"]["rho"] == pytest.approx(TRUE["rho"], rel=0.01)
+    ramp = DamperTest(time=t, displacement=x, velocity=xd, force=force, voltage=np.linspace(0, 1, t.size),
+                      name="ramp")
+    with pytest.raises(InputError, match="varies over the test"):
+        identify(ramp)
+
+
+def test_amplitude_ramps_are_skipped_and_the_plateau_used():
+    # Like the UTFSM files: the amplitude ramps up over 1.5 cycles and down at the end.
+    dt, f = 2e-3, 0.5
+    t = np.arange(0, 8 / f, dt)
+    envelope = np.clip(np.minimum(t / 3.0, (t[-1] - t) / 3.0), 0, 1)
+    x = 0.1 * envelope * np.sin(2 * np.pi * f * t)
+    xd = np.gradient(x, t)
+    force = simulate(ExtendedBoucWen(**TRUE), t, x, xd).force
+    ident = identify_arrays(t, x, force, xd)
+    strokes = [x[c.peak] - x[c.start] for c in ident.cycles]
+    assert min(strokes) > 0.19
+    assert max(abs(v) for v in _relative(ident.parameters).values()) < 0.01
+
+
+def test_metrics_on_known_histories():
+    t = np.linspace(0, 2, 2001)
+    x = np.sin(2 * np.pi * t)
+    v = 2 * np.pi * np.cos(2 * np.pi * t)
+    f = np.cos(2 * np.pi * t)  # F ~ velocity: a viscous loop
+    g = 1.1 * f
+    assert relative_rms_error(f, g) == pytest.approx(0.1)
+    assert peak_error(f, g) == pytest.approx(0.1)
+    assert energy_error(f, g, x) == pytest.approx(0.1, rel=1e-6)
+    # Two cycles of F = cos, x = sin: each dissipates the ellipse area pi.
+    assert dissipated_energy(f, x) == pytest.approx(2 * np.pi, rel=1e-4)
+    e = spencer_errors(t, f, g, x, v)
+    for name in ("E_t", "E_x", "E_xdot"):
+        assert e[name] == pytest.approx(0.01, rel=1e-3)  # (0.1 F)^2 over F's variance, any weight
+    assert set(force_errors(t, f, g, x, v)) == {"rel_rms_error", "peak_error", "energy_error",
+                                                "E_t", "E_x", "E_xdot"}
+    with pytest.raises(InputError):
+        relative_rms_error(f, g[:-1])
