@@ -14,7 +14,7 @@ step from :math:`t_k` to :math:`t_{k+1}` is then exact (Nigam & Jennings 1969):
 with :math:`\\Phi = e^{A\\Delta t}` and :math:`\\Gamma_1, \\Gamma_2` read from the exponential of
 the first-order-hold augmented matrix (the same numbers as Nigam and Jennings' closed forms,
 computed with ``scipy.linalg.expm`` instead of typed out). For short periods the step is
-split into ``m = ceil(20 Δt / T)`` sub-steps (≤ 64) of the same linear input, which is exact
+split into ``m = ceil(50 Δt / T)`` sub-steps (≤ 64) of the same linear input, which is exact
 and catches peaks between samples.
 
 Reported per period: spectral displacement :math:`S_d = \\max|u|`, pseudo-velocity
@@ -206,7 +206,7 @@ def response_spectrum(record: Record | np.ndarray, dt: float | None = None, peri
             sa[i] = pga
             continue
         omega = 2 * np.pi / period
-        substeps = int(min(_MAX_SUBSTEPS, max(1, math.ceil(20 * dt / period))))
+        substeps = int(min(_MAX_SUBSTEPS, max(1, math.ceil(50 * dt / period))))
         phi, g1, g2 = _discretise(omega, damping, dt / substeps)
         for c in range(n_c):
             sd[i, c], sv[i, c], sa[i, c] = _sdof_peaks(np.ascontiguousarray(acc[:, c]), phi, g1, g2,
