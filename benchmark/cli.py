@@ -27,6 +27,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "benchmark.cli_ensemble",
     "benchmark.cli_bench",
     "controllers.cli",
+    "damper.cli",
 )
 
 EXIT_INPUT_ERROR = 2

@@ -1,0 +1,57 @@
+"""`sbib damper test` and the loop plots."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from benchmark.cli import main
+from damper.data import read_csv
+from damper.laboratory import periodic_test
+from damper.loops import last_cycles
+from damper.plots import plot_loops
+
+
+def test_damper_test_writes_csv_and_plot(tmp_path, capsys):
+    out, png = tmp_path / "virtual.csv", tmp_path / "virtual.png"
+    status = main(["damper", "test", "--model", "virtual", "--amplitude", "0.05", "--frequency", "1",
+                   "--voltage", "0.5", "--cycles", "2", "--out", str(out), "--plot", str(png)])
+    assert status == 0
+    test = read_csv(out)
+    assert np.all(test.voltage == 0.5)
+    assert np.max(np.abs(test.displacement)) == pytest.approx(0.05, rel=1e-6)
+    assert test.time[-1] == pytest.approx(2.0)
+    assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
+    assert "kN" in capsys.readouterr().out
+
+
+def test_damper_test_with_parameters(tmp_path):
+    out = tmp_path / "bw.csv"
+    args = ["damper", "test", "--model", "extended_bouc_wen", "--amplitude", "0.01", "--frequency", "2",
+            "--voltage", "0", "--cycles", "1", "--out", str(out)]
+    for p in ("kappa_x=2e5", "kappa_xdot=1e5", "kappa_w=5e4", "rho=100", "sigma=1", "n=1.5"):
+        args += ["--param", p]
+    assert main(args) == 0
+    assert np.max(np.abs(read_csv(out).force)) > 3e4
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--model", "virtual", "--voltage", "3"], "voltage"),
+    (["--model", "virtual", "--voltage", "0", "--param", "nope=1"], "no parameter nope"),
+    (["--model", "normalized_bouc_wen", "--voltage", "0"], "missing kappa_xdot"),
+    (["--model", "unknown", "--voltage", "0"], "unknown name"),
+    (["--model", "virtual", "--voltage", "0", "--param", "sigma=0.2"], "sigma"),
+])
+def test_damper_test_errors_exit_2(tmp_path, capsys, extra, message):
+    args = ["damper", "test", "--amplitude", "0.01", "--frequency", "1", "--out", str(tmp_path / "x.csv")]
+    assert main(args + extra) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_plot_loops_with_elastic_part(tmp_path):
+    test = last_cycles(periodic_test("virtual", 0.1, 1.0, 0.0, cycles=2))
+    path = plot_loops([test, test], tmp_path / "loops.png", labels=["a", "b"], kappa_x=2.07e5,
+                      styles=["-", "--"])
+    assert path.stat().st_size > 10_000
