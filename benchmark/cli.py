@@ -28,6 +28,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "benchmark.cli_bench",
     "controllers.cli",
     "damper.cli",
+    "damper.cli_diagnose",
 )
 
 EXIT_INPUT_ERROR = 2

@@ -253,8 +253,13 @@ class DiagnosisData:
     def signals(self, which: str = "heldout") -> dict[str, np.ndarray]:
         """The variables a residual is traced against, over the ``which`` samples (SI):
         displacement, velocity, acceleration, voltage (the coil input), voltage_rate, time (since
-        the start of each test)."""
+        the start of each test), and cycle (an integer label of each period of the dominant
+        frequency of each test, so that the time dependence is read cycle by cycle)."""
         rate = [np.gradient(m.v, m.t, edge_order=2) for m in self.motions]
+        cycles = []
+        for i, m in enumerate(self.motions):
+            period = 1.0 / max(_dominant_frequency(m.t, m.x), 1e-12)
+            cycles.append(np.floor(m.elapsed / period) + 1e6 * i)
         return {
             "displacement": self.concat([m.x for m in self.motions], which),
             "velocity": self.concat([m.xdot for m in self.motions], which),
@@ -262,6 +267,7 @@ class DiagnosisData:
             "voltage": self.concat([m.v for m in self.motions], which),
             "voltage_rate": self.concat(rate, which),
             "time": self.concat([m.elapsed for m in self.motions], which),
+            "cycle": self.concat(cycles, which),
         }
 
     def force_rms(self, which: str = "train") -> float:

@@ -18,7 +18,9 @@ for a residual independent of :math:`z`. Variables:
 ``voltage``, ``voltage_rate``
     the coil input (the current when the tests give currents) and its time derivative;
 ``time``
-    time since the start of each test (slow drifts: heating, fade);
+    time since the start of each test (slow drifts: heating, fade); when a ``cycle`` signal
+    (one label per period of the motion) is given, the bins are whole cycles, so that a
+    periodic residual is not mistaken for a drift;
 ``sign``
     the sign of the motion (:math:`\\dot x > 0` or not, two groups);
 ``loop``
@@ -287,6 +289,13 @@ def trace_residual(residual: np.ndarray, signals: dict, bins: int = DEFAULT_BINS
         if np.ptp(a) <= 1e-12 * max(1.0, float(np.max(np.abs(a)))):
             profiles[k] = Profile(k, np.array([a[0]]), np.array([r.mean()]), np.array([r.size]),
                                   np.zeros(1), 0.0, constant=True)
+            continue
+        if k == "time" and "cycle" in signals:
+            cycle = np.asarray(signals["cycle"])
+            if cycle.shape != r.shape:
+                raise InputError(f"trace_residual: signal 'cycle' has shape {cycle.shape}, "
+                                 f"expected {r.shape}")
+            profiles[k] = _profile(k, r, a, cycle)
             continue
         profiles[k] = _profile(k, r, a, _groups_quantile(a, bins))
     direction = np.where(z["velocity"] > 0.0, 1, -1)

@@ -1,0 +1,261 @@
+"""Markdown report and plots of a residual-loop run (:class:`~damper.diagnosis.loop.Diagnosis`).
+
+:func:`write_report` writes into a directory
+
+* ``report.md`` -- held-out errors before and after, the effects added (parameters, error after
+  each), what was tried in each round and why it did or did not pay, the residual trace before and
+  after, whiteness figures, errors per test and per coil-input level, the verdict;
+* ``residual_trace.png`` -- the held-out residual against each variable, before (grey) and after
+  (colour), with its binned partial dependence;
+* ``force_histories.png`` -- measured force and the two models over each test's held-out part;
+* ``loops.png`` -- force-displacement and force-velocity loops on the held-out part;
+* ``diagnosis.json`` -- :meth:`Diagnosis.to_json`.
+
+Every file is written atomically; plots use the Agg backend.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from benchmark.atomic import atomic_path, atomic_write_text
+from damper.diagnosis.trace import TRACE_VARIABLES
+
+__all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
+           "plot_loops"]
+
+_LABELS = {"displacement": "displacement [mm]", "velocity": "velocity [mm/s]",
+           "acceleration": "acceleration [m/s²]", "voltage": "coil input", "voltage_rate":
+           "coil input rate [1/s]", "time": "time since test start [s]", "sign": "sign of velocity",
+           "loop": "displacement on each branch [mm]"}
+_SCALE = {"displacement": 1e3, "velocity": 1e3, "loop": 1e3}
+_MAX_POINTS = 4000
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(fig, path: Path) -> Path:
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=90)
+    _pyplot().close(fig)
+    return path
+
+
+def _forces(diagnosis):
+    data = diagnosis.data
+    before = [diagnosis.base_model.force(m) for m in data.motions]
+    after = [diagnosis.final_model.force(m) for m in data.motions]
+    return before, after
+
+
+def plot_residual_trace(diagnosis, path) -> Path:
+    """Residual against each traced variable, before and after (held-out samples)."""
+    plt = _pyplot()
+    data = diagnosis.data
+    before, after = _forces(diagnosis)
+    measured = data.measured("heldout")
+    r_before = measured - data.concat(before, "heldout")
+    r_after = measured - data.concat(after, "heldout")
+    signals = data.signals("heldout")
+    signals["sign"] = np.where(signals["velocity"] > 0, 1.0, -1.0)
+    signals["loop"] = signals["displacement"]
+    n = r_before.size
+    pick = np.arange(n) if n <= _MAX_POINTS else np.random.default_rng(0).choice(n, _MAX_POINTS, replace=False)
+    fig, axes = plt.subplots(2, 4, figsize=(16, 7.5))
+    unit = data.input_unit
+    for ax, var in zip(axes.ravel(), TRACE_VARIABLES):
+        z = signals[var] * _SCALE.get(var, 1.0)
+        ax.plot(z[pick], r_before[pick], ".", color="0.6", ms=2, alpha=0.5, label="before")
+        ax.plot(z[pick], r_after[pick], ".", color="tab:blue", ms=2, alpha=0.5, label="after")
+        for trace, color in ((diagnosis.trace_before, "k"), (diagnosis.trace_after, "tab:red")):
+            prof = trace.profiles[var]
+            if prof.constant:
+                continue
+            c = prof.centers * _SCALE.get(var, 1.0)
+            if var == "loop":
+                for b, ls in ((1.0, "-"), (-1.0, "--")):
+                    sel = prof.branch == b
+                    ax.plot(c[sel], prof.means[sel], ls, color=color, lw=1.6)
+            else:
+                style = {"sign": "-o", "time": "o"}.get(var, "-")  # time: one point per cycle
+                ax.plot(c, prof.means, style, color=color, lw=1.6, ms=4)
+        label = _LABELS[var].replace("coil input", f"coil input [{unit}]") if var == "voltage" else _LABELS[var]
+        if var == "voltage_rate":
+            label = f"coil input rate [{unit}/s]"
+        ax.set_xlabel(label)
+        ax.set_title(f"{var}: share {diagnosis.trace_before.shares[var]:.2f} → "
+                     f"{diagnosis.trace_after.shares[var]:.2f}", fontsize=10)
+        if diagnosis.trace_before.profiles[var].constant:
+            ax.text(0.5, 0.9, "constant in these tests", transform=ax.transAxes, ha="center")
+        ax.grid(True, alpha=0.3)
+    axes[0, 0].set_ylabel("residual F − F̂ [N]")
+    axes[1, 0].set_ylabel("residual F − F̂ [N]")
+    axes[0, 0].legend(loc="lower right", markerscale=4, fontsize=8)
+    effects = ", ".join(diagnosis.effects) or "none"
+    fig.suptitle(f"Held-out residual: {diagnosis.model_kind} model (grey, black line = binned mean) "
+                 f"and after adding {effects} (blue, red line)", fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
+    return _save(fig, Path(path))
+
+
+def _grid(n: int):
+    cols = min(n, 3)
+    rows = int(math.ceil(n / cols))
+    return rows, cols
+
+
+def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
+    """Measured force and both models over the held-out part of each test."""
+    plt = _pyplot()
+    data = diagnosis.data
+    before, after = _forces(diagnosis)
+    idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
+    rows, cols = _grid(len(idx))
+    fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 3.4 * rows), squeeze=False)
+    for ax, i in zip(axes.ravel(), idx):
+        m, k = data.motions[i], data.heldout[i]
+        sel = np.flatnonzero(k)
+        t = m.t[sel]
+        ax.plot(t, data.forces[i][sel], color="k", lw=1.2, label="measured")
+        ax.plot(t, before[i][sel], color="0.55", lw=1.0, ls="--", label=diagnosis.model_kind)
+        ax.plot(t, after[i][sel], color="tab:red", lw=1.0, label=diagnosis.final_model.name)
+        eb, ea = diagnosis.errors_by_test[m.name]
+        ax.set_title(f"{m.name}: error {eb:.3f} → {ea:.3f}", fontsize=10)
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("force [N]")
+        ax.grid(True, alpha=0.3)
+    for ax in axes.ravel()[len(idx):]:
+        ax.axis("off")
+    axes[0, 0].legend(fontsize=8)
+    fig.suptitle("Held-out force histories", fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    return _save(fig, Path(path))
+
+
+def plot_loops(diagnosis, path, max_tests: int = 6) -> Path:
+    """Force-displacement and force-velocity loops of each test (held-out part)."""
+    plt = _pyplot()
+    data = diagnosis.data
+    before, after = _forces(diagnosis)
+    idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
+    fig, axes = plt.subplots(2, len(idx), figsize=(3.6 * len(idx), 6.4), squeeze=False)
+    for j, i in enumerate(idx):
+        m, k = data.motions[i], data.heldout[i]
+        for row, (z, label) in enumerate(((m.x * 1e3, "displacement [mm]"),
+                                          (m.xdot * 1e3, "velocity [mm/s]"))):
+            ax = axes[row, j]
+            ax.plot(z[k], data.forces[i][k], color="k", lw=1.0, label="measured")
+            ax.plot(z[k], before[i][k], color="0.55", lw=0.9, ls="--", label=diagnosis.model_kind)
+            ax.plot(z[k], after[i][k], color="tab:red", lw=0.9, label="augmented")
+            ax.set_xlabel(label)
+            ax.grid(True, alpha=0.3)
+            if j == 0:
+                ax.set_ylabel("force [N]")
+        axes[0, j].set_title(m.name, fontsize=10)
+    axes[0, 0].legend(fontsize=8)
+    fig.tight_layout()
+    return _save(fig, Path(path))
+
+
+def _fmt_params(params: dict) -> str:
+    return ", ".join(f"{k} = {v:.4g}" for k, v in params.items())
+
+
+def report_markdown(diagnosis, plots: dict | None = None) -> str:
+    """The Markdown text of the report."""
+    d = diagnosis
+    data = d.data
+    unit = data.input_unit
+    lines = ["# Residual loop: diagnosis of the damper model", ""]
+    split = (f"last {100 * data.holdout:g} % of each test held out" if data.holdout is not None
+             else "separate validation tests held out")
+    lines += [f"- Tests: {', '.join(data.names)} ({split}; the samples before each test's first "
+              "reversal are not scored).",
+              f"- Coil input: {data.input_name} [{unit}].",
+              f"- Base model: **{d.model_kind}** Bouc-Wen"
+              + ("" if d.settings.get("nodes") is None else
+                 f", parameters as PCHIP laws on {data.input_name} nodes {d.settings['nodes']}") + ".",
+              f"- Held-out relative RMS force error: **{d.error_before:.4f} → {d.error_after:.4f}**"
+              f" ({d.final_model.name}).", ""]
+    lines += ["## Effects added", ""]
+    if d.selection.steps:
+        lines += ["| step | effect | parameters (SI) | held-out error before | after | BIC change | N_eff |",
+                  "|---|---|---|---|---|---|---|"]
+        for i, s in enumerate(d.selection.steps, 1):
+            lines.append(f"| {i} | `{s.name}` | {_fmt_params(s.parameters)} | {s.error_before:.4f} | "
+                         f"{s.error_after:.4f} | {s.bic_delta:+.1f} | {s.effective_samples:.0f} |")
+        final = {e.name: e.parameters for e in d.final_model.effects}
+        lines += ["", "Parameters after the last joint refit: "
+                  + "; ".join(f"`{k}`: {_fmt_params(v)}" for k, v in final.items()) + "."]
+    else:
+        lines.append("None paid on the held-out data.")
+    lines += ["", "## Rounds", "",
+              f"Each round screens every remaining effect (share of the training residual it can "
+              f"remove, orthogonally to the model's own parameters), refits the best "
+              f"{d.settings.get('trials')} jointly, and adds the one with the lowest held-out BIC "
+              f"if it also lowers the held-out error by at least {100 * d.settings.get('min_gain', 0):g} %.", ""]
+    for r, (screens, trials) in enumerate(d.selection.rounds, 1):
+        lines.append(f"**Round {r}.** Screening: " + ", ".join(
+            f"`{s.name}` {s.score:.3f}" + (f" ({s.reason})" if s.reason else "")
+            for s in sorted(screens.values(), key=lambda s: -s.score)) + ".")
+        for t in trials:
+            verdict = "**added**" if t.accepted else "not added"
+            lines.append(f"- `{t.name}`: held-out error {t.error:.4f}, BIC change {t.bic_delta:+.1f}, "
+                         f"{_fmt_params(t.parameters)} — {verdict}" + (f" ({t.note})" if t.note else ""))
+        lines.append("")
+    lines += ["## Residual trace (held-out)", "",
+              "Share of the residual variance explained by each variable (binned partial dependence, "
+              "bias-adjusted correlation ratio); `mean` is the constant part of the mean square.", "",
+              "| variable | before | after |", "|---|---|---|"]
+    for var in (*TRACE_VARIABLES, "mean"):
+        b = d.trace_before.mean_share if var == "mean" else d.trace_before.shares[var]
+        a = d.trace_after.mean_share if var == "mean" else d.trace_after.shares[var]
+        lines.append(f"| {var} | {b:.3f} | {a:.3f} |")
+    tb, ta = d.trace_before, d.trace_after
+    lines += ["", f"Whiteness (Ljung-Box, {ta.lags} lags): Q = {tb.ljung_box:.4g} → {ta.ljung_box:.4g}, "
+              f"p = {tb.ljung_box_p:.3g} → {ta.ljung_box_p:.3g}; lag-1 autocorrelation "
+              f"{tb.lag1:.3f} → {ta.lag1:.3f}; effective samples {tb.effective_samples:.0f} → "
+              f"{ta.effective_samples:.0f}; white-noise share of the variance {tb.noise_fraction:.3f} → "
+              f"{ta.noise_fraction:.3f}.", ""]
+    lines += ["## Verdict", ""]
+    if d.unexplained:
+        lines.append("**Unexplained structure remains** (no library term paid for it). It lives in: "
+                     + ", ".join(f"`{v}` (share {s:.2f}, {100 * lv:.1f} % of the force RMS)"
+                                 for v, s, lv in d.unexplained_in) + ".")
+    else:
+        lines.append(f"No residual structure above {100 * d.settings.get('structure_level', 0):g} % of "
+                     f"the force RMS is left (threshold share {d.settings.get('structure_share')}).")
+    lines += ["", "## Errors per test (held-out)", "", "| test | before | after |", "|---|---|---|"]
+    for name, (b, a) in d.errors_by_test.items():
+        lines.append(f"| {name} | {b:.4f} | {a:.4f} |")
+    if len(d.errors_by_input) > 1:
+        lines += ["", f"| {data.input_name} [{unit}] | before | after |", "|---|---|---|"]
+        for lvl, (b, a) in d.errors_by_input.items():
+            lines.append(f"| {lvl:g} | {b:.4f} | {a:.4f} |")
+    if plots:
+        lines += ["", "## Plots", ""]
+        for title, p in plots.items():
+            lines.append(f"![{title}]({Path(p).name})")
+    lines.append("")
+    return "\n".join(lines)
+
+
+def write_report(diagnosis, out_dir) -> dict[str, Path]:
+    """Write the report, plots and JSON into ``out_dir`` (created); return the paths by kind."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    plots = {"residual trace": plot_residual_trace(diagnosis, out / "residual_trace.png"),
+             "force histories": plot_force_histories(diagnosis, out / "force_histories.png"),
+             "loops": plot_loops(diagnosis, out / "loops.png")}
+    md = atomic_write_text(out / "report.md", report_markdown(diagnosis, plots))
+    js = atomic_write_text(out / "diagnosis.json", json.dumps(diagnosis.to_json(), indent=2) + "\n")
+    return {"report": md, "json": js, **{k.replace(" ", "_"): v for k, v in plots.items()}}
