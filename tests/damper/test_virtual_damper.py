@@ -173,3 +173,13 @@ def test_identification_does_not_import_the_virtual_damper():
             elif isinstance(node, ast.ImportFrom):
                 names = [node.module or ""] + [a.name for a in node.names]
             assert not any("virtual" in n.lower() for n in names), f"{path.name} imports {names}"
+
+
+def test_spencer_type_kernel_converges_as_tolerance_tightens():
+    t = np.arange(0.0, 1.0 + 1e-12, 0.005)
+    x = 0.2 * np.sin(2 * np.pi * t)
+    v = np.where(t >= 0.4, 1.0, 0.0)
+    reference = simulate(VirtualBenchmarkDamper(substep_tolerance=0.002), t, x, v=v).force
+    errors = [np.max(np.abs(simulate(VirtualBenchmarkDamper(substep_tolerance=tol), t, x, v=v).force
+                            - reference)) / np.max(np.abs(reference)) for tol in (0.8, 0.2, 0.05)]
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-4
