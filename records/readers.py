@@ -161,7 +161,24 @@ def _parse_table(lines: Sequence[str], path: Path, first_lineno: int, n_columns:
         linenos.append(lineno)
     if not rows:
         raise InputError(f"{path}: no data rows; expected {what}")
+    if len(rows) < 2:
+        raise InputError(f"{path}:{linenos[0]}: one data row; expected at least two samples ({what})")
     return np.asarray(rows, dtype=float), linenos
+
+
+def _record(path: Path, **fields) -> Record:
+    """Build the :class:`Record`; a value that overflows on unit conversion or any other
+    inconsistency is reported against the file (the Record alone only knows its name)."""
+    acc = np.asarray(fields["acceleration"], dtype=float)
+    bad = ~np.isfinite(acc)
+    if bad.any():
+        row = int(np.argwhere(bad)[0][0])
+        raise InputError(f"{path}: sample {row + 1} is not finite after conversion to m/s² "
+                         f"(value too large); expected accelerations below about 1e300")
+    try:
+        return Record(**fields)
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
 
 
 # --------------------------------------------------------------------------- benchmark format
@@ -235,7 +252,8 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
     factor = unit_factor(units, where)
 
     values, _ = _parse_table(lines, path, 1, 2, ("%", "#"), "two columns of acceleration")
-    return Record(
+    return _record(
+        path,
         name=name or path.stem,
         dt=dt,
         acceleration=values * factor,
@@ -310,7 +328,8 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
     if len(values) != npts:
         raise InputError(f"{where}: header says NPTS = {npts} but the file holds {len(values)} values")
     component = lines[1].rsplit(",", 1)[-1].strip() if "," in lines[1] else "component 1"
-    return Record(
+    return _record(
+        path,
         name=name or path.stem,
         dt=dt,
         acceleration=np.asarray(values) * factor,
@@ -350,7 +369,8 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str = "
     factor = unit_factor(units, f"{where}: units")
     path, lines = _read_lines(path)
     values, _ = _parse_table(lines, path, 1, 1, ("#", "%"), "one acceleration value per line")
-    return Record(
+    return _record(
+        path,
         name=name or path.stem,
         dt=dt,
         acceleration=values * factor,
@@ -526,7 +546,8 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
 
     labels = tuple(header_names[1:]) if header_names else tuple(
         ("ax", "ay", "az")[i] if i < 3 else f"component {i + 1}" for i in range(n_columns - 1))
-    return Record(
+    return _record(
+        path,
         name=name or path.stem,
         dt=step,
         acceleration=rows[:, 1:] * factor,
