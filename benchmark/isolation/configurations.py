@@ -323,7 +323,11 @@ def isolation_from_dict(data: dict, where: str = "isolation") -> IsolationLayer:
     """
     if not isinstance(data, dict) or "groups" not in data:
         raise InputError(f"{where}: expected an object with a 'groups' list")
-    n = int(data.get("n_bearings", N_BEARINGS))
+    n = data.get("n_bearings", N_BEARINGS)
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise InputError(f"{where}: field 'n_bearings' = {n!r}; expected a positive integer")
+    if not isinstance(data["groups"], list):
+        raise InputError(f"{where}: field 'groups' = {data['groups']!r}; expected a list of groups")
     groups = []
     for j, g in enumerate(data["groups"]):
         loc = f"{where}: groups[{j}]"
@@ -344,8 +348,11 @@ def isolation_from_dict(data: dict, where: str = "isolation") -> IsolationLayer:
             raise ParameterError(f"{loc}: {exc}") from None
         groups.append(BearingGroup(bearing, parse_bearing_numbers(g["bearings"], n, f"{loc}.bearings"),
                                    label=str(g.get("label", ""))))
-    return IsolationLayer(str(data.get("name", "custom")), tuple(groups), n_bearings=n,
-                          description=str(data.get("description", "")))
+    try:
+        return IsolationLayer(str(data.get("name", "custom")), tuple(groups), n_bearings=n,
+                              description=str(data.get("description", "")))
+    except ParameterError as exc:  # name the file, not only the layer
+        raise ParameterError(f"{where}: {exc}") from None
 
 
 def load_isolation(path: str | os.PathLike) -> IsolationLayer:
