@@ -7,6 +7,8 @@ An ensemble is a list of :class:`Case` objects expanded from an :class:`Ensemble
 * ``"simulation"`` (default, :func:`simulate_case`): one benchmark run (record, controller,
   parameter overrides) evaluated against the uncontrolled run of the same motion, giving the
   peaks and J1–J9;
+* ``"peaks"`` (:func:`simulate_peaks_case`): the same simulation, peaks only (no uncontrolled
+  run, about half the cost; what fragility studies need);
 * ``"probe"`` (:func:`probe_case`): a cheap deterministic function of the case seed, for
   checking a cluster or an installation before spending hours on it;
 * ``"package.module:function"``: any importable function with that signature.
@@ -73,12 +75,14 @@ __all__ = [
     "read_ensemble",
     "probe_case",
     "simulate_case",
+    "simulate_peaks_case",
     "journal_path",
 ]
 
 #: Named run functions (``run = "..."`` in the TOML file); anything else is ``module:function``.
 RUN_FUNCTIONS: dict[str, str] = {
     "simulation": "benchmark.ensemble:simulate_case",
+    "peaks": "benchmark.ensemble:simulate_peaks_case",
     "probe": "benchmark.ensemble:probe_case",
 }
 
@@ -482,6 +486,19 @@ def simulate_case(case: Case) -> dict[str, Any]:
     from benchmark.ensemble_simulation import run_case  # heavy imports only where needed
 
     return run_case(case)
+
+
+def simulate_peaks_case(case: Case) -> dict[str, Any]:
+    """Run function ``"peaks"``: like :func:`simulate_case` without the uncontrolled run (no J's).
+
+    Returns
+    -------
+    dict
+        The peaks of :func:`benchmark.evaluation.peaks` (SI).
+    """
+    from benchmark.ensemble_simulation import run_case
+
+    return run_case(case, evaluate_criteria=False)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -135,8 +135,15 @@ def _reference(motion_args: tuple, building_args: tuple, substep_tolerance: floa
                     substep_tolerance=substep_tolerance, record_states=False)
 
 
-def run_case(case: Any) -> dict[str, float]:
+def run_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
     """Simulate one ensemble case and evaluate it (see the module docstring).
+
+    Parameters
+    ----------
+    case : benchmark.ensemble.Case
+        The case.
+    evaluate_criteria : bool
+        Also run the uncontrolled building (cached per motion) and return J1–J9.
 
     Returns
     -------
@@ -170,12 +177,13 @@ def run_case(case: Any) -> dict[str, float]:
     motion_args = (case.record, case.orientation, bool(case.synthetic), int(case.motion_seed), float(case.pga))
     motion = load_motion(*motion_args)
     controller = get_controller(case.controller)
-    reference = _reference(motion_args, (n_modes, isolation, ()), substep)
     if controller is None:
-        result = reference
+        result = _reference(motion_args, (n_modes, isolation, ()), substep)
     else:
         result = simulate(build_building(n_modes, isolation, devices), motion, controller=controller, **kwargs)
     out = {name: float(value) for name, value in peaks(result).items()}
-    for name, value in evaluate(result, reference).items():
-        out[name] = math.nan if value is None else float(value)
+    if evaluate_criteria:
+        reference = _reference(motion_args, (n_modes, isolation, ()), substep)
+        for name, value in evaluate(result, reference).items():
+            out[name] = math.nan if value is None else float(value)
     return out

@@ -75,6 +75,8 @@ def test_exceedance_counts_and_curves():
     assert np.all(zb <= z)
     curves = fragility_curves(res, limit=0.4)
     assert list(curves) == ["A", "B"]
+    assert curves["B"].n_failed.tolist() == [0, 0, 1] and curves["A"].n_failed.tolist() == [0, 0, 0]
+    assert curves["B"].as_dict()["n_failed"] == [0, 0, 1]
     with pytest.raises(InputError, match="metric 'nope'"):
         exceedance_counts(res, "A", metric="nope")
     with pytest.raises(InputError, match="not a scalar"):
@@ -99,3 +101,17 @@ def test_fragility_config_shares_motions_between_controllers():
     for c in cases:
         seeds.setdefault(c.realisation, set()).add(c.motion_seed)
     assert all(len(s) == 1 for s in seeds.values()) and len(seeds) == 3
+
+
+@pytest.mark.slow
+def test_run_fragility_end_to_end(tmp_path, shared_dir):
+    from benchmark.fragility import run_fragility
+
+    report = run_fragility(tmp_path, limit=0.05, jobs=1, progress=False, controllers=("passive-off", "passive-on"),
+                           templates=("kobe",), realisations=2, pga_g=(0.1, 0.4))
+    assert (tmp_path / "fragility.png").is_file() and (tmp_path / "fragility.json").is_file()
+    curves = {c["controller"]: c for c in report["curves"]}
+    assert set(curves) == {"passive-off", "passive-on"}
+    for c in curves.values():
+        assert c["n_total"] == [2, 2]
+        assert c["n_exceed"][0] <= c["n_exceed"][1]  # stronger shaking, more exceedance
