@@ -73,8 +73,9 @@ def plot_record(record: Record, path: str | os.PathLike, spectrum: ResponseSpect
         (100 * record.velocity(), "velocity [cm/s]"),
         (100 * record.displacement(), "displacement [cm]"),
     )
-    fig = Figure(figsize=(11, 8), constrained_layout=True)
-    grid = fig.add_gridspec(3, 2, width_ratios=(1.6, 1))
+    fig = Figure(figsize=(11, 8))  # fixed margins: constrained layout costs more than the drawing
+    grid = fig.add_gridspec(3, 2, width_ratios=(1.6, 1), left=0.07, right=0.98, bottom=0.07, top=0.93,
+                            wspace=0.25, hspace=0.3)
     for row, (values, ylabel) in enumerate(histories):
         ax = fig.add_subplot(grid[row, 0])
         for c, label in enumerate(record.labels):
@@ -115,7 +116,8 @@ def plot_spectra_overview(records: Sequence[Record], path: str | os.PathLike, da
         raise InputError("plot_spectra_overview: no records to plot")
     n_panels = max(r.n_components for r in records)
     periods = default_periods()
-    fig = Figure(figsize=(5.5 * n_panels, 4.5), constrained_layout=True)
+    fig = Figure(figsize=(5.5 * n_panels, 4.5))
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.12, top=0.88, wspace=0.25)
     axes = [fig.add_subplot(1, n_panels, i + 1) for i in range(n_panels)]
     for rec in records:
         spec = response_spectrum(rec, periods=periods, damping=damping)

@@ -12,9 +12,9 @@ step from :math:`t_k` to :math:`t_{k+1}` is then exact (Nigam & Jennings 1969):
     x_{k+1} = \\Phi x_k + \\Gamma_1 f_k + \\Gamma_2 (f_{k+1} - f_k), \\qquad x = (u, \\dot u),\\ f = a_g,
 
 with :math:`\\Phi = e^{A\\Delta t}` and :math:`\\Gamma_1, \\Gamma_2` read from the exponential of
-the first-order-hold augmented matrix (the same numbers as Nigam and Jennings' closed forms,
-computed with ``scipy.linalg.expm`` instead of typed out). For short periods the step is
-split into ``m = ceil(50 Δt / T)`` sub-steps (≤ 64) of the same linear input, which is exact
+the first-order-hold augmented matrix (by its Taylor series; the tests check them against
+``scipy.linalg.expm`` and against Nigam and Jennings' closed forms).
+For short periods the step is split into ``m = ceil(50 Δt / T)`` sub-steps (≤ 64) of the same linear input, which is exact
 and catches peaks between samples.
 
 Reported per period: spectral displacement :math:`S_d = \\max|u|`, pseudo-velocity
@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numba
 import numpy as np
@@ -87,19 +88,59 @@ class ResponseSpectrum:
         return float(self.periods[int(np.argmax(self.psa[:, component]))])
 
 
-def _discretise(omega: float, zeta: float, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Φ, Γ1, Γ2 of the first-order-hold discretisation of ü + 2ζωu̇ + ω²u = −f over step h."""
-    a = np.array([[0.0, 1.0], [-omega * omega, -2.0 * zeta * omega]])
-    b = np.array([[0.0], [-1.0]])
+def _augmented(omega: float, zeta: float, h: float) -> np.ndarray:
+    """[[A h, B h, 0], [0, 0, 1], [0, 0, 0]]: its exponential holds Φ, Γ1, Γ2 (first-order hold)."""
     big = np.zeros((4, 4))
-    big[:2, :2] = a * h
-    big[:2, 2:3] = b * h
-    big[2, 3] = 1.0  # d(input)/d(tau) over the unit-normalised step
-    e = expm(big)
-    phi = e[:2, :2]
-    gamma1 = e[:2, 2]
-    gamma2 = e[:2, 3]
+    big[0, 1] = h
+    big[1, 0], big[1, 1] = -omega * omega * h, -2.0 * zeta * omega * h
+    big[1, 2] = -h                 # B = (0, -1): the oscillator is driven by -a_g
+    big[2, 3] = 1.0                # the input's increment over the unit-normalised step
+    return big
+
+
+@lru_cache(maxsize=4096)
+def _discretise(omega: float, zeta: float, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Φ, Γ1, Γ2 of the first-order-hold discretisation of ü + 2ζωu̇ + ω²u = −f over step h.
+
+    The exponential of :func:`_augmented` by its Taylor series when ωh ≤ 1 (always the case
+    with the sub-stepping of :func:`response_spectrum`; the terms shrink fast and carry no
+    cancellation, so even the tiny Γ entries of very long periods keep full relative precision),
+    else by ``scipy.linalg.expm``. Cached: every record with the same dt reuses them.
+    """
+    big = _augmented(omega, zeta, h)
+    if omega * h <= 1.0 and 2.0 * zeta * omega * h <= 1.0:
+        e = np.eye(4)
+        term = np.eye(4)
+        for k in range(1, 40):
+            term = term @ big / k
+            e += term
+            if np.max(np.abs(term)) < 1e-30:
+                break
+    else:
+        e = expm(big)
+    phi, gamma1, gamma2 = e[:2, :2].copy(), e[:2, 2].copy(), e[:2, 3].copy()
+    for arr in (phi, gamma1, gamma2):
+        arr.setflags(write=False)
     return phi, gamma1, gamma2
+
+
+def _discretise_closed_form(omega: float, zeta: float, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The same Φ, Γ1, Γ2 in closed form (Nigam & Jennings in matrix notation; reference for tests, 0 ≤ ζ < 1).
+
+    With :math:`A = [[0, 1], [-\\omega^2, -2\\zeta\\omega]]`, :math:`B = (0, -1)^T`,
+    :math:`\\omega_d = \\omega\\sqrt{1-\\zeta^2}` and :math:`(A + \\zeta\\omega I)^2 = -\\omega_d^2 I`:
+    :math:`\\Phi = e^{-\\zeta\\omega h}[\\cos(\\omega_d h) I + \\sin(\\omega_d h)/\\omega_d\\,(A + \\zeta\\omega I)]`,
+    :math:`\\Gamma_1 = A^{-1}(\\Phi - I)B`, :math:`\\Gamma_2 = A^{-1}(\\Gamma_1/h - B)`. (These lose
+    relative precision to cancellation when ωh is small, hence the series in :func:`_discretise`.)
+    """
+    a = np.array([[0.0, 1.0], [-omega * omega, -2.0 * zeta * omega]])
+    b = np.array([0.0, -1.0])
+    wd = omega * math.sqrt(1.0 - zeta * zeta)
+    phi = math.exp(-zeta * omega * h) * (math.cos(wd * h) * np.eye(2)
+                                         + math.sin(wd * h) / wd * (a + zeta * omega * np.eye(2)))
+    a_inv = np.array([[-2.0 * zeta / omega, -1.0 / (omega * omega)], [1.0, 0.0]])
+    gamma1 = a_inv @ ((phi - np.eye(2)) @ b)
+    return phi, gamma1, a_inv @ (gamma1 / h - b)
 
 
 @numba.njit(cache=True)
@@ -153,7 +194,7 @@ def sdof_response(acceleration: np.ndarray, dt: float, period: float, damping: f
     _check(dt, damping)
     if not period > 0:
         raise InputError(f"sdof_response: period = {period}; expected > 0")
-    phi, g1, g2 = _discretise(2 * np.pi / period, damping, dt)
+    phi, g1, g2 = _discretise(float(2 * np.pi / period), float(damping), float(dt))
     return _sdof_history(acc, phi, g1, g2)
 
 
@@ -207,7 +248,7 @@ def response_spectrum(record: Record | np.ndarray, dt: float | None = None, peri
             continue
         omega = 2 * np.pi / period
         substeps = int(min(_MAX_SUBSTEPS, max(1, math.ceil(50 * dt / period))))
-        phi, g1, g2 = _discretise(omega, damping, dt / substeps)
+        phi, g1, g2 = _discretise(float(omega), float(damping), float(dt / substeps))
         for c in range(n_c):
             sd[i, c], sv[i, c], sa[i, c] = _sdof_peaks(np.ascontiguousarray(acc[:, c]), phi, g1, g2,
                                                        substeps, omega, damping)

@@ -18,13 +18,17 @@ removes the unbounded low-frequency displacement of Kanai–Tajimi:
     \\ddot x_f + 2\\zeta_f\\omega_f\\dot x_f + \\omega_f^2 x_f = a_1, \\qquad
     a_{noise} = \\ddot x_f = a_1 - 2\\zeta_f\\omega_f\\dot x_f - \\omega_f^2 x_f.
 
-For a stationary input the power spectral density of the output is
+A second-order Butterworth low-pass at ``f_max`` (default 15 Hz) follows, standing for the
+high-frequency decay (f_max, κ) of real records, which Kanai–Tajimi alone lacks. For a
+stationary input the power spectral density of the output is
 
 .. math::
 
     S(\\omega) = S_0\\,
     \\frac{\\omega_g^4 + 4\\zeta_g^2\\omega_g^2\\omega^2}{(\\omega_g^2-\\omega^2)^2 + 4\\zeta_g^2\\omega_g^2\\omega^2}\\;
-    \\frac{\\omega^4}{(\\omega_f^2-\\omega^2)^2 + 4\\zeta_f^2\\omega_f^2\\omega^2}.
+    \\frac{\\omega^4}{(\\omega_f^2-\\omega^2)^2 + 4\\zeta_f^2\\omega_f^2\\omega^2}\\;
+    \\frac{\\omega_c^4}{(\\omega_c^2-\\omega^2)^2 + 2\\omega_c^2\\omega^2},
+    \\qquad \\omega_c = 2\\pi f_{max}.
 
 The filters are advanced with their exact zero-order-hold discretisation (a compiled kernel).
 The envelope is trapezoidal in the manner of Jennings, Housner & Tsai (1968): a rise
@@ -128,6 +132,10 @@ class GroundMotionModel:
         Time envelope; None gives stationary noise.
     pulse : PulseParameters or None
         Optional near-fault velocity pulse.
+    f_max : float or None
+        Corner [Hz] of the second-order Butterworth low-pass that gives the motion the
+        high-frequency decay of real records (default 15 Hz); None leaves Kanai–Tajimi's
+        slow :math:`\\omega^{-2}` decay up to the Nyquist frequency.
     """
 
     duration: float
@@ -139,6 +147,7 @@ class GroundMotionModel:
     zeta_f: float = 0.6
     envelope: Envelope | None = None
     pulse: PulseParameters | None = None
+    f_max: float | None = 15.0
 
     def __post_init__(self) -> None:
         checks = {"duration": self.duration > 0, "pga": self.pga > 0, "dt": self.dt > 0,
@@ -154,6 +163,9 @@ class GroundMotionModel:
         if self.omega_g > math.pi / self.dt:
             raise ParameterError(f"ground motion model: omega_g = {self.omega_g} rad/s is above the Nyquist "
                                  f"frequency {math.pi / self.dt:.1f} rad/s of dt = {self.dt} s")
+        if self.f_max is not None and not (0 < self.f_max < 0.5 / self.dt and math.isfinite(self.f_max)):
+            raise ParameterError(f"ground motion model: f_max = {self.f_max} Hz; expected a frequency between 0 and "
+                                 f"the Nyquist frequency {0.5 / self.dt:g} Hz (or None)")
         if self.pulse is not None and self.pulse.period < 4 * self.dt:
             raise ParameterError(f"ground motion model: pulse period {self.pulse.period} s is shorter than 4 steps")
 
@@ -164,7 +176,7 @@ class GroundMotionModel:
 
     def psd_shape(self, omega: np.ndarray) -> np.ndarray:
         """Kanai–Tajimi × Clough–Penzien spectral shape S(ω)/S₀ (module docstring)."""
-        return _psd_shape(np.asarray(omega, float), self.omega_g, self.zeta_g, self.omega_f, self.zeta_f)
+        return _psd_shape(np.asarray(omega, float), self.omega_g, self.zeta_g, self.omega_f, self.zeta_f, self.f_max)
 
     def peak_frequency(self) -> float:
         """Frequency [Hz] where the filters' spectral shape peaks (numerically, 0.01–50 Hz)."""
@@ -172,48 +184,70 @@ class GroundMotionModel:
         return float(f[np.argmax(self.psd_shape(2 * np.pi * f))])
 
 
-def _psd_shape(omega: np.ndarray, wg: float, zg: float, wf: float, zf: float) -> np.ndarray:
+_LOWPASS_ZETA = math.sqrt(0.5)  # Butterworth
+
+
+def _psd_shape(omega: np.ndarray, wg: float, zg: float, wf: float, zf: float,
+               f_max: float | None = None) -> np.ndarray:
     w2 = omega ** 2
     kt = (wg ** 4 + 4 * zg ** 2 * wg ** 2 * w2) / ((wg ** 2 - w2) ** 2 + 4 * zg ** 2 * wg ** 2 * w2)
     cp = w2 ** 2 / ((wf ** 2 - w2) ** 2 + 4 * zf ** 2 * wf ** 2 * w2)
-    return kt * cp
+    if f_max is None:
+        return kt * cp
+    wc = 2 * np.pi * f_max
+    lp = wc ** 4 / ((wc ** 2 - w2) ** 2 + 4 * _LOWPASS_ZETA ** 2 * wc ** 2 * w2)
+    return kt * cp * lp
 
 
 def _filter_matrices(model: GroundMotionModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Exact zero-order-hold matrices (Ad, Bd) and output row c of the filter chain."""
     wg, zg, wf, zf = model.omega_g, model.zeta_g, model.omega_f, model.zeta_f
-    # states (x_g, xd_g, x_f, xd_f); input w; output a_noise
-    a1 = np.array([-wg ** 2, -2 * zg * wg, 0.0, 0.0])  # a_1 = a1 · x
-    a = np.zeros((4, 4))
+    n = 4 if model.f_max is None else 6
+    # states (x_g, xd_g, x_f, xd_f[, y, yd]); input w; a_cp = xdd_f
+    a = np.zeros((n, n))
     a[0, 1] = 1.0
     a[1, 0], a[1, 1] = -wg ** 2, -2 * zg * wg
     a[2, 3] = 1.0
-    a[3] = a1 + np.array([0.0, 0.0, -wf ** 2, -2 * zf * wf])
-    b = np.array([0.0, -1.0, 0.0, 0.0])
-    big = np.zeros((5, 5))
-    big[:4, :4] = a * model.dt
-    big[:4, 4] = b * model.dt
+    a_cp = np.zeros(n)
+    a_cp[:4] = [-wg ** 2, -2 * zg * wg, -wf ** 2, -2 * zf * wf]
+    a[3] = a_cp
+    c = a_cp.copy()
+    if n == 6:  # y'' + 2 zeta_c wc y' + wc^2 y = wc^2 a_cp; output y
+        wc = 2 * np.pi * model.f_max
+        a[4, 5] = 1.0
+        a[5] = wc ** 2 * a_cp
+        a[5, 4] += -wc ** 2
+        a[5, 5] += -2 * _LOWPASS_ZETA * wc
+        c = np.zeros(n)
+        c[4] = 1.0
+    b = np.zeros(n)
+    b[1] = -1.0
+    big = np.zeros((n + 1, n + 1))
+    big[:n, :n] = a * model.dt
+    big[:n, n] = b * model.dt
     e = expm(big)
-    return e[:4, :4].copy(), e[:4, 4].copy(), a[3].copy()
+    return e[:n, :n].copy(), e[:n, n].copy(), c
 
 
 @numba.njit(cache=True)
 def _filter_noise(ad, bd, c, u):  # pragma: no cover - compiled
     """y_k = c·x_k,  x_{k+1} = Ad x_k + Bd u_k (zero-order hold), from rest."""
     n = u.shape[0]
-    x = np.zeros(4)
-    xn = np.zeros(4)
+    m = bd.shape[0]
+    x = np.zeros(m)
+    xn = np.zeros(m)
     y = np.empty(n)
     for k in range(n):
         acc = 0.0
-        for i in range(4):
+        for i in range(m):
             acc += c[i] * x[i]
         y[k] = acc
-        for i in range(4):
+        for i in range(m):
             s = bd[i] * u[k]
-            for j in range(4):
+            for j in range(m):
                 s += ad[i, j] * x[j]
             xn[i] = s
-        for i in range(4):
+        for i in range(m):
             x[i] = xn[i]
     return y
 
@@ -288,7 +322,7 @@ def generate(model: GroundMotionModel, seed: Any = 0, name: str = "synthetic", l
 
 def _model_dict(model: GroundMotionModel) -> dict[str, Any]:
     out: dict[str, Any] = {k: getattr(model, k) for k in ("duration", "pga", "dt", "omega_g", "zeta_g",
-                                                           "omega_f", "zeta_f")}
+                                                           "omega_f", "zeta_f", "f_max")}
     out["envelope"] = None if model.envelope is None else vars(model.envelope).copy()
     out["pulse"] = None if model.pulse is None else vars(model.pulse).copy()
     return out
@@ -322,24 +356,25 @@ def envelope_for_duration(duration: float, significant_duration: float, dt: floa
     return Envelope(t_rise, brentq(lambda s: d595(s, decay) - D, 0.0, t_max, xtol=1e-4), decay)
 
 
-def _mean_period_of_shape(wg: float, zg: float, wf: float, zf: float, f_min: float = 0.25,
-                          f_max: float = 20.0) -> float:
+def _mean_period_of_shape(wg: float, zg: float, wf: float, zf: float, corner: float | None,
+                          f_min: float = 0.25, f_max: float = 20.0) -> float:
     f = np.linspace(f_min, f_max, 4000)
-    s = _psd_shape(2 * np.pi * f, wg, zg, wf, zf)
+    s = _psd_shape(2 * np.pi * f, wg, zg, wf, zf, corner)
     return float(np.trapezoid(s / f, f) / np.trapezoid(s, f))
 
 
 def omega_g_for_mean_period(mean_period: float, zeta_g: float = 0.6, omega_f_ratio: float = 0.1,
-                            zeta_f: float = 0.6) -> float:
+                            zeta_f: float = 0.6, f_max: float | None = 15.0) -> float:
     """Kanai–Tajimi ω_g [rad/s] whose filtered-noise spectrum has the mean period ``mean_period`` [s].
 
     The mean period is that of Rathje et al. (2004) over 0.25–20 Hz, computed from the filters'
-    spectral shape with ω_f = ``omega_f_ratio`` · ω_g. ω_g is kept within 2π·[0.3, 10] Hz.
+    spectral shape with ω_f = ``omega_f_ratio`` · ω_g and the low-pass corner ``f_max`` [Hz].
+    ω_g is kept within 2π·[0.3, 10] Hz.
     """
     if not mean_period > 0:
         raise ParameterError(f"mean period = {mean_period} s; expected > 0")
     lo, hi = 2 * np.pi * 0.3, 2 * np.pi * 10.0
-    g = lambda w: _mean_period_of_shape(w, zeta_g, omega_f_ratio * w, zeta_f) - mean_period  # noqa: E731
+    g = lambda w: _mean_period_of_shape(w, zeta_g, omega_f_ratio * w, zeta_f, f_max) - mean_period  # noqa: E731
     if g(lo) <= 0:
         return lo
     if g(hi) >= 0:

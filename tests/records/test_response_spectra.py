@@ -70,3 +70,19 @@ def test_spectrum_input_errors():
         default_periods(t_min=2.0, t_max=1.0)
     p = default_periods()
     assert p[0] == pytest.approx(0.02) and p[-1] == pytest.approx(10.0) and np.all(np.diff(p) > 0)
+
+
+@pytest.mark.parametrize("period, zeta, h", [(0.02, 0.05, 0.0004), (0.7, 0.05, 0.005), (10.0, 0.0, 0.005),
+                                             (3.0, 0.3, 0.01), (50.0, 0.05, 0.005)])
+def test_coefficients_equal_the_matrix_exponential_and_the_closed_form(period, zeta, h):
+    from scipy.linalg import expm
+
+    from records.spectra import _augmented, _discretise, _discretise_closed_form
+
+    omega = 2 * np.pi / period
+    ours = _discretise(omega, zeta, h)
+    e = expm(_augmented(omega, zeta, h))
+    for mine, ref in zip(ours, (e[:2, :2], e[:2, 2], e[:2, 3])):
+        assert np.allclose(mine, ref, rtol=1e-12, atol=0)
+    for mine, ref in zip(ours, _discretise_closed_form(omega, zeta, h)):
+        assert np.allclose(mine, ref, rtol=1e-6, atol=1e-13 * np.max(np.abs(ref)))
