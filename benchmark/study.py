@@ -34,6 +34,12 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
     summary: dict = {"steps": {}}
     t0 = time.perf_counter()
 
+    # records: catalogue check and figures (synthetic benchmark-like records if no file is found)
+    from records.report import write_records_report
+
+    summary["steps"]["records"] = write_records_report(out / "records", records_dir=records_dir,
+                                                       per_record_plots=not quick)
+
     summary["elapsed_s"] = time.perf_counter() - t0
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2))
     return summary
