@@ -13,6 +13,7 @@ All quantities are SI (m, s, N, kg, rad, V); time along axis 0, one sample per r
 
 from __future__ import annotations
 
+import hashlib
 import time as _time
 from dataclasses import dataclass, field
 from typing import Any
@@ -158,8 +159,14 @@ def _discrete_system(building, dt: float):
 
     sup = building.superstructure
     Kb, Cb = building.isolation_linear_matrices()
-    key = (sup.source, sup.basis.shape, sup.basis.tobytes()[:4096] if sup.is_reduced else b"",
-           Kb.tobytes(), Cb.tobytes(), float(dt))
+    # Key on the matrices themselves, not the file name: a modified superstructure
+    # (dataclasses.replace(sup, K=...)) must not get the discretisation of the original.
+    digest = hashlib.sha1()
+    for arr in (sup.M, sup.K, sup.C, sup.R, sup.basis, np.array([sup.base_mass, sup.base_inertia])):
+        a = np.ascontiguousarray(arr, dtype=np.float64)
+        digest.update(str(a.shape).encode())
+        digest.update(a.tobytes())
+    key = (digest.hexdigest(), Kb.tobytes(), Cb.tobytes(), float(dt))
     hit = _DISCRETE_CACHE.get(key)
     if hit is not None:
         return hit
