@@ -254,6 +254,9 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         raise InputError(f"record {getattr(record, 'name', '?')!r}: dt = {dt!r}; expected a positive step in s")
     n = ag.shape[0]
     ratio = _control_ratio(control_step, dt)
+    if n - 1 < ratio:
+        raise InputError(f"record {getattr(record, 'name', '?')!r}: {n} samples ({(n - 1) * dt:g} s) is shorter "
+                         f"than one control step ({ratio * dt:g} s); expected at least {ratio + 1} samples")
     if not (np.isfinite(fixed_point_tolerance) and fixed_point_tolerance > 0):
         raise InputError(f"fixed_point_tolerance: expected > 0, got {fixed_point_tolerance!r}")
     if int(max_iterations) < 1:
