@@ -1,0 +1,119 @@
+"""Effect library and the augmented model: neutral values, terms, composition, joint refit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from benchmark.errors import InputError, ParameterError
+from damper.augmented import AugmentedModel, Parametrization, refit
+from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.effects import (EFFECT_NAMES, EFFECTS, Asymmetry, Fade, Inertia, Motion, Offset,
+                            QuadraticDamping, Stiffness, VoltageLag, first_order_filter,
+                            get_effect)
+from damper.simulate import simulate
+from damper.voltage_laws import Polynomial
+
+BASE = NormalizedBoucWen(2000.0, 800.0, 400.0, 1.0, 1.5)
+
+
+def _motion(freq=1.0, amp=0.01, n=801, v=0.0):
+    t = np.linspace(0.0, 3.0 / freq, n)
+    w = 2 * np.pi * freq
+    return Motion(t, amp * np.sin(w * t), amp * w * np.cos(w * t), -amp * w * w * np.sin(w * t), v,
+                  name="sine")
+
+
+def test_library_names_are_the_issue_names():
+    assert EFFECT_NAMES == ("stiffness", "offset", "inertia", "voltage_lag", "quadratic_damping",
+                            "asymmetry", "fade")
+    with pytest.raises(InputError, match="unknown name 'friction'"):
+        get_effect("friction")
+
+
+@pytest.mark.parametrize("name", EFFECT_NAMES)
+def test_neutral_effect_reproduces_the_base_model(name):
+    m = _motion()
+    base_force = simulate(BASE, m.t, m.x, m.xdot, 0.0).force
+    force = AugmentedModel(BASE, (EFFECTS[name].off(),)).force(m)
+    np.testing.assert_allclose(force, base_force, rtol=0, atol=1e-9)
+
+
+def test_additive_and_factor_terms_follow_their_equations():
+    m = _motion()
+    fb = simulate(BASE, m.t, m.x, m.xdot, 0.0).force
+    model = AugmentedModel(BASE, (Stiffness(3e4), Offset(50.0), Inertia(20.0), QuadraticDamping(1e4),
+                                  Asymmetry(0.2), Fade(-0.05)))
+    expected = (fb * (1 + 0.2 * np.sign(fb)) * (1 - 0.05 * m.elapsed) + 3e4 * m.x + 50.0
+                + 20.0 * m.xddot + 1e4 * m.xdot * np.abs(m.xdot))
+    np.testing.assert_allclose(model.force(m), expected, rtol=1e-12, atol=1e-9)
+    # composition order: the factors before the additive terms, whatever the given order
+    assert model.effect_names == ("asymmetry", "fade", "stiffness", "offset", "inertia",
+                                  "quadratic_damping")
+
+
+def test_stiffness_on_normalized_equals_extended_model():
+    m = _motion()
+    ext = ExtendedBoucWen(3e4, 2000.0, 800.0, 400.0, 1.0, 1.5)
+    np.testing.assert_allclose(AugmentedModel(BASE, (Stiffness(3e4),)).force(m),
+                               simulate(ext, m.t, m.x, m.xdot, 0.0).force, rtol=1e-12, atol=1e-9)
+    with pytest.raises(ParameterError, match="already has kappa_x"):
+        AugmentedModel(ext, (Stiffness(1.0),))
+
+
+def test_first_order_filter_is_exact_for_a_ramp_and_identity_at_zero():
+    t = np.linspace(0.0, 1.0, 11)
+    v = 2.0 * t
+    tau = 0.1
+    u = first_order_filter(t, v, tau)
+    # tau u' = v - u with u(0) = 0 and v = 2t:  u = 2(t - tau (1 - exp(-t/tau)))
+    np.testing.assert_allclose(u, 2 * (t - tau * (1 - np.exp(-t / tau))), rtol=1e-12, atol=1e-14)
+    np.testing.assert_array_equal(first_order_filter(t, v, 0.0), v)
+    with pytest.raises(ParameterError):
+        first_order_filter(t, v, -1.0)
+
+
+def test_voltage_lag_delays_the_response_to_a_voltage_step():
+    base = NormalizedBoucWen(Polynomial((1000.0, 3000.0)), Polynomial((200.0, 1500.0)), 400.0, 1.0, 1.5)
+    t = np.linspace(0.0, 2.0, 2001)
+    v = (t >= 1.0).astype(float)
+    m = Motion(t, 0.01 * np.sin(2 * np.pi * t), 0.02 * np.pi * np.cos(2 * np.pi * t), 0.0, v)
+    r = AugmentedModel(base, (VoltageLag(0.05),)).response(m)
+    k = np.searchsorted(t, 1.05)
+    assert r.model_input[k] == pytest.approx(1 - np.exp(-1.0), abs=0.02)
+    assert r.model_input.min() >= 0.0 and r.model_input.max() <= 1.0
+
+
+@pytest.mark.parametrize("cls,bad", [(Stiffness, -1.0), (Inertia, -0.1), (QuadraticDamping, -1.0),
+                                     (VoltageLag, -0.01), (Asymmetry, 1.5), (Offset, float("nan"))])
+def test_inadmissible_parameters_are_refused(cls, bad):
+    with pytest.raises(ParameterError, match=cls.parameter_name):
+        cls(bad)
+
+
+def test_fade_refuses_a_rate_that_kills_the_force():
+    with pytest.raises(ParameterError, match="fade.rate"):
+        AugmentedModel(BASE, (Fade(-1.0),)).force(_motion())
+
+
+def test_parametrization_roundtrip_with_voltage_nodes():
+    model = AugmentedModel(BASE, (Offset(10.0), Asymmetry(0.1)))
+    par = Parametrization(model, nodes=[0.0, 0.5, 1.0])
+    vec = par.vector(model)
+    assert len(vec) == 5 * 3 + 2 and par.names[-2:] == ("asymmetry.ratio", "offset.f0")
+    again = par.model(vec)
+    m = _motion()
+    np.testing.assert_allclose(again.force(m), model.force(m), rtol=1e-12, atol=1e-9)
+
+
+def test_joint_refit_recovers_base_and_effect_parameters():
+    m1, m2 = _motion(1.0, 0.01), _motion(3.0, 0.004)
+    truth = AugmentedModel(BASE, (Stiffness(3e4), Asymmetry(0.1)))
+    forces = [truth.force(m1), truth.force(m2)]
+    start = AugmentedModel(NormalizedBoucWen(1500.0, 600.0, 300.0, 1.5, 1.2), (Stiffness(1e4),
+                                                                               Asymmetry(0.0)))
+    fit = refit(start, [m1, m2], forces, scales={"stiffness": 3e4, "asymmetry": 0.1})
+    assert fit.relative_rms_error < 1e-6
+    assert fit.model.effect("stiffness").kappa_x == pytest.approx(3e4, rel=1e-4)
+    assert fit.model.effect("asymmetry").ratio == pytest.approx(0.1, rel=1e-4)
+    assert fit.model.base.rho == pytest.approx(400.0, rel=1e-3)
