@@ -83,7 +83,17 @@ def baseline_correction_acceleration(acceleration: np.ndarray, dt: float, degree
 def baseline_correct(record: Record, degree: int = 3) -> Record:
     """Return ``record`` with a polynomial baseline correction applied to every component.
 
-    See the module docstring. The metadata gains ``baseline_correction`` describing it.
+    Parameters
+    ----------
+    record : Record
+        The record.
+    degree : int
+        Degree of the displacement polynomial (see the module docstring).
+
+    Returns
+    -------
+    Record
+        The corrected record; its metadata gains ``baseline_correction`` describing it.
     """
     corr = baseline_correction_acceleration(record.acceleration, record.dt, degree)
     meta = dict(record.metadata)
@@ -98,6 +108,13 @@ def end_condition_correction(acceleration: np.ndarray, dt: float) -> np.ndarray:
     :math:`a - c_0 - c_1 t` end at :math:`v(T) = d(T) = 0` exactly (the same discrete
     integration as :meth:`records.Record.velocity`). Used for generated noise, which has no
     permanent displacement; not suitable for records with a true static offset.
+
+    Parameters
+    ----------
+    acceleration : ndarray, shape (n,) or (n, m)
+        Acceleration.
+    dt : float
+        Time step [s].
     """
     a = np.asarray(acceleration, dtype=float)
     squeeze = a.ndim == 1

@@ -76,6 +76,10 @@ class CatalogueEntry:
         Flaw kinds (:class:`records.checks.Flaw`) the benchmark copy is known to have.
     notes : str
         What a user should know about the file.
+    dt : float
+        Time step [s] (0.005 s for every benchmark file).
+    metadata : dict
+        Anything else.
     """
 
     name: str
@@ -188,7 +192,13 @@ def canonical_name(name: str) -> str:
 
 
 def get_entry(name: str) -> CatalogueEntry:
-    """Return the :class:`CatalogueEntry` of a benchmark record."""
+    """Return the :class:`CatalogueEntry` of a benchmark record.
+
+    Parameters
+    ----------
+    name : str
+        Record name (case-insensitive; aliases such as ``erzincan`` accepted).
+    """
     return CATALOGUE[canonical_name(name)]
 
 
@@ -202,6 +212,13 @@ def _check_orientation(orientation: str) -> str:
 
 def record_path(name: str, records_dir: str | os.PathLike | None = None) -> Path:
     """Return the path of a benchmark record's file.
+
+    Parameters
+    ----------
+    name : str
+        Record name.
+    records_dir : path-like, optional
+        Directory of the files (lookup order in the module docstring).
 
     Raises
     ------

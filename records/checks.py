@@ -65,6 +65,13 @@ class Flaw:
 def identical_spans(acceleration: np.ndarray, min_length: int = 20) -> list[tuple[int, int]]:
     """Half-open sample ranges ``[start, stop)`` of at least ``min_length`` samples where all components are equal.
 
+    Parameters
+    ----------
+    acceleration : ndarray, shape (n, m)
+        The components (fewer than two: no spans).
+    min_length : int
+        Shortest span reported.
+
     Samples where every component is exactly zero (quiet padding) do not count as identical.
     """
     a = np.asarray(acceleration, dtype=float)
@@ -79,7 +86,15 @@ def identical_spans(acceleration: np.ndarray, min_length: int = 20) -> list[tupl
 
 
 def check_identical_components(record: Record, min_length: int = 20) -> list[Flaw]:
-    """Flag spans where the components are identical (see :func:`identical_spans`)."""
+    """Flag spans where the components are identical (see :func:`identical_spans`).
+
+    Parameters
+    ----------
+    record : Record
+        The record.
+    min_length : int
+        Shortest span reported [samples].
+    """
     flaws = []
     for start, stop in identical_spans(record.acceleration, min_length):
         n = stop - start
@@ -99,6 +114,8 @@ def check_baseline_drift(record: Record, velocity_ratio: float = 0.15, min_veloc
 
     Parameters
     ----------
+    record : Record
+        The record.
     velocity_ratio : float
         Threshold on :math:`|v(T)|/\\mathrm{PGV}`.
     min_velocity : float
@@ -128,7 +145,17 @@ def check_baseline_drift(record: Record, velocity_ratio: float = 0.15, min_veloc
 
 
 def check_pga(record: Record, expected_pga_g: Sequence[float], rtol: float = 0.05) -> list[Flaw]:
-    """Flag components whose PGA differs from ``expected_pga_g`` [g] by more than ``rtol`` (relative)."""
+    """Flag components whose PGA differs from the expected one by more than a relative tolerance.
+
+    Parameters
+    ----------
+    record : Record
+        The record.
+    expected_pga_g : sequence of float
+        Expected PGA per component [g].
+    rtol : float
+        Relative tolerance.
+    """
     expected = np.asarray(expected_pga_g, dtype=float)
     if expected.shape != (record.n_components,):
         raise InputError(f"{record.name}: {expected.size} expected PGAs for {record.n_components} components")
@@ -146,7 +173,17 @@ def check_pga(record: Record, expected_pga_g: Sequence[float], rtol: float = 0.0
 
 
 def check_duration(record: Record, expected_duration: float, atol: float = 1.0) -> list[Flaw]:
-    """Flag a record whose duration differs from ``expected_duration`` [s] by more than ``atol`` seconds."""
+    """Flag a record whose duration differs from the expected one.
+
+    Parameters
+    ----------
+    record : Record
+        The record.
+    expected_duration : float
+        Expected length n·dt [s].
+    atol : float
+        Tolerance [s].
+    """
     if abs(record.duration - expected_duration) > atol:
         return [Flaw(kind="duration_mismatch",
                      message=(f"{record.name}: duration {record.duration:.2f} s differs from the catalogue's "
@@ -157,7 +194,19 @@ def check_duration(record: Record, expected_duration: float, atol: float = 1.0) 
 
 def check_record(record: Record, expected_pga_g: Sequence[float] | None = None,
                  expected_duration: float | None = None, pga_rtol: float = 0.05) -> list[Flaw]:
-    """Run every check that applies and return all flaws found."""
+    """Run every check that applies and return all flaws found.
+
+    Parameters
+    ----------
+    record : Record
+        The record.
+    expected_pga_g : sequence of float, optional
+        Expected PGA per component [g] (no PGA check if None).
+    expected_duration : float, optional
+        Expected length [s] (no length check if None).
+    pga_rtol : float
+        Relative tolerance of the PGA check.
+    """
     flaws = check_identical_components(record) + check_baseline_drift(record)
     if expected_pga_g is not None:
         flaws += check_pga(record, expected_pga_g, pga_rtol)

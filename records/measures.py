@@ -34,6 +34,13 @@ def husid(acceleration: np.ndarray, dt: float) -> np.ndarray:
     .. math:: H(t_k) = \\int_0^{t_k} a^2\\,dt \\Big/ \\int_0^{T} a^2\\,dt
 
     (trapezoidal rule). An all-zero component gives all zeros.
+
+    Parameters
+    ----------
+    acceleration : ndarray, shape (n,)
+        One component [m/s²].
+    dt : float
+        Time step [s].
     """
     a2 = _component(acceleration) ** 2
     cum = np.concatenate(([0.0], np.cumsum(0.5 * dt * (a2[1:] + a2[:-1]))))
@@ -41,7 +48,15 @@ def husid(acceleration: np.ndarray, dt: float) -> np.ndarray:
 
 
 def arias_intensity(acceleration: np.ndarray, dt: float) -> float:
-    """Arias intensity :math:`I_a = \\frac{\\pi}{2g}\\int_0^T a(t)^2\\,dt` [m/s] of one component in m/s²."""
+    """Arias intensity :math:`I_a = \\frac{\\pi}{2g}\\int_0^T a(t)^2\\,dt` [m/s].
+
+    Parameters
+    ----------
+    acceleration : ndarray, shape (n,)
+        One component [m/s²].
+    dt : float
+        Time step [s].
+    """
     a2 = _component(acceleration) ** 2
     return float(np.pi / (2 * 9.80665) * np.sum(0.5 * dt * (a2[1:] + a2[:-1])))
 
@@ -52,6 +67,15 @@ def significant_duration(acceleration: np.ndarray, dt: float, start: float = 0.0
 
     Default D5–95 (Trifunac & Brady 1975). Crossing times are interpolated linearly between
     samples.
+
+    Parameters
+    ----------
+    acceleration : ndarray, shape (n,)
+        One component [m/s²].
+    dt : float
+        Time step [s].
+    start, end : float
+        Fractions of the Arias intensity (0 ≤ start < end ≤ 1).
     """
     if not 0.0 <= start < end <= 1.0:
         raise InputError(f"significant duration fractions start={start}, end={end}; expected 0 <= start < end <= 1")
@@ -66,6 +90,15 @@ def mean_period(acceleration: np.ndarray, dt: float, f_min: float = 0.25, f_max:
     """Mean period T_m [s] (Rathje et al. 2004) from the Fourier amplitudes C_i between f_min and f_max [Hz].
 
     .. math:: T_m = \\frac{\\sum_i C_i^2 / f_i}{\\sum_i C_i^2}, \\quad f_{min} \\le f_i \\le f_{max}
+
+    Parameters
+    ----------
+    acceleration : ndarray, shape (n,)
+        One component [m/s²].
+    dt : float
+        Time step [s].
+    f_min, f_max : float
+        Frequency band [Hz] (f_max is capped at the Nyquist frequency).
     """
     a = _component(acceleration)
     freq = np.fft.rfftfreq(a.size, dt)

@@ -111,7 +111,24 @@ def plot_record(record: Record, path: str | os.PathLike, spectrum: ResponseSpect
 
 def plot_spectra_overview(records: Sequence[Record], path: str | os.PathLike, damping: float = 0.05,
                           title: str | None = None) -> Path:
-    """One panel per component index (x, y): the pseudo-acceleration spectra of several records."""
+    """One panel per component index (x, y): the pseudo-acceleration spectra of several records.
+
+    Parameters
+    ----------
+    records : sequence of Record
+        The records (synthetic ones are named so in the title).
+    path : path-like
+        Output file (.png, .pdf or .svg), written atomically.
+    damping : float
+        Damping ratio.
+    title : str, optional
+        Figure title (default says whether the records are synthetic).
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     if not records:
         raise InputError("plot_spectra_overview: no records to plot")
     n_panels = max(r.n_components for r in records)

@@ -113,7 +113,15 @@ def _mp_velocity(t: np.ndarray, amplitude: float, fp: float, gamma: float, phase
 
 @dataclass(frozen=True)
 class PulseFit:
-    """Result of :func:`fit_pulse`: the fitted pulse and the fraction of the windowed velocity energy it explains."""
+    """Result of :func:`fit_pulse`.
+
+    Attributes
+    ----------
+    pulse : PulseParameters
+        The fitted pulse.
+    explained : float
+        Fraction of the velocity energy around the peak that the pulse explains (1 − residual/total).
+    """
 
     pulse: PulseParameters
     explained: float

@@ -561,7 +561,20 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
 def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2") -> Path:
     """Write ``record`` as CSV (``time [s], <label> [units], ...``), atomically; :func:`read_csv` reads it back.
 
-    A comment line states the source and, for generated motions, that the record is synthetic.
+    Parameters
+    ----------
+    record : Record
+        The record.
+    path : path-like
+        Output file.
+    units : str
+        Units of the written values (default m/s2; see :func:`unit_factor`).
+
+    Returns
+    -------
+    Path
+        The file written. A comment line states the source and, for generated motions, that
+        the record is synthetic.
     """
     factor = unit_factor(units, "units")
     path = Path(path)
@@ -579,6 +592,13 @@ def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2") -> P
 def detect_format(path: str | os.PathLike) -> str:
     """Guess a file's format from its name and first lines (``benchmark``, ``at2``, ``single`` or ``csv``).
 
+    Parameters
+    ----------
+    path : path-like
+        The record file.
+
+    Notes
+    -----
     Rules, in order: suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
     lines or a first line starting with ``PEER`` → at2; a first line starting with ``%`` →
     benchmark; a comma or semicolon in the first data line → csv; one value per line →

@@ -29,7 +29,20 @@ STANDARD_GRAVITY = 9.80665
 
 
 def cumulative_trapezoid(values: np.ndarray, dt: float) -> np.ndarray:
-    """Cumulative trapezoidal integral along axis 0, starting at zero (same shape as ``values``)."""
+    """Cumulative trapezoidal integral along axis 0, starting at zero.
+
+    Parameters
+    ----------
+    values : ndarray, shape (n, ...)
+        Samples to integrate.
+    dt : float
+        Uniform step [s].
+
+    Returns
+    -------
+    ndarray
+        Same shape as ``values``; row 0 is zero.
+    """
     values = np.asarray(values, dtype=float)
     out = np.zeros_like(values)
     if values.shape[0] > 1:

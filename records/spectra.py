@@ -187,7 +187,19 @@ def _sdof_history(acc, phi, g1, g2):  # pragma: no cover - compiled
 
 
 def sdof_response(acceleration: np.ndarray, dt: float, period: float, damping: float = 0.05) -> np.ndarray:
-    """Relative displacement and velocity histories ``(n, 2)`` [m, m/s] of one oscillator (exact recurrence)."""
+    """Relative displacement and velocity histories ``(n, 2)`` [m, m/s] of one oscillator (exact recurrence).
+
+    Parameters
+    ----------
+    acceleration : ndarray, shape (n,)
+        Ground acceleration [m/s²], linear between samples.
+    dt : float
+        Time step [s].
+    period : float
+        Oscillator period [s], > 0.
+    damping : float
+        Damping ratio ζ.
+    """
     acc = np.ascontiguousarray(acceleration, dtype=float)
     if acc.ndim != 1:
         raise InputError(f"sdof_response: expected one component, got shape {acc.shape}")

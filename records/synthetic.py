@@ -332,6 +332,17 @@ def _model_dict(model: GroundMotionModel) -> dict[str, Any]:
 def envelope_for_duration(duration: float, significant_duration: float, dt: float = 0.005) -> Envelope:
     """Envelope whose expected D5–95 (from the Husid curve of e(t)²) equals ``significant_duration``.
 
+    Parameters
+    ----------
+    duration : float
+        Record length [s].
+    significant_duration : float
+        Target D5–95 [s], shorter than ``duration``.
+    dt : float
+        Time step of the grid the Husid curve is evaluated on [s].
+
+    Notes
+    -----
     Choices: rise t_1 = min(0.2 D, 0.15 T), decay c = 2 / D (energy e-folds over D / 4); the
     plateau t_s ≥ 0 is solved for. If even t_s = 0 gives more than D, the decay is made faster.
     """
@@ -368,8 +379,20 @@ def omega_g_for_mean_period(mean_period: float, zeta_g: float = 0.6, omega_f_rat
     """Kanai–Tajimi ω_g [rad/s] whose filtered-noise spectrum has the mean period ``mean_period`` [s].
 
     The mean period is that of Rathje et al. (2004) over 0.25–20 Hz, computed from the filters'
-    spectral shape with ω_f = ``omega_f_ratio`` · ω_g and the low-pass corner ``f_max`` [Hz].
-    ω_g is kept within 2π·[0.3, 10] Hz.
+    spectral shape. ω_g is kept within 2π·[0.3, 10] Hz.
+
+    Parameters
+    ----------
+    mean_period : float
+        Target mean period [s].
+    zeta_g : float
+        Kanai–Tajimi damping ratio.
+    omega_f_ratio : float
+        Clough–Penzien frequency as a fraction of ω_g.
+    zeta_f : float
+        Clough–Penzien damping ratio.
+    f_max : float or None
+        Low-pass corner [Hz] (see :class:`GroundMotionModel`).
     """
     if not mean_period > 0:
         raise ParameterError(f"mean period = {mean_period} s; expected > 0")
@@ -384,7 +407,15 @@ def omega_g_for_mean_period(mean_period: float, zeta_g: float = 0.6, omega_f_rat
 
 # --------------------------------------------------------------------------- benchmark-like set
 def benchmark_like_models(name: str, dt: float = 0.005) -> tuple[GroundMotionModel, GroundMotionModel]:
-    """The two component models (file columns 1 and 2) calibrated to a benchmark record's catalogue entry."""
+    """The two component models (file columns 1 and 2) calibrated to a benchmark record's catalogue entry.
+
+    Parameters
+    ----------
+    name : str
+        Benchmark record name.
+    dt : float
+        Time step [s].
+    """
     entry = get_entry(name)
     models = []
     for c in range(2):
@@ -461,5 +492,13 @@ def benchmark_like(name: str, orientation: str = "FN-x", seed: int = 0, dt: floa
 
 
 def benchmark_like_set(orientation: str = "FN-x", seed: int = 0) -> dict[str, Record]:
-    """:func:`benchmark_like` for all seven benchmark records, by catalogue name."""
+    """:func:`benchmark_like` for all seven benchmark records, by catalogue name.
+
+    Parameters
+    ----------
+    orientation : {"FN-x", "FP-x"}
+        Orientation of every record.
+    seed : int
+        Seed (each record draws its own stream from it).
+    """
     return {name: benchmark_like(name, orientation, seed) for name in BENCHMARK_RECORDS}

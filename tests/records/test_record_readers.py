@@ -247,3 +247,20 @@ def test_benchmark_files_load_with_catalogue_pgas(records_dir):
         rec = load_record(records_dir / f"{name}.txt")   # auto-detected as the benchmark format
         assert rec.metadata["format"] == "benchmark" and rec.dt == 0.005
         assert np.allclose(rec.pga_g, pga, atol=6e-4), name
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+from hypothesis.extra.numpy import arrays  # noqa: E402
+
+
+@settings(max_examples=25, deadline=None)
+@given(acc=arrays(np.float64, st.tuples(st.integers(2, 40), st.integers(1, 3)),
+                  elements=st.floats(-50, 50, allow_nan=False, width=64)),
+       dt=st.sampled_from([0.001, 0.005, 0.01, 0.02]))
+def test_csv_round_trip_property(tmp_path_factory, acc, dt):
+    rec = Record("r", dt, acc)
+    path = write_csv(rec, tmp_path_factory.mktemp("csv") / "r.csv")
+    back = load_record(path)
+    assert back.n_components == rec.n_components and back.dt == pytest.approx(dt, rel=1e-9)
+    assert np.allclose(back.acceleration, acc, rtol=1e-9, atol=1e-12)

@@ -77,3 +77,14 @@ def test_scaled_select_replace_and_summary():
     assert summary["pga_g"][1] == pytest.approx(2 / STANDARD_GRAVITY)
     assert summary["n_samples"] == 50 and summary["labels"] == ["a", "b"]
     assert "pga_g" in repr(rec)
+
+
+def test_importing_records_does_not_import_the_simulator():
+    import subprocess
+    import sys
+
+    code = ("import sys, records; bad = [m for m in sys.modules if m.startswith(('benchmark.', 'damper', "
+            "'controllers')) and m not in ('benchmark.errors', 'benchmark.paths', 'benchmark.atomic')]; "
+            "print(bad); raise SystemExit(1 if bad else 0)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
