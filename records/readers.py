@@ -266,7 +266,7 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
 
 
 # --------------------------------------------------------------------------- PEER NGA .AT2
-_NPTS_DT_NEW = re.compile(r"NPTS\s*=\s*(\S+?)\s*,\s*DT\s*=\s*(\S+?)(?:\s|,|$)", re.IGNORECASE)
+_NPTS_DT_NEW = re.compile(r"NPTS\s*=\s*([^\s,]+)\s*,?\s*DT\s*=\s*([^\s,]+)", re.IGNORECASE)
 _NPTS_DT_OLD = re.compile(r"^\s*(\S+)\s+(\S+)\s+NPTS\s*,\s*DT", re.IGNORECASE)
 
 

@@ -116,6 +116,8 @@ def test_at2_new_and_old_headers(tmp_path):
     assert old.dt == 0.02 and old.n_samples == 5 and old.labels == ("000",)
     assert old.pga[0] == pytest.approx(0.05 * G)
     assert old.metadata["format"] == "at2"
+    west2 = AT2_NEW.replace("NPTS=    7, DT=   .0100 SEC", "NPTS=  7 DT= 0.0100 SEC,")
+    assert read_at2(_write(tmp_path, "w2.AT2", west2)).dt == 0.01
 
 
 def test_at2_errors(tmp_path):
