@@ -143,19 +143,18 @@ def test_cli_diagnose_errors(tmp_path, capsys):
         main(["diagnose", "--data", "x.csv", "--holdout", "2"])
 
 
-# --------------------------------------------------------------------- the whole library (slow)
+# ------------------------------------------------------------------------ the whole library
 
 EFFECT_CASES = {
     "stiffness": Stiffness(3e4),
     "offset": Offset(150.0),
     "inertia": Inertia(60.0),
-    "quadratic_damping": QuadraticDamping(2e4),
+    "quadratic_damping": QuadraticDamping(5e4),
     "asymmetry": Asymmetry(0.15),
     "fade": Fade(-0.03),
 }
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(EFFECT_CASES))
 def test_each_library_effect_alone(name):
     d = diagnose(sinusoidal_tests(_device(EFFECT_CASES[name]), noise=0.01, seed=2))
