@@ -52,6 +52,15 @@ def _positive(name: str, value, strict: bool = True) -> float:
     return value
 
 
+#: largest test a protocol generates (a typo such as cycles=1e12 must not exhaust the memory)
+_MAX_SAMPLES = 100_000_000
+
+
+def _check_seed(seed) -> None:
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
+        raise InputError(f"seed: expected None or an integer >= 0, got {seed!r}")
+
+
 def _measure(force: np.ndarray, noise: float, seed) -> np.ndarray:
     if noise == 0.0:
         return force.copy()
@@ -106,11 +115,18 @@ def periodic_test(device, amplitude: float, frequency: float, voltage: float, cy
     if sample_rate < 10.0 * frequency:
         raise InputError(f"sample_rate: expected at least 10 samples per period "
                          f"(>= {10 * frequency:g} Hz), got {sample_rate:g} Hz")
-    voltage = float(voltage)
+    try:
+        voltage = float(voltage)
+    except (TypeError, ValueError):
+        raise InputError(f"voltage: expected a number of volts, got {voltage!r}") from None
+    _check_seed(seed)
     lo, hi = model.voltage_range
     if not (lo <= voltage <= hi):
         raise InputError(f"voltage: expected {lo:g} <= v <= {hi:g} V for {model.name}, got {voltage:g} V")
     n = int(round(cycles * sample_rate / frequency)) + 1
+    if n > _MAX_SAMPLES:
+        raise InputError(f"cycles * sample_rate / frequency = {n - 1:.3g} samples; expected at most "
+                         f"{_MAX_SAMPLES:.0e} (fewer cycles or a lower sample_rate)")
     t = np.arange(n) / sample_rate
     if waveform == "sine":
         omega = 2.0 * np.pi * frequency
@@ -142,6 +158,7 @@ def general_test(device, t, x, v, noise: float = 0.0, seed: int | None = None,
     """
     model = resolve_device(device)
     noise = _positive("noise", noise, strict=False)
+    _check_seed(seed)
     response = simulate(model, t, x, xdot, v=v)
     return DamperTest(time=response.t, displacement=response.displacement,
                       velocity=response.velocity, force=_measure(response.force, noise, seed),
