@@ -75,7 +75,11 @@ def _list(args: argparse.Namespace) -> int:
         print(json.dumps(report, indent=2))
     else:
         print(_format_catalogue(report))
-    return 2 if (args.records_dir and report["error"]) else 0
+    if args.records_dir and report["error"]:  # the table says what is missing; stderr says why (exit 2)
+        from benchmark.errors import InputError
+
+        raise InputError(f"--records-dir {args.records_dir}: {report['error']}")
+    return 0
 
 
 def _format_catalogue(report: dict[str, Any]) -> str:
@@ -155,7 +159,8 @@ def _show(args: argparse.Namespace) -> int:
     summary = record.summary()
     summary["significant_duration_s"] = [significant_duration(record.acceleration[:, c], record.dt)
                                          for c in range(record.n_components)]
-    summary["mean_period_s"] = [mean_period(record.acceleration[:, c], record.dt) for c in range(record.n_components)]
+    summary["mean_period_s"] = [_mean_period_or_none(record.acceleration[:, c], record.dt)
+                                for c in range(record.n_components)]
     summary["spectral_peak_period_s"] = [spectrum.peak_period(c) for c in range(record.n_components)]
     summary["peak_psa_g"] = [float(x) for x in spectrum.psa.max(axis=0) / 9.80665]
     flaws = record.metadata.get("flaws")
@@ -176,6 +181,21 @@ def _show(args: argparse.Namespace) -> int:
     return 0
 
 
+def _or_dash(value: float | None, width: int, digits: int) -> str:
+    return f"{'-':>{width}}" if value is None else f"{value:>{width}.{digits}f}"
+
+
+def _mean_period_or_none(acceleration, dt: float) -> float | None:
+    """The mean period, or None for a record without content in its band (zero, or very short)."""
+    from benchmark.errors import InputError
+    from records.measures import mean_period
+
+    try:
+        return mean_period(acceleration, dt)
+    except InputError:
+        return None
+
+
 def _format_summary(s: dict[str, Any]) -> str:
     head = ("SYNTHETIC " if s["synthetic"] else "") + s["name"]
     extra = [str(s[k]) for k in ("event", "station") if s.get(k)]
@@ -191,7 +211,7 @@ def _format_summary(s: dict[str, Any]) -> str:
         prefix = axis[c] if c < len(axis) else ""
         lines.append(f"{(prefix + label)[:28]:<28} {s['pga_g'][c]:>8.3f} {s['pga_m_s2'][c]:>11.3f} "
                      f"{100 * s['pgv_m_s'][c]:>11.1f} {100 * s['pgd_m'][c]:>9.1f} "
-                     f"{s['significant_duration_s'][c]:>10.2f} {s['mean_period_s'][c]:>7.3f} "
+                     f"{s['significant_duration_s'][c]:>10.2f} {_or_dash(s['mean_period_s'][c], 7, 3)} "
                      f"{s['peak_psa_g'][c]:>13.3f} at {s['spectral_peak_period_s'][c]:.2f}")
     if s["flaws"]:
         lines.extend(f"flaw: {f}" for f in s["flaws"])
