@@ -307,7 +307,8 @@ def plot_fragility(curves: dict[str, FragilityCurve], path: str | os.PathLike, l
         n = np.maximum(curve.n_total, 1)
         centre = (p + zq ** 2 / (2 * n)) / (1 + zq ** 2 / n)
         half = zq * np.sqrt(p * (1 - p) / n + zq ** 2 / (4 * n ** 2)) / (1 + zq ** 2 / n)
-        ax.errorbar(curve.pga / STANDARD_GRAVITY, p, yerr=[p - (centre - half), centre + half - p], fmt="o",
+        dodge = (k - (len(curves) - 1) / 2) * 0.012 * a_max / STANDARD_GRAVITY  # keep the bars apart
+        ax.errorbar(curve.pga / STANDARD_GRAVITY + dodge, p, yerr=[p - (centre - half), centre + half - p], fmt="o",
                     color=color, capsize=3, ms=5, label=f"{curve.controller}: fraction of runs (90 % CI)")
         if curve.fit.fitted:
             ax.plot(grid / STANDARD_GRAVITY, curve.fit.probability(grid), "-", color=color,
