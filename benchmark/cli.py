@@ -37,8 +37,18 @@ EXIT_INTERRUPTED = 130
 
 
 def build_parser() -> argparse.ArgumentParser:
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one ``sbib: error: ...`` line (exit status 2),
+    like every other input error, instead of the usage block followed by the message.
+    Sub-command parsers inherit the class (``add_subparsers`` uses the parent's type)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        where = "" if self.prog == "sbib" else f"{self.prog}: "
+        self.exit(EXIT_INPUT_ERROR, f"sbib: error: {where}{message} (see '{self.prog} --help')\n")
+
+
     """Return the ``sbib`` argument parser with every registered sub-command."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="sbib",
         description="Smart base-isolated benchmark building with MR dampers: simulation, "
                     "semi-active control and damper identification.")
@@ -65,6 +75,23 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"sbib: error: {exc}", file=sys.stderr)
         return EXIT_INPUT_ERROR
     except KeyboardInterrupt:
+    except BrokenPipeError:  # output piped into `head` and the like: stop quietly
+        _silence_stdout()
+        return 0
+    except OSError as exc:  # an output path that cannot be created or written (the message names it)
+        print(f"sbib: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT_ERROR
         print("sbib: interrupted; finished result files are complete, unfinished ones were removed",
               file=sys.stderr)
         return EXIT_INTERRUPTED
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that the interpreter's final flush raises no second error."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # stdout replaced by an object without a descriptor (tests)
+        pass
