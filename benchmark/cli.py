@@ -36,7 +36,6 @@ EXIT_NUMERICAL_ERROR = 3
 EXIT_INTERRUPTED = 130
 
 
-def build_parser() -> argparse.ArgumentParser:
 class _Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one ``sbib: error: ...`` line (exit status 2),
     like every other input error, instead of the usage block followed by the message.
@@ -47,6 +46,7 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT_ERROR, f"sbib: error: {where}{message} (see '{self.prog} --help')\n")
 
 
+def build_parser() -> argparse.ArgumentParser:
     """Return the ``sbib`` argument parser with every registered sub-command."""
     parser = _Parser(
         prog="sbib",
@@ -74,13 +74,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (InputError, SbibError) as exc:
         print(f"sbib: error: {exc}", file=sys.stderr)
         return EXIT_INPUT_ERROR
-    except KeyboardInterrupt:
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         _silence_stdout()
         return 0
     except OSError as exc:  # an output path that cannot be created or written (the message names it)
         print(f"sbib: error: {exc}", file=sys.stderr)
         return EXIT_INPUT_ERROR
+    except KeyboardInterrupt:
         print("sbib: interrupted; finished result files are complete, unfinished ones were removed",
               file=sys.stderr)
         return EXIT_INTERRUPTED
