@@ -43,9 +43,9 @@ def _pyplot():
     return plt
 
 
-def _save(fig, path: Path) -> Path:
+def _save(fig, path: Path, dpi: int = 90) -> Path:
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=90)
+        fig.savefig(tmp, dpi=dpi)
     _pyplot().close(fig)
     return path
 
@@ -57,8 +57,9 @@ def _forces(diagnosis):
     return before, after
 
 
-def plot_residual_trace(diagnosis, path) -> Path:
-    """Residual against each traced variable, before and after (held-out samples)."""
+def plot_residual_trace(diagnosis, path, max_points: int = _MAX_POINTS, dpi: int = 90) -> Path:
+    """Residual against each traced variable, before and after (held-out samples; at most
+    ``max_points`` random samples are drawn as dots, the binned means use all)."""
     plt = _pyplot()
     data = diagnosis.data
     before, after = _forces(diagnosis)
@@ -69,7 +70,7 @@ def plot_residual_trace(diagnosis, path) -> Path:
     signals["sign"] = np.where(signals["velocity"] > 0, 1.0, -1.0)
     signals["loop"] = signals["displacement"]
     n = r_before.size
-    pick = np.arange(n) if n <= _MAX_POINTS else np.random.default_rng(0).choice(n, _MAX_POINTS, replace=False)
+    pick = np.arange(n) if n <= max_points else np.random.default_rng(0).choice(n, max_points, replace=False)
     fig, axes = plt.subplots(2, 4, figsize=(16, 7.5))
     unit = data.input_unit
     for ax, var in zip(axes.ravel(), TRACE_VARIABLES):
@@ -104,7 +105,7 @@ def plot_residual_trace(diagnosis, path) -> Path:
     fig.suptitle(f"Held-out residual: {diagnosis.model_kind} model (grey, black line = binned mean) "
                  f"and after adding {effects} (blue, red line)", fontsize=11)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
-    return _save(fig, Path(path))
+    return _save(fig, Path(path), dpi)
 
 
 def _grid(n: int):
@@ -141,7 +142,7 @@ def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
     return _save(fig, Path(path))
 
 
-def plot_loops(diagnosis, path, max_tests: int = 6) -> Path:
+def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
     """Force-displacement and force-velocity loops of each test (held-out part)."""
     plt = _pyplot()
     data = diagnosis.data
@@ -163,7 +164,7 @@ def plot_loops(diagnosis, path, max_tests: int = 6) -> Path:
         axes[0, j].set_title(m.name, fontsize=10)
     axes[0, 0].legend(fontsize=8)
     fig.tight_layout()
-    return _save(fig, Path(path))
+    return _save(fig, Path(path), dpi)
 
 
 def _fmt_params(params: dict) -> str:
