@@ -207,3 +207,23 @@ def test_measured_utfsm_data_one_current(shared_dir):
     assert 0.0 < d.error_before < 0.5
     doc = d.to_json()
     assert doc["unexplained"] == bool(doc["unexplained_in"])
+
+
+def test_extended_base_declares_stiffness_so_only_the_offset_is_added():
+    d = diagnose(sinusoidal_tests(_device(Stiffness(3e4), Offset(100.0)), noise=0.01, seed=8),
+                 model="extended")
+    assert d.effects == ["offset"]
+    assert d.final_model.base.kappa_x == pytest.approx(3e4, rel=0.05)
+    assert "stiffness" not in d.selection.rounds[0][0]
+
+
+def test_cli_validate_files_hold_out_whole_tests(tmp_path, capsys):
+    tests = sinusoidal_tests(_device(Offset(150.0)), motions=((0.01, 1.0), (0.004, 3.0), (0.006, 2.0)),
+                             noise=0.01, seed=9)
+    files = [str(write_csv(t, tmp_path / f"t{i}.csv")) for i, t in enumerate(tests)]
+    status = main(["diagnose", "--data", *files[:2], "--validate", files[2], "--json", "--quiet"])
+    assert status == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert [e["name"] for e in doc["effects"]] == ["offset"]
+    assert list(doc["errors_by_test"]) == ["6mm 2Hz 0V"]
+    assert doc["settings"]["validated"] is True
