@@ -228,7 +228,7 @@ def _solve_sigma(w3: float, n: float, target: float) -> float:
 def closed_form(branches: Branches, model: str = "extended", n_method: str = "integral",
                 kappa_x_method: str = "inclination",
                 levels: tuple[float, float, float] = (0.5, 0.85, -0.5), max_iterations: int = 6,
-                strict: bool = True) -> ClosedFormResult:
+                strict: bool = True, check: bool = True) -> ClosedFormResult:
     """Closed-form parameters of the (extended) normalized Bouc-Wen model from the limit cycle.
 
     Parameters
@@ -255,6 +255,9 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
     strict : bool
         Raise :class:`InputError` when the excitation is too small for the plastic assumption
         (otherwise warn and return the biased estimate).
+    check : bool
+        Run the excitation check at all (:func:`~damper.identification.identify.identify_arrays`
+        runs its own, on the device's reading).
 
     Returns
     -------
@@ -416,5 +419,6 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
                       f"regression ({kappa_x_regression:.4g} N/m) differ by {100 * disagreement:.0f} %: "
                       "the branches are not plastic over most of the stroke (increase the amplitude)",
                       ExcitationWarning, stacklevel=2)
-    check_excitation(result.rho, result.sigma, result.n, stroke, strict=strict)
+    if check:
+        check_excitation(result.rho, result.sigma, result.n, stroke, strict=strict)
     return result

@@ -50,13 +50,13 @@ def free_parameters(model: str) -> tuple[str, ...]:
     return PARAMETER_NAMES if model == "extended" else PARAMETER_NAMES[1:]
 
 
-def make_model(model: str, parameters: dict[str, float]):
+def make_model(model: str, parameters: dict[str, float], **options):
     """The :class:`~damper.bouc_wen.ExtendedBoucWen` or :class:`~damper.bouc_wen.NormalizedBoucWen`
-    with constant ``parameters`` (SI)."""
+    with constant ``parameters`` (SI); ``options`` go to the class (e.g. ``substep_tolerance``)."""
     if model == "extended":
-        return ExtendedBoucWen(*(parameters[k] for k in PARAMETER_NAMES))
+        return ExtendedBoucWen(*(parameters[k] for k in PARAMETER_NAMES), **options)
     if model == "normalized":
-        return NormalizedBoucWen(*(parameters[k] for k in PARAMETER_NAMES[1:]))
+        return NormalizedBoucWen(*(parameters[k] for k in PARAMETER_NAMES[1:]), **options)
     raise InputError(f"model: expected one of {MODELS}, got {model!r}")
 
 
@@ -116,8 +116,10 @@ class RefinedFit:
 class _Problem:
     """Residuals of one test for one model, on scaled parameters q = p / p0."""
 
-    def __init__(self, model: str, t, x, xdot, force, window: np.ndarray, start: dict):
+    def __init__(self, model: str, t, x, xdot, force, window: np.ndarray, start: dict,
+                 substep_tolerance: float):
         self.model = model
+        self.options = {"substep_tolerance": substep_tolerance}
         self.free = free_parameters(model)
         self.t, self.x, self.xdot, self.force = t, x, xdot, force
         self.window = window
@@ -144,7 +146,7 @@ class _Problem:
     def simulate(self, q: np.ndarray) -> np.ndarray:
         self.nsim += 1
         try:
-            m = make_model(self.model, self.parameters(q))
+            m = make_model(self.model, self.parameters(q), **self.options)
         except ParameterError:
             return np.full(self.t.size, np.nan)
         return simulate(m, self.t, self.x, self.xdot, 0.0).force
@@ -160,13 +162,14 @@ class _Problem:
 def _fit(problem: _Problem, q0: np.ndarray, max_nfev: int | None):
     q0 = np.clip(q0, problem.lower + 1e-12, problem.upper - 1e-12)
     return least_squares(problem.residuals, q0, bounds=(problem.lower, problem.upper),
-                         method="trf", x_scale=1.0, diff_step=1e-5, xtol=1e-12, ftol=1e-12,
-                         gtol=1e-12, max_nfev=max_nfev)
+                         method="trf", x_scale=1.0, diff_step=1e-5, xtol=1e-10, ftol=1e-10,
+                         gtol=1e-10, max_nfev=max_nfev)
 
 
 def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
            cycles: list[Cycle], start: dict[str, float], model: str = "extended",
-           n_bootstrap: int = 0, seed: int = 0, max_nfev: int = 200) -> RefinedFit:
+           n_bootstrap: int = 0, seed: int = 0, max_nfev: int = 200,
+           substep_tolerance: float = 0.25) -> RefinedFit:
     """Refine the parameters of ``model`` jointly by nonlinear least squares.
 
     Parameters
@@ -184,6 +187,11 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
         Seed of the bootstrap resampling.
     max_nfev : int
         Cap on the residual evaluations of the main fit.
+    substep_tolerance : float
+        Sub-step size of the model's integrator during the search (see
+        :class:`~damper.bouc_wen.NormalizedBoucWen`). The default 0.25 is 2–3 times faster
+        than the model default 0.05 and changes the force by about 2e-7 relative on the
+        virtual damper's tests; the returned model and ``force`` use the model default.
 
     Returns
     -------
@@ -209,7 +217,7 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
     owner = np.full(window.size, -1)
     for j, c in enumerate(cycles):
         owner[c.start - window[0]: c.end - window[0] + 1] = j
-    problem = _Problem(model, t, x, xdot, force, window, start)
+    problem = _Problem(model, t, x, xdot, force, window, start, substep_tolerance)
     q_start = np.ones(len(problem.free))
     r0 = problem.residuals(q_start)
     if np.all(r0 == 1e3):
@@ -220,7 +228,7 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
     q = sol.x
     params = problem.parameters(q)
     fitted = make_model(model, params)
-    f_fit = problem.simulate(q)
+    f_fit = simulate(fitted, t, x, xdot, 0.0).force
 
     # Jacobian-based covariance in physical units.
     m, p = window.size, q.size

@@ -1,0 +1,265 @@
+"""Figures of the identification study, regenerating the seed paper's for this project.
+
+* :func:`plot_loops` — Fig. 1: force–displacement and force–velocity loops of the device under
+  test (dashed) and of the identified models (solid).
+* :func:`plot_inclination` — Fig. 2: the force–displacement loop and its average inclination
+  :math:`\\kappa_x`.
+* :func:`plot_elastic_removed` — Fig. 3: force–velocity loop of :math:`F` and of
+  :math:`F - \\kappa_x x`.
+* :func:`plot_test_signals` — Fig. 6: displacement and force of constant-voltage tests.
+* :func:`plot_parameters_vs_voltage` — Fig. 8: identified parameters over the voltage grid with
+  the fitted laws.
+* :func:`plot_force_errors` — Fig. 11: force-error histories of one earthquake run, extended
+  (above) versus normalized (below).
+* :func:`plot_fit` — a measured test, the fitted model and the force error (one per file).
+
+All figures use the Agg backend and are written atomically as PNG.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Sequence
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from benchmark.atomic import atomic_path  # noqa: E402
+from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
+
+__all__ = ["plot_loops", "plot_inclination", "plot_elastic_removed", "plot_test_signals",
+           "plot_parameters_vs_voltage", "plot_force_errors", "plot_fit", "plot_parameters_vs_level"]
+
+_COLORS = {"normalized": "tab:blue", "extended": "tab:red"}
+_UNITS = {"kappa_x": ("kN/m", 1e-3), "kappa_xdot": ("kN s/m", 1e-3), "kappa_w": ("kN", 1e-3),
+          "rho": ("1/m", 1.0), "sigma": ("-", 1.0), "n": ("-", 1.0)}
+_SYMBOLS = {"kappa_x": r"$\kappa_x$", "kappa_xdot": r"$\kappa_{\dot x}$", "kappa_w": r"$\kappa_w$",
+            "rho": r"$\rho$", "sigma": r"$\sigma$", "n": r"$n$"}
+
+
+def _save(fig, path) -> Path:
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def plot_loops(identifications: dict, path, title: str = "") -> Path:
+    """Fig. 1: loops of the test (dashed) and of each identified model (solid), kN vs m, m/s.
+
+    ``identifications``: ``model name -> Identification`` of the same test.
+    """
+    first = next(iter(identifications.values()))
+    w = first.window
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for ax, xs, label in ((a1, first.x[w], "Displacement (m)"), (a2, first.xdot[w], "Velocity (m/s)")):
+        ax.plot(xs, first.force[w] * 1e-3, "k--", lw=1.4, label="device under test")
+        for m, ident in identifications.items():
+            ax.plot(xs, ident.fit.force[w] * 1e-3, color=_COLORS.get(m), lw=1.0,
+                    label=f"{m} Bouc-Wen (err {100 * ident.errors['rel_rms_error']:.2f} %)")
+        ax.set_xlabel(label)
+        ax.set_ylabel("Force (kN)")
+        ax.grid(alpha=0.3)
+    a1.legend(fontsize=8, loc="upper left")
+    fig.suptitle(title or f"Loops at {first.level:g} {first.level_unit} (cf. seed Fig. 1)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_inclination(ident, path) -> Path:
+    """Fig. 2: force–displacement loop and its average inclination (the closed-form :math:`\\kappa_x`)."""
+    w = ident.window
+    cf = ident.closed_form
+    x = ident.x[w]
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    ax.plot(x, ident.force[w] * 1e-3, "k-", lw=1.0, label="device under test")
+    xs = np.array([x.min(), x.max()])
+    k = cf.kappa_x_inclination
+    offset = cf.force_offset
+    ax.plot(xs, (k * xs + offset) * 1e-3, "r-", lw=2,
+            label=fr"average inclination $\kappa_x$ = {k * 1e-3:.1f} kN/m")
+    rise = k * x.max()
+    ax.annotate(f"{rise * 1e-3:.1f} kN over {x.max():.2g} m", (x.max() * 0.55, (k * x.max() * 0.55 + offset) * 1e-3),
+                xytext=(x.max() * 0.05, (k * x.max() + 0.6 * cf.kappa_w_plastic) * 1e-3),
+                arrowprops=dict(arrowstyle="->"), fontsize=9)
+    ax.set_xlabel("Displacement (m)")
+    ax.set_ylabel("Force (kN)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.set_title(f"Average inclination at {ident.level:g} {ident.level_unit} (cf. seed Fig. 2)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_elastic_removed(ident, path) -> Path:
+    """Fig. 3: force–velocity loop of :math:`F` (dashed) and :math:`F - \\kappa_x x` (solid)."""
+    w = ident.window
+    kx = ident.parameters["kappa_x"]
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    ax.plot(ident.xdot[w], ident.force[w] * 1e-3, "k--", lw=1.0, label=r"$F$")
+    ax.plot(ident.xdot[w], (ident.force[w] - kx * ident.x[w]) * 1e-3, "b-", lw=1.2,
+            label=fr"$F - \kappa_x x$ ($\kappa_x$ = {kx * 1e-3:.1f} kN/m)")
+    ax.set_xlabel("Velocity (m/s)")
+    ax.set_ylabel("Force (kN)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    ax.set_title(f"Elastic part removed at {ident.level:g} {ident.level_unit} (cf. seed Fig. 3)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_test_signals(tests: Sequence, path, title: str = "Test signals (cf. seed Fig. 6)") -> Path:
+    """Fig. 6: force (left) and displacement (right) against time for each test."""
+    fig, axes = plt.subplots(len(tests), 2, figsize=(11, 3.0 * len(tests)), squeeze=False)
+    for (a_f, a_x), test in zip(axes, tests):
+        a_f.plot(test.time, test.force * 1e-3, "k-", lw=0.8)
+        a_x.plot(test.time, test.displacement, "k-", lw=0.8)
+        a_f.set_ylabel("Force (kN)")
+        a_x.set_ylabel("Displacement (m)")
+        for a in (a_f, a_x):
+            a.set_xlabel("Time (s)")
+            a.grid(alpha=0.3)
+        a_f.set_title(test.name, fontsize=9)
+    fig.suptitle(title)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_parameters_vs_voltage(grid, path) -> Path:
+    """Fig. 8: parameters against voltage (markers, with standard errors) and the fitted laws."""
+    v = grid.voltages
+    vf = np.linspace(v.min(), v.max(), 301)
+    fig, axes = plt.subplots(2, 3, figsize=(13, 7))
+    for ax, name in zip(axes.ravel(), PARAMETER_NAMES):
+        unit, scale = _UNITS[name]
+        for m in grid.identifications:
+            j = PARAMETER_NAMES.index(name)
+            if name == "kappa_x" and m == "normalized":
+                continue
+            vals = grid.table(m)[:, j] * scale
+            errs = grid.standard_errors(m)[:, j] * scale
+            c = _COLORS.get(m)
+            ax.errorbar(v, vals, yerr=errs, fmt="o", color=c, ms=4, capsize=2, label=f"{m}")
+            laws = grid.laws[m]
+            if name in laws["seed"]:
+                ax.plot(vf, laws["seed"][name].law(vf) * scale, "-", color=c, lw=1.2,
+                        label=f"seed law (rms {100 * laws['seed'][name].rms_error:.1f} %)")
+                ax.plot(vf, laws["generic"][name].law(vf) * scale, ":", color=c, lw=1.2,
+                        label=f"PCHIP (LOO {100 * laws['generic'][name].rms_error:.1f} %)")
+        ax.set_title(f"{_SYMBOLS[name]} [{unit}]")
+        ax.set_xlabel("Voltage (V)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=6.5)
+    fig.suptitle("Identified parameters versus voltage and fitted laws (cf. seed Fig. 8, eq. 5-10)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_force_errors(run, path, device: int | None = None) -> Path:
+    """Fig. 11: force error of one damper, extended model (above) and normalized model (below).
+
+    ``device`` defaults to the damper with the largest peak force in the run.
+    """
+    if device is None:
+        device = int(np.argmax(np.max(np.abs(run.force), axis=0)))
+    models = [m for m in ("extended", "normalized") if m in run.predicted]
+    lagged = {m: m + "+lag" for m in models if m + "+lag" in run.predicted}
+    fig, axes = plt.subplots(len(models) + 1, 1, figsize=(10, 2.6 * (len(models) + 1)), sharex=True)
+    limit = 0.0
+    for ax, m in zip(axes, models):
+        err = (run.force[:, device] - run.predicted[m][:, device]) * 1e-3
+        limit = max(limit, float(np.max(np.abs(err))))
+        e = run.errors[m]
+        ax.plot(run.t, err, color=_COLORS[m], lw=0.7, label="commanded voltage (as the seed)")
+        title = (f"{m}: rel. RMS {100 * e['rel_rms_error']:.1f} %, peak {100 * e['peak_error']:.0f} %, "
+                 f"energy {100 * e['energy_error']:.1f} %")
+        if m in lagged:
+            err_l = (run.force[:, device] - run.predicted[lagged[m]][:, device]) * 1e-3
+            el = run.errors[lagged[m]]
+            ax.plot(run.t, err_l, color="k", lw=0.6, alpha=0.8, label="with identified field lag")
+            title += (f"  |  +lag: {100 * el['rel_rms_error']:.1f} %, {100 * el['peak_error']:.0f} %, "
+                      f"{100 * el['energy_error']:.1f} %")
+            ax.legend(fontsize=7, loc="upper right")
+        ax.set_ylabel("Force error (kN)")
+        ax.set_title(title + " (all dampers)", fontsize=8.5)
+        ax.grid(alpha=0.3)
+    for ax in axes[:-1]:
+        ax.set_ylim(-1.1 * limit, 1.1 * limit)
+    ax = axes[-1]
+    ax.plot(run.t, run.force[:, device] * 1e-3, "k-", lw=0.7, label="force (kN)")
+    ax2 = ax.twinx()
+    ax2.plot(run.t, run.voltage[:, device], color="tab:green", lw=0.4, alpha=0.6)
+    ax2.set_ylabel("Voltage (V)", color="tab:green")
+    ax.set_ylabel("Device force (kN)")
+    ax.set_xlabel("Time (s)")
+    ax.grid(alpha=0.3)
+    fig.suptitle(f"Damper force errors, {run.record} {run.orientation}, damper {device + 1} "
+                 "(cf. seed Fig. 11)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_fit(ident, path, held_out: Sequence = ()) -> Path:
+    """A test, the fitted model and the force error; ``held_out``: (name, t, force, predicted) tuples."""
+    w = ident.window
+    rows = 2 if not held_out else 3
+    fig = plt.figure(figsize=(12, 3.4 * rows))
+    a1 = fig.add_subplot(rows, 2, 1)
+    a2 = fig.add_subplot(rows, 2, 2)
+    a1.plot(ident.x[w] * 1e3, ident.force[w], "k--", lw=1.0, label="measured")
+    a1.plot(ident.x[w] * 1e3, ident.fit.force[w], color=_COLORS.get(ident.model_name), lw=1.0,
+            label=f"{ident.model_name} Bouc-Wen")
+    a2.plot(ident.xdot[w] * 1e3, ident.force[w], "k--", lw=1.0)
+    a2.plot(ident.xdot[w] * 1e3, ident.fit.force[w], color=_COLORS.get(ident.model_name), lw=1.0)
+    a1.set_xlabel("Displacement (mm)")
+    a2.set_xlabel("Velocity (mm/s)")
+    for a in (a1, a2):
+        a.set_ylabel("Force (N)")
+        a.grid(alpha=0.3)
+    a1.legend(fontsize=8)
+    a3 = fig.add_subplot(rows, 1, 2)
+    a3.plot(ident.t, ident.force - ident.fit.force, "k-", lw=0.6)
+    a3.axvspan(ident.t[w.start], ident.t[w.stop - 1], color="tab:orange", alpha=0.1, label="fit window")
+    e = ident.errors
+    a3.set_title(f"force error: rel. RMS {100 * e['rel_rms_error']:.2f} %, peak {100 * e['peak_error']:.1f} %",
+                 fontsize=9)
+    a3.set_xlabel("Time (s)")
+    a3.set_ylabel("Error (N)")
+    a3.grid(alpha=0.3)
+    a3.legend(fontsize=8)
+    if held_out:
+        a4 = fig.add_subplot(rows, 1, 3)
+        for name, t, f, g in held_out:
+            rel = np.linalg.norm(f - g) / np.linalg.norm(f)
+            a4.plot(t, f - g, lw=0.6, label=f"{name} (held out, rel. RMS {100 * rel:.1f} %)")
+        a4.set_xlabel("Time (s)")
+        a4.set_ylabel("Error (N)")
+        a4.grid(alpha=0.3)
+        a4.legend(fontsize=7)
+    fig.suptitle(f"{ident.name}: {ident.model_name} model at {ident.level:g} {ident.level_unit}")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_parameters_vs_level(summaries: Sequence[dict], path, unit: str = "A") -> Path:
+    """Parameters of many tests against their current/voltage (``Identification.summary()`` dicts)."""
+    fig, axes = plt.subplots(2, 3, figsize=(13, 7))
+    for ax, name in zip(axes.ravel(), PARAMETER_NAMES):
+        for m in ("normalized", "extended"):
+            pts = [(s["level"], s["parameters"][name], s["standard_error"][name]) for s in summaries
+                   if s["model"] == m and s["level"] is not None]
+            if not pts or (name == "kappa_x" and m == "normalized"):
+                continue
+            lv, val, err = map(np.array, zip(*pts))
+            ax.errorbar(lv, val, yerr=err, fmt="o", color=_COLORS[m], ms=4, alpha=0.7, capsize=2, label=m)
+        ax.set_title(_SYMBOLS[name])
+        ax.set_xlabel(f"Current ({unit})" if unit == "A" else f"Voltage ({unit})")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("Identified parameters per test")
+    fig.tight_layout()
+    return _save(fig, path)

@@ -1,0 +1,322 @@
+"""Identification over a voltage grid and the voltage laws fitted to the parameter table.
+
+At each voltage of a grid (default 0, 0.1, …, 1 V, the seed paper's Table 1) a periodic test
+is run on the device through :func:`damper.laboratory.periodic_test` and identified with
+:func:`~damper.identification.identify.identify`. The resulting table (parameters per model
+and voltage) is then fitted with
+
+* the seed paper's laws (Bahar et al. 2009, eq. 5–10): :math:`\\kappa_x` constant (5),
+  :math:`\\kappa_{\\dot x} = a + b v` (6), :math:`n = a + b e^{-13 v}` (7),
+  :math:`\\rho = a + b e^{-14 v}` (8), :math:`\\sigma = a + b e^{-14 v}` (9) and the three-region
+  :math:`\\kappa_w` law (10) (:class:`~damper.voltage_laws.SeedKappaW`), each by linear least
+  squares (the exponents 13 and 14 are the paper's, fixed);
+* the generic law of :mod:`damper.voltage_laws`: the shape-preserving cubic through the table
+  (:class:`~damper.voltage_laws.Tabulated`); it interpolates, so its error is reported by
+  leave-one-out cross-validation.
+
+Fit errors: RMS and maximum of the relative residual at the grid voltages. A seed law that
+leaves the admissible class somewhere in [0, 1] V (e.g. :math:`\\sigma < 1/2`) is replaced by
+the generic law in the voltage-dependent model, and the replacement is reported.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from benchmark.errors import InputError, ParameterError
+from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.identification.closed_form import MODELS, PARAMETER_NAMES
+from damper.identification.identify import Identification, identify
+from damper.identification.refine import free_parameters
+from damper.voltage_laws import (Constant, Exponential, Polynomial, SeedKappaW, Tabulated,
+                                 VoltageLaw, check_law)
+
+__all__ = ["TestProtocol", "LawFit", "VoltageGridResult", "identify_voltage_grid",
+           "fit_voltage_laws", "voltage_model", "DEFAULT_VOLTAGES"]
+
+#: The seed paper's grid (Table 1): 0, 0.1, ..., 1 V.
+DEFAULT_VOLTAGES = tuple(np.round(np.linspace(0.0, 1.0, 11), 10))
+
+
+@dataclass(frozen=True)
+class TestProtocol:
+    """A constant-voltage periodic test (arguments of :func:`damper.laboratory.periodic_test`).
+
+    The default drives the device with ±0.1 m at 0.5 Hz (±0.31 m/s): the displacements and
+    velocities the dampers see in the benchmark's earthquake runs (peaks 0.1–0.3 m and up to
+    1 m/s, RMS a few cm), with :math:`\\rho(X_{max} - X_{min})` well above the plastic threshold
+    for a device whose transition length is a centimetre; three cycles (the first is
+    discarded as transient), 1 kHz sampling. The seed paper's large loop (±0.4 m, 0.8 Hz,
+    Fig. 1–3) is :data:`damper.identification.study.LARGE_LOOP_PROTOCOL`; identified on it the
+    models reproduce that loop better and the earthquake runs worse (see the study's report).
+    """
+
+    __test__ = False  # not a pytest class
+
+    amplitude: float = 0.1
+    frequency: float = 0.5
+    cycles: float = 3.0
+    sample_rate: float = 1000.0
+    noise: float = 0.0
+    seed: int = 0
+
+    def run(self, device, voltage: float):
+        """Run the test on ``device`` at ``voltage`` [V] through the virtual laboratory."""
+        from damper.laboratory import periodic_test
+        return periodic_test(device, self.amplitude, self.frequency, voltage, cycles=self.cycles,
+                             sample_rate=self.sample_rate, noise=self.noise, seed=self.seed)
+
+
+@dataclass(frozen=True)
+class LawFit:
+    """A voltage law fitted to one parameter column.
+
+    Attributes
+    ----------
+    parameter : str
+    family : str
+        ``"seed"`` (eq. 5–10) or ``"generic"`` (PCHIP table).
+    law : VoltageLaw
+    formula : str
+        Human-readable law.
+    coefficients : list of float
+    rms_error, max_error : float
+        Relative residuals at the grid voltages (leave-one-out for the generic law).
+    """
+
+    parameter: str
+    family: str
+    law: VoltageLaw = field(repr=False)
+    formula: str
+    coefficients: list
+    rms_error: float
+    max_error: float
+
+    def to_dict(self) -> dict:
+        return {"family": self.family, "formula": self.formula, "coefficients": self.coefficients,
+                "rms_error": self.rms_error, "max_error": self.max_error}
+
+
+@dataclass
+class VoltageGridResult:
+    """Identification results over the voltage grid.
+
+    Attributes
+    ----------
+    voltages : ndarray
+        Grid [V].
+    identifications : dict
+        ``model -> list of Identification`` (one per voltage).
+    laws : dict
+        ``model -> {"seed": {param: LawFit}, "generic": {param: LawFit}}``.
+    models : dict
+        ``model -> {"seed": model object, "generic": model object}``: the voltage-dependent
+        identified models (seed laws, with generic replacements noted in ``notes``).
+    notes : list of str
+    protocol : TestProtocol
+    """
+
+    voltages: np.ndarray
+    identifications: dict
+    laws: dict
+    models: dict
+    notes: list
+    protocol: TestProtocol
+
+    def table(self, model: str) -> np.ndarray:
+        """Parameters per voltage, shape (n_voltages, 6), columns :data:`PARAMETER_NAMES`."""
+        return np.array([[ident.parameters[k] for k in PARAMETER_NAMES]
+                         for ident in self.identifications[model]])
+
+    def standard_errors(self, model: str) -> np.ndarray:
+        """Jacobian standard errors, same shape as :meth:`table`."""
+        return np.array([[ident.fit.standard_error[k] for k in PARAMETER_NAMES]
+                         for ident in self.identifications[model]])
+
+    def rows(self) -> list[dict]:
+        """One dict per (model, voltage): parameters, standard errors, fit errors (for CSV)."""
+        out = []
+        for model, idents in self.identifications.items():
+            for v, ident in zip(self.voltages, idents):
+                row = {"model": model, "voltage": float(v)}
+                row.update({k: ident.parameters[k] for k in PARAMETER_NAMES})
+                row.update({f"{k}_std": ident.fit.standard_error[k] for k in PARAMETER_NAMES})
+                row.update({k: ident.errors[k] for k in ("rel_rms_error", "peak_error", "energy_error")})
+                row["rho_stroke"] = ident.summary()["rho_stroke"]
+                out.append(row)
+        return out
+
+    def laws_json(self) -> dict:
+        """The fitted laws and their errors, JSON-ready."""
+        return {model: {family: {p: fit.to_dict() for p, fit in fits.items()}
+                        for family, fits in families.items()}
+                for model, families in self.laws.items()} | {"notes": list(self.notes)}
+
+
+def _relative_residuals(values: np.ndarray, fitted: np.ndarray) -> np.ndarray:
+    scale = np.maximum(np.abs(values), 1e-12 * max(np.max(np.abs(values)), 1e-300))
+    return (fitted - values) / scale
+
+
+def _lsq(columns: list[np.ndarray], values: np.ndarray) -> np.ndarray:
+    return np.linalg.lstsq(np.column_stack(columns), values, rcond=None)[0]
+
+
+def _seed_fit(name: str, v: np.ndarray, y: np.ndarray) -> tuple[VoltageLaw, str, list]:
+    """Seed law (eq. 5–10) for parameter ``name`` by linear least squares."""
+    if name == "kappa_x":
+        c = float(np.mean(y))
+        return Constant(c), "kappa_x(v) = c", [c]
+    if name == "kappa_xdot":
+        a, b = _lsq([np.ones_like(v), v], y)
+        return Polynomial((a, b)), "kappa_xdot(v) = a + b v", [float(a), float(b)]
+    if name in ("n", "rho", "sigma"):
+        rate = 13.0 if name == "n" else 14.0
+        a, b = _lsq([np.ones_like(v), np.exp(-rate * v)], y)
+        return (Exponential(a, b, rate), f"{name}(v) = a + b exp(-{rate:g} v)",
+                [float(a), float(b), rate])
+    if name == "kappa_w":
+        k = np.zeros(9)
+        regions = [(v <= 0.3 + 1e-9, [lambda u: np.ones_like(u), lambda u: u ** 1.15], slice(0, 2)),
+                   ((v >= 0.3 - 1e-9) & (v <= 0.7 + 1e-9),
+                    [lambda u: np.ones_like(u), lambda u: np.sin(np.pi * (u - 0.3) / 0.8),
+                     lambda u: np.sin(3 * np.pi * (u - 0.3) / 0.8)], slice(2, 5)),
+                   (v >= 0.7 - 1e-9, [lambda u: np.ones_like(u), lambda u: u, lambda u: u ** 3,
+                                      lambda u: u ** 5], slice(5, 9))]
+        for mask, basis, sl in regions:
+            if np.count_nonzero(mask) == 0:
+                raise InputError("voltage grid: the seed's kappa_w law needs voltages in each of "
+                                 "[0, 0.3], [0.3, 0.7] and [0.7, 1] V")
+            k[sl] = _lsq([b(v[mask]) for b in basis], y[mask])
+        return (SeedKappaW(tuple(float(c) for c in k)),
+                "kappa_w(v) = k1 + k2 v^1.15 (v<=0.3); k3 + k4 sin(pi(v-0.3)/0.8) + "
+                "k5 sin(3pi(v-0.3)/0.8) (0.3-0.7); k6 + k7 v + k8 v^3 + k9 v^5 (v>=0.7)",
+                [float(c) for c in k])
+    raise InputError(f"parameter: unknown name {name!r}")
+
+
+def fit_voltage_laws(voltages: Sequence[float], table: np.ndarray,
+                     parameters: Sequence[str] = PARAMETER_NAMES) -> dict[str, dict[str, LawFit]]:
+    """Fit the seed laws (eq. 5–10) and the generic tabulated law to a parameter table.
+
+    Parameters
+    ----------
+    voltages : sequence of float
+        Grid [V], strictly increasing, at least 3 values.
+    table : ndarray, shape (n_voltages, len(parameters))
+        Identified parameter values (SI).
+    parameters : sequence of str
+        Column names (from :data:`PARAMETER_NAMES`).
+
+    Returns
+    -------
+    dict
+        ``{"seed": {name: LawFit}, "generic": {name: LawFit}}``.
+    """
+    v = np.asarray(voltages, dtype=float)
+    table = np.asarray(table, dtype=float)
+    if v.ndim != 1 or v.size < 3 or np.any(np.diff(v) <= 0):
+        raise InputError(f"voltages: expected at least 3 strictly increasing values, got {v}")
+    if table.shape != (v.size, len(parameters)):
+        raise InputError(f"table: expected shape {(v.size, len(parameters))}, got {table.shape}")
+    out: dict[str, dict[str, LawFit]] = {"seed": {}, "generic": {}}
+    for j, name in enumerate(parameters):
+        y = table[:, j]
+        law, formula, coef = _seed_fit(name, v, y)
+        res = _relative_residuals(y, law(v))
+        out["seed"][name] = LawFit(name, "seed", law, formula, coef,
+                                   float(np.sqrt(np.mean(res ** 2))), float(np.max(np.abs(res))))
+        # Generic: PCHIP through the table; leave-one-out error at the interior nodes.
+        loo = []
+        for i in range(1, v.size - 1):
+            keep = np.arange(v.size) != i
+            loo.append(float(Tabulated(tuple(v[keep]), tuple(y[keep]))(v[i])))
+        res = _relative_residuals(y[1:-1], np.array(loo))
+        out["generic"][name] = LawFit(name, "generic", Tabulated(tuple(v), tuple(y)),
+                                      "PCHIP through the identified values", [float(c) for c in y],
+                                      float(np.sqrt(np.mean(res ** 2))), float(np.max(np.abs(res))))
+    return out
+
+
+_ADMISSIBLE = {"kappa_x": (0.0, False), "kappa_xdot": (0.0, True), "kappa_w": (0.0, True),
+               "rho": (0.0, True), "sigma": (0.5, False), "n": (1.0, False)}
+
+
+def voltage_model(model: str, laws: dict[str, LawFit], fallback: dict[str, LawFit] | None = None,
+                  notes: list | None = None, voltage_range: tuple[float, float] = (0.0, 1.0)):
+    """The voltage-dependent :class:`ExtendedBoucWen`/:class:`NormalizedBoucWen` from fitted laws.
+
+    A law that leaves the admissible class somewhere in ``voltage_range`` (checked with
+    :func:`damper.voltage_laws.check_law`) is replaced by the same parameter's ``fallback`` law,
+    and a note is appended to ``notes``.
+    """
+    names = free_parameters(model)
+    chosen = {}
+    for k in names:
+        law = laws[k].law
+        lower, strict = _ADMISSIBLE[k]
+        try:
+            check_law(law, k, voltage_range, lower=lower, strict=strict)
+        except ParameterError as exc:
+            if fallback is None:
+                raise
+            law = fallback[k].law
+            if notes is not None:
+                notes.append(f"{model}: the {laws[k].family} law for {k} leaves the admissible class "
+                             f"({exc}); the {fallback[k].family} law is used for it")
+        chosen[k] = law
+    cls = ExtendedBoucWen if model == "extended" else NormalizedBoucWen
+    return cls(*(chosen[k] for k in names), voltage_range=voltage_range)
+
+
+def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
+                          models: Sequence[str] = MODELS, protocol: TestProtocol = TestProtocol(),
+                          progress: Callable[[str], None] | None = None,
+                          n_bootstrap: int = 0) -> VoltageGridResult:
+    """Identify each model at each voltage of the grid and fit the voltage laws.
+
+    Parameters
+    ----------
+    device : damper model or str
+        The device under test, handed to :func:`damper.laboratory.periodic_test` (e.g.
+        ``"virtual"``); the identification never looks inside it.
+    voltages : sequence of float
+        Grid [V].
+    models : sequence of {"normalized", "extended"}
+    protocol : TestProtocol
+        The periodic test run at each voltage.
+    progress : callable, optional
+        Called with a short label after each identification (progress bars).
+    n_bootstrap : int
+        Cycle-bootstrap refits per identification.
+
+    Returns
+    -------
+    VoltageGridResult
+    """
+    v = np.asarray(voltages, dtype=float)
+    for m in models:
+        if m not in MODELS:
+            raise InputError(f"models: expected names from {MODELS}, got {m!r}")
+    identifications: dict[str, list[Identification]] = {m: [] for m in models}
+    for voltage in v:
+        test = protocol.run(device, float(voltage))
+        for m in models:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # kept in Identification.warnings
+                identifications[m].append(identify(test, model=m, n_bootstrap=n_bootstrap))
+            if progress is not None:
+                progress(f"{m} {voltage:.2f} V")
+    notes: list[str] = []
+    laws, fitted_models = {}, {}
+    for m in models:
+        table = np.array([[ident.parameters[k] for k in free_parameters(m)]
+                          for ident in identifications[m]])
+        laws[m] = fit_voltage_laws(v, table, free_parameters(m))
+        fitted_models[m] = {"seed": voltage_model(m, laws[m]["seed"], laws[m]["generic"], notes),
+                            "generic": voltage_model(m, laws[m]["generic"])}
+    return VoltageGridResult(v, identifications, laws, fitted_models, notes, protocol)
