@@ -29,7 +29,6 @@ COMMAND_MODULES: tuple[str, ...] = (
     "controllers.cli",
     "damper.cli",
     "damper.cli_diagnose",
-    "damper.cli_identify",
 )
 
 EXIT_INPUT_ERROR = 2
@@ -45,6 +44,16 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # type: ignore[override]
         where = "" if self.prog == "sbib" else f"{self.prog}: "
         self.exit(EXIT_INPUT_ERROR, f"sbib: error: {where}{message} (see '{self.prog} --help')\n")
+
+    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        namespace, extras = super().parse_known_args(args, namespace)
+        # Python 3.11's argparse turns "--option=--" into an empty list instead of an error.
+        for action in self._actions:
+            if (action.nargs is None and action.type is not None and action.option_strings
+                    and isinstance(getattr(namespace, action.dest, None), list)
+                    and not isinstance(action, argparse._AppendAction)):
+                self.error(f"argument {'/'.join(action.option_strings)}: expected one value")
+        return namespace, extras
 
 
 def build_parser() -> argparse.ArgumentParser:
