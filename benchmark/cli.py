@@ -29,6 +29,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "controllers.cli",
     "damper.cli",
     "damper.cli_diagnose",
+    "damper.cli_identify",
 )
 
 EXIT_INPUT_ERROR = 2
