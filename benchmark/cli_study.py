@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -19,5 +18,10 @@ def _run(args: argparse.Namespace) -> int:
     from benchmark.study import run_study
 
     summary = run_study(args.out, records_dir=args.records_dir, quick=args.quick)
-    print(json.dumps(summary, indent=2))
+    print(f"\nmain job finished in {summary['elapsed_s']:.1f} s; results in {args.out}/")
+    for name, step in summary["steps"].items():
+        where = step.get("output", "") if isinstance(step, dict) else ""
+        took = step.get("elapsed_s") if isinstance(step, dict) else None
+        print(f"  {name:<15} {'' if took is None else f'{took:7.1f} s'}  {where}")
+    print(f"summary: {args.out}/summary.json")
     return 0
