@@ -40,6 +40,10 @@ def atomic_path(destination: str | os.PathLike, suffix: str | None = None) -> It
                                 dir=destination.parent)
     os.close(fd)
     tmp = Path(name)
+    # mkstemp creates 0600; a result file should get the permissions any new file gets.
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
     try:
         yield tmp
         with open(tmp, "rb") as fh:

@@ -36,3 +36,14 @@ def test_cli_version(capsys):
         main(["--version"])
     assert exc.value.code == 0
     assert "sbib" in capsys.readouterr().out
+
+
+def test_atomic_write_respects_umask(tmp_path):
+    import os
+    import stat
+    old = os.umask(0o022)
+    try:
+        path = atomic_write_text(tmp_path / "r.txt", "x")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
