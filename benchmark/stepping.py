@@ -212,6 +212,24 @@ def _powers(nq, z, gb, gd, ag, Mg, Kq, Cq, Kb, Cb, momentum):
 
 
 @numba.njit(cache=True)
+def _compiled_control(k, ratio, nq, z, gb_out, gd_out, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd_out,
+                      noise, meas_range, Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt,
+                      xc, voltage, y, g_tot, fc, meas_out, desired_out):
+    """Measure at step k, store the measurement, and update the compiled controller's voltages."""
+    kc = k // ratio
+    nd = d_infl.shape[0]
+    for c in range(3):
+        g_tot[c] = gb_out[k, c] + gd_out[k, c]
+    measure(k, nq, z, g_tot, ag[k], C_acc, D_acc_g, D_acc_ag, d_infl, fd_out[k], noise[kc], meas_range, y)
+    for r in range(y.shape[0]):
+        meas_out[kc, r] = y[r]
+    for j in range(nd):
+        fc[j] = y[30 + nd + j]
+    return controller_update(Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt,
+                             y, fc, xc, voltage, desired_out[kc])
+
+
+@numba.njit(cache=True)
 def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
               b_xy, b_type, b_params, b_state,
               d_infl, d_model, d_params, d_state,
@@ -276,17 +294,9 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
         z0 = z_out[k]
         # ---- control step: measurement, compiled controller
         if ctrl_mode == 1 and k % ratio == 0:
-            kc = k // ratio
-            for c in range(3):
-                g_tot[c] = gb_out[k, c] + gd_out[k, c]
-            measure(k, nq, z0, g_tot, ag[k], C_acc, D_acc_g, D_acc_ag, d_infl, fd_out[k],
-                    noise[kc], meas_range, y)
-            for r in range(n_meas):
-                meas_out[kc, r] = y[r]
-            for j in range(nd):
-                fc[j] = y[30 + nd + j]
-            st = controller_update(Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt,
-                                   y, fc, xc, voltage, desired_out[kc])
+            st = _compiled_control(k, ratio, nq, z0, gb_out, gd_out, ag, C_acc, D_acc_g, D_acc_ag, d_infl,
+                                   fd_out, noise, meas_range, Ac, Bc, Cc, Dc, law_id, law_params, v_max,
+                                   slew_rate, ctrl_dt, xc, voltage, y, g_tot, fc, meas_out, desired_out)
             if st != 0:
                 return STATUS_CONTROLLER, k
         for j in range(nd):
@@ -456,4 +466,14 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
         dpow0 = dpow1
         hpow0 = hpow1
         devpow0 = devpow1
+    # The last sample of the record is a control step too: measure it (the voltage it yields
+    # is recorded for that sample only), as the pure-Python path does.
+    n = z_out.shape[0]
+    if ctrl_mode == 1 and k_stop == n - 1 and k_stop % ratio == 0:
+        st = _compiled_control(k_stop, ratio, nq, z_out[k_stop], gb_out, gd_out, ag, C_acc, D_acc_g,
+                               D_acc_ag, d_infl, fd_out, noise, meas_range, Ac, Bc, Cc, Dc, law_id,
+                               law_params, v_max, slew_rate, ctrl_dt, xc, voltage, y, g_tot, fc,
+                               meas_out, desired_out)
+        if st != 0:
+            return STATUS_CONTROLLER, k_stop
     return STATUS_OK, k_stop
