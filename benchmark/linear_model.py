@@ -49,8 +49,10 @@ Linearising the isolation (:func:`linear_model`, ``isolation=``)
     Harmonic (describing-function) linearisation: each distinct bearing is driven through the
     bearing kernel along :math:`u = a \\sin \\omega t` (x only, three cycles) and the last cycle's
     total force is fitted by :math:`k_{eq} u + c_{eq} \\dot u` in least squares (its first
-    harmonic): secant stiffness and energy-equivalent viscous damping at amplitude ``amplitude``
-    [m] and period ``period`` [s]. Exact for linear bearings.
+    harmonic): the describing-function stiffness (the in-phase part, between the post-yield and
+    the secant stiffness for a bilinear loop) and the energy-equivalent viscous damping
+    (:math:`\\pi c_{eq} \\omega a^2` = energy dissipated per cycle) at amplitude ``amplitude`` [m]
+    and period ``period`` [s]. Exact for linear bearings.
 """
 
 from __future__ import annotations
@@ -182,8 +184,8 @@ def equivalent_linear_bearing(bearing, amplitude: float, period: float,
     -------
     (k_eq, c_eq)
         Least-squares fit :math:`f \\approx k_{eq} u + c_{eq}\\dot u` over the third cycle of
-        :math:`u = a \\sin(2\\pi t/T)`: the secant stiffness and the viscous damping that
-        dissipates the same energy per cycle.
+        :math:`u = a \\sin(2\\pi t/T)`: the first-harmonic (describing-function) stiffness and the
+        viscous damping that dissipates the same energy per cycle.
     """
     if not (np.isfinite(amplitude) and amplitude > 0):
         raise InputError(f"amplitude: expected a positive displacement in m, got {amplitude!r}")
