@@ -8,7 +8,7 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``bench`` sub-command."""
+    """Add the ``bench`` sub-command to ``subparsers``."""
     p = subparsers.add_parser(
         "bench", help="measure speed, memory and scaling against targets and the solve_ivp reference",
         description="Time one 30-s run, compare it with the scipy solve_ivp reference, time the "

@@ -11,7 +11,7 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``ensemble`` sub-command."""
+    """Add the ``ensemble`` sub-command to ``subparsers``."""
     p = subparsers.add_parser(
         "ensemble", help="run an ensemble (records x controllers x grids x seeds) into one HDF5 file",
         description="Run the cases of an ensemble described in a TOML file (see examples/ensemble.toml) "

@@ -412,6 +412,11 @@ _RESOLVED: dict[str, Callable[[Case], dict[str, Any]]] = {}
 def resolve_run_function(spec: str | Callable[[Case], dict[str, Any]]) -> Callable[[Case], dict[str, Any]]:
     """Return the run function for a name in :data:`RUN_FUNCTIONS`, ``"module:function"`` or a callable.
 
+    Parameters
+    ----------
+    spec : str or callable
+        ``"simulation"``, ``"peaks"``, ``"probe"``, ``"package.module:function"`` or the function.
+
     Raises
     ------
     InputError
@@ -725,6 +730,19 @@ def write_hdf5(config: EnsembleConfig, cases: list[Case], entries: Mapping[str, 
     Rows are in case order, whatever order the runs finished in, so the file's datasets are
     the same for any number of processes. Returns ``True`` when every case has finished.
 
+    Parameters
+    ----------
+    config : EnsembleConfig
+        The ensemble (its TOML text and settings are stored as attributes).
+    cases : list of Case
+        ``config.cases()``.
+    entries : mapping of str to JournalEntry
+        Finished runs by case key (the journal's entries).
+    out : path-like
+        HDF5 file, replaced atomically.
+    run_label : str, optional
+        Run function label stored as an attribute (default ``config.run``).
+
     Raises
     ------
     InputError
@@ -837,7 +855,20 @@ class EnsembleResults:
 
 
 def read_ensemble(path: str | os.PathLike) -> EnsembleResults:
-    """Read an ensemble HDF5 file written by :func:`run_ensemble`."""
+    """Read an ensemble HDF5 file written by :func:`run_ensemble`.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``--out`` file of the ensemble.
+
+    Raises
+    ------
+    DataNotFoundError
+        If the file does not exist.
+    InputError
+        If it is not an ensemble file.
+    """
     import h5py
 
     from benchmark.errors import DataNotFoundError

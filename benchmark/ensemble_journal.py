@@ -65,7 +65,7 @@ class JournalEntry:
 
 
 def encode_result(result: dict[str, Any]) -> dict[str, Any]:
-    """Encode a result dict for JSON so that decoding gives bit-identical values."""
+    """Encode a ``result`` dict (metric → number or array) for JSON so that decoding gives bit-identical values."""
     encoded: dict[str, Any] = {}
     for name, value in result.items():
         if isinstance(value, np.ndarray) and value.ndim > 0:
@@ -82,7 +82,7 @@ def encode_result(result: dict[str, Any]) -> dict[str, Any]:
 
 
 def decode_result(encoded: dict[str, Any]) -> dict[str, Any]:
-    """Inverse of :func:`encode_result`."""
+    """Inverse of :func:`encode_result`: ``encoded`` (the JSON object of one run) → result dict."""
     result: dict[str, Any] = {}
     for name, value in encoded.items():
         if isinstance(value, dict) and "__ndarray__" in value:

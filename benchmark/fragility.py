@@ -246,7 +246,24 @@ def exceedance_counts(results: Any, controller: str, metric: str = "peak_base_di
 
 def fragility_curves(results: Any, controllers: Sequence[str] | None = None,
                      metric: str = "peak_base_displacement", limit: float = DEFAULT_LIMIT) -> dict[str, FragilityCurve]:
-    """Counts and lognormal fits for each controller of an ensemble (default: all)."""
+    """Counts and lognormal fits for each controller of an ensemble.
+
+    Parameters
+    ----------
+    results : benchmark.ensemble.EnsembleResults
+        A fragility ensemble read back (:func:`benchmark.ensemble.read_ensemble`).
+    controllers : sequence of str, optional
+        Which controllers (default: all, in the ensemble's order).
+    metric : str
+        Response metric compared with ``limit``.
+    limit : float
+        Threshold in the metric's SI unit (default 0.40 m).
+
+    Returns
+    -------
+    dict
+        Controller → :class:`FragilityCurve`.
+    """
     if controllers is None:
         controllers = list(dict.fromkeys(results.cases["controller"].tolist()))
     curves = {}
@@ -269,9 +286,20 @@ def fragility_config(controllers: Sequence[str] = ("passive-off", "clipped-optim
 
     Parameters
     ----------
+    controllers : sequence of str
+        Controllers compared (registry names).
+    templates : sequence of str
+        Benchmark records the synthetic motions imitate.
+    realisations : int
+        Synthetic realisations per template (the same motions for every controller and PGA).
     pga_g : sequence of float
         PGA levels in g (converted to m/s² here).
-    Other parameters as in :class:`benchmark.ensemble.EnsembleConfig`.
+    orientations : sequence of str
+        ``"FN-x"`` and/or ``"FP-x"``.
+    base_seed : int
+        Seed all case seeds derive from.
+    run : str
+        Run function (default ``"peaks"``: no uncontrolled runs).
     """
     from benchmark.ensemble import EnsembleConfig
 
@@ -288,7 +316,19 @@ def fragility_config(controllers: Sequence[str] = ("passive-off", "clipped-optim
 
 def plot_fragility(curves: dict[str, FragilityCurve], path: str | os.PathLike, limit: float = DEFAULT_LIMIT,
                    metric: str = "peak_base_displacement") -> Path:
-    """Plot empirical exceedance fractions (with 90 % Wilson intervals) and fitted curves (PNG, atomic)."""
+    """Plot empirical exceedance fractions (with 90 % Wilson intervals) and fitted curves (PNG, atomic).
+
+    Parameters
+    ----------
+    curves : dict
+        Controller → :class:`FragilityCurve` (:func:`fragility_curves`).
+    path : path-like
+        PNG file.
+    limit : float
+        The limit (for the axis label) in the metric's SI unit.
+    metric : str
+        The metric (for the axis label).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -344,6 +384,8 @@ def run_fragility(out: str | os.PathLike, limit: float = DEFAULT_LIMIT, metric: 
         Response metric.
     jobs : int
         Local worker processes.
+    progress : bool
+        Show a progress bar.
     config : EnsembleConfig, optional
         The ensemble; default :func:`fragility_config` with ``config_options``.
 

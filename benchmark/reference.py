@@ -43,7 +43,17 @@ __all__ = ["park_wen_rates", "group_force_and_rates", "ReferenceModel", "Referen
 
 
 def park_wen_rates(z: np.ndarray, v: np.ndarray, Y: float, A: float, beta: float, gamma: float) -> np.ndarray:
-    """Biaxial Park–Wen rates :math:`\\dot z`, vectorised over bearings: ``z``, ``v`` (n, 2) [-, m/s]."""
+    """Biaxial Park–Wen rates :math:`\\dot z`, vectorised over bearings.
+
+    Parameters
+    ----------
+    z, v : numpy.ndarray
+        Hysteretic states and bearing velocities (n, 2) [-, m/s].
+    Y : float
+        Yield displacement [m].
+    A, beta, gamma : float
+        Park–Wen shape parameters.
+    """
     zx, zy = z[:, 0], z[:, 1]
     vx, vy = v[:, 0], v[:, 1]
     gx = gamma * np.sign(vx * zx) + beta
@@ -262,7 +272,8 @@ class ReferenceModel:
 
 
 def reference_peaks(out: dict[str, np.ndarray], storey_heights: np.ndarray) -> dict[str, float]:
-    """Peaks of the reference's outputs, named as in :func:`kernel_peaks`."""
+    """Peaks of the reference's outputs ``out`` (:meth:`ReferenceModel.outputs`), named as in
+    :func:`kernel_peaks`; ``storey_heights`` (8,) [m] for the drift ratios."""
     rel = np.concatenate([np.zeros((len(out["floor_displacement"]), 1, 3)),
                           out["floor_displacement"].reshape(-1, 8, 3)], axis=1)
     drift = (rel[:, 1:, :2] - rel[:, :-1, :2]) / np.asarray(storey_heights)[None, :, None]
@@ -281,7 +292,7 @@ def reference_peaks(out: dict[str, np.ndarray], storey_heights: np.ndarray) -> d
 
 
 def kernel_peaks(result: Any) -> dict[str, float]:
-    """The same peaks from a :class:`benchmark.simulation.SimulationResult`.
+    """The same peaks from ``result``, a :class:`benchmark.simulation.SimulationResult`.
 
     ``floor_acceleration`` here is the superstructure's acceleration relative to the base frame
     :math:`-M^{-1}(K u_s + C \\dot u_s)` as the reference computes it (the kernel's absolute floor

@@ -233,8 +233,15 @@ def _max_relative_difference(a: dict[str, float], b: dict[str, float]) -> tuple[
 def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration: float = 30.0) -> list[BenchCase]:
     """``single-run`` and ``vs-solve_ivp`` (see the module docstring).
 
-    ``reference_duration`` [s]: length of the record of the comparison (30 s; shorter in quick runs,
-    where the kernel is timed again on the same shorter record).
+    Parameters
+    ----------
+    repeat : int
+        Timed repeats of the warm run (the minimum is reported).
+    reference : bool
+        Also run the ``solve_ivp`` reference.
+    reference_duration : float
+        Length of the record of the comparison [s] (30; shorter in quick runs, where the kernel is
+        timed again on the same shorter record).
     """
     record = _record(30.0)
     building = _building()
@@ -322,7 +329,19 @@ def _records_available() -> bool:
 
 def bench_suite(jobs: int = 2, controllers: Sequence[str] = SUITE_CONTROLLERS, repeat: int = 2,
                 timeout: float = 900.0) -> list[BenchCase]:
-    """``suite-warm``, ``cold-start``, ``suite-memory`` and ``no-recompile`` (fresh processes)."""
+    """``suite-warm``, ``cold-start``, ``suite-memory`` and ``no-recompile`` (fresh processes).
+
+    Parameters
+    ----------
+    jobs : int
+        Worker processes of :func:`controllers.comparison.compare`.
+    controllers : sequence of str
+        The controllers of the suite (default :data:`SUITE_CONTROLLERS`).
+    repeat : int
+        Suite repeats in the first process (the second runs it once).
+    timeout : float
+        Seconds allowed per process.
+    """
     synthetic = not _records_available()
     args = {"jobs": jobs, "controllers": list(controllers), "repeat": repeat, "synthetic": synthetic}
     first = _run_script(_SUITE_SCRIPT, args, timeout)
@@ -360,7 +379,13 @@ def bench_suite(jobs: int = 2, controllers: Sequence[str] = SUITE_CONTROLLERS, r
 
 
 def bench_identify(repeat: int = 1) -> list[BenchCase]:
-    """``identify-warm``: the whole ``sbib identify`` study, second run in this process."""
+    """``identify-warm``: the whole ``sbib identify`` study, second run in this process.
+
+    Parameters
+    ----------
+    repeat : int
+        Timed repeats after the first (cold) run.
+    """
     from benchmark.cli import main
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -392,6 +417,15 @@ def _fit_linear(x: np.ndarray, y: np.ndarray) -> dict[str, float]:
 
 def bench_scaling(quick: bool = False, repeat: int = 3, jobs: int = 2) -> dict[str, Any]:
     """Time versus record length, devices, retained modes and ensemble size.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer points.
+    repeat : int
+        Repeats per point (the minimum CPU time is kept).
+    jobs : int
+        Processes of the ensemble-size runs.
 
     Returns a dict of tables: name → ``{"x": [...], "time_s": [...], "x_label": ..., "fit": ...}``.
     """
@@ -455,7 +489,7 @@ def _fmt_s(value: float | None) -> str:
 
 
 def format_table(cases: Sequence[BenchCase]) -> str:
-    """Text table: case, project time, reference time, ratio, max relative difference, target, met."""
+    """Text table of ``cases``: case, project time, reference time, ratio, max relative difference, target, met."""
     head = f"{'case':<14} {'project':>10} {'reference':>10} {'ratio':>8} {'max rel diff':>12}  {'target':<32} met"
     lines = [head, "-" * len(head)]
     for c in cases:
@@ -470,7 +504,8 @@ def format_table(cases: Sequence[BenchCase]) -> str:
 
 
 def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
-    """Four panels of time versus size with the least-squares line (PNG, atomic)."""
+    """Plot the scaling ``tables`` (:func:`bench_scaling`): time versus size with the least-squares line,
+    one panel each, to the PNG file ``path`` (atomic)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -517,6 +552,8 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
         Worker processes of the suite and ensemble cases (the target is stated for 2).
     sections : sequence of str
         Which of ``single``, ``suite``, ``identify``, ``scaling`` to run.
+    echo : callable, optional
+        Where progress lines and the table go (default ``print``; ``None``: silent).
 
     Returns
     -------
