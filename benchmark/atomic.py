@@ -2,16 +2,20 @@
 
 Write to a temporary file in the destination's directory, flush and fsync it, then
 ``os.replace`` it onto the destination (atomic on POSIX within one filesystem). On any
-exception, including ``KeyboardInterrupt``, the temporary file is removed.
+exception, including ``KeyboardInterrupt``, the temporary file is removed. Ctrl-C pressed
+while the file is written is held back until the writer returns, then honoured (see
+:func:`_deferred_sigint`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import tempfile
+import threading
 from pathlib import Path
-from typing import Iterator
+from typing import Callable, Iterator
 
 __all__ = ["atomic_path", "atomic_write_text"]
 
@@ -45,14 +49,41 @@ def atomic_path(destination: str | os.PathLike, suffix: str | None = None) -> It
     os.umask(umask)
     os.chmod(tmp, 0o666 & ~umask)
     try:
-        yield tmp
-        with open(tmp, "rb") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, destination)
+        with _deferred_sigint() as interrupted:
+            yield tmp
+            if interrupted():  # Ctrl-C during the write: keep the previous file
+                raise KeyboardInterrupt
+            with open(tmp, "rb") as fh:
+                os.fsync(fh.fileno())
+            os.replace(tmp, destination)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             tmp.unlink()
         raise
+    if interrupted():  # Ctrl-C during the rename: the new file is complete; stop now
+        raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def _deferred_sigint() -> Iterator[Callable[[], bool]]:
+    """Hold Ctrl-C (SIGINT) back while the file is written; yield "was it pressed?".
+
+    A KeyboardInterrupt raised inside h5py's C code is often swallowed by a weakref callback
+    ("Exception ignored in ..."), so the program would go on as if Ctrl-C had not been
+    pressed. Holding the signal until the write returns makes Ctrl-C reliable: the temporary
+    file is then removed and KeyboardInterrupt raised. Only in the main thread and only when
+    Python's default handler is installed (a program's own handler is left alone).
+    """
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield lambda: False
+        return
+    pressed: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: pressed.append(signum))
+    try:
+        yield lambda: bool(pressed)
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def atomic_write_text(destination: str | os.PathLike, text: str) -> Path:
