@@ -239,8 +239,13 @@ def kalman_design(Ad, Ed, Cs, W, V) -> dict:
     """
     W = np.atleast_2d(W)
     V = np.atleast_2d(V)
+    # Pass the process noise as Qd = E W Eᵀ, symmetrised, with G = I: python-control forms
+    # G QN Gᵀ itself and rejects its round-off asymmetry ("QN must be a symmetric matrix",
+    # seen with reduced models, e.g. --n-modes 6).
+    Qd_sym = Ed @ W @ Ed.T
+    Qd_sym = 0.5 * (Qd_sym + Qd_sym.T)
     try:
-        L, P, poles = ct.dlqe(Ad, Ed, Cs, W, V)
+        L, P, poles = ct.dlqe(Ad, np.eye(Ad.shape[0]), Cs, Qd_sym, 0.5 * (V + V.T))
     except Exception as exc:
         raise NumericalError(f"Kalman filter design failed: {exc}",
                              hint="check the sensor set (observability) and noise intensities") from None
