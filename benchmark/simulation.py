@@ -445,7 +445,7 @@ def _build_result(building, record, ag, dt, z, gb, gd, fb, bstate, fd, v, energy
     floor_disp = us.reshape(n, 8, 3)
     rel = np.concatenate([np.zeros((n, 1, 3)), floor_disp], axis=1)
     drift = (rel[:, 1:, :2] - rel[:, :-1, :2]) / sup.storey_heights[None, :, None]
-    structure_shear = (us @ sup.K.T + usd @ sup.C.T) @ sup.R
+    structure_shear = us @ (sup.K.T @ sup.R) + usd @ (sup.C.T @ sup.R)
     iso = ub @ Kb.T + vb @ Cb.T + gb
     k_lin = packed.params[:, 0]
     c_lin = packed.params[:, 1]

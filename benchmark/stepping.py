@@ -24,7 +24,9 @@ extrapolation, compute the base's end displacement and velocity, advance every b
 Hermite path between the step's end points (the kernels sub-step internally as their
 stiffness needs), sum their forces into :math:`g_{k+1}`, and repeat until the change of the
 base's end displacement and velocity that the update causes is below ``fixed_point_tolerance``
-(relative, with floors of 1 µm and 10 µm/s; rotations scaled by a 30 m radius). The states
+(relative, with floors of 1 µm and 10 µm/s; rotations scaled by a 30 m radius), or until the
+error left after the update, estimated from the contraction rate c of the last two updates as
+err·c/(1 − c), is below it (this saves the confirming evaluation). The states
 are restarted from the step's start at every iteration, so the converged step is the
 solution of the implicit (trapezoid-like) coupling of the exact linear step and the
 sub-stepped nonlinear elements.
