@@ -195,6 +195,20 @@ def _record(duration: float | None = 30.0, name: str = "kobe", orientation: str 
     return record
 
 
+def _stationary_record(duration: float, window: float = 5.0) -> Any:
+    """``duration`` seconds made of Kobe FN-x's strongest ``window`` seconds repeated, so that the
+    cost per step is the same all along (for the record-length scaling)."""
+    base = _record(None)
+    acc = base.acceleration
+    k_peak = int(np.argmax(np.abs(acc).max(axis=1)))
+    half = int(round(window / (2 * base.dt)))
+    segment = acc[max(0, k_peak - half):k_peak + half]
+    n = int(round(duration / base.dt))
+    tiled = np.concatenate([segment] * int(math.ceil(n / len(segment))), axis=0)[:n]
+    return base.replace(acceleration=np.ascontiguousarray(tiled),
+                        metadata={**base.metadata, "bench_duration_s": duration, "bench_tiled_window_s": window})
+
+
 def _building(n_modes: int | None = None, n_devices: int | None = None) -> Any:
     from benchmark.building import Building
 
@@ -431,38 +445,40 @@ def bench_scaling(quick: bool = False, repeat: int = 3, jobs: int = 2) -> dict[s
     """
     tables: dict[str, Any] = {}
 
-    def cpu(function: Callable[[], Any]) -> float:
-        return time_call(function, repeat=repeat).cpu_best
+    def table(name: str, x_values: Sequence[float], x_label: str, run: Callable[[float], Any],
+              measure: str = "CPU", warmup: int = 1) -> None:
+        times, errors = [], {}
+        for x in x_values:
+            try:
+                timing = time_call(lambda: run(x), repeat=repeat, warmup=warmup)
+                times.append(timing.cpu_best if measure == "CPU" else timing.best)
+            except Exception as exc:  # one point failing must not hide the others
+                times.append(math.nan)
+                errors[str(x)] = f"{type(exc).__name__}: {str(exc)[:200]}"
+        xs, ts = np.array(x_values, float), np.array(times, float)
+        ok = np.isfinite(ts)
+        fit = _fit_linear(xs[ok], ts[ok]) if ok.sum() >= 2 else {}
+        tables[name] = {"x": list(x_values), "time_s": times, "measure": measure, "x_label": x_label,
+                        "fit": fit, "errors": errors}
 
-    lengths = (5.0, 10.0, 20.0, 40.0) if quick else (5.0, 10.0, 20.0, 40.0, 80.0)
     building = _building()
-    t = []
-    for duration in lengths:
-        r = _record(duration)
-        t.append(cpu(lambda: _simulate(building, r)))
-    tables["record_length"] = {"x": list(lengths), "time_s": t, "measure": "CPU", "x_label": "record length [s]",
-                               "fit": _fit_linear(np.array(lengths), np.array(t))}
-    devices = (4, 8, 16, 32) if quick else (2, 4, 8, 16, 32, 64)
+    lengths = (5.0, 10.0, 20.0, 40.0) if quick else (5.0, 10.0, 20.0, 40.0, 80.0)
+    records = {d: _stationary_record(d) for d in lengths}
+    table("record_length", lengths, "record length [s] (Kobe's strongest 5 s repeated; clipped-optimal)",
+          lambda d: _simulate(building, records[d]))
     record = _record(30.0)
-    t = []
-    for n in devices:
-        b = _building(n_devices=n)
-        t.append(cpu(lambda: _simulate(b, record)))
-    tables["devices"] = {"x": list(devices), "time_s": t, "measure": "CPU", "x_label": "number of MR dampers (30-s record)",
-                         "fit": _fit_linear(np.array(devices, float), np.array(t))}
+    devices = (4, 8, 16, 32) if quick else (2, 4, 8, 16, 32, 64)
+    buildings = {n: _building(n_devices=n) for n in devices}
+    table("devices", devices, "number of MR dampers (30-s record, passive-on)",
+          lambda n: _simulate(buildings[n], record, "passive-on"))
     modes = (3, 6, 12, 24) if quick else (3, 6, 9, 12, 18, 24)
-    t = []
-    for m in modes:
-        b = _building(n_modes=m)
-        t.append(cpu(lambda: _simulate(b, record)))
-    tables["modes"] = {"x": list(modes), "time_s": t, "measure": "CPU",
-                       "x_label": "retained superstructure modes (30-s record)",
-                       "fit": _fit_linear(np.array(modes, float), np.array(t))}
-    sizes = (2, 4, 8, 16) if quick else (4, 8, 16, 32, 64)
-    t = [_time_ensemble(n, jobs) for n in sizes]
-    tables["ensemble_size"] = {"x": list(sizes), "time_s": t, "measure": "wall",
-                               "x_label": f"ensemble size (runs, {jobs} processes, incl. start-up)",
-                               "fit": _fit_linear(np.array(sizes, float), np.array(t))}
+    reduced = {m: _building(n_modes=m) for m in modes}
+    table("modes", modes, "retained superstructure modes (30-s record, passive-on)",
+          lambda m: _simulate(reduced[m], record, "passive-on"))
+    sizes = (2, 4, 8, 16) if quick else (4, 8, 16, 32)
+    repeat = 1  # each point is itself many runs
+    table("ensemble_size", sizes, f"ensemble size (clipped-optimal runs, {jobs} processes, incl. start-up)",
+          lambda n: _time_ensemble(int(n), jobs), measure="wall", warmup=0)
     return tables
 
 
@@ -518,9 +534,12 @@ def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
         x, y = np.asarray(table["x"], float), np.asarray(table["time_s"], float)
         ax.plot(x, y * 1e3, "o", color="C0", label="measured (min of repeats)")
         fit = table["fit"]
-        xs = np.linspace(0, x.max() * 1.05, 50)
-        ax.plot(xs, (fit["intercept_s"] + fit["slope"] * xs) * 1e3, "-", color="C1",
-                label=f"linear fit: {fit['intercept_s'] * 1e3:.1f} ms + {fit['slope'] * 1e3:.2f} ms/unit")
+        if fit:
+            xs = np.linspace(0, x.max() * 1.05, 50)
+            ax.plot(xs, (fit["intercept_s"] + fit["slope"] * xs) * 1e3, "-", color="C1",
+                    label=f"linear fit: {fit['intercept_s'] * 1e3:.1f} ms + {fit['slope'] * 1e3:.2f} ms/unit")
+        for x_failed in table.get("errors", {}):
+            ax.axvline(float(x_failed), color="C3", lw=0.8, ls=":", label=f"failed at {x_failed}")
         ax.set_xlabel(table["x_label"])
         ax.set_ylabel(f"{table.get('measure', 'wall')} time [ms]")
         ax.set_xlim(0, None)
@@ -608,9 +627,12 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
         for name, table in scaling.items():
             for x, t in zip(table["x"], table["time_s"]):
                 lines.append(f"{name:<16} {x:>8g} {_fmt_s(t):>10} {table.get('measure', 'wall')}")
-            lines.append(f"{'':<16} linear fit: {table['fit']['intercept_s'] * 1e3:.1f} ms + "
-                         f"{table['fit']['slope'] * 1e3:.3f} ms/unit, worst deviation "
-                         f"{100 * table['fit']['max_relative_deviation']:.0f} %")
+            if table["fit"]:
+                lines.append(f"{'':<16} linear fit: {table['fit']['intercept_s'] * 1e3:.1f} ms + "
+                             f"{table['fit']['slope'] * 1e3:.3f} ms/unit, worst deviation "
+                             f"{100 * table['fit']['max_relative_deviation']:.0f} %")
+            for x_failed, message in table.get("errors", {}).items():
+                lines.append(f"{'':<16} failed at {x_failed}: {message}")
         report["scaling_table"] = "\n".join(lines)
     atomic_write_text(out / "bench.json", json.dumps(report, indent=2, default=float))
     machine = report["machine"]

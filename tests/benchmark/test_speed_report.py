@@ -87,6 +87,12 @@ def test_building_with_n_devices_and_lengthened_record(shared_dir):
     assert b40.n_devices == 40 and len({s.label for s in b40.devices.slots}) == 40
     r = speed._record(100.0)
     assert r.acceleration.shape[0] == int(round(100.0 / r.dt))
+    s = speed._stationary_record(12.0, window=5.0)
+    n_window = int(round(5.0 / s.dt))
+    assert s.acceleration.shape[0] == int(round(12.0 / s.dt))
+    assert np.array_equal(s.acceleration[:n_window], s.acceleration[n_window:2 * n_window])
+    whole = speed._record(None).acceleration
+    assert np.abs(s.acceleration).max() == np.abs(whole).max()  # the window holds the peak
 
 
 @pytest.mark.slow
