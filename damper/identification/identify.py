@@ -193,9 +193,16 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
         if not np.all(np.isfinite(arr)):
             raise InputError(f"{name}: {label} has a non-finite value at sample "
                              f"{int(np.flatnonzero(~np.isfinite(arr))[0])}")
+    if t.size < 3:
+        raise InputError(f"{name}: {t.size} samples; a periodic test needs at least two periods of samples")
     if np.any(np.diff(t) <= 0):
         raise InputError(f"{name}: time must increase strictly")
-    xdot = np.gradient(x, t, edge_order=2) if xdot is None else np.asarray(xdot, dtype=float)
+    if xdot is None:
+        xdot = np.gradient(x, t, edge_order=2)
+    else:
+        xdot = np.asarray(xdot, dtype=float)
+        if xdot.shape != t.shape or not np.all(np.isfinite(xdot)):
+            raise InputError(f"{name}: velocity must be a finite 1-D array as long as time, got shape {xdot.shape}")
     caught: list[str] = []
     with warnings.catch_warnings(record=True) as record:
         warnings.simplefilter("always")
