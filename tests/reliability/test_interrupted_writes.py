@@ -129,9 +129,8 @@ def _interrupt(tmp_path: Path, kind: str, sig: int, delay: float) -> tuple[int, 
 
 
 # (kind, signal, delay after the first completed write [s])
-SCHEDULE = [("h5", signal.SIGKILL, 0.013), ("h5", signal.SIGKILL, 0.171), ("h5", signal.SIGINT, 0.057),
-            ("record", signal.SIGKILL, 0.031), ("record", signal.SIGINT, 0.083),
-            ("damper", signal.SIGKILL, 0.047), ("damper", signal.SIGINT, 0.109)]
+SCHEDULE = [("h5", signal.SIGKILL, 0.171), ("h5", signal.SIGINT, 0.057), ("record", signal.SIGKILL, 0.031),
+            ("damper", signal.SIGINT, 0.109)]
 
 
 @pytest.mark.parametrize("kind, sig, delay", SCHEDULE,
@@ -146,11 +145,12 @@ def test_interrupted_write_leaves_a_complete_file(tmp_path, kind, sig, delay):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("trial", range(24))
-def test_interrupted_hdf5_write_many_times(tmp_path, trial):
-    """The same with many kill times spread over a write (slow)."""
+@pytest.mark.parametrize("trial", range(30))
+def test_interrupted_writes_many_times(tmp_path, trial):
+    """The same with many kill times spread over a write, for every writer (slow)."""
     sig = signal.SIGKILL if trial % 3 else signal.SIGINT
-    gen, leftovers = _interrupt(tmp_path, "h5", sig, 0.005 + 0.0137 * trial)
+    kind = ("h5", "record", "damper")[trial % 5 % 3]
+    gen, leftovers = _interrupt(tmp_path, kind, sig, 0.005 + 0.0137 * trial)
     assert gen >= 1
     if sig == signal.SIGINT:
         assert leftovers == []
@@ -181,3 +181,34 @@ def test_ctrl_c_during_a_write_is_honoured_after_it(tmp_path):
             tmp.write_text("new, complete")   # the writer still runs to its end
     assert dest.read_text() == "previous" and list(tmp_path.iterdir()) == [dest]
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+# Writers that may write in place: the ensemble journal is append-only with torn-line handling
+# (benchmark/ensemble_journal.py), the atomic module itself, and its docstring example.
+_IN_PLACE_OK = {"benchmark/ensemble_journal.py", "benchmark/atomic.py"}
+_WRITE_CALL = ("savefig(", "h5py.File(", "write_text(", "write_bytes(", "np.save", "to_csv(", "json.dump(")
+
+
+def test_every_result_writer_goes_through_atomic_path():
+    """Static check: package code writes files only to the temporary path of ``atomic_path``.
+
+    Every file-writing call must target the ``tmp`` path (or a handle opened on it); a new
+    writer that writes in place fails here and should use :func:`benchmark.atomic.atomic_path`.
+    """
+    import re
+
+    root = Path(__file__).resolve().parents[2]
+    offenders = []
+    for package in ("benchmark", "records", "damper", "controllers"):
+        for path in sorted((root / package).rglob("*.py")):
+            rel = path.relative_to(root).as_posix()
+            if rel in _IN_PLACE_OK:
+                continue
+            for lineno, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+                code = line.split("#", 1)[0].replace("atomic_write_text(", "").replace("json.dumps(", "")
+                writes = any(call in code for call in _WRITE_CALL) or re.search(r"open\([^)]*['\"][wax]", code)
+                if not writes or re.search(r"['\"]r['\"]", code):
+                    continue
+                if "tmp" not in code and not re.search(r"\bfh\b", code):
+                    offenders.append(f"{rel}:{lineno}: {line.strip()}")
+    assert not offenders, "writes outside atomic_path:\n" + "\n".join(offenders)
