@@ -112,6 +112,11 @@ class ClosedFormResult:
         Distance from a reversal beyond which the branch was treated as plastic [m].
     iterations : int
         Plastic-region iterations used.
+    notes : tuple of str
+        What the steps had to work around.
+    kappa_x_method : str
+        How :math:`\\kappa_x` was obtained: ``"fixed"`` (given), ``"inclination"``,
+        ``"regression"`` or ``"none"`` (normalized model).
     """
 
     model: str
@@ -135,6 +140,7 @@ class ClosedFormResult:
     plastic_distance: float
     iterations: int
     notes: tuple[str, ...] = field(default_factory=tuple)
+    kappa_x_method: str = ""
 
     def parameters(self) -> dict[str, float]:
         """The six parameters by name (``kappa_x`` is 0 for the normalized model)."""
@@ -226,7 +232,7 @@ def _solve_sigma(w3: float, n: float, target: float) -> float:
 
 
 def closed_form(branches: Branches, model: str = "extended", n_method: str = "integral",
-                kappa_x_method: str = "inclination",
+                kappa_x_method: str = "inclination", kappa_x: float | None = None,
                 levels: tuple[float, float, float] = (0.5, 0.85, -0.5), max_iterations: int = 6,
                 strict: bool = True, check: bool = True) -> ClosedFormResult:
     """Closed-form parameters of the (extended) normalized Bouc-Wen model from the limit cycle.
@@ -246,6 +252,11 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
         then the regression on :math:`F - \\kappa_x x`), or jointly with :math:`\\kappa_{\\dot x}`,
         :math:`\\kappa_w` in the plastic regression (less biased at moderate strokes). The
         inclination falls back to the regression when it leaves no dry friction.
+    kappa_x : float, optional
+        Extended model only: hold :math:`\\kappa_x` [N/m] at this value (the seed's method: one
+        :math:`\\kappa_x`, read once from a large-amplitude loop, eq. 5) and run steps (b)–(c)
+        on :math:`F - \\kappa_x x`; overrides ``kappa_x_method``. The loop's own inclination
+        and regression values are still computed and reported.
     levels : (float, float, float)
         Levels of :math:`\\bar w` at which the design points :math:`x_1^*, x_2^*, x_3^*` are placed
         (:math:`0 < w_1 < w_2 < 1`, :math:`-1 < w_3 < 0`; :math:`w_3` is scaled by the cycle peak
@@ -274,6 +285,13 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
         raise InputError(f"model: expected one of {MODELS}, got {model!r}")
     if kappa_x_method not in ("inclination", "regression"):
         raise InputError(f"kappa_x_method: expected 'inclination' or 'regression', got {kappa_x_method!r}")
+    if kappa_x is not None:
+        if model != "extended":
+            raise InputError(f"kappa_x: a fixed kappa_x applies to the extended model only, got model {model!r}")
+        if not (math.isfinite(kappa_x) and kappa_x >= 0.0):
+            raise InputError(f"kappa_x: expected a finite value >= 0 N/m, got {kappa_x!r}")
+        kappa_x_method = "fixed"
+    kappa_x_fixed = float(kappa_x) if kappa_x is not None else math.nan
     if n_method not in ("integral", "derivative"):
         raise InputError(f"n_method: expected 'integral' or 'derivative', got {n_method!r}")
     w1_level, w2_level, w3_level = levels
@@ -322,6 +340,9 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
         joint = np.linalg.lstsq(np.column_stack([x_pl] + columns), f_pl, rcond=None)[0]
         kappa_x_regression = float(joint[0])
         method = kappa_x_method if extended else "none"
+        if method == "fixed":
+            coef = np.linalg.lstsq(np.column_stack(columns), f_pl - kappa_x_fixed * x_pl, rcond=None)[0]
+            kappa_x = kappa_x_fixed
         if method == "inclination":
             kappa_x = kappa_x_incl
             coef = np.linalg.lstsq(np.column_stack(columns), f_pl - kappa_x * x_pl, rcond=None)[0]
@@ -405,7 +426,7 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
             kappa_w_plastic=kappa_w_pl, force_offset=offset, a=a, n_derivative=n_der, n_integral=n_int,
             design=DesignPoints(x_star, x1, x2, x3, w1_level, w2_level, w3_target),
             rho_stroke=float(rho * stroke), w0=float(w0), plastic_distance=float(distance),
-            iterations=iteration, notes=tuple(notes))
+            iterations=iteration, notes=tuple(notes), kappa_x_method=method)
         new_distance = plastic_distance(rho, sigma, n, w0, 0.99)
         if new_distance >= 0.9 * stroke or rho * stroke < 4.0:
             break
@@ -414,7 +435,7 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
         distance = new_distance
 
     assert result is not None
-    if extended and disagreement > 0.1:
+    if extended and kappa_x_method != "fixed" and disagreement > 0.1:
         warnings.warn(f"kappa_x: the loop's inclination ({kappa_x_incl:.4g} N/m) and the plastic "
                       f"regression ({kappa_x_regression:.4g} N/m) differ by {100 * disagreement:.0f} %: "
                       "the branches are not plastic over most of the stroke (increase the amplitude)",

@@ -109,6 +109,8 @@ class Identification:
             "design_points": {"x_star": cf.design.x_star, "x1": cf.design.x1, "x2": cf.design.x2,
                               "x3": cf.design.x3},
             "kappa_x_inclination": cf.kappa_x_inclination,
+            "kappa_x_method": cf.kappa_x_method,
+            "free": list(self.fit.free),
             "n_derivative": None if math.isnan(cf.n_derivative) else cf.n_derivative,
             "n_integral": cf.n_integral,
             "rho_stroke": self.fit.parameters["rho"] * self.branches.stroke,
@@ -150,7 +152,8 @@ def _check_device_excitation(branches: Branches, cf: ClosedFormResult, fit: Refi
 def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.ndarray | None = None,
                     model: str = "extended", name: str = "test", level: float = math.nan,
                     level_unit: str = "V", n_method: str = "integral", n_bootstrap: int = 0,
-                    strict: bool = True, seed: int = 0, start: dict | None = None) -> Identification:
+                    strict: bool = True, seed: int = 0, start: dict | None = None,
+                    kappa_x: float | None = None) -> Identification:
     """Identify ``model`` from one constant-voltage periodic test given as arrays.
 
     Parameters
@@ -178,6 +181,11 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
     start : dict, optional
         Starting parameters for the refinement instead of the closed form (the closed form is
         still computed, non-strictly, and reported).
+    kappa_x : float, optional
+        Extended model only: hold :math:`\\kappa_x` [N/m] fixed at this value in the closed-form
+        steps and the refinement (the seed paper's method: :math:`\\kappa_x` read once from a
+        large-amplitude loop, the rest identified on :math:`F - \\kappa_x x`). Default: identified
+        from this test.
 
     Returns
     -------
@@ -211,9 +219,11 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
         if len(cycles) >= 3 and len(kept) == len(cycles):
             kept = kept[1:]   # the first cycle starts from rest: never part of the limit cycle
         branches = average_branches(x, xdot, force, kept)
-        cf = closed_form(branches, model=model, n_method=n_method, strict=False, check=False)
+        cf = closed_form(branches, model=model, n_method=n_method, strict=False, check=False,
+                         kappa_x=kappa_x)
         fit = refine(t, x, xdot, force, kept, start if start is not None else cf.parameters(),
-                     model=model, n_bootstrap=n_bootstrap, seed=seed)
+                     model=model, n_bootstrap=n_bootstrap, seed=seed,
+                     fixed=None if kappa_x is None else {"kappa_x": float(kappa_x)})
         _check_device_excitation(branches, cf, fit, model, n_method, strict)
     for w in record:
         caught.append(str(w.message))

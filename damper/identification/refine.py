@@ -37,7 +37,8 @@ from damper.identification.closed_form import MODELS, PARAMETER_NAMES
 from damper.identification.cycles import Cycle
 from damper.simulate import simulate
 
-__all__ = ["RefinedFit", "refine", "make_model", "model_parameters", "free_parameters"]
+__all__ = ["RefinedFit", "refine", "SharedFit", "refine_shared", "make_model", "model_parameters",
+           "free_parameters"]
 
 _UPPER = {"sigma": 50.0, "n": 20.0}
 _LOWER = {"kappa_x": 0.0, "sigma": 0.5, "n": 1.0}
@@ -117,10 +118,11 @@ class _Problem:
     """Residuals of one test for one model, on scaled parameters q = p / p0."""
 
     def __init__(self, model: str, t, x, xdot, force, window: np.ndarray, start: dict,
-                 substep_tolerance: float):
+                 substep_tolerance: float, fixed: dict | None = None):
         self.model = model
         self.options = {"substep_tolerance": substep_tolerance}
-        self.free = free_parameters(model)
+        self.fixed = {k: float(v) for k, v in (fixed or {}).items()}
+        self.free = tuple(k for k in free_parameters(model) if k not in self.fixed)
         self.t, self.x, self.xdot, self.force = t, x, xdot, force
         self.window = window
         scale = float(np.sqrt(np.mean(force[window] ** 2)))
@@ -140,6 +142,7 @@ class _Problem:
 
     def parameters(self, q: np.ndarray) -> dict[str, float]:
         p = dict(zip(self.free, q * self.p0))
+        p.update(self.fixed)
         p.setdefault("kappa_x", 0.0)
         return {k: float(p[k]) for k in PARAMETER_NAMES}
 
@@ -169,7 +172,7 @@ def _fit(problem: _Problem, q0: np.ndarray, max_nfev: int | None):
 def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
            cycles: list[Cycle], start: dict[str, float], model: str = "extended",
            n_bootstrap: int = 0, seed: int = 0, max_nfev: int = 200,
-           substep_tolerance: float = 0.25) -> RefinedFit:
+           substep_tolerance: float = 0.25, fixed: dict[str, float] | None = None) -> RefinedFit:
     """Refine the parameters of ``model`` jointly by nonlinear least squares.
 
     Parameters
@@ -192,6 +195,10 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
         :class:`~damper.bouc_wen.NormalizedBoucWen`). The default 0.25 is 2–3 times faster
         than the model default 0.05 and changes the force by about 2e-7 relative on the
         virtual damper's tests; the returned model and ``force`` use the model default.
+    fixed : dict, optional
+        Parameters held at the given values (SI) instead of fitted, e.g. ``{"kappa_x": 2.07e5}``
+        for the seed paper's extended model, whose :math:`\\kappa_x` is read once and is the
+        same at every voltage (eq. 5). Their standard errors are reported as 0.
 
     Returns
     -------
@@ -217,7 +224,13 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
     owner = np.full(window.size, -1)
     for j, c in enumerate(cycles):
         owner[c.start - window[0]: c.end - window[0] + 1] = j
-    problem = _Problem(model, t, x, xdot, force, window, start, substep_tolerance)
+    allowed = free_parameters(model)
+    for k, v in (fixed or {}).items():
+        if k not in allowed:
+            raise InputError(f"fixed: {k!r} is not a parameter of the {model} model {allowed}")
+        if not math.isfinite(float(v)):
+            raise InputError(f"fixed: {k} must be finite, got {v!r}")
+    problem = _Problem(model, t, x, xdot, force, window, start, substep_tolerance, fixed)
     q_start = np.ones(len(problem.free))
     r0 = problem.residuals(q_start)
     if np.all(r0 == 1e3):
@@ -261,8 +274,139 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
         boot_std.update({k: float(s) for k, s in zip(problem.free, boot.std(axis=0, ddof=1))})
 
     rel = float(np.linalg.norm(f_fit[window] - force[window]) / np.linalg.norm(force[window]))
+    start_values = {k: float(start.get(k, 0.0)) for k in PARAMETER_NAMES}
+    start_values.update(problem.fixed)
     return RefinedFit(model_name=model, model=fitted, parameters=params,
-                      start={k: float(start.get(k, 0.0)) for k in PARAMETER_NAMES},
+                      start=start_values,
                       standard_error=standard_error, correlation=corr, free=problem.free,
                       bootstrap_std=boot_std, bootstrap=boot, force=f_fit, rel_rms_error=rel,
                       nfev=nfev, success=bool(sol.success), message=str(sol.message))
+
+
+@dataclass(frozen=True)
+class SharedFit:
+    """Result of :func:`refine_shared`.
+
+    Attributes
+    ----------
+    name : str
+        The shared parameter.
+    value, standard_error : float
+        Its joint estimate and Jacobian standard error (SI).
+    start : float
+        Its starting value.
+    parameters : list of dict
+        Per test: the six parameters at the joint optimum (the shared one included).
+    rel_rms_errors : list of float
+        Per test: relative RMS force error over its fit window at the optimum.
+    nfev : int
+        Residual evaluations (each simulates every test).
+    success : bool
+    message : str
+    """
+
+    name: str
+    value: float
+    standard_error: float
+    start: float
+    parameters: list
+    rel_rms_errors: list
+    nfev: int
+    success: bool
+    message: str
+
+
+def refine_shared(tests: list[tuple], starts: list[dict], shared: str = "kappa_x",
+                  model: str = "extended", max_nfev: int = 60,
+                  substep_tolerance: float = 0.25) -> SharedFit:
+    """Refine several tests jointly with one parameter shared by all of them.
+
+    Minimises :math:`\\sum_i \\sum_{k \\in \\mathcal W_i} (\\hat F_{i,k}(s, p_i) - F_{i,k})^2 / F_{i,rms}^2`
+    over the shared parameter :math:`s` (e.g. the extended model's :math:`\\kappa_x`, constant
+    over voltage in the seed paper's eq. 5) and each test's other parameters :math:`p_i`; each
+    test is weighted by its own force RMS, so low-voltage tests count as much as high-voltage
+    ones. The Jacobian is block-sparse (test :math:`i` depends on :math:`s` and :math:`p_i`
+    only), which the finite differences exploit.
+
+    Parameters
+    ----------
+    tests : list of (t, x, xdot, force, cycles)
+        Test histories [s, m, m/s, N] and their steady cycles.
+    starts : list of dict
+        Starting parameters per test (SI); the shared start is the mean of theirs.
+    shared : str
+        Name of the shared parameter.
+    model : {"extended", "normalized"}
+    max_nfev : int
+        Cap on the joint residual evaluations.
+    substep_tolerance : float
+        As in :func:`refine`.
+
+    Returns
+    -------
+    SharedFit
+    """
+    from scipy.sparse import lil_matrix
+
+    if len(tests) != len(starts) or not tests:
+        raise InputError("refine_shared: expected one start per test and at least one test")
+    if shared not in free_parameters(model):
+        raise InputError(f"refine_shared: {shared!r} is not a parameter of the {model} model")
+    s0 = float(np.mean([float(st[shared]) for st in starts]))
+    if not s0 > 0:
+        raise InputError(f"refine_shared: the start of {shared} must be > 0, got {s0}")
+    problems = []
+    for (t, x, xdot, force, cycles), st in zip(tests, starts):
+        window = np.arange(cycles[0].start, cycles[-1].end + 1)
+        problems.append(_Problem(model, np.asarray(t, float), np.asarray(x, float),
+                                 np.asarray(xdot, float), np.asarray(force, float), window, st,
+                                 substep_tolerance, fixed={shared: s0}))
+    sizes = [len(p.free) for p in problems]
+    rows = [p.window.size for p in problems]
+    n_q = 1 + sum(sizes)
+    sparsity = lil_matrix((sum(rows), n_q), dtype=int)
+    r0, c0 = 0, 1
+    for m, k in zip(rows, sizes):
+        sparsity[r0:r0 + m, 0] = 1
+        sparsity[r0:r0 + m, c0:c0 + k] = 1
+        r0, c0 = r0 + m, c0 + k
+    lower = np.concatenate([[_LOWER.get(shared, 0.0) / s0 + 1e-9]] + [p.lower for p in problems])
+    upper = np.concatenate([[_UPPER.get(shared, math.inf) / s0]] + [p.upper for p in problems])
+    counter = [0]
+
+    def split(q: np.ndarray) -> list[np.ndarray]:
+        out, c = [], 1
+        for k in sizes:
+            out.append(q[c:c + k])
+            c += k
+        return out
+
+    def residuals(q: np.ndarray) -> np.ndarray:
+        counter[0] += 1
+        parts = []
+        for p, qi in zip(problems, split(q)):
+            p.fixed[shared] = float(q[0] * s0)
+            parts.append(p.residuals(qi))
+        return np.concatenate(parts)
+
+    q0 = np.clip(np.ones(n_q), lower + 1e-12, upper - 1e-12)
+    sol = least_squares(residuals, q0, bounds=(lower, upper), method="trf", jac_sparsity=sparsity,
+                        x_scale=1.0, diff_step=1e-5, xtol=1e-10, ftol=1e-10, gtol=1e-10,
+                        max_nfev=max_nfev)
+    value = float(sol.x[0] * s0)
+    jac = sol.jac.toarray() if hasattr(sol.jac, "toarray") else np.asarray(sol.jac)
+    s2 = float(np.sum(sol.fun ** 2)) / max(jac.shape[0] - n_q, 1)
+    try:
+        cov = np.linalg.pinv(jac.T @ jac) * s2
+        std = float(np.sqrt(max(cov[0, 0], 0.0))) * s0
+    except np.linalg.LinAlgError:
+        std = math.nan
+    params, errors = [], []
+    for p, qi in zip(problems, split(sol.x)):
+        p.fixed[shared] = value
+        params.append(p.parameters(qi))
+        r = p.residuals(qi)
+        errors.append(float(np.linalg.norm(r) * p.scale / np.linalg.norm(p.force[p.window])))
+    return SharedFit(name=shared, value=value, standard_error=std, start=s0, parameters=params,
+                     rel_rms_errors=errors, nfev=counter[0], success=bool(sol.success),
+                     message=str(sol.message))

@@ -17,6 +17,24 @@ and voltage) is then fitted with
 Fit errors: RMS and maximum of the relative residual at the grid voltages. A seed law that
 leaves the admissible class somewhere in [0, 1] V (e.g. :math:`\\sigma < 1/2`) is replaced by
 the generic law in the voltage-dependent model, and the replacement is reported.
+
+The extended model's :math:`\\kappa_x`
+------------------------------------------
+The seed paper reads :math:`\\kappa_x` once, in its step (a), from the average inclination of
+a large-amplitude force–displacement loop at 0 V (its Fig. 2: 82.8 kN over 0.4 m, 207 kN/m),
+identifies the rest on :math:`F - \\kappa_x x`, and its voltage law is :math:`\\kappa_x(v) =
+\\kappa_x` (eq. 5). :func:`identify_voltage_grid` does the same by default
+(``kappa_x="large-loop"``: :func:`estimate_kappa_x` on :data:`LARGE_LOOP_PROTOCOL`, then
+:math:`\\kappa_x` held fixed in every closed-form step and refinement of the grid). Options:
+``"joint"``, one :math:`\\kappa_x` refined jointly with every voltage's other parameters
+(:func:`~damper.identification.refine.refine_shared`, started from the large-loop value);
+a number, a given :math:`\\kappa_x`; and ``"per-voltage"``, :math:`\\kappa_x` free at each
+voltage (not the seed's method: a voltage-dependent :math:`\\kappa_x(v)` multiplies the total
+displacement, so every voltage switch changes the force by :math:`\\Delta\\kappa_x x`; kept for
+comparison).
+
+The grid's voltages are independent tasks and run in a process pool (``jobs``); the results
+do not depend on the number of workers.
 """
 
 from __future__ import annotations
@@ -29,14 +47,17 @@ import numpy as np
 
 from benchmark.errors import InputError, ParameterError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.identification.closed_form import MODELS, PARAMETER_NAMES
+from damper.identification.closed_form import MODELS, PARAMETER_NAMES, closed_form
+from damper.identification.cycles import average_branches, detect_cycles, steady_cycles
 from damper.identification.identify import Identification, identify
-from damper.identification.refine import free_parameters
+from damper.identification.parallel import make_executor, run_tasks, worker_count
+from damper.identification.refine import free_parameters, refine_shared
 from damper.voltage_laws import (Constant, Exponential, Polynomial, SeedKappaW, Tabulated,
                                  VoltageLaw, check_law)
 
-__all__ = ["TestProtocol", "LawFit", "VoltageGridResult", "identify_voltage_grid",
-           "fit_voltage_laws", "voltage_model", "DEFAULT_VOLTAGES"]
+__all__ = ["TestProtocol", "LawFit", "VoltageGridResult", "KappaXEstimate", "identify_voltage_grid",
+           "estimate_kappa_x", "fit_voltage_laws", "voltage_model", "DEFAULT_VOLTAGES",
+           "LARGE_LOOP_PROTOCOL", "KAPPA_X_MODES"]
 
 #: The seed paper's grid (Table 1): 0, 0.1, ..., 1 V.
 DEFAULT_VOLTAGES = tuple(np.round(np.linspace(0.0, 1.0, 11), 10))
@@ -69,6 +90,85 @@ class TestProtocol:
         from damper.laboratory import periodic_test
         return periodic_test(device, self.amplitude, self.frequency, voltage, cycles=self.cycles,
                              sample_rate=self.sample_rate, noise=self.noise, seed=self.seed)
+
+
+#: The seed paper's large loop (Fig. 1-3): ±0.4 m at 0.8 Hz (±2 m/s), at 0 V; kappa_x is read from it.
+LARGE_LOOP_PROTOCOL = TestProtocol(amplitude=0.4, frequency=0.8, cycles=3.0, sample_rate=1000.0)
+#: How the extended model's kappa_x is obtained (besides a given number).
+KAPPA_X_MODES = ("large-loop", "joint", "per-voltage")
+
+
+@dataclass(frozen=True)
+class KappaXEstimate:
+    """The extended model's :math:`\\kappa_x` and how it was obtained.
+
+    Attributes
+    ----------
+    mode : str
+        ``"large-loop"`` (seed step a), ``"joint"`` (shared over the grid), ``"given"`` or
+        ``"per-voltage"`` (free at each voltage: ``value`` is NaN).
+    value, standard_error : float
+        [N/m] (standard error: Jacobian of the joint fit; NaN otherwise).
+    inclination, regression : float
+        The large loop's average inclination (seed step a) and the joint plastic regression's
+        :math:`\\kappa_x` on the same loop [N/m] (NaN when no loop was run).
+    rho_stroke : float
+        :math:`\\rho(X_{max} - X_{min})` of the large loop (closed-form :math:`\\rho`).
+    protocol : dict
+        The large loop's test (amplitude [m], frequency [Hz], voltage [V], ...).
+    notes : tuple of str
+    """
+
+    mode: str
+    value: float
+    standard_error: float = float("nan")
+    inclination: float = float("nan")
+    regression: float = float("nan")
+    rho_stroke: float = float("nan")
+    protocol: dict = field(default_factory=dict)
+    notes: tuple = ()
+
+    def to_dict(self) -> dict:
+        """JSON-ready (NaN as None)."""
+        out = {}
+        for k, v in self.__dict__.items():
+            if isinstance(v, float) and v != v:
+                v = None
+            out[k] = list(v) if isinstance(v, tuple) else v
+        return out
+
+
+def estimate_kappa_x(device, protocol: TestProtocol = LARGE_LOOP_PROTOCOL,
+                     voltage: float = 0.0) -> tuple[KappaXEstimate, object]:
+    """The seed paper's step (a): :math:`\\kappa_x` from the average inclination of a large loop.
+
+    Runs ``protocol`` on ``device`` at ``voltage`` [V] (the seed: ±0.4 m at 0 V, Fig. 2), waits
+    for the limit cycle and takes the slope of the loop's mid-line over the displacements
+    where both branches are plastic (:func:`~damper.identification.closed_form.closed_form`,
+    ``kappa_x_inclination``); if that slope leaves no dry friction the joint plastic
+    regression's value is used instead and a note says so.
+
+    Returns
+    -------
+    (KappaXEstimate, DamperTest)
+        The estimate and the test it was read from.
+    """
+    test = protocol.run(device, float(voltage))
+    x, f = np.asarray(test.displacement), np.asarray(test.force)
+    xdot = np.asarray(test.velocity) if getattr(test, "velocity", None) is not None \
+        else np.gradient(x, test.time, edge_order=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cycles = detect_cycles(x)
+        kept, _ = steady_cycles(x, f, cycles)
+        if len(cycles) >= 3 and len(kept) == len(cycles):
+            kept = kept[1:]
+        cf = closed_form(average_branches(x, xdot, f, kept), model="extended", strict=False, check=False)
+    value = cf.kappa_x_inclination if cf.kappa_x_method == "inclination" else cf.kappa_x
+    est = KappaXEstimate(mode="large-loop", value=float(value), inclination=float(cf.kappa_x_inclination),
+                         regression=float(cf.kappa_x_regression), rho_stroke=float(cf.rho_stroke),
+                         protocol=dict(protocol.__dict__, voltage=float(voltage)), notes=tuple(cf.notes))
+    return est, test
 
 
 @dataclass(frozen=True)
@@ -118,6 +218,8 @@ class VoltageGridResult:
         identified models (seed laws, with generic replacements noted in ``notes``).
     notes : list of str
     protocol : TestProtocol
+    kappa_x : KappaXEstimate or None
+        How the extended model's :math:`\\kappa_x` was obtained (None without that model).
     """
 
     voltages: np.ndarray
@@ -126,6 +228,7 @@ class VoltageGridResult:
     models: dict
     notes: list
     protocol: TestProtocol
+    kappa_x: KappaXEstimate | None = None
 
     def table(self, model: str) -> np.ndarray:
         """Parameters per voltage, shape (n_voltages, 6), columns :data:`PARAMETER_NAMES`."""
@@ -142,7 +245,9 @@ class VoltageGridResult:
         out = []
         for model, idents in self.identifications.items():
             for v, ident in zip(self.voltages, idents):
-                row = {"model": model, "voltage": float(v)}
+                row = {"model": model, "voltage": float(v),
+                       "kappa_x_mode": (self.kappa_x.mode if self.kappa_x is not None else "")
+                       if model == "extended" else "none"}
                 row.update({k: ident.parameters[k] for k in PARAMETER_NAMES})
                 row.update({f"{k}_std": ident.fit.standard_error[k] for k in PARAMETER_NAMES})
                 row.update({k: ident.errors[k] for k in ("rel_rms_error", "peak_error", "energy_error")})
@@ -152,9 +257,12 @@ class VoltageGridResult:
 
     def laws_json(self) -> dict:
         """The fitted laws and their errors, JSON-ready."""
-        return {model: {family: {p: fit.to_dict() for p, fit in fits.items()}
-                        for family, fits in families.items()}
-                for model, families in self.laws.items()} | {"notes": list(self.notes)}
+        out = {model: {family: {p: fit.to_dict() for p, fit in fits.items()}
+                       for family, fits in families.items()}
+               for model, families in self.laws.items()} | {"notes": list(self.notes)}
+        if self.kappa_x is not None:
+            out["kappa_x"] = self.kappa_x.to_dict()
+        return out
 
 
 def _relative_residuals(values: np.ndarray, fitted: np.ndarray) -> np.ndarray:
@@ -273,10 +381,30 @@ def voltage_model(model: str, laws: dict[str, LawFit], fallback: dict[str, LawFi
     return cls(*(chosen[k] for k in names), voltage_range=voltage_range)
 
 
+def _identify_at_voltage(device, voltage: float, models: tuple, protocol: TestProtocol,
+                         n_bootstrap: int, kappa_x: float | None,
+                         starts: dict | None = None) -> list[Identification]:
+    """One grid voltage: run the test, identify each model (a pool task)."""
+    test = protocol.run(device, float(voltage))
+    out = []
+    for m in models:
+        options = {"n_bootstrap": n_bootstrap}
+        if m == "extended" and kappa_x is not None:
+            options["kappa_x"] = kappa_x
+        if starts and m in starts:
+            options["start"] = starts[m]
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # kept in Identification.warnings
+            out.append(identify(test, model=m, **options))
+    return out
+
+
 def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
                           models: Sequence[str] = MODELS, protocol: TestProtocol = TestProtocol(),
                           progress: Callable[[str], None] | None = None,
-                          n_bootstrap: int = 0) -> VoltageGridResult:
+                          n_bootstrap: int = 0, kappa_x: str | float = "large-loop",
+                          kappa_x_protocol: TestProtocol = LARGE_LOOP_PROTOCOL,
+                          jobs: int | None = 1, executor=None) -> VoltageGridResult:
     """Identify each model at each voltage of the grid and fit the voltage laws.
 
     Parameters
@@ -293,24 +421,80 @@ def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
         Called with a short label after each identification (progress bars).
     n_bootstrap : int
         Cycle-bootstrap refits per identification.
+    kappa_x : {"large-loop", "joint", "per-voltage"} or float
+        The extended model's :math:`\\kappa_x` (see the module docstring): read once from the
+        large loop and held fixed (default, the seed's method), refined jointly over the grid,
+        free at each voltage, or this value [N/m] held fixed.
+    kappa_x_protocol : TestProtocol
+        The large loop of ``"large-loop"`` and ``"joint"`` (run at 0 V).
+    jobs : int, optional
+        Worker processes (``None`` or 0: all cores; 1: this process). Ignored with ``executor``.
+    executor : concurrent.futures.Executor, optional
+        A pool to run the voltages on (e.g. the study's).
 
     Returns
     -------
     VoltageGridResult
     """
     v = np.asarray(voltages, dtype=float)
+    models = tuple(models)
     for m in models:
         if m not in MODELS:
             raise InputError(f"models: expected names from {MODELS}, got {m!r}")
-    identifications: dict[str, list[Identification]] = {m: [] for m in models}
-    for voltage in v:
-        test = protocol.run(device, float(voltage))
-        for m in models:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")  # kept in Identification.warnings
-                identifications[m].append(identify(test, model=m, n_bootstrap=n_bootstrap))
-            if progress is not None:
-                progress(f"{m} {voltage:.2f} V")
+    if isinstance(kappa_x, str):
+        if kappa_x not in KAPPA_X_MODES:
+            raise InputError(f"kappa_x: expected one of {KAPPA_X_MODES} or a number [N/m], got {kappa_x!r}")
+    elif not (isinstance(kappa_x, (int, float)) and np.isfinite(kappa_x) and kappa_x >= 0):
+        raise InputError(f"kappa_x: expected one of {KAPPA_X_MODES} or a number >= 0 [N/m], got {kappa_x!r}")
+    worker_count(jobs)  # validates jobs
+    estimate = None
+    fixed = None
+    if "extended" in models:
+        if isinstance(kappa_x, str) and kappa_x in ("large-loop", "joint"):
+            estimate, _ = estimate_kappa_x(device, kappa_x_protocol)
+            fixed = estimate.value
+        elif isinstance(kappa_x, str):
+            estimate = KappaXEstimate(mode="per-voltage", value=float("nan"))
+        else:
+            fixed = float(kappa_x)
+            estimate = KappaXEstimate(mode="given", value=fixed)
+
+    own = executor is None and worker_count(jobs, v.size) > 1
+    pool = make_executor(min(worker_count(jobs), v.size)) if own else executor
+
+    def tick(idents: list) -> None:
+        if progress is not None:
+            for ident in idents:
+                progress(f"{ident.model_name} {ident.level:.2f} V")
+
+    try:
+        per_voltage = run_tasks(_identify_at_voltage,
+                                [(device, float(x), models, protocol, n_bootstrap, fixed) for x in v],
+                                pool, tick)
+        if kappa_x == "joint":
+            j = models.index("extended")
+            ext = [row[j] for row in per_voltage]
+            shared = refine_shared([(i.t, i.x, i.xdot, i.force, i.cycles) for i in ext],
+                                   [i.parameters for i in ext], shared="kappa_x", model="extended")
+            estimate = KappaXEstimate(
+                mode="joint", value=shared.value, standard_error=shared.standard_error,
+                inclination=estimate.inclination, regression=estimate.regression,
+                rho_stroke=estimate.rho_stroke, protocol=estimate.protocol,
+                notes=estimate.notes + (f"joint refinement over {v.size} voltages from the large-loop "
+                                        f"value {shared.start:.6g} N/m: {shared.nfev} evaluations, "
+                                        f"{shared.message}",))
+            # Re-identify each voltage with the joint kappa_x, started at the joint optimum, so
+            # that every per-voltage result (closed form, uncertainty, errors) is consistent.
+            again = run_tasks(_identify_at_voltage,
+                              [(device, float(x), ("extended",), protocol, n_bootstrap, shared.value,
+                                {"extended": prm}) for x, prm in zip(v, shared.parameters)], pool)
+            for row, new in zip(per_voltage, again):
+                row[j] = new[0]
+    finally:
+        if own and pool is not None:
+            pool.shutdown()
+    identifications: dict[str, list[Identification]] = {m: [row[k] for row in per_voltage]
+                                                       for k, m in enumerate(models)}
     notes: list[str] = []
     laws, fitted_models = {}, {}
     for m in models:
@@ -319,4 +503,4 @@ def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
         laws[m] = fit_voltage_laws(v, table, free_parameters(m))
         fitted_models[m] = {"seed": voltage_model(m, laws[m]["seed"], laws[m]["generic"], notes),
                             "generic": voltage_model(m, laws[m]["generic"])}
-    return VoltageGridResult(v, identifications, laws, fitted_models, notes, protocol)
+    return VoltageGridResult(v, identifications, laws, fitted_models, notes, protocol, estimate)
