@@ -419,7 +419,8 @@ def _raise_numerical(status, k, dt, z_out, nq, nv, session):
         hint = f"check the design of controller {getattr(session, 'name', '?')!r} (unstable estimator?)"
     else:
         hint = ("check the isolation and device parameters (a negative or zero stiffness?) and the "
-                "controller; a smaller substep_tolerance helps stiff hysteresis")
+                "controller; a bearing or damper whose hysteresis would need more than 200 000 "
+                "sub-steps in one record step also stops here: soften it or loosen substep_tolerance")
     raise NumericalError(STATUS_MESSAGES.get(status, f"kernel status {status}"), time=(k + 1) * dt,
                          state=state, hint=hint)
 

@@ -517,6 +517,14 @@ def _distance_to_zero(aw, rho, sigma, n):
 
 
 @numba.njit(cache=True)
+def _substeps(x):
+    """Sub-steps for a stiffness-length product ``x``; MAX_SUBSTEPS + 1 when more are needed."""
+    if not (x <= MAX_SUBSTEPS):  # also NaN
+        return MAX_SUBSTEPS + 1
+    return max(1, int(math.ceil(x)))
+
+
+@numba.njit(cache=True)
 def bouc_wen_piece(w, xa, xb, rho, sigma, n, tol):
     """Integrate w along a monotone displacement piece xa -> xb.
 
@@ -533,13 +541,17 @@ def bouc_wen_piece(w, xa, xb, rho, sigma, n, tol):
         stiff = rho * n * max(1.0, 2.0 * sigma - 1.0) * max(1.0, abs(w)) ** (n - 1.0)
         to_zero = _distance_to_zero(abs(w), rho, sigma, n)
         if to_zero >= length:
-            n_sub = min(MAX_SUBSTEPS, max(1, int(math.ceil(stiff * length / tol))))
+            n_sub = _substeps(stiff * length / tol)
+            if n_sub > MAX_SUBSTEPS:
+                return math.nan  # the tolerance cannot be met: reported as a NumericalError
             w = _rk4_branch(w, d, 1.0 - 2.0 * sigma, rho, n, length, n_sub)
             return w if d * w <= 0.0 else 0.0
         w = 0.0
         length -= to_zero
     stiff = rho * n * max(1.0, abs(w)) ** (n - 1.0)
-    n_sub = min(MAX_SUBSTEPS, max(1, int(math.ceil(stiff * length / tol))))
+    n_sub = _substeps(stiff * length / tol)
+    if n_sub > MAX_SUBSTEPS:
+        return math.nan  # the tolerance cannot be met: reported as a NumericalError
     return _rk4_branch(w, d, 1.0, rho, n, length, n_sub)
 
 

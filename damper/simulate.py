@@ -147,6 +147,7 @@ def simulate(model, t, x, xdot=None, v=0.0, state0=None) -> DamperResponse:
         raise NumericalError(f"{model.name}: force is not finite", time=float(t[k]),
                              state={"x": float(x[k]), "xdot": float(xdot[k]), "v": float(v[k]),
                                     **{n: float(s) for n, s in zip(names, state)}},
-                             hint="check the model parameters and the sampling of the motion")
+                             hint="check the model parameters and the sampling of the motion (a hysteresis that "
+                                  "would need more than 200 000 sub-steps per sample also ends here)")
     return DamperResponse(t=t, displacement=x, velocity=xdot, voltage=v, force=force,
                           states=states, model=model)

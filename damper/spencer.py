@@ -271,11 +271,11 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
     lam = (rho * ratio + kratio
            + rho * n * max(1.0, 2.0 * sigma - 1.0) * max(1.0, abs(w)) ** (n - 1.0)
            * (max(abs(xd0), abs(xd1), abs(x1 - x0) / dt) + abs(ydot0)))
-    n_sub = int(math.ceil(lam * dt / tol))
-    if n_sub < 1:
-        n_sub = 1
-    elif n_sub > MAX_SUBSTEPS:
-        n_sub = MAX_SUBSTEPS
+    if not (lam * dt / tol <= MAX_SUBSTEPS):  # also NaN: the tolerance cannot be met
+        for i in range(state.shape[0]):
+            state[i] = math.nan
+        return math.nan
+    n_sub = max(1, int(math.ceil(lam * dt / tol)))
     h = dt / n_sub
     hs = 1.0 / n_sub
     if field_settled:

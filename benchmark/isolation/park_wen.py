@@ -103,8 +103,8 @@ def park_wen_substeps(ux0: float, uy0: float, ux1: float, uy1: float,
     ly = max(abs(uy1 - uy0), 0.5 * (abs(vy0) + abs(vy1)) * dt)
     rho = max(A, 2.0 * (beta + gamma)) / yield_displacement
     x = rho * (lx + ly) / tolerance
-    if not (x < MAX_SUBSTEPS):  # also catches NaN
-        return MAX_SUBSTEPS
+    if not (x <= MAX_SUBSTEPS):  # also catches NaN: the tolerance cannot be met
+        return MAX_SUBSTEPS + 1
     n = int(math.ceil(x))
     return max(n, 1)
 
@@ -145,6 +145,12 @@ def park_wen_advance(state: np.ndarray, offset: int,
     """
     n = park_wen_substeps(ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,
                           yield_displacement, A, beta, gamma, tolerance)
+    if n > MAX_SUBSTEPS:
+        # More than MAX_SUBSTEPS sub-steps would be needed: poison the state so that the caller
+        # stops with a NumericalError rather than return an inaccurate force.
+        state[offset] = math.nan
+        state[offset + 1] = math.nan
+        return n
     zx = state[offset]
     zy = state[offset + 1]
     dx0 = vx0 * dt

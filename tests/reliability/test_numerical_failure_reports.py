@@ -132,3 +132,17 @@ def test_cli_damper_test_exits_3_and_writes_nothing(tmp_path, cli, cli_error):
     line = cli_error(rc, err, status=3, prefix="sbib: numerical failure: ")
     assert "hint:" in line
     assert not out.exists() and list(tmp_path.iterdir()) == []
+
+
+def test_substepping_that_cannot_meet_its_tolerance_stops_with_a_clear_error():
+    """A hysteresis needing more than MAX_SUBSTEPS sub-steps per sample is a NumericalError."""
+    import numpy as np
+
+    from benchmark.errors import NumericalError
+    from damper import NormalizedBoucWen, simulate
+
+    model = NormalizedBoucWen(kappa_xdot=1.0e3, kappa_w=1.0e4, rho=1.0e9, sigma=1.0, n=1.0,
+                              substep_tolerance=1.0e-3)
+    t = np.linspace(0.0, 1.0, 101)
+    with pytest.raises(NumericalError, match="200 000 sub-steps"):
+        simulate(model, t, 0.1 * np.sin(2 * np.pi * t))
