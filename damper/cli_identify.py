@@ -42,6 +42,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--synthetic", action="store_true", help="validate on synthetic benchmark-like records")
     p.add_argument("--no-validation", action="store_true", help="skip the earthquake validation")
     p.add_argument("--no-plots", action="store_true", help="write no figures")
+    p.add_argument("--kappa-x", default="large-loop", metavar="MODE",
+                   help="extended model's kappa_x: large-loop (seed step a: read once from the ±0.4 m "
+                        "0 V loop, held fixed; default), joint (one value refined over the whole grid), "
+                        "per-voltage (free at each voltage), or a number in N/m held fixed")
+    p.add_argument("--no-free-kappa-x", action="store_true",
+                   help="do not identify/validate the per-voltage-kappa_x variant for comparison")
+    p.add_argument("--jobs", type=int, default=None,
+                   help="worker processes (default: all cores; 1: no pool)")
     p.set_defaults(func=_run)
 
 
@@ -75,13 +83,22 @@ def _run(args: argparse.Namespace) -> int:
     if args.model:
         print("sbib identify: --model applies to --data only", file=sys.stderr)
         return 2
+    kappa_x = args.kappa_x
+    if kappa_x not in ("large-loop", "joint", "per-voltage"):
+        try:
+            kappa_x = float(kappa_x)
+        except ValueError:
+            print(f"sbib identify: --kappa-x: expected large-loop, joint, per-voltage or a number "
+                  f"in N/m, got {args.kappa_x!r}", file=sys.stderr)
+            return 2
     summary = run_identify_study(args.out or "results/identify", records=_split(args.records),
                                  orientations=_split(args.orientations), controller=args.controller,
                                  validate=not args.no_validation, records_dir=args.records_dir,
                                  synthetic=args.synthetic, progress=True,
-                                 plots=not args.no_plots)
+                                 plots=not args.no_plots, kappa_x=kappa_x,
+                                 compare_free_kappa_x=not args.no_free_kappa_x, jobs=args.jobs)
     if args.json:
-        print(json.dumps({k: summary[k] for k in ("device", "voltages", "parameters", "identification_errors",
+        print(json.dumps({k: summary[k] for k in ("device", "voltages", "kappa_x", "parameters", "identification_errors",
                                                    "law_errors", "field_lag", "validation", "files",
                                                    "timings")}, indent=2, default=float))
     else:

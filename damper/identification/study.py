@@ -2,9 +2,14 @@
 
 Steps (each through the public API):
 
-1. identify the normalized and the extended Bouc-Wen models at each voltage of the grid
-   0, 0.1, …, 1 V from periodic tests run on the device by the virtual laboratory, and fit the
-   voltage laws (:mod:`~damper.identification.voltage_grid`);
+1. read the extended model's :math:`\\kappa_x` once from the large 0 V loop (seed step a),
+   identify the normalized and the extended Bouc-Wen models at each voltage of the grid
+   0, 0.1, …, 1 V from periodic tests run on the device by the virtual laboratory, with that
+   :math:`\\kappa_x` held fixed, and fit the voltage laws
+   (:mod:`~damper.identification.voltage_grid`); for comparison, also the extended model with
+   :math:`\\kappa_x` free at each voltage (``extended-free-kx``: seed laws, i.e. :math:`\\kappa_x`
+   the mean of the per-voltage values; ``extended-free-kx-pchip``: the generic laws, i.e. a
+   voltage-dependent :math:`\\kappa_x(v)`);
 2. fit the field lag of each identified model on a voltage-switching test
    (:mod:`~damper.identification.voltage_lag`);
 3. validate the voltage-dependent identified models inside full earthquake simulations of the
@@ -17,6 +22,21 @@ Steps (each through the public API):
 The device is injected (default ``"virtual"``, the registered name of the virtual benchmark
 damper): the identification sees it only through :mod:`damper.laboratory`, the validation only
 through the building's recorded damper histories.
+
+Everything runs on one process pool (``jobs``, default all cores): the earthquake runs with the
+device under test (and their uncontrolled references, once per record and orientation) start
+at once, while the voltage grid is identified; then the replays, the re-runs with the
+identified model and the figures (one Fig. 11 per run) run as further tasks. Results are
+gathered in task order and do not depend on the number of workers.
+
+Test protocol
+-------------
+The grid's test (:class:`~damper.identification.voltage_grid.TestProtocol`, ±0.1 m at 0.5 Hz)
+satisfies the plastic assumption with margin (:math:`\\rho(X_{max}-X_{min}) \\approx 20` at every
+voltage) and spans the dampers' displacements and velocities in the earthquake runs (RMS
+0.01–0.11 m and 0.05–0.25 m/s). The seed's Fig. 6 test (±0.03 m) gives
+:math:`\\rho(X_{max}-X_{min}) \\approx 6`, below :data:`~damper.identification.cycles.RECOMMENDED_RHO_STROKE`,
+so its closed-form start is biased; it is run and plotted (Fig. 6), not used to identify.
 """
 
 from __future__ import annotations
@@ -34,13 +54,18 @@ import numpy as np
 from benchmark.atomic import atomic_path, atomic_write_text
 from damper.identification.closed_form import PARAMETER_NAMES
 from damper.identification.identify import identify
-from damper.identification.voltage_grid import DEFAULT_VOLTAGES, TestProtocol, identify_voltage_grid
+from damper.identification.parallel import make_executor, run_tasks, worker_count
+from damper.identification.voltage_grid import (DEFAULT_VOLTAGES, KAPPA_X_MODES, LARGE_LOOP_PROTOCOL,
+                                                TestProtocol, identify_voltage_grid)
 from damper.identification.voltage_lag import fit_voltage_lag, switching_test
 
-__all__ = ["run_identify_study", "write_parameters_csv", "FIG6_PROTOCOL", "LARGE_LOOP_PROTOCOL"]
+__all__ = ["run_identify_study", "write_parameters_csv", "FIG6_PROTOCOL", "LARGE_LOOP_PROTOCOL",
+           "FREE_KX", "FREE_KX_PCHIP"]
 
-#: The seed paper's large loop (Fig. 1-3): ±0.4 m at 0.8 Hz (±2 m/s), at 0 V.
-LARGE_LOOP_PROTOCOL = TestProtocol(amplitude=0.4, frequency=0.8, cycles=3.0, sample_rate=1000.0)
+#: Validation names of the comparison variant with kappa_x free at each voltage (seed laws:
+#: kappa_x constant at the mean of the per-voltage values; generic laws: kappa_x(v) by PCHIP).
+FREE_KX = "extended-free-kx"
+FREE_KX_PCHIP = "extended-free-kx-pchip"
 #: The seed paper's Fig. 6 test: ±0.03 m over 10 s at 0 V (1 Hz chosen; the seed gives no frequency).
 FIG6_PROTOCOL = TestProtocol(amplitude=0.03, frequency=1.0, cycles=10.0, sample_rate=1000.0)
 
@@ -60,7 +85,10 @@ def write_parameters_csv(rows: Sequence[dict], path) -> Path:
     return atomic_write_text(path, buf.getvalue())
 
 
-def _write_hdf5(path: Path, grid, fig6_test, validation, device_name: str) -> Path:
+_GZ = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
+
+
+def _write_hdf5(path: Path, grids: dict, fig6_test, validation, device_name: str) -> Path:
     import h5py
 
     from benchmark.provenance import provenance
@@ -70,22 +98,25 @@ def _write_hdf5(path: Path, grid, fig6_test, validation, device_name: str) -> Pa
             for k, v in provenance(study="sbib identify", device=device_name).items():
                 h5.attrs[k] = v
             h5.attrs["units"] = "SI: s, m, m/s, V, N"
-            g = h5.create_group("grid")
-            g.attrs["voltages_V"] = grid.voltages
-            g.attrs["protocol"] = json.dumps(grid.protocol.__dict__)
-            for model, idents in grid.identifications.items():
-                gm = g.create_group(model)
-                gm.attrs["parameter_names"] = list(PARAMETER_NAMES)
-                gm.create_dataset("parameters", data=grid.table(model)).attrs["units"] = \
-                    "N/m, N s/m, N, 1/m, -, -"
-                gm.create_dataset("standard_errors", data=grid.standard_errors(model))
-                for v, ident in zip(grid.voltages, idents):
-                    gv = gm.create_group(f"{v:.2f}V")
-                    for name, arr, unit in (("time", ident.t, "s"), ("displacement", ident.x, "m"),
-                                            ("velocity", ident.xdot, "m/s"), ("force", ident.force, "N"),
-                                            ("model_force", ident.fit.force, "N")):
-                        gv.create_dataset(name, data=arr, compression="gzip").attrs["units"] = unit
-                    gv.attrs["summary"] = json.dumps(ident.summary())
+            for gname, grid in grids.items():
+                g = h5.create_group(gname)
+                g.attrs["voltages_V"] = grid.voltages
+                g.attrs["protocol"] = json.dumps(grid.protocol.__dict__)
+                if grid.kappa_x is not None:
+                    g.attrs["kappa_x"] = json.dumps(grid.kappa_x.to_dict())
+                for model, idents in grid.identifications.items():
+                    gm = g.create_group(model)
+                    gm.attrs["parameter_names"] = list(PARAMETER_NAMES)
+                    gm.create_dataset("parameters", data=grid.table(model)).attrs["units"] = \
+                        "N/m, N s/m, N, 1/m, -, -"
+                    gm.create_dataset("standard_errors", data=grid.standard_errors(model))
+                    for v, ident in zip(grid.voltages, idents):
+                        gv = gm.create_group(f"{v:.2f}V")
+                        for name, arr, unit in (("time", ident.t, "s"), ("displacement", ident.x, "m"),
+                                                ("velocity", ident.xdot, "m/s"), ("force", ident.force, "N"),
+                                                ("model_force", ident.fit.force, "N")):
+                            gv.create_dataset(name, data=arr, **_GZ).attrs["units"] = unit
+                        gv.attrs["summary"] = json.dumps(ident.summary())
             f6 = h5.create_group("fig6_test")
             for name, arr, unit in (("time", fig6_test.time, "s"), ("displacement", fig6_test.displacement, "m"),
                                     ("force", fig6_test.force, "N")):
@@ -98,13 +129,19 @@ def _write_hdf5(path: Path, grid, fig6_test, validation, device_name: str) -> Pa
                     for name, arr, unit in (("time", run.t, "s"), ("displacement", run.displacement, "m"),
                                             ("velocity", run.velocity, "m/s"), ("voltage", run.voltage, "V"),
                                             ("force", run.force, "N")):
-                        gr.create_dataset(name, data=arr, compression="gzip").attrs["units"] = unit
+                        gr.create_dataset(name, data=arr, **_GZ).attrs["units"] = unit
                     for m, arr in run.predicted.items():
-                        gr.create_dataset(f"predicted_force/{m}", data=arr,
-                                          compression="gzip").attrs["units"] = "N"
+                        gr.create_dataset(f"predicted_force/{m}", data=arr, **_GZ).attrs["units"] = "N"
                     gr.attrs["errors"] = json.dumps(run.errors)
                     gr.attrs["J"] = json.dumps(run.J)
     return path
+
+
+def _identify_task(test, model: str, kappa_x: float | None):
+    """Pool task: identify one test (warnings kept in the result)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return identify(test, model=model, kappa_x=kappa_x if model == "extended" else None)
 
 
 def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAULT_VOLTAGES,
@@ -112,7 +149,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                        orientations: Sequence[str] | None = None, controller: str = "clipped-optimal",
                        rerun: Sequence[str] = ("extended",), validate: bool = True,
                        records_dir: str | None = None, synthetic: bool = False,
-                       progress: bool = True, plots: bool = True) -> dict:
+                       progress: bool = True, plots: bool = True, kappa_x: str | float = "large-loop",
+                       compare_free_kappa_x: bool = True, jobs: int | None = None) -> dict:
     """Run the identification study and write its outputs to ``out``; return the summary.
 
     Parameters
@@ -141,78 +179,134 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         Show a progress bar (tqdm, on stderr).
     plots : bool
         Write the figures.
+    kappa_x : {"large-loop", "joint", "per-voltage"} or float
+        The extended model's :math:`\\kappa_x` (see
+        :func:`~damper.identification.voltage_grid.identify_voltage_grid`; default the seed's
+        step a, read once from the large 0 V loop).
+    compare_free_kappa_x : bool
+        Also identify the extended model with :math:`\\kappa_x` free at each voltage and validate
+        it (names :data:`FREE_KX`, :data:`FREE_KX_PCHIP`).
+    jobs : int, optional
+        Worker processes (default all cores; 1: everything in this process).
 
     Returns
     -------
     dict
-        Summary: files written, identified parameters at 0 and 1 V, law errors, validation
-        numbers, timings.
+        Summary: files written, identified parameters at each voltage, law errors, the
+        :math:`\\kappa_x` estimate, validation numbers, timings.
     """
     from damper.laboratory import resolve_device
+    from records import BENCHMARK_RECORDS, ORIENTATIONS
 
+    if isinstance(kappa_x, str) and kappa_x not in KAPPA_X_MODES:
+        from benchmark.errors import InputError
+        raise InputError(f"kappa_x: expected one of {KAPPA_X_MODES} or a number [N/m], got {kappa_x!r}")
+    n_jobs = worker_count(jobs)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     timings: dict[str, float] = {}
     t_all = time.perf_counter()
     model = resolve_device(device)
-    from records import BENCHMARK_RECORDS, ORIENTATIONS
-    n_runs = len(records or BENCHMARK_RECORDS) * len(orientations or ORIENTATIONS) if validate else 0
+    pairs = [(r, o) for r in (records or BENCHMARK_RECORDS) for o in (orientations or ORIENTATIONS)] \
+        if validate else []
+    with_free = compare_free_kappa_x and kappa_x != "per-voltage"
     bar = None
     if progress:
         from tqdm import tqdm
-        bar = tqdm(total=2 * len(voltages) + n_runs, desc="sbib identify", unit="step", leave=False)
+        bar = tqdm(total=(3 if with_free else 2) * len(voltages) + len(pairs), desc="sbib identify",
+                   unit="step", leave=False)
 
     def tick(label: str) -> None:
         if bar is not None:
             bar.set_postfix_str(label)
             bar.update(1)
 
-    t0 = time.perf_counter()
-    grid = identify_voltage_grid(model, voltages=voltages, protocol=protocol, progress=tick)
-    fig6_test = FIG6_PROTOCOL.run(model, 0.0)
-    large_test = LARGE_LOOP_PROTOCOL.run(model, 0.0)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        large = {m: identify(large_test, model=m) for m in grid.models}
-    switching = switching_test(model)
-    lag_fits = {m: fit_voltage_lag(grid.models[m]["seed"], switching) for m in grid.models}
-    timings["identification_s"] = time.perf_counter() - t0
-
-    files = {"parameters": str(write_parameters_csv(grid.rows(), out / "parameters.csv")),
-             "voltage_laws": str(atomic_write_text(out / "voltage_laws.json", json.dumps(
-                 grid.laws_json() | {"field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()}},
-                 indent=2)))}
+    pool = make_executor(n_jobs)
     validation = None
-    if validate:
-        from benchmark.building import Building
-        from damper.identification.validation import validate_in_building
+    figure_folder = out / "figures"
+    try:
+        building = None
+        measuring: list = []
+        if validate:
+            from benchmark.building import Building
+            from damper.identification.validation import measure_run
 
+            building = Building.default(damper_model=model)
+            # The runs with the device under test need no identified model: start them now.
+            if pool is not None:
+                measuring = [pool.submit(measure_run, building, r, o, controller, records_dir, synthetic)
+                             for r, o in pairs]
         t0 = time.perf_counter()
-        building = Building.default(damper_model=model)
+        grid = identify_voltage_grid(model, voltages=voltages, protocol=protocol, progress=tick,
+                                     kappa_x=kappa_x, executor=pool, jobs=1)
+        grids = {"grid": grid}
+        if with_free:
+            grids["grid_free_kappa_x"] = identify_voltage_grid(
+                model, voltages=voltages, models=("extended",), protocol=protocol, progress=tick,
+                kappa_x="per-voltage", executor=pool, jobs=1)
+        fig6_test = FIG6_PROTOCOL.run(model, 0.0)
+        large_test = LARGE_LOOP_PROTOCOL.run(model, 0.0)
+        fixed_kx = grid.kappa_x.value if grid.kappa_x is not None and grid.kappa_x.mode != "per-voltage" else None
         identified = {m: grid.models[m]["seed"] for m in grid.models}
-        lags = {m: lf.tau for m, lf in lag_fits.items()}
-        validation = validate_in_building(building, identified, lags=lags, records=records,
-                                          orientations=orientations,
-                                          controller=controller, rerun=rerun, records_dir=records_dir,
-                                          synthetic=synthetic, progress=tick)
-        timings["validation_s"] = time.perf_counter() - t0
-        files["validation"] = str(atomic_write_text(out / "validation.json",
-                                                    json.dumps(validation.to_json(), indent=2)))
-    if bar is not None:
-        bar.close()
+        if with_free:
+            free = grids["grid_free_kappa_x"].models["extended"]
+            identified[FREE_KX] = free["seed"]
+            identified[FREE_KX_PCHIP] = free["generic"]
+        switching = switching_test(model)
+        names = list(identified)
+        results = run_tasks(_identify_task, [(large_test, m, fixed_kx) for m in grid.models], pool) + \
+            run_tasks(fit_voltage_lag, [(identified[m], switching) for m in names], pool)
+        large = dict(zip(grid.models, results[:len(grid.models)]))
+        lag_fits = dict(zip(names, results[len(grid.models):]))
+        timings["identification_s"] = time.perf_counter() - t0
+
+        files = {"parameters": str(write_parameters_csv(
+                     [row for g in grids.values() for row in g.rows()], out / "parameters.csv")),
+                 "voltage_laws": str(atomic_write_text(out / "voltage_laws.json", json.dumps(
+                     {name: g.laws_json() for name, g in grids.items()}
+                     | {"field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()}}, indent=2)))}
+        figure_job = None
+        if plots:
+            figure_folder.mkdir(parents=True, exist_ok=True)
+            args = (figure_folder, grid, fig6_test, large)
+            figure_job = pool.submit(_figures, *args) if pool is not None else None
+            if pool is None:
+                files["figures"] = _figures(*args)
+        if validate:
+            from damper.identification.validation import validate_in_building
+
+            t0 = time.perf_counter()
+            measured = [f.result() for f in measuring] if measuring else None
+            lags = {m: lf.tau for m, lf in lag_fits.items()}
+            validation = validate_in_building(building, identified, lags=lags, records=records,
+                                              orientations=orientations, controller=controller,
+                                              rerun=rerun, records_dir=records_dir, synthetic=synthetic,
+                                              progress=tick, executor=pool, jobs=1, measured=measured,
+                                              figures=figure_folder if plots else None)
+            timings["validation_s"] = time.perf_counter() - t0
+            files["validation"] = str(atomic_write_text(out / "validation.json",
+                                                        json.dumps(validation.to_json(), indent=2)))
+        if figure_job is not None:
+            files["figures"] = figure_job.result()
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+        if bar is not None:
+            bar.close()
+    if plots and validation is not None:
+        files["figures"] = files.get("figures", []) + [
+            str(figure_folder / f"fig11_force_errors_{r.record}_{r.orientation}.png") for r in validation.runs]
     t0 = time.perf_counter()
-    files["hdf5"] = str(_write_hdf5(out / "identification.h5", grid, fig6_test, validation, model.name))
+    files["hdf5"] = str(_write_hdf5(out / "identification.h5", grids, fig6_test, validation, model.name))
     timings["hdf5_s"] = time.perf_counter() - t0
-    if plots:
-        t0 = time.perf_counter()
-        files["figures"] = _figures(out / "figures", grid, fig6_test, large, validation)
-        timings["plots_s"] = time.perf_counter() - t0
     timings["total_s"] = time.perf_counter() - t_all
+    timings["jobs"] = n_jobs
 
     summary = {
         "device": model.name,
         "voltages": [float(v) for v in grid.voltages],
         "protocol": grid.protocol.__dict__,
+        "kappa_x": grid.kappa_x.to_dict() if grid.kappa_x is not None else None,
         "parameters": {m: {f"{v:.2f} V": ident.parameters for v, ident in zip(grid.voltages, idents)}
                        for m, idents in grid.identifications.items()},
         "identification_errors": {m: {f"{v:.2f} V": ident.errors["rel_rms_error"]
@@ -228,11 +322,18 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         "files": files,
         "timings": timings,
     }
+    if with_free:
+        g = grids["grid_free_kappa_x"]
+        summary["parameters"][FREE_KX] = {f"{v:.2f} V": i.parameters
+                                          for v, i in zip(g.voltages, g.identifications["extended"])}
+        summary["identification_errors"][FREE_KX] = {f"{v:.2f} V": i.errors["rel_rms_error"]
+                                                     for v, i in zip(g.voltages, g.identifications["extended"])}
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     return summary
 
 
-def _figures(folder: Path, grid, fig6_test, large: dict, validation) -> list[str]:
+def _figures(folder: Path, grid, fig6_test, large: dict) -> list[str]:
+    """Seed Fig. 1-3, 6 and 8 (Fig. 11 is drawn per run by the validation)."""
     from damper.identification import plots
 
     folder.mkdir(parents=True, exist_ok=True)
@@ -254,7 +355,4 @@ def _figures(folder: Path, grid, fig6_test, large: dict, validation) -> list[str
 
     written.append(plots.plot_test_signals([fig6_test, _Shown], folder / "fig06_test_signals.png"))
     written.append(plots.plot_parameters_vs_voltage(grid, folder / "fig08_parameters_vs_voltage.png"))
-    if validation is not None:
-        for run in validation.runs:
-            written.append(plots.plot_force_errors(run, folder / f"fig11_force_errors_{run.record}_{run.orientation}.png"))
     return [str(p) for p in written]

@@ -18,11 +18,20 @@ For every benchmark record and orientation:
 
 The building is handed in by the caller; this module never constructs or inspects the
 device under test.
+
+Speed: the runs are independent tasks on a process pool (``jobs``; results in task order, so
+they do not depend on the number of workers). Each record and orientation is simulated once
+without devices (the J reference) and once with the device under test (:func:`measure_run`);
+the replays, the re-run with the identified model and the run's Fig. 11 (when a figure folder
+is given) follow in a second task (:func:`compare_run`), which receives the measured run and
+a compact copy of the reference instead of recomputing them.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
+from types import SimpleNamespace
 from typing import Callable, Sequence
 
 import numpy as np
@@ -35,7 +44,8 @@ from damper.simulate import simulate as simulate_damper
 #: Suffix of the model names replayed through the identified field filter.
 LAG_SUFFIX = "+lag"
 
-__all__ = ["LAG_SUFFIX", "RunValidation", "ValidationResult", "run_errors", "replay", "validate_in_building"]
+__all__ = ["LAG_SUFFIX", "RunValidation", "ValidationResult", "MeasuredRun", "run_errors", "replay",
+           "measure_run", "compare_run", "validate_in_building"]
 
 
 def run_errors(measured: np.ndarray, predicted: np.ndarray, displacement: np.ndarray) -> dict[str, float]:
@@ -146,9 +156,11 @@ class ValidationResult:
                 entry["mean_abs_delta_J"] = float(np.mean(dj))
                 entry["max_abs_delta_J"] = float(np.max(dj))
             out[m] = entry
-        for suffix in ("", LAG_SUFFIX):
-            ext, nor = f"extended{suffix}", f"normalized{suffix}"
-            if ext in self.models and nor in self.models:
+        for ext in self.models:
+            if ext.startswith("normalized"):
+                continue
+            nor = "normalized" + (LAG_SUFFIX if ext.endswith(LAG_SUFFIX) else "")
+            if nor in self.models and self.runs:
                 ratios = [r.errors[ext]["rel_rms_error"] / r.errors[nor]["rel_rms_error"] for r in self.runs]
                 out[f"{ext}_below_{nor}_every_run"] = bool(max(ratios) < 1.0)
                 out[f"{ext}_over_{nor}_rel_rms_ratio_max"] = float(max(ratios))
@@ -156,12 +168,123 @@ class ValidationResult:
         return out
 
 
+@dataclass
+class MeasuredRun:
+    """One record and orientation run with the device under test (output of :func:`measure_run`).
+
+    Attributes
+    ----------
+    record_name, orientation : str
+    record : records.Record
+    t : ndarray
+        Time [s].
+    displacement, velocity, voltage, force : ndarray (n, n_devices)
+        The device under test's recorded inputs and force (SI).
+    J_device : dict
+        J1–J9 of the run against the uncontrolled reference.
+    reference : SimpleNamespace
+        The fields of the uncontrolled run that :func:`benchmark.evaluation.evaluate` reads
+        (``t``, ``info`` and the response histories), for the re-runs.
+    """
+
+    record_name: str
+    orientation: str
+    record: object = field(repr=False)
+    t: np.ndarray = field(repr=False)
+    displacement: np.ndarray = field(repr=False)
+    velocity: np.ndarray = field(repr=False)
+    voltage: np.ndarray = field(repr=False)
+    force: np.ndarray = field(repr=False)
+    J_device: dict = field(default_factory=dict)
+    reference: object = field(default=None, repr=False)
+
+
+_REFERENCE_FIELDS = ("t", "base_shear", "structure_shear", "base_displacement", "drift_ratio",
+                     "floor_acceleration_absolute")
+
+
+def _load_record(name: str, orientation: str, records_dir, synthetic: bool):
+    if synthetic:
+        from records.synthetic import benchmark_like
+        return benchmark_like(name, orientation)
+    from records import load_benchmark_record
+    return load_benchmark_record(name, orientation, records_dir=records_dir)
+
+
+def measure_run(building, record_name: str, orientation: str, controller: str = "clipped-optimal",
+                records_dir: str | None = None, synthetic: bool = False) -> MeasuredRun:
+    """Run the building without devices (reference) and with its own dampers under ``controller``.
+
+    Returns the dampers' recorded histories, the run's J1–J9 and a compact copy of the
+    reference (see :class:`MeasuredRun`).
+    """
+    from benchmark.evaluation import evaluate
+    from benchmark.simulation import simulate
+
+    record = _load_record(record_name, orientation, records_dir, synthetic)
+    info = {"orientation": orientation}
+    reference = simulate(building.without_devices(), record, None, info=info, record_states=False)
+    measured = simulate(building, record, controller, info=info, record_states=False)
+    ref = SimpleNamespace(info=dict(getattr(reference, "info", {}) or {}), device_force=None,
+                          **{k: np.asarray(getattr(reference, k)) for k in _REFERENCE_FIELDS})
+    return MeasuredRun(record_name, orientation, record, np.asarray(measured.t),
+                       np.asarray(measured.device_displacement), np.asarray(measured.device_velocity),
+                       np.asarray(measured.voltage), np.asarray(measured.device_force),
+                       evaluate(measured, reference), ref)
+
+
+def compare_run(building, measured: MeasuredRun, identified: dict, lags: dict | None = None,
+                rerun: Sequence[str] = (), controller: str = "clipped-optimal",
+                figure: str | None = None) -> RunValidation:
+    """Replay one measured run through the identified models; re-run the building with some of them.
+
+    Parameters
+    ----------
+    building : benchmark.building.Building
+        The building of :func:`measure_run` (its device slots receive the identified model).
+    measured : MeasuredRun
+    identified : dict
+        ``model name -> voltage-dependent damper model``.
+    lags : dict, optional
+        ``model name -> tau`` [s]: also replay through the field filter (name ``+lag``).
+    rerun : sequence of str
+        Identified models put in the building in place of its dampers (J comparison).
+    controller : str
+    figure : str, optional
+        Write this run's Fig. 11 (:func:`damper.identification.plots.plot_force_errors`) there.
+    """
+    from benchmark.evaluation import evaluate
+    from benchmark.simulation import simulate
+
+    t, x, xd, v, f = measured.t, measured.displacement, measured.velocity, measured.voltage, measured.force
+    predicted, errors = {}, {}
+    for m, model in identified.items():
+        predicted[m] = replay(model, t, x, xd, v)
+        errors[m] = run_errors(f, predicted[m], x)
+        if lags and m in lags:
+            predicted[m + LAG_SUFFIX] = replay(model, t, x, xd, v, tau=lags[m])
+            errors[m + LAG_SUFFIX] = run_errors(f, predicted[m + LAG_SUFFIX], x)
+    J = {"device": measured.J_device}
+    info = {"orientation": measured.orientation}
+    for m in rerun:
+        swapped = building.with_devices(building.devices.with_model(identified[m]))
+        J[m] = evaluate(simulate(swapped, measured.record, controller, info=info, record_states=False),
+                        measured.reference)
+    run = RunValidation(measured.record_name, measured.orientation, t, x, xd, v, f, predicted, errors, J)
+    if figure is not None:
+        from damper.identification.plots import plot_force_errors
+        plot_force_errors(run, figure)
+    return run
+
+
 def validate_in_building(building, identified: dict, lags: dict | None = None,
                          records: Sequence[str] | None = None,
                          orientations: Sequence[str] | None = None,
                          controller: str = "clipped-optimal", rerun: Sequence[str] = ("extended",),
                          records_dir: str | None = None, synthetic: bool = False,
-                         progress: Callable[[str], None] | None = None) -> ValidationResult:
+                         progress: Callable[[str], None] | None = None, jobs: int | None = 1,
+                         executor=None, measured: Sequence[MeasuredRun] | None = None,
+                         figures: str | Path | None = None) -> ValidationResult:
     """Replay earthquake runs through identified models and compare (see the module docstring).
 
     Parameters
@@ -186,47 +309,52 @@ def validate_in_building(building, identified: dict, lags: dict | None = None,
         Use the labelled synthetic benchmark-like records instead of the files.
     progress : callable, optional
         Called with a label after each run.
+    jobs : int, optional
+        Worker processes (``None`` or 0: all cores; 1: this process). Ignored with ``executor``.
+    executor : concurrent.futures.Executor, optional
+        A pool to run on.
+    measured : sequence of MeasuredRun, optional
+        Runs already measured (:func:`measure_run`), e.g. while the identification ran; then
+        ``records``, ``orientations`` and ``controller``'s runs are not repeated.
+    figures : path-like, optional
+        Folder for one Fig. 11 per run (``fig11_force_errors_<record>_<orientation>.png``),
+        drawn in the workers.
     """
-    from benchmark.evaluation import evaluate
-    from benchmark.simulation import simulate
-    from records import BENCHMARK_RECORDS, ORIENTATIONS, load_benchmark_record
+    from damper.identification.parallel import make_executor, run_tasks, worker_count
+    from records import BENCHMARK_RECORDS, ORIENTATIONS
 
     if building.devices is None or building.n_devices == 0:
         raise InputError("validation: the building has no dampers to validate against")
-    records = tuple(records or BENCHMARK_RECORDS)
-    orientations = tuple(orientations or ORIENTATIONS)
     for m in rerun:
         if m not in identified:
             raise InputError(f"rerun: {m!r} is not among the identified models {sorted(identified)}")
-    runs = []
-    for name in records:
-        for orientation in orientations:
-            if synthetic:
-                from records.synthetic import benchmark_like
-                record = benchmark_like(name, orientation)
-            else:
-                record = load_benchmark_record(name, orientation, records_dir=records_dir)
-            info = {"orientation": orientation}
-            reference = simulate(building.without_devices(), record, None, info=info)
-            measured = simulate(building, record, controller, info=info)
-            t = np.asarray(measured.t)
-            x = np.asarray(measured.device_displacement)
-            xd = np.asarray(measured.device_velocity)
-            v = np.asarray(measured.voltage)
-            f = np.asarray(measured.device_force)
-            predicted, errors = {}, {}
-            for m, model in identified.items():
-                predicted[m] = replay(model, t, x, xd, v)
-                errors[m] = run_errors(f, predicted[m], x)
-                if lags and m in lags:
-                    predicted[m + LAG_SUFFIX] = replay(model, t, x, xd, v, tau=lags[m])
-                    errors[m + LAG_SUFFIX] = run_errors(f, predicted[m + LAG_SUFFIX], x)
-            J = {"device": evaluate(measured, reference)}
-            for m in rerun:
-                swapped = building.with_devices(building.devices.with_model(identified[m]))
-                J[m] = evaluate(simulate(swapped, record, controller, info=info), reference)
-            runs.append(RunValidation(name, orientation, t, x, xd, v, f, predicted, errors, J))
-            if progress is not None:
-                progress(f"{name} {orientation}")
+    if measured is None:
+        records = tuple(records or BENCHMARK_RECORDS)
+        orientations = tuple(orientations or ORIENTATIONS)
+        pairs = [(r, o) for r in records for o in orientations]
+    else:
+        pairs = [(mr.record_name, mr.orientation) for mr in measured]
+    own = executor is None and worker_count(jobs, len(pairs)) > 1
+    pool = make_executor(min(worker_count(jobs), len(pairs))) if own else executor
+    folder = None if figures is None else Path(figures)
+    if folder is not None:
+        folder.mkdir(parents=True, exist_ok=True)
+
+    def tick(run: RunValidation) -> None:
+        if progress is not None:
+            progress(f"{run.record} {run.orientation}")
+
+    try:
+        if measured is None:
+            measured = run_tasks(measure_run, [(building, r, o, controller, records_dir, synthetic)
+                                               for r, o in pairs], pool)
+        tasks = [(building, mr, identified, lags, tuple(rerun), controller,
+                  None if folder is None else
+                  str(folder / f"fig11_force_errors_{mr.record_name}_{mr.orientation}.png"))
+                 for mr in measured]
+        runs = run_tasks(compare_run, tasks, pool, tick)
+    finally:
+        if own and pool is not None:
+            pool.shutdown()
     names = tuple(identified) + tuple(m + LAG_SUFFIX for m in identified if lags and m in lags)
     return ValidationResult(runs, controller, names)

@@ -110,3 +110,44 @@ def test_metrics_on_known_histories():
                                                 "E_t", "E_x", "E_xdot"}
     with pytest.raises(InputError):
         relative_rms_error(f, g[:-1])
+
+
+def test_fixed_kappa_x_is_held_and_the_rest_recovered():
+    """The seed's method: kappa_x given (read once elsewhere), the rest identified on F - kappa_x x."""
+    t, x, xd, force = periodic_data()
+    ident = identify_arrays(t, x, force, xd, model="extended", kappa_x=TRUE["kappa_x"])
+    assert ident.parameters["kappa_x"] == TRUE["kappa_x"]
+    assert "kappa_x" not in ident.fit.free and ident.fit.standard_error["kappa_x"] == 0.0
+    assert ident.closed_form.kappa_x_method == "fixed"
+    assert max(abs(v) for v in _relative(ident.parameters).values()) < 0.01
+    # A wrong kappa_x stays wrong (it is not re-fitted) and the fit pays for it.
+    off = identify_arrays(t, x, force, xd, model="extended", kappa_x=0.7 * TRUE["kappa_x"])
+    assert off.parameters["kappa_x"] == pytest.approx(0.7 * TRUE["kappa_x"])
+    assert off.errors["rel_rms_error"] > 100 * ident.errors["rel_rms_error"]
+    with pytest.raises(InputError, match="extended model only"):
+        identify_arrays(t, x, force, xd, model="normalized", kappa_x=1e5)
+    with pytest.raises(InputError, match="kappa_x"):
+        identify_arrays(t, x, force, xd, model="extended", kappa_x=-1.0)
+
+
+def test_refine_shared_recovers_one_kappa_x_common_to_several_tests():
+    from damper.identification.refine import refine, refine_shared
+    devices = [TRUE, dict(TRUE, kappa_xdot=2.0e5, kappa_w=4.0e5, rho=100.0, sigma=1.5, n=1.8)]
+    tests, starts = [], []
+    for p in devices:
+        t, x, xd, force = periodic_data(p)
+        ident = identify_arrays(t, x, force, xd, model="extended", kappa_x=1.6e5)  # a biased start
+        tests.append((t, x, xd, force, ident.cycles))
+        starts.append(ident.parameters)
+    shared = refine_shared(tests, starts, shared="kappa_x")
+    assert shared.start == pytest.approx(1.6e5)
+    assert shared.value == pytest.approx(TRUE["kappa_x"], rel=0.01)
+    for p, fitted, err in zip(devices, shared.parameters, shared.rel_rms_errors):
+        assert fitted["kappa_x"] == shared.value
+        assert fitted["kappa_w"] == pytest.approx(p["kappa_w"], rel=0.01)
+        assert err < 1e-3
+    assert shared.standard_error >= 0.0
+    with pytest.raises(InputError):
+        refine_shared(tests, starts[:1])
+    with pytest.raises(InputError, match="fixed"):
+        refine(*tests[0], starts[0], model="normalized", fixed={"kappa_x": 1.0})

@@ -77,6 +77,63 @@ def test_voltage_grid_recovers_a_known_voltage_dependent_device():
     assert {r["model"] for r in grid.rows()} == {"extended"}
 
 
+def test_kappa_x_is_read_once_from_the_large_loop_and_held_over_the_grid():
+    """Seed step (a) and eq. 5: one kappa_x for every voltage; the variants are options."""
+    from damper.identification.voltage_grid import estimate_kappa_x
+    device = ExtendedBoucWen(kappa_x=2e5, kappa_xdot=Polynomial((1e5, 1e5)),
+                             kappa_w=Polynomial((5e4, 9e5)), rho=120.0, sigma=0.9, n=1.4)
+    estimate, test = estimate_kappa_x(device)
+    assert estimate.mode == "large-loop" and estimate.protocol["amplitude"] == 0.4
+    assert estimate.value == pytest.approx(2e5, rel=0.02)  # the loop's average inclination
+    protocol = TestProtocol(cycles=3, sample_rate=500.0)
+    grid = identify_voltage_grid(device, voltages=(0.0, 0.5, 1.0), models=("extended",), protocol=protocol)
+    table = grid.table("extended")
+    assert np.all(table[:, 0] == estimate.value)
+    assert {r["kappa_x_mode"] for r in grid.rows()} == {"large-loop"}
+    assert all("kappa_x" not in i.fit.free for i in grid.identifications["extended"])
+    assert grid.laws["extended"]["seed"]["kappa_x"].rms_error < 1e-12
+    assert grid.laws_json()["kappa_x"]["value"] == estimate.value
+    given = identify_voltage_grid(device, voltages=(0.0, 0.5, 1.0), models=("extended",), protocol=protocol,
+                                  kappa_x=1.9e5)
+    assert np.all(given.table("extended")[:, 0] == 1.9e5) and given.kappa_x.mode == "given"
+    free = identify_voltage_grid(device, voltages=(0.0, 0.5, 1.0), models=("extended",), protocol=protocol,
+                                 kappa_x="per-voltage")
+    assert free.kappa_x.mode == "per-voltage"
+    assert all("kappa_x" in i.fit.free for i in free.identifications["extended"])
+    with pytest.raises(InputError, match="kappa_x"):
+        identify_voltage_grid(device, voltages=(0.0, 0.5, 1.0), kappa_x="sometimes")
+
+
+def test_joint_kappa_x_and_a_pool_give_the_same_grid_as_one_process():
+    device = ExtendedBoucWen(kappa_x=2e5, kappa_xdot=Polynomial((1e5, 1e5)),
+                             kappa_w=Polynomial((5e4, 9e5)), rho=120.0, sigma=0.9, n=1.4)
+    protocol = TestProtocol(cycles=3, sample_rate=400.0)
+    one = identify_voltage_grid(device, voltages=(0.0, 0.5, 1.0), models=("normalized", "extended"),
+                                protocol=protocol, kappa_x="joint", jobs=1)
+    two = identify_voltage_grid(device, voltages=(0.0, 0.5, 1.0), models=("normalized", "extended"),
+                                protocol=protocol, kappa_x="joint", jobs=2)
+    assert one.kappa_x.mode == "joint"
+    assert one.kappa_x.value == pytest.approx(2e5, rel=0.01)
+    np.testing.assert_array_equal(one.table("extended"), two.table("extended"))
+    np.testing.assert_array_equal(one.table("normalized"), two.table("normalized"))
+    assert one.kappa_x.value == two.kappa_x.value
+
+
+def test_worker_count_rejects_bad_jobs():
+    from damper.identification.parallel import run_tasks, worker_count
+    assert worker_count(1) == 1 and worker_count(8, n_tasks=3) == 3 and worker_count(None) >= 1
+    for bad in (-1, 1.5, "2", True):
+        with pytest.raises(InputError, match="jobs"):
+            worker_count(bad)
+    assert run_tasks(pow, [(2, 3), (3, 2)]) == [8, 9]
+
+
+def test_cli_identify_rejects_a_bad_kappa_x(capsys):
+    from benchmark.cli import main
+    assert main(["identify", "--kappa-x", "often", "--no-validation", "--no-plots"]) == 2
+    assert "--kappa-x" in capsys.readouterr().err
+
+
 def test_field_lag_is_recovered_from_a_switching_test():
     model = ExtendedBoucWen(kappa_x=2e5, kappa_xdot=Polynomial((1e5, 1e5)),
                             kappa_w=Polynomial((5e4, 9e5)), rho=120.0, sigma=0.9, n=1.4)
@@ -141,3 +198,13 @@ def test_identify_study_one_run(records_dir, tmp_path):
     assert set(errors["extended"]) == {"rel_rms_error", "peak_error", "energy_error"}
     assert summary["field_lag"]["extended"]["tau"] > 0
     assert any(p.endswith("fig11_force_errors_kobe_FP-x.png") for p in summary["files"]["figures"])
+    for p in summary["files"]["figures"]:
+        assert Path(p).is_file(), p
+    # kappa_x read once (seed step a) and held over the grid; the per-voltage variant reported too.
+    kx = summary["kappa_x"]
+    assert kx["mode"] == "large-loop" and kx["value"] > 0
+    assert {p["kappa_x"] for p in summary["parameters"]["extended"].values()} == {kx["value"]}
+    assert len({p["kappa_x"] for p in summary["parameters"]["extended-free-kx"].values()}) > 1
+    assert {"extended-free-kx", "extended-free-kx+lag", "extended-free-kx-pchip"} <= set(errors)
+    assert "extended_below_normalized_every_run" in val["summary"]
+    assert val["J"]["kobe"]["FP-x"]["extended"]["J1"] > 0
