@@ -285,7 +285,7 @@ def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration
                            max_relative_difference=diff, target=">= 100x, peaks within 0.5 %",
                            met=ratio >= 100 and diff <= 0.005,
                            note=f"{reference_duration:g}-s record; largest peak difference in {worst}; "
-                                f"LSODA rtol 1e-7, max step = record step, restarted every control step; "
+                                f"solve_ivp {ref.info['method']} rtol 1e-7, max step = record step, restarted every control step; "
                                 f"{100 * same_voltage:.2f} % of voltage samples identical",
                            details={"kernel_peaks": oracle.kernel_peaks(result), "reference_peaks": ref.peaks,
                                     "voltage_agreement": same_voltage}))

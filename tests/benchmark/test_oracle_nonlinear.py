@@ -24,189 +24,23 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
 
 from benchmark.building import Building
 from benchmark.devices import DeviceLayout
-from benchmark.isolation.friction_pendulum import FrictionPendulumBearing
-from benchmark.isolation.lead_rubber import LeadRubberBearing
 from benchmark.isolation.linear import LinearBearing
+from benchmark.reference import ReferenceModel, group_force_and_rates, kernel_peaks, reference_peaks
 from benchmark.simulation import simulate
 from records import Record, load_benchmark_record
 
 
 # ----------------------------------------------------------------------------- oracle
 
-def _park_wen_rates(z, v, Y, A, beta, gamma):
-    """Biaxial Park–Wen rates, vectorised over bearings: z, v (n, 2)."""
-    zx, zy = z[:, 0], z[:, 1]
-    vx, vy = v[:, 0], v[:, 1]
-    gx = gamma * np.sign(vx * zx) + beta
-    gy = gamma * np.sign(vy * zy) + beta
-    rx = (A * vx - zx * zx * gx * vx - zx * zy * gy * vy) / Y
-    ry = (A * vy - zx * zy * gx * vx - zy * zy * gy * vy) / Y
-    return np.column_stack([rx, ry])
-
-
-def _group_force_and_rates(b, u, v, z):
-    """Total force (n, 2) and state rates (n, 2) of a group of identical bearings."""
-    if isinstance(b, LinearBearing):
-        return b.k * u + b.c * v, np.zeros((len(u), 0))
-    if isinstance(b, LeadRubberBearing):
-        f = b.post_yield_stiffness * u + b.c * v + b.characteristic_strength * z
-        return f, _park_wen_rates(z, v, b.yield_displacement, b.A, b.beta, b.gamma)
-    if isinstance(b, FrictionPendulumBearing):
-        speed = np.hypot(v[:, 0], v[:, 1])
-        mu = b.mu_max - (b.mu_max - b.mu_min) * np.exp(-b.rate_parameter * speed)
-        f = b.pendulum_stiffness * u + b.c * v + (mu * b.weight)[:, None] * z
-        return f, _park_wen_rates(z, v, b.yield_displacement, b.A, b.beta, b.gamma)
-    raise NotImplementedError(type(b).__name__)
-
-
-class Oracle:
-    """Right-hand side of the continuous equations for ``building`` under ``record``."""
-
-    def __init__(self, building: Building, record: Record, voltage: float | None = None):
-        sup = building.superstructure
-        self.M, self.K, self.C, self.R = sup.M, sup.K, sup.C, sup.R
-        self.Minv = np.linalg.inv(sup.M)
-        self.minv = np.linalg.inv(sup.m_base)
-        self.xy = sup.bearing_xy
-        self.groups = [(g.bearing, np.asarray(g.indices)) for g in building.isolation.groups]
-        self.nz = sum(2 * len(idx) for b, idx in self.groups if b.n_states)
-        self.zslots = []
-        offset = 0
-        for b, idx in self.groups:
-            ns = b.n_states * len(idx)
-            self.zslots.append(slice(offset, offset + ns))
-            offset += ns
-        self.devices = None if voltage is None else building.devices
-        self.voltage = voltage
-        if self.devices is not None:
-            self.G = self.devices.influence()
-            self.models = self.devices.models
-            self.dn = [m.n_states for m in self.models]
-        else:
-            self.G = np.zeros((0, 3))
-            self.models, self.dn = [], []
-        self.ag = record.acceleration
-        self.dt = record.dt
-
-    @property
-    def n_states(self) -> int:
-        return 54 + self.nz + sum(self.dn)
-
-    def initial_state(self) -> np.ndarray:
-        x = np.zeros(self.n_states)
-        for (b, idx), sl in zip(self.groups, self.zslots):
-            if b.n_states:
-                x[54 + sl.start:54 + sl.stop] = np.tile(b.initial_state(), len(idx))
-        off = 54 + self.nz
-        for m in self.models:
-            x[off:off + m.n_states] = m.initial_state()
-            off += m.n_states
-        return x
-
-    def ground(self, t: float) -> np.ndarray:
-        s = t / self.dt
-        k = min(int(s), len(self.ag) - 2)
-        a = s - k
-        return (1 - a) * self.ag[k] + a * self.ag[k + 1]
-
-    def forces(self, x):
-        """Bearing forces (92, 2), z rates, device forces and device-state rates."""
-        ub, vb = x[24:27], x[51:54]
-        u = np.column_stack([ub[0] - self.xy[:, 1] * ub[2], ub[1] + self.xy[:, 0] * ub[2]])
-        v = np.column_stack([vb[0] - self.xy[:, 1] * vb[2], vb[1] + self.xy[:, 0] * vb[2]])
-        f = np.empty_like(u)
-        zdot = np.empty(self.nz)
-        for (b, idx), sl in zip(self.groups, self.zslots):
-            z = x[54 + sl.start:54 + sl.stop].reshape(len(idx), -1)
-            fg, rg = _group_force_and_rates(b, u[idx], v[idx], z)
-            f[idx] = fg
-            zdot[sl] = rg.ravel()
-        F = np.empty(len(self.models))
-        ddot = np.empty(sum(self.dn))
-        off = 54 + self.nz
-        doff = 0
-        xd = self.G @ ub
-        vd = self.G @ vb
-        for j, m in enumerate(self.models):
-            st = x[off:off + m.n_states]
-            F[j] = m.force(st, xd[j], vd[j], self.voltage)
-            ddot[doff:doff + m.n_states] = m.rates(st, xd[j], vd[j], self.voltage)
-            off += m.n_states
-            doff += m.n_states
-        return f, zdot, F, ddot
-
-    def __call__(self, t, x):
-        us, ub, vs, vb = x[:24], x[24:27], x[27:51], x[51:54]
-        f, zdot, F, ddot = self.forces(x)
-        fb = np.array([f[:, 0].sum(), f[:, 1].sum(),
-                       (-self.xy[:, 1] * f[:, 0] + self.xy[:, 0] * f[:, 1]).sum()]) + self.G.T @ F
-        ag3 = np.zeros(3)
-        ag3[:2] = self.ground(t)
-        elastic = self.K @ us + self.C @ vs
-        ab = self.minv @ (self.R.T @ elastic - fb) - ag3
-        as_ = -self.Minv @ elastic - self.R @ (ab + ag3)
-        return np.concatenate([vs, vb, as_, ab, zdot, ddot])
-
-    def solve(self, n_samples: int, max_step: float | None = None, rtol: float = 1e-7, method: str = "RK45"):
-        t_eval = np.arange(n_samples) * self.dt
-        atol = np.full(self.n_states, 1e-9)
-        atol[54:] = 1e-7
-        sol = solve_ivp(self, (0.0, t_eval[-1]), self.initial_state(), method=method, t_eval=t_eval,
-                        max_step=max_step or self.dt, rtol=rtol, atol=atol)
-        assert sol.success, sol.message
-        return sol.y.T
-
-    def outputs(self, X: np.ndarray) -> dict[str, np.ndarray]:
-        """Peaks of the same quantities the kernel reports."""
-        ub = X[:, 24:27]
-        elastic = X[:, :24] @ self.K.T + X[:, 27:51] @ self.C.T
-        floor_acc = -(elastic @ self.Minv.T)
-        fb = np.empty((len(X), 3))
-        dev = np.zeros((len(X), len(self.models)))
-        for k, x in enumerate(X):
-            f, _, F, _ = self.forces(x)
-            fb[k] = [f[:, 0].sum(), f[:, 1].sum(), (-self.xy[:, 1] * f[:, 0] + self.xy[:, 0] * f[:, 1]).sum()]
-            fb[k] += self.G.T @ F
-            dev[k] = F
-        return {"base_displacement": ub, "base_shear": fb, "structure_shear": elastic @ self.R,
-                "floor_acceleration": floor_acc, "floor_displacement": X[:, :24], "device_force": dev}
-
-
-def _peaks_oracle(out: dict, heights: np.ndarray) -> dict[str, float]:
-    rel = np.concatenate([np.zeros((len(out["floor_displacement"]), 1, 3)),
-                          out["floor_displacement"].reshape(-1, 8, 3)], axis=1)
-    drift = (rel[:, 1:, :2] - rel[:, :-1, :2]) / heights[None, :, None]
-    peaks = {
-        "base_displacement": np.hypot(out["base_displacement"][:, 0], out["base_displacement"][:, 1]).max(),
-        "base_rotation": np.abs(out["base_displacement"][:, 2]).max(),
-        "base_shear": np.hypot(out["base_shear"][:, 0], out["base_shear"][:, 1]).max(),
-        "base_torque": np.abs(out["base_shear"][:, 2]).max(),
-        "structure_shear": np.hypot(out["structure_shear"][:, 0], out["structure_shear"][:, 1]).max(),
-        "floor_acceleration": np.abs(out["floor_acceleration"].reshape(-1, 8, 3)[..., :2]).max(),
-        "drift_ratio": np.abs(drift).max(),
-    }
-    if out["device_force"].size:
-        peaks["device_force"] = np.abs(out["device_force"]).max()
-    return peaks
-
-
-def _peaks_kernel(r) -> dict[str, float]:
-    peaks = {
-        "base_displacement": np.hypot(r.base_displacement[:, 0], r.base_displacement[:, 1]).max(),
-        "base_rotation": np.abs(r.base_displacement[:, 2]).max(),
-        "base_shear": np.hypot(r.base_shear[:, 0], r.base_shear[:, 1]).max(),
-        "base_torque": np.abs(r.base_shear[:, 2]).max(),
-        "structure_shear": np.hypot(r.structure_shear[:, 0], r.structure_shear[:, 1]).max(),
-        "floor_acceleration": np.abs(r.floor_acceleration_absolute[..., :2]).max(),
-        "drift_ratio": np.abs(r.drift_ratio).max(),
-    }
-    if r.device_force.size:
-        peaks["device_force"] = np.abs(r.device_force).max()
-    return peaks
+# The oracle lives in benchmark.reference, shared with `sbib bench` (which also drives it with a
+# controller); the names below are the ones these tests use.
+Oracle = ReferenceModel
+_group_force_and_rates = group_force_and_rates
+_peaks_oracle = reference_peaks
+_peaks_kernel = kernel_peaks
 
 
 def _truncate(record: Record, seconds: float) -> Record:
