@@ -484,7 +484,7 @@ def bench_scaling(quick: bool = False, repeat: int = 3, jobs: int = 2) -> dict[s
           lambda m: _simulate(reduced[m], record, "passive-on"))
     sizes = (2, 4, 8, 16) if quick else (4, 8, 16, 32)
     repeat = 1  # each point is itself many runs
-    table("ensemble_size", sizes, f"ensemble size (clipped-optimal runs, {jobs} processes, incl. start-up)",
+    table("ensemble_size", sizes, f"ensemble size (runs; {jobs} processes, wall)",
           lambda n: _time_ensemble(int(n), jobs), measure="wall", warmup=0)
     return tables
 
@@ -554,7 +554,7 @@ def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7.5)
         ax.set_title(name.replace("_", " "), fontsize=10)
-    fig.suptitle("sbib: cost of a run (clipped-optimal, default nonlinear isolation)", fontsize=11)
+    fig.suptitle("sbib: cost of a run (default nonlinear isolation, 16 MR dampers unless varied)", fontsize=11)
     fig.tight_layout()
     path = Path(path)
     with atomic_path(path) as tmp:
