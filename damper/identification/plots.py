@@ -129,8 +129,12 @@ def plot_test_signals(tests: Sequence, path, title: str = "Test signals (cf. see
     return _save(fig, path)
 
 
-def plot_parameters_vs_voltage(grid, path) -> Path:
-    """Fig. 8: parameters against voltage (markers, with standard errors) and the fitted laws."""
+def plot_parameters_vs_voltage(grid, path, comparison=None) -> Path:
+    """Fig. 8: parameters against voltage (markers, with standard errors) and the fitted laws.
+
+    ``comparison``: another grid (e.g. the extended model with :math:`\\kappa_x` free at each
+    voltage), drawn as open grey markers.
+    """
     v = grid.voltages
     vf = np.linspace(v.min(), v.max(), 301)
     fig, axes = plt.subplots(2, 3, figsize=(13, 7))
@@ -150,6 +154,14 @@ def plot_parameters_vs_voltage(grid, path) -> Path:
                         label=f"seed law (rms {100 * laws['seed'][name].rms_error:.1f} %)")
                 ax.plot(vf, laws["generic"][name].law(vf) * scale, ":", color=c, lw=1.2,
                         label=f"PCHIP (LOO {100 * laws['generic'][name].rms_error:.1f} %)")
+        if comparison is not None:
+            for m in comparison.identifications:
+                if name == "kappa_x" and m == "normalized":
+                    continue
+                mode = getattr(getattr(comparison, "kappa_x", None), "mode", "")
+                ax.plot(comparison.voltages, comparison.table(m)[:, PARAMETER_NAMES.index(name)] * scale,
+                        "s", mfc="none", color="0.4", ms=5,
+                        label=f"{m}, kappa_x {mode}" if mode else m)
         ax.set_title(f"{_SYMBOLS[name]} [{unit}]")
         ax.set_xlabel("Voltage (V)")
         ax.grid(alpha=0.3)
