@@ -213,3 +213,11 @@ def test_cli_runs_and_reports_errors(tmp_path, capsys):
     bad.write_text('controllers = ["a"]\nrecords = ["kobe"]\njobs = 3\n')
     assert main(["ensemble", "--config", str(bad)]) == 2
     assert "unknown field(s) ['jobs']" in capsys.readouterr().err
+
+
+def test_example_config_parses_with_the_documented_size():
+    example = Path(__file__).resolve().parents[2] / "examples" / "ensemble.toml"
+    cfg = EnsembleConfig.from_toml(example)
+    # (2 records x 2 orientations + 2 templates x 2 orientations x 5 realisations) x 3 controllers x 2
+    assert len(cfg.motions()) == 24 and len(cfg.cases()) == 144
+    assert cfg.run == "simulation" and cfg.parameter_names == ("control_step",)
