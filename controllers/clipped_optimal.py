@@ -34,6 +34,7 @@ Struct. Control Health Monit. 13:589–604.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -47,6 +48,10 @@ from controllers.lqg import (LinearPlant, ReducedPlant, estimator_fit, kalman_de
 from controllers.plant import building_plant, device_force_capacity, device_models
 
 __all__ = ["LQGWeights", "LQGDesign", "design_lqg", "regulated_outputs", "ClippedOptimal"]
+
+
+#: LQG designs per building (weakly keyed: an entry goes when its building does).
+_DESIGN_CACHE: "weakref.WeakKeyDictionary[Any, dict]" = weakref.WeakKeyDictionary()
 
 
 @dataclass(frozen=True)
@@ -332,6 +337,20 @@ class ClippedOptimal(CompiledBackedController):
         return design_lqg(plant, context.n_devices, context.control_step, self.weights,
                           self._force_scale(context), check_fit=self.check_fit)
 
+    def _cached_design(self, context: ControlContext) -> LQGDesign:
+        # A comparison or ensemble makes a new controller object per run on the same building:
+        # share the design (about 50 ms) between them. Only designs derived from the building
+        # itself are shared; the cache entry dies with the building.
+        if self.plant is not None or context.building is None:
+            return self.make_design(context)
+        key = (type(self).make_design, self.weights, None if self.voltage is None else float(self.voltage),
+               self.check_fit, context.n_devices, context.control_step,
+               tuple(np.asarray(context.voltage_max, dtype=float)))
+        designs = _DESIGN_CACHE.setdefault(context.building, {})
+        if key not in designs:
+            designs[key] = self.make_design(context)
+        return designs[key]
+
     def law_parameters(self, design: LQGDesign, context: ControlContext) -> np.ndarray:
         """``law_params`` of the compiled controller (unused by the bang-bang law)."""
         return np.zeros(context.n_devices)
@@ -343,7 +362,7 @@ class ClippedOptimal(CompiledBackedController):
     def build(self, context: ControlContext) -> CompiledController:
         key = (id(context.building), context.n_devices, context.control_step)
         if self.design is None or getattr(self, "_design_key", None) != key:
-            self.design = self.make_design(context)
+            self.design = self._cached_design(context)
             self._design_key = key
         d = self.design
         Ac, Bc, Cc, Dc = self.controller_matrices(d)

@@ -117,3 +117,25 @@ def test_model_based_controller_without_building_is_a_clear_error():
 def test_unknown_controller_name():
     with pytest.raises(InputError, match="expected one of"):
         get_controller("fuzzy")
+
+
+def test_lqg_design_is_shared_between_controllers_on_one_building_only():
+    """Per-run controller objects reuse the design; other weights or buildings get their own."""
+    from dataclasses import replace
+
+    from benchmark.building import Building
+    from controllers.base import ControlContext
+    from controllers.clipped_optimal import ClippedOptimal
+
+    building = Building.default()
+    context = ControlContext.from_building(building, 0.005)
+    first, second = ClippedOptimal(), ClippedOptimal()
+    first.build(context)
+    second.build(context)
+    assert second.design is first.design
+    other = ClippedOptimal(weights=replace(first.weights, r_force=first.weights.r_force * 10))
+    other.build(context)
+    assert other.design is not first.design
+    elsewhere = ClippedOptimal()
+    elsewhere.build(ControlContext.from_building(Building.default(), 0.005))
+    assert elsewhere.design is not first.design
