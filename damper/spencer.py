@@ -101,8 +101,34 @@ def spencer_type_force(state, x, xdot, *, k0, k1, x0, rho, sigma, n, alpha_w, c0
     return float(d1 * ydot + k1 * (x - x0))
 
 
+class SpencerTypeModel:
+    """What every Spencer-type device shares: packing, initial state, and the plain-numpy
+    ``rates``/``force`` of the scipy oracle. A subclass defines ``_kernel_parameters()`` (the
+    keyword arguments of :func:`pack_spencer_type`), ``substep_tolerance`` and ``voltage_range``.
+    """
+
+    def _kernel_parameters(self) -> dict:  # pragma: no cover - defined by subclasses
+        raise NotImplementedError
+
+    def to_array(self) -> np.ndarray:
+        """Packed parameters (:func:`pack_spencer_type` layout)."""
+        return pack_spencer_type(self.substep_tolerance, **self._kernel_parameters())
+
+    def initial_state(self) -> np.ndarray:
+        """``[y, w, u] = [0, 0, v_min]``: at rest, field off."""
+        return np.array([0.0, 0.0, self.voltage_range[0]])
+
+    def rates(self, state, x: float, xdot: float, v: float) -> np.ndarray:
+        """``[ydot, wdot, udot]`` (plain numpy, for the scipy oracle); ``w = z / z0``."""
+        return spencer_type_rates(state, x, xdot, v, **self._kernel_parameters())
+
+    def force(self, state, x: float, xdot: float, v: float = 0.0) -> float:
+        """Force [N] at the state (depends on the filtered voltage ``u = state[2]``, not ``v``)."""
+        return spencer_type_force(state, x, xdot, **self._kernel_parameters())
+
+
 @dataclass(frozen=True)
-class Spencer:
+class Spencer(SpencerTypeModel):
     """Spencer et al. (1997) phenomenological MR damper model (SI units).
 
     Parameters
@@ -204,21 +230,6 @@ class Spencer:
                     alpha_w=Polynomial((self.alpha_a * z0, self.alpha_b * z0)),
                     c0=Polynomial((self.c0a, self.c0b)), c1=Polynomial((self.c1a, self.c1b)))
 
-    def to_array(self) -> np.ndarray:
-        """Packed parameters (:func:`pack_spencer_type` layout)."""
-        return pack_spencer_type(self.substep_tolerance, **self._kernel_parameters())
-
-    def initial_state(self) -> np.ndarray:
-        """``[y, w, u] = [0, 0, v_min]``: at rest, field off."""
-        return np.array([0.0, 0.0, self.voltage_range[0]])
-
-    def rates(self, state, x: float, xdot: float, v: float) -> np.ndarray:
-        """``[ydot, wdot, udot]`` (plain numpy, for the scipy oracle); ``w = z / z0``."""
-        return spencer_type_rates(state, x, xdot, v, **self._kernel_parameters())
-
-    def force(self, state, x: float, xdot: float, v: float = 0.0) -> float:
-        """Force [N] at the state (depends on the filtered voltage ``u = state[2]``, not ``v``)."""
-        return spencer_type_force(state, x, xdot, **self._kernel_parameters())
 
 
 # ------------------------------------------------------------------------ numba kernels

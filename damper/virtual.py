@@ -66,7 +66,7 @@ import numpy as np
 
 from benchmark.errors import ParameterError
 from damper.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, _check_voltage_range
-from damper.spencer import pack_spencer_type, spencer_type_force, spencer_type_rates
+from damper.spencer import SpencerTypeModel
 from damper.voltage_laws import ParameterLike, Saturating, VoltageLaw, as_law, check_law
 
 __all__ = ["VirtualBenchmarkDamper", "VIRTUAL_DAMPER_ID"]
@@ -84,7 +84,7 @@ def _default_yield_force() -> Saturating:
 
 
 @dataclass(frozen=True)
-class VirtualBenchmarkDamper:
+class VirtualBenchmarkDamper(SpencerTypeModel):
     """The virtual benchmark MR damper (equations and values in the module docstring).
 
     Every field has the calibrated default; pass other values to build variants (e.g. a
@@ -164,19 +164,3 @@ class VirtualBenchmarkDamper:
         return dict(k0=self.k0, k1=self.k1, x0=self.x0, eta=self.eta, rho=self.rho,
                     sigma=self.sigma, n=self.n, alpha_w=as_law(self.yield_force),
                     c0=as_law(self.c0), c1=as_law(self.c1))
-
-    def to_array(self) -> np.ndarray:
-        """Packed parameters (the Spencer-type kernel layout, :func:`damper.spencer.pack_spencer_type`)."""
-        return pack_spencer_type(self.substep_tolerance, **self._kernel_parameters())
-
-    def initial_state(self) -> np.ndarray:
-        """``[y, w, u] = [0, 0, 0]``: at rest, field off."""
-        return np.array([0.0, 0.0, self.voltage_range[0]])
-
-    def rates(self, state, x: float, xdot: float, v: float) -> np.ndarray:
-        """``[ydot, wdot, udot]`` (plain numpy, for the scipy oracle)."""
-        return spencer_type_rates(state, x, xdot, v, **self._kernel_parameters())
-
-    def force(self, state, x: float, xdot: float, v: float = 0.0) -> float:
-        """Force [N] at the state (depends on the filtered voltage ``state[2]``)."""
-        return spencer_type_force(state, x, xdot, **self._kernel_parameters())

@@ -28,6 +28,12 @@ def _component(acceleration: np.ndarray) -> np.ndarray:
     return a
 
 
+def _cumulative_square(acceleration: np.ndarray, dt: float) -> np.ndarray:
+    """:math:`\\int_0^{t_k} a^2\\,dt` at every sample (trapezoidal rule)."""
+    a2 = _component(acceleration) ** 2
+    return np.concatenate(([0.0], np.cumsum(0.5 * dt * (a2[1:] + a2[:-1]))))
+
+
 def husid(acceleration: np.ndarray, dt: float) -> np.ndarray:
     """Normalised cumulative Arias intensity (Husid plot), from 0 to 1 over the samples.
 
@@ -42,8 +48,7 @@ def husid(acceleration: np.ndarray, dt: float) -> np.ndarray:
     dt : float
         Time step [s].
     """
-    a2 = _component(acceleration) ** 2
-    cum = np.concatenate(([0.0], np.cumsum(0.5 * dt * (a2[1:] + a2[:-1]))))
+    cum = _cumulative_square(acceleration, dt)
     return cum / cum[-1] if cum[-1] > 0 else cum
 
 
@@ -57,8 +62,7 @@ def arias_intensity(acceleration: np.ndarray, dt: float) -> float:
     dt : float
         Time step [s].
     """
-    a2 = _component(acceleration) ** 2
-    return float(np.pi / (2 * 9.80665) * np.sum(0.5 * dt * (a2[1:] + a2[:-1])))
+    return float(np.pi / (2 * 9.80665) * _cumulative_square(acceleration, dt)[-1])
 
 
 def significant_duration(acceleration: np.ndarray, dt: float, start: float = 0.05,
