@@ -335,7 +335,7 @@ def plot_fragility(curves: dict[str, FragilityCurve], path: str | os.PathLike, l
     import matplotlib.pyplot as plt
     from scipy.stats import norm
 
-    from benchmark.atomic import atomic_path
+    from benchmark.figures import save_figure
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     a_max = max(float(c.pga.max()) for c in curves.values())
@@ -363,11 +363,7 @@ def plot_fragility(curves: dict[str, FragilityCurve], path: str | os.PathLike, l
     ax.legend(fontsize=7.5, loc="upper left")
     ax.set_title("Fragility of the isolation layer (synthetic benchmark-like motions)", fontsize=10)
     fig.tight_layout()
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=130)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=130)
 
 
 def run_fragility(out: str | os.PathLike, limit: float = DEFAULT_LIMIT, metric: str = "peak_base_displacement",

@@ -16,8 +16,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from benchmark.atomic import atomic_path
 from benchmark.errors import InputError
+from benchmark.figures import save_figure
 
 __all__ = ["plot_base_orbit", "plot_floor_envelopes", "plot_bearing_hysteresis",
            "plot_device_hysteresis", "plot_run"]
@@ -36,10 +36,7 @@ def _figure(width: float, height: float):
 
 
 def _save(fig, path: str | os.PathLike) -> Path:
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120)
-    return path
+    return save_figure(fig, path, dpi=120)
 
 
 def _title(result: Any) -> str:

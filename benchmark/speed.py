@@ -534,7 +534,7 @@ def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from benchmark.atomic import atomic_path
+    from benchmark.figures import save_figure
 
     fig, axes = plt.subplots(2, 2, figsize=(9, 7))
     for ax, (name, table) in zip(axes.ravel(), tables.items()):
@@ -556,11 +556,7 @@ def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
         ax.set_title(name.replace("_", " "), fontsize=10)
     fig.suptitle("sbib: cost of a run (default nonlinear isolation, 16 MR dampers unless varied)", fontsize=11)
     fig.tight_layout()
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)
 
 
 def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,

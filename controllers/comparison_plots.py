@@ -28,12 +28,9 @@ def _pyplot():
 
 
 def _save(fig, path: Path) -> Path:
-    from benchmark.atomic import atomic_path
+    from benchmark.figures import save_figure
 
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
-    _pyplot().close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)
 
 
 def plot_J_by_record(result: Any, path: Path) -> Path:

@@ -12,8 +12,8 @@ from typing import Sequence
 
 import numpy as np
 
-from benchmark.atomic import atomic_path
 from benchmark.errors import InputError
+from benchmark.figures import save_figure
 
 __all__ = ["plot_loops", "plot_virtual_calibration"]
 
@@ -85,11 +85,7 @@ def plot_loops(items, path, labels: Sequence[str] | None = None, title: str | No
     if title:
         fig.suptitle(title)
     fig.tight_layout()
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=120)
 
 
 def plot_virtual_calibration(path, device="virtual", voltages=(0.0, 0.25, 0.5, 0.75, 1.0)) -> dict:
@@ -146,9 +142,7 @@ def plot_virtual_calibration(path, device="virtual", voltages=(0.0, 0.25, 0.5, 0
         a.grid(True, alpha=0.3)
     fig.suptitle("Virtual benchmark damper: calibration figures read off laboratory loops")
     fig.tight_layout()
-    with atomic_path(Path(path)) as tmp:
-        fig.savefig(tmp, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
     return {"kappa_x": kappa_x,
             "reduced_force_at_max_velocity": float(reduced[np.argmax(big.velocity)]),
             "small_test_peak": float(np.abs(last_cycles(small, cycles=2).force).max()),

@@ -9,17 +9,15 @@ import os
 from pathlib import Path
 from typing import Sequence
 
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from benchmark.atomic import atomic_path
 from benchmark.errors import InputError
+from benchmark.figures import save_figure
 from records.record import STANDARD_GRAVITY, Record
 from records.spectra import ResponseSpectrum, default_periods, response_spectrum
 
 __all__ = ["plot_record", "plot_spectra_overview"]
 
-_FORMATS = (".png", ".pdf", ".svg")
 
 
 def _title(record: Record) -> str:
@@ -37,13 +35,7 @@ def _legend(record: Record, c: int) -> str:
 
 
 def _save(fig: Figure, path: str | os.PathLike) -> Path:
-    path = Path(path)
-    if path.suffix.lower() not in _FORMATS:
-        raise InputError(f"plot file {path}: unsupported extension {path.suffix!r}; expected .png, .pdf or .svg")
-    FigureCanvasAgg(fig)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120, format=path.suffix.lower().lstrip("."))
-    return path
+    return save_figure(fig, path, dpi=120)
 
 
 def plot_record(record: Record, path: str | os.PathLike, spectrum: ResponseSpectrum | None = None,

@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmark.atomic import atomic_path, atomic_write_text
+from benchmark.atomic import atomic_write_text
+from benchmark.figures import save_figure
 from damper.diagnosis.trace import TRACE_VARIABLES
 
 __all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
@@ -44,10 +45,7 @@ def _pyplot():
 
 
 def _save(fig, path: Path, dpi: int = 90) -> Path:
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi)
-    _pyplot().close(fig)
-    return path
+    return save_figure(fig, path, dpi=dpi)
 
 
 def _forces(diagnosis):

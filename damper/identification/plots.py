@@ -27,7 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from benchmark.atomic import atomic_path  # noqa: E402
+from benchmark.figures import save_figure  # noqa: E402
 from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
 
 __all__ = ["plot_loops", "plot_inclination", "plot_elastic_removed", "plot_test_signals",
@@ -41,11 +41,7 @@ _SYMBOLS = {"kappa_x": r"$\kappa_x$", "kappa_xdot": r"$\kappa_{\dot x}$", "kappa
 
 
 def _save(fig, path) -> Path:
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)
 
 
 def plot_loops(identifications: dict, path, title: str = "") -> Path:
