@@ -274,8 +274,11 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
     w = state[1]
     u0 = state[2]
     field_settled = abs(u0 - v) <= 1e-12 * (1.0 + abs(v))
-    a, d0, d1 = _laws(params, u0)
     a_v, d0_v, d1_v = _laws(params, v)
+    if field_settled:
+        a, d0, d1 = a_v, d0_v, d1_v
+    else:
+        a, d0, d1 = _laws(params, u0)
     ratio = max(a / (d0 + d1), a_v / (d0_v + d1_v))
     kratio = k0 / min(d0 + d1, d0_v + d1_v)
     ydot0 = (a * w + d0 * xd0 + k0 * (x0 - y)) / (d0 + d1)
@@ -289,37 +292,42 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
     n_sub = max(1, int(math.ceil(lam * dt / tol)))
     h = dt / n_sub
     hs = 1.0 / n_sub
-    if field_settled:
-        a, d0, d1 = a_v, d0_v, d1_v
+    # Values at the end of one sub-step are those at the start of the next (path, velocity and,
+    # while the field settles, the voltage laws along u(s) = v + (u0 - v) exp(-eta s dt)).
+    xa = x0
+    va = xd0
+    aa, da0, da1 = a, d0, d1
+    du = u0 - v
     for k in range(n_sub):
         s_a = k * hs
         s_m = s_a + 0.5 * hs
-        s_b = s_a + hs
-        xa = hermite_position(x0, x1, xd0, xd1, dt, s_a)
+        s_b = 1.0 if k == n_sub - 1 else s_a + hs
         xm = hermite_position(x0, x1, xd0, xd1, dt, s_m)
         xb = x1 if k == n_sub - 1 else hermite_position(x0, x1, xd0, xd1, dt, s_b)
-        va = _hermite_velocity(x0, x1, xd0, xd1, dt, s_a)
         vm = _hermite_velocity(x0, x1, xd0, xd1, dt, s_m)
         vb = _hermite_velocity(x0, x1, xd0, xd1, dt, s_b)
         if field_settled:
-            aa, da0, da1 = a, d0, d1
             am, dm0, dm1 = a, d0, d1
             ab, db0, db1 = a, d0, d1
         else:
-            aa, da0, da1 = _laws(params, v + (u0 - v) * math.exp(-eta * s_a * dt))
-            am, dm0, dm1 = _laws(params, v + (u0 - v) * math.exp(-eta * s_m * dt))
-            ab, db0, db1 = _laws(params, v + (u0 - v) * math.exp(-eta * s_b * dt))
+            am, dm0, dm1 = _laws(params, v + du * math.exp(-eta * s_m * dt))
+            ab, db0, db1 = _laws(params, v + du * math.exp(-eta * s_b * dt))
         ky1, kw1 = _rates(y, w, xa, va, aa, da0, da1, k0, rho, sigma, n)
         ky2, kw2 = _rates(y + 0.5 * h * ky1, w + 0.5 * h * kw1, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
         ky3, kw3 = _rates(y + 0.5 * h * ky2, w + 0.5 * h * kw2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
         ky4, kw4 = _rates(y + h * ky3, w + h * kw3, xb, vb, ab, db0, db1, k0, rho, sigma, n)
         y += h * (ky1 + 2.0 * ky2 + 2.0 * ky3 + ky4) / 6.0
         w += h * (kw1 + 2.0 * kw2 + 2.0 * kw3 + kw4) / 6.0
-    u1 = v + (u0 - v) * math.exp(-eta * dt)
+        xa = xb
+        va = vb
+        aa, da0, da1 = ab, db0, db1
+    u1 = v + du * math.exp(-eta * dt)
     state[0] = y
     state[1] = w
     state[2] = u1
-    return _force(params, state, x1, xd1)
+    # the laws at the end node are those at u1 (same expression), so _force's evaluation is saved
+    ydot1 = (aa * w + da0 * xd1 + k0 * (x1 - y)) / (da0 + da1)
+    return da1 * ydot1 + params[2] * (x1 - params[3])
 
 
 @numba.njit(cache=True)

@@ -382,5 +382,11 @@ def law_value(params, offset, v):
         return ((2.0 * s3 - 3.0 * s2 + 1.0) * yv[i] + (s3 - 2.0 * s2 + s) * h * dv[i]
                 + (-2.0 * s3 + 3.0 * s2) * yv[i + 1] + (s3 - s2) * h * dv[i + 1])
     if kind == 5:
-        return params[p] + params[p + 1] * math.tanh((max(v, 0.0) / params[p + 2]) ** params[p + 3])
+        x = max(v, 0.0) / params[p + 2]
+        if x == 0.0:  # tanh(0) = 0: skips pow and tanh (a damper at 0 V)
+            return params[p]
+        e = params[p + 3]
+        if e != 1.0:  # pow(x, 1) is x: skip the call
+            x = x ** e
+        return params[p] + params[p + 1] * math.tanh(x)
     return math.nan
