@@ -289,7 +289,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--control-step", type=float, default=0.005, metavar="S",
                    help="controller sample time [s] (default 0.005)")
     p.add_argument("--substep-tolerance", type=float, default=None, metavar="TOL",
-                   help="sub-step tolerance of the nonlinear bearings (default 0.5)")
+                   help="sub-step tolerance of the nonlinear bearings (default 0.75)")
     p.add_argument("--baseline-correct", action="store_true",
                    help="baseline-correct the record (off by default, as the benchmark distributes it)")
     p.set_defaults(func=main_run)

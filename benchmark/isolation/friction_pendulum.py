@@ -85,7 +85,7 @@ class FrictionPendulumBearing(BearingParameters):
     A, beta, gamma : float
         Park–Wen shape parameters (defaults 1, 0.1, 0.9; gamma >= beta, beta + gamma > 0).
     substep_tolerance : float
-        Sub-step tolerance of the kernel (default 0.5; see :class:`LeadRubberBearing`).
+        Sub-step tolerance of the kernel (default 0.75; see :class:`LeadRubberBearing`).
     """
 
     weight: float
@@ -98,7 +98,7 @@ class FrictionPendulumBearing(BearingParameters):
     A: float = 1.0
     beta: float = 0.1
     gamma: float = 0.9
-    substep_tolerance: float = 0.5
+    substep_tolerance: float = 0.75
 
     name: ClassVar[str] = "friction-pendulum"
     type_id: ClassVar[int] = TYPE_ID

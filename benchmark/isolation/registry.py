@@ -18,7 +18,7 @@ Contract with the building core
   :meth:`benchmark.isolation.configurations.IsolationLayer.pack`).
 * Sub-stepping: each nonlinear type sub-steps internally from its hysteretic stiffness
   (:mod:`benchmark.isolation.park_wen`); the tolerance is the last entry of its parameter
-  array (``substep_tolerance`` field of the dataclass, default 0.5).
+  array (``substep_tolerance`` field of the dataclass, default 0.75).
 * For a continuous-time oracle (scipy ``solve_ivp``) use the dataclasses' plain-numpy
   ``rates(state, ux, uy, vx, vy)`` (d state/dt) and ``force(...)`` (total force) methods.
 
