@@ -282,8 +282,10 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
     ratio = max(a / (d0 + d1), a_v / (d0_v + d1_v))
     kratio = k0 / min(d0 + d1, d0_v + d1_v)
     ydot0 = (a * w + d0 * xd0 + k0 * (x0 - y)) / (d0 + d1)
+    aw = abs(w)
+    w_factor = aw ** (n - 1.0) if aw > 1.0 else 1.0  # max(1, |w|)^(n-1) without pow when |w| <= 1
     lam = (rho * ratio + kratio
-           + rho * n * max(1.0, 2.0 * sigma - 1.0) * max(1.0, abs(w)) ** (n - 1.0)
+           + rho * n * max(1.0, 2.0 * sigma - 1.0) * w_factor
            * (max(abs(xd0), abs(xd1), abs(x1 - x0) / dt) + abs(ydot0)))
     if not (lam * dt / tol <= MAX_SUBSTEPS):  # also NaN: the tolerance cannot be met
         for i in range(state.shape[0]):
