@@ -143,7 +143,7 @@ class FrictionPendulumBearing(BearingParameters):
                 kp * uy + self.c * vy + mu * self.weight * state[1])
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def friction_pendulum_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out):
     """Advance ``state = [z_x, z_y]`` over one step and write the friction force mu W z [N]."""
     park_wen_advance(state, 0, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,

@@ -121,7 +121,7 @@ class LeadRubberBearing(BearingParameters):
         return (kd * ux + self.c * vx + q * state[0], kd * uy + self.c * vy + q * state[1])
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def lead_rubber_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out):
     """Advance ``state = [z_x, z_y]`` over one step and write the hysteretic force Q_d z [N]."""
     park_wen_advance(state, 0, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,

@@ -58,6 +58,8 @@ __all__ = ["park_wen_rates", "park_wen_advance", "park_wen_substeps", "MAX_SUBST
 
 #: Hard cap on the sub-steps of one structural step (guards against NaN/inf path lengths).
 MAX_SUBSTEPS = 200_000
+_THIRD = 1.0 / 3.0
+_SIXTH = 1.0 / 6.0
 
 
 @numba.njit(cache=True, inline="always")
@@ -138,12 +140,10 @@ def _may_change_sign(a: float, b: float, c: float) -> bool:
     e = a + b + c
     if c * e < 0.0:
         return True
-    if a == 0.0:
+    # vertex -b/(2a) inside (0, 1), without dividing
+    if not (-b * a > 0.0 and abs(b) < 2.0 * abs(a)):
         return False
-    sv = -0.5 * b / a
-    if not (0.0 < sv < 1.0):
-        return False
-    dv = c - 0.25 * b * b / a
+    dv = (4.0 * a * c - b * b) * a  # the sign of the vertex value c - b²/(4a)
     return dv * c < 0.0 or dv * e < 0.0
 
 
@@ -162,7 +162,7 @@ def _segment_end(s0: float, ax: float, bx: float, cx: float, ay: float, by: floa
 @numba.njit(cache=True, inline="always")
 def _travel(s: float, a: float, b: float, c: float) -> float:
     # u(s) - u(0) = a s³/3 + b s²/2 + c s
-    return ((a / 3.0 * s + 0.5 * b) * s + c) * s
+    return ((a * _THIRD * s + 0.5 * b) * s + c) * s
 
 
 @numba.njit(cache=True)
@@ -214,7 +214,7 @@ def park_wen_substeps(ux0: float, uy0: float, ux1: float, uy1: float,
     return total
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def park_wen_advance(state: np.ndarray, offset: int,
                      ux0: float, uy0: float, ux1: float, uy1: float,
                      vx0: float, vy0: float, vx1: float, vy1: float, dt: float,
@@ -275,7 +275,7 @@ def park_wen_advance(state: np.ndarray, offset: int,
         n_total += n
         h = (s1 - s0) / n
         h2 = 0.5 * h
-        h6 = h / 6.0
+        h6 = h * _SIXTH
         for i in range(n):
             sm = s0 + i * h + h2
             se = s1 if i == n - 1 else s0 + (i + 1) * h

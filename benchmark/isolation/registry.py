@@ -102,7 +102,7 @@ def linear_part(type_id: int, params: np.ndarray) -> tuple[float, float]:
     return float(params[0]), float(params[1])
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def bearing_step(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out):
     """Advance one bearing's internal states (in place) along one structural step.
 
