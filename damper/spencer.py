@@ -274,13 +274,18 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
     w = state[1]
     u0 = state[2]
     field_settled = abs(u0 - v) <= 1e-12 * (1.0 + abs(v))
-    a_v, d0_v, d1_v = _laws(params, v)
+    du = u0 - v
+    u1 = v + du * math.exp(-eta * dt)
     if field_settled:
-        a, d0, d1 = a_v, d0_v, d1_v
+        a, d0, d1 = _laws(params, v)
+        a_1, d0_1, d1_1 = a, d0, d1
     else:
+        # the field moves monotonically from u0 to u1 over the step: the laws at both ends bound
+        # the sub-step rule, and those at u1 serve as the last node
         a, d0, d1 = _laws(params, u0)
-    ratio = max(a / (d0 + d1), a_v / (d0_v + d1_v))
-    kratio = k0 / min(d0 + d1, d0_v + d1_v)
+        a_1, d0_1, d1_1 = _laws(params, u1)
+    ratio = max(a / (d0 + d1), a_1 / (d0_1 + d1_1))
+    kratio = k0 / min(d0 + d1, d0_1 + d1_1)
     ydot0 = (a * w + d0 * xd0 + k0 * (x0 - y)) / (d0 + d1)
     aw = abs(w)
     w_factor = aw ** (n - 1.0) if aw > 1.0 else 1.0  # max(1, |w|)^(n-1) without pow when |w| <= 1
@@ -295,25 +300,33 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
     h = dt / n_sub
     hs = 1.0 / n_sub
     # Values at the end of one sub-step are those at the start of the next (path, velocity and,
-    # while the field settles, the voltage laws along u(s) = v + (u0 - v) exp(-eta s dt)).
+    # while the field settles, the voltage laws along u(s) = v + (u0 - v) exp(-eta s dt), whose
+    # exponential advances by the factor q per half sub-step).
     xa = x0
     va = xd0
     aa, da0, da1 = a, d0, d1
-    du = u0 - v
+    q = math.exp(-0.5 * eta * h)
+    decay = 1.0
     for k in range(n_sub):
+        last = k == n_sub - 1
         s_a = k * hs
         s_m = s_a + 0.5 * hs
-        s_b = 1.0 if k == n_sub - 1 else s_a + hs
+        s_b = 1.0 if last else s_a + hs
         xm = hermite_position(x0, x1, xd0, xd1, dt, s_m)
-        xb = x1 if k == n_sub - 1 else hermite_position(x0, x1, xd0, xd1, dt, s_b)
+        xb = x1 if last else hermite_position(x0, x1, xd0, xd1, dt, s_b)
         vm = _hermite_velocity(x0, x1, xd0, xd1, dt, s_m)
         vb = _hermite_velocity(x0, x1, xd0, xd1, dt, s_b)
         if field_settled:
             am, dm0, dm1 = a, d0, d1
             ab, db0, db1 = a, d0, d1
         else:
-            am, dm0, dm1 = _laws(params, v + du * math.exp(-eta * s_m * dt))
-            ab, db0, db1 = _laws(params, v + du * math.exp(-eta * s_b * dt))
+            decay *= q
+            am, dm0, dm1 = _laws(params, v + du * decay)
+            decay *= q
+            if last:
+                ab, db0, db1 = a_1, d0_1, d1_1
+            else:
+                ab, db0, db1 = _laws(params, v + du * decay)
         ky1, kw1 = _rates(y, w, xa, va, aa, da0, da1, k0, rho, sigma, n)
         ky2, kw2 = _rates(y + 0.5 * h * ky1, w + 0.5 * h * kw1, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
         ky3, kw3 = _rates(y + 0.5 * h * ky2, w + 0.5 * h * kw2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
@@ -323,11 +336,10 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
         xa = xb
         va = vb
         aa, da0, da1 = ab, db0, db1
-    u1 = v + du * math.exp(-eta * dt)
     state[0] = y
     state[1] = w
     state[2] = u1
-    # the laws at the end node are those at u1 (same expression), so _force's evaluation is saved
+    # the laws at the end node are those at u1, so _force's evaluation is saved
     ydot1 = (aa * w + da0 * xd1 + k0 * (x1 - y)) / (da0 + da1)
     return da1 * ydot1 + params[2] * (x1 - params[3])
 
