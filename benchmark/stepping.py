@@ -73,7 +73,8 @@ from benchmark.isolation.registry import bearing_step  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402
 from damper.registry import device_step  # noqa: E402
 
-__all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "STATUS_MESSAGES",
+__all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_bearing_forces",
+           "STATUS_MESSAGES",
            "STATUS_OK", "STATUS_NONFINITE", "STATUS_NOT_CONVERGED", "STATUS_BLOWUP",
            "STATUS_CONTROLLER", "ROTATION_RADIUS"]
 
@@ -174,6 +175,31 @@ def initial_forces(dt, b_xy, b_type, b_params, b_state, d_infl, d_model, d_param
         fd[j] = f
         for c in range(3):
             gd[c] += d_infl[j, c] * f
+
+
+@numba.njit(cache=True)
+def total_bearing_forces(z, nq, b_xy, k_lin, c_lin, fb):
+    """Turn the hysteretic bearing forces ``fb`` (n, n_b, 2) into total forces, in place, and return it.
+
+    Bearing i at plan position (x_i, y_i) moves with the base as
+    :math:`u_i = (u_x - y_i\theta,\ u_y + x_i\theta)`; its total force is
+    :math:`k_i u_i + c_i \dot u_i + f_{h,i}` [N] (``z`` the state history, base at ``nq:nq+3``
+    and velocities at ``2nq+3+...``).
+    """
+    nv = nq + 3
+    for k in range(z.shape[0]):
+        ux = z[k, nq]
+        uy = z[k, nq + 1]
+        th = z[k, nq + 2]
+        vx = z[k, nv + nq]
+        vy = z[k, nv + nq + 1]
+        om = z[k, nv + nq + 2]
+        for i in range(b_xy.shape[0]):
+            bx = b_xy[i, 0]
+            by = b_xy[i, 1]
+            fb[k, i, 0] += k_lin[i] * (ux - by * th) + c_lin[i] * (vx - by * om)
+            fb[k, i, 1] += k_lin[i] * (uy + bx * th) + c_lin[i] * (vy + bx * om)
+    return fb
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
