@@ -29,7 +29,10 @@ Numerics: the filtered voltage is advanced exactly,
 in time along the cubic Hermite path of the step, in
 :math:`N = \\lceil \\lambda\\,\\Delta t/\\mathrm{tol} \\rceil` sub-steps with
 :math:`\\lambda = (\\rho\\,\\alpha z_0 + k_0)/(c_0+c_1) + \\rho n\\max(1, 2\\sigma-1)\\max(1,|w|)^{n-1}
-(|\\dot x|_{max} + |\\dot y|)` (DOMAIN.md §5).
+(|\\dot x|_{max} + |\\dot y|)` (DOMAIN.md §5), the ratios taken at the worse of the
+field's values at the start and the end of the step (the field moves monotonically between
+them). The laws are evaluated once per RK4 node: the end of one sub-step
+is the start of the next, and the last node's values give the force at the end of the step.
 
 Parameters of the 1.5 kN prototype (:meth:`Spencer.prototype_1997`, Spencer et al. 1997, as
 listed in DOMAIN.md §3, **unverified against the paper's table**): c0a 21.0 N·s/cm,
