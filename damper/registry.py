@@ -16,7 +16,8 @@ import numpy as np
 from benchmark.errors import InputError
 from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, ExtendedBoucWen,
                              NormalizedBoucWen, bouc_wen_force, bouc_wen_step)
-from damper.spencer import SPENCER_ID, Spencer, spencer_type_force_kernel, spencer_type_step
+from damper.spencer import (MEMO_LENGTH, SPENCER_ID, Spencer, spencer_type_force_kernel,
+                            spencer_type_step, spencer_type_step_memo)
 from damper.virtual import VIRTUAL_DAMPER_ID, VirtualBenchmarkDamper
 from damper.bingham import BINGHAM_ID, Bingham, bingham_force, bingham_step
 from damper.dahl import DAHL_ID, Dahl
@@ -29,6 +30,8 @@ __all__ = [
     "get_model_class",
     "model_id_of",
     "device_step",
+    "device_step_memo",
+    "MEMO_LENGTH",
     "device_force",
 ]
 
@@ -106,6 +109,18 @@ def device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt):
     if model_id == HYPERBOLIC_TANGENT_ID:
         return hyperbolic_tangent_step(params, state, x0, x1, xd0, xd1, v, dt)
     return np.nan
+
+
+@numba.njit(cache=True)
+def device_step_memo(model_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
+    """:func:`device_step` with a per-device scratch array ``memo`` (float64, :data:`MEMO_LENGTH`,
+    any initial content) in which a model may keep values that depend only on the step's start
+    state and voltage (the Spencer-type voltage laws), reused when the same device is advanced
+    again from the same state, as the building's fixed-point iteration does. Same results as
+    :func:`device_step`; models without such values ignore ``memo``."""
+    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID:
+        return spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
+    return device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt)
 
 
 @numba.njit(cache=True)

@@ -65,6 +65,8 @@ __all__ = [
     "pack_spencer_type",
     "spencer_type_rates",
     "spencer_type_step",
+    "spencer_type_step_memo",
+    "MEMO_LENGTH",
     "spencer_type_force",
     "spencer_type_force_kernel",
 ]
@@ -264,9 +266,41 @@ def _hermite_velocity(x0, x1, xd0, xd1, dt, s):
             + (3.0 * s2 - 2.0 * s) * xd1)
 
 
+#: Length of the per-device memo of :func:`spencer_type_step_memo` (key, the laws at the step's
+#: start and end field, and at the nodes of up to ``(MEMO_LENGTH - 10) // 6`` sub-steps).
+MEMO_LENGTH = 106
+
+
 @numba.njit(cache=True)
 def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
     """Advance ``state = [y, w, u]`` over one step; return the force at its end [N]."""
+    return _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, state, False)  # no memo
+
+
+@numba.njit(cache=True)
+def spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo):
+    """:func:`spencer_type_step` that keeps the voltage laws' values in ``memo`` (float64, length
+    :data:`MEMO_LENGTH`, any initial content, one per device) and reuses them while the step's field
+    (start value, commanded voltage, step length) and sub-step count are the same: the building's
+    fixed-point iteration advances every device several times from the same state. Same results."""
+    return _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, memo.shape[0] >= MEMO_LENGTH)
+
+
+@numba.njit(cache=True, inline="always")
+def _memo_laws(params, memo, slot, u, valid, store):
+    # the laws at u, from memo[slot:slot+3] when valid, else evaluated (and stored if asked)
+    if valid:
+        return memo[slot], memo[slot + 1], memo[slot + 2]
+    a, d0, d1 = _laws(params, u)
+    if store:
+        memo[slot] = a
+        memo[slot + 1] = d0
+        memo[slot + 2] = d1
+    return a, d0, d1
+
+
+@numba.njit(cache=True, inline="always")
+def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
     tol = params[0]
     k0 = params[1]
     eta = params[4]
@@ -279,14 +313,22 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
     field_settled = abs(u0 - v) <= 1e-12 * (1.0 + abs(v))
     du = u0 - v
     u1 = v + du * math.exp(-eta * dt)
+    # memo: [u0, v, dt, n_sub, laws(u0), laws(u1), laws at the nodes ...]; valid for the same
+    # field and step (the laws depend on nothing else)
+    same_field = use_memo and memo[0] == u0 and memo[1] == v and memo[2] == dt
+    if use_memo and not same_field:
+        memo[0] = u0
+        memo[1] = v
+        memo[2] = dt
+        memo[3] = -1.0
     if field_settled:
-        a, d0, d1 = _laws(params, v)
+        a, d0, d1 = _memo_laws(params, memo, 4, v, same_field, use_memo)
         a_1, d0_1, d1_1 = a, d0, d1
     else:
         # the field moves monotonically from u0 to u1 over the step: the laws at both ends bound
         # the sub-step rule, and those at u1 serve as the last node
-        a, d0, d1 = _laws(params, u0)
-        a_1, d0_1, d1_1 = _laws(params, u1)
+        a, d0, d1 = _memo_laws(params, memo, 4, u0, same_field, use_memo)
+        a_1, d0_1, d1_1 = _memo_laws(params, memo, 7, u1, same_field, use_memo)
     ratio = max(a / (d0 + d1), a_1 / (d0_1 + d1_1))
     kratio = k0 / min(d0 + d1, d0_1 + d1_1)
     ydot0 = (a * w + d0 * xd0 + k0 * (x0 - y)) / (d0 + d1)
@@ -300,6 +342,10 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
             state[i] = math.nan
         return math.nan
     n_sub = max(1, int(math.ceil(lam * dt / tol)))
+    nodes_fit = use_memo and 10 + 6 * n_sub <= memo.shape[0]
+    nodes_valid = same_field and nodes_fit and memo[3] == n_sub
+    if use_memo:
+        memo[3] = n_sub if nodes_fit else -1.0
     h = dt / n_sub
     hs = 1.0 / n_sub
     # Values at the end of one sub-step are those at the start of the next (path, velocity and,
@@ -324,12 +370,12 @@ def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
             ab, db0, db1 = a, d0, d1
         else:
             decay *= q
-            am, dm0, dm1 = _laws(params, v + du * decay)
+            am, dm0, dm1 = _memo_laws(params, memo, 10 + 6 * k, v + du * decay, nodes_valid, nodes_fit)
             decay *= q
             if last:
                 ab, db0, db1 = a_1, d0_1, d1_1
             else:
-                ab, db0, db1 = _laws(params, v + du * decay)
+                ab, db0, db1 = _memo_laws(params, memo, 13 + 6 * k, v + du * decay, nodes_valid, nodes_fit)
         ky1, kw1 = _rates(y, w, xa, va, aa, da0, da1, k0, rho, sigma, n)
         ky2, kw2 = _rates(y + 0.5 * h * ky1, w + 0.5 * h * kw1, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
         ky3, kw3 = _rates(y + 0.5 * h * ky2, w + 0.5 * h * kw2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
