@@ -166,6 +166,13 @@ def _parse_table(lines: Sequence[str], path: Path, first_lineno: int, n_columns:
     return np.asarray(rows, dtype=float), linenos
 
 
+def _to_si(values, factor: float) -> np.ndarray:
+    """``values * factor`` without numpy's overflow warning: :func:`_record` reports the
+    non-finite sample with its file and line instead."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return np.asarray(values, dtype=np.float64) * factor
+
+
 def _record(path: Path, **fields) -> Record:
     """Build the :class:`Record`; a value that overflows on unit conversion or any other
     inconsistency is reported against the file (the Record alone only knows its name)."""
@@ -256,7 +263,7 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
         path,
         name=name or path.stem,
         dt=dt,
-        acceleration=values * factor,
+        acceleration=_to_si(values, factor),
         labels=tuple(labels) if labels else ("column 1", "column 2"),
         source=str(path),
         synthetic=False,
@@ -332,7 +339,7 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
         path,
         name=name or path.stem,
         dt=dt,
-        acceleration=np.asarray(values) * factor,
+        acceleration=_to_si(values, factor),
         labels=(component or "component 1",),
         source=str(path),
         metadata={"format": "at2", "units_in_file": _canonical(units), "title": lines[0].strip(),
@@ -373,7 +380,7 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str = "
         path,
         name=name or path.stem,
         dt=dt,
-        acceleration=values * factor,
+        acceleration=_to_si(values, factor),
         labels=(label or path.name,),
         source=str(path),
         metadata={"format": "single", "units_in_file": _canonical(units)},
@@ -550,7 +557,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
         path,
         name=name or path.stem,
         dt=step,
-        acceleration=rows[:, 1:] * factor,
+        acceleration=_to_si(rows[:, 1:], factor),
         labels=labels,
         source=str(path),
         metadata={"format": "csv", "units_in_file": _canonical(units), "units_from": units_from,

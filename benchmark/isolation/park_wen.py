@@ -184,7 +184,7 @@ def park_wen_substeps(ux0: float, uy0: float, ux1: float, uy1: float,
     Returns
     -------
     int
-        The sum over the step's segments of :math:`\lceil \rho L_{seg}/\mathrm{tol} \rceil`;
+        The sum over the step's segments of :math:`\\lceil \\rho L_{seg}/\\mathrm{tol} \\rceil`;
         ``MAX_SUBSTEPS + 1`` when that exceeds :data:`MAX_SUBSTEPS` or is not finite.
     """
     rho = max(A, 2.0 * (beta + gamma)) / yield_displacement
