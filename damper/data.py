@@ -33,7 +33,7 @@ import numpy as np
 from benchmark.atomic import atomic_path
 from benchmark.errors import DataNotFoundError, InputError
 
-__all__ = ["DamperTest", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
+__all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files"]
 
 _REQUIRED = ("time", "displacement", "force")
@@ -130,20 +130,46 @@ class DamperTest:
                           name=self.name, source=self.source, metadata=self.metadata)
 
 
-def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: bool = False):
+def check_samples(values, name: str, n: int | None = None, allow_scalar: bool = False,
+                  reference: str = "time") -> np.ndarray:
+    """A validated 1-D float64 copy of ``values`` (finite, ``n`` samples when given).
+
+    Parameters
+    ----------
+    values : array-like or float
+        The samples; a scalar is broadcast to ``n`` samples when ``allow_scalar``.
+    name : str
+        What the array is, for the message (e.g. ``"file.csv: force"``).
+    n : int, optional
+        Required number of samples.
+    allow_scalar : bool
+        Accept a scalar (e.g. a constant voltage).
+    reference : str
+        Name of the array that sets ``n`` (for the message).
+
+    Raises
+    ------
+    InputError
+        Non-numeric values, wrong shape or length, NaN or inf (the first bad sample is named).
+    """
     try:
         arr = np.array(values, dtype=np.float64)
     except (TypeError, ValueError):
-        raise InputError(f"{label}: {name}: expected numbers") from None
+        raise InputError(f"{name}: expected numbers") from None
     if allow_scalar and arr.ndim == 0 and n is not None:
         arr = np.full(n, float(arr))
     if arr.ndim != 1:
-        raise InputError(f"{label}: {name}: expected a 1-D array, got shape {arr.shape}")
+        raise InputError(f"{name}: expected a 1-D array, got shape {arr.shape}")
     if n is not None and arr.size != n:
-        raise InputError(f"{label}: {name}: expected {n} samples (as many as time), got {arr.size}")
+        raise InputError(f"{name}: expected {n} samples (as many as {reference}), got {arr.size}")
     if not np.all(np.isfinite(arr)):
         i = int(np.argmax(~np.isfinite(arr)))
-        raise InputError(f"{label}: {name}: expected finite values, sample {i} is {arr[i]}")
+        raise InputError(f"{name}: expected finite values, sample {i} is {arr[i]}")
+    return arr
+
+
+def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: bool = False):
+    arr = check_samples(values, f"{label}: {name}", n, allow_scalar)
     arr.flags.writeable = False
     return arr
 

@@ -12,6 +12,7 @@ import numba
 import numpy as np
 
 from benchmark.errors import InputError, NumericalError
+from damper.data import check_samples
 from damper.registry import device_force, device_step, model_id_of
 
 __all__ = ["DamperResponse", "simulate", "prepare_motion"]
@@ -47,20 +48,7 @@ class DamperResponse:
 
 
 def _as_1d(name: str, values, n: int | None = None) -> np.ndarray:
-    try:
-        arr = np.asarray(values, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected an array of numbers") from None
-    if n is not None and arr.ndim == 0:
-        arr = np.full(n, float(arr))
-    if arr.ndim != 1:
-        raise InputError(f"{name}: expected a 1-D array, got shape {arr.shape}")
-    if n is not None and arr.size != n:
-        raise InputError(f"{name}: expected {n} samples (as many as t), got {arr.size}")
-    if not np.all(np.isfinite(arr)):
-        i = int(np.argmax(~np.isfinite(arr)))
-        raise InputError(f"{name}: expected finite values, sample {i} is {arr[i]}")
-    return np.ascontiguousarray(arr)
+    return check_samples(values, name, n, allow_scalar=n is not None, reference="t")
 
 
 def prepare_motion(model, t, x, xdot=None, v=0.0):
