@@ -48,6 +48,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         "per-voltage (free at each voltage), or a number in N/m held fixed")
     p.add_argument("--no-free-kappa-x", action="store_true",
                    help="do not identify/validate the per-voltage-kappa_x variant for comparison")
+    p.add_argument("--no-ceiling", action="store_true",
+                   help="skip the structural ceiling (the best each model form reaches fitted to "
+                        "each run's own damper motion at 0 V and 1 V)")
     p.add_argument("--jobs", type=int, default=None,
                    help="worker processes (default: all cores; 1: no pool)")
     p.set_defaults(func=_run)
@@ -96,16 +99,20 @@ def _run(args: argparse.Namespace) -> int:
                                  validate=not args.no_validation, records_dir=args.records_dir,
                                  synthetic=args.synthetic, progress=True,
                                  plots=not args.no_plots, kappa_x=kappa_x,
-                                 compare_free_kappa_x=not args.no_free_kappa_x, jobs=args.jobs)
+                                 compare_free_kappa_x=not args.no_free_kappa_x,
+                                 ceiling=not args.no_ceiling, jobs=args.jobs)
     if args.json:
         print(json.dumps({k: summary[k] for k in ("device", "voltages", "kappa_x", "parameters", "identification_errors",
-                                                   "law_errors", "field_lag", "validation", "files",
-                                                   "timings")}, indent=2, default=float))
+                                                   "law_errors", "field_lag", "validation", "ceiling",
+                                                   "files", "timings")}, indent=2, default=float))
     else:
         val = summary["validation"]
         print(f"identified {summary['device']} at {len(summary['voltages'])} voltages; files in "
               f"{summary['files']['parameters'].rsplit('/', 1)[0]}")
         if val:
             print(json.dumps(val["summary"], indent=2))
+        if summary.get("ceiling"):
+            print("structural ceiling (constant voltage, each run's most-moving damper):")
+            print(json.dumps(summary["ceiling"], indent=2))
         print(f"total {summary['timings']['total_s']:.1f} s")
     return 0

@@ -11,6 +11,8 @@
   the fitted laws.
 * :func:`plot_force_errors` — Fig. 11: force-error histories of one earthquake run, extended
   (above) versus normalized (below).
+* :func:`plot_error_anatomy` — the validation error split by field regime, and the identified
+  models against the best their form reaches on each run's motion (constant 0 V and 1 V).
 * :func:`plot_fit` — a measured test, the fitted model and the force error (one per file).
 
 All figures use the Agg backend and are written atomically as PNG.
@@ -31,7 +33,8 @@ from benchmark.figures import save_figure  # noqa: E402
 from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
 
 __all__ = ["plot_loops", "plot_inclination", "plot_elastic_removed", "plot_test_signals",
-           "plot_parameters_vs_voltage", "plot_force_errors", "plot_fit", "plot_parameters_vs_level"]
+           "plot_parameters_vs_voltage", "plot_force_errors", "plot_fit", "plot_parameters_vs_level",
+           "plot_error_anatomy"]
 
 _COLORS = {"normalized": "tab:blue", "extended": "tab:red"}
 _UNITS = {"kappa_x": ("kN/m", 1e-3), "kappa_xdot": ("kN s/m", 1e-3), "kappa_w": ("kN", 1e-3),
@@ -269,5 +272,71 @@ def plot_parameters_vs_level(summaries: Sequence[dict], path, unit: str = "A") -
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     fig.suptitle("Identified parameters per test")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_error_anatomy(validation_json: dict, ceiling_entries: Sequence, path,
+                       pair: tuple[str, str] = ("normalized+lag", "extended+lag")) -> Path:
+    """Where the force error of each model comes from, run by run (this project's addition to Fig. 11).
+
+    Left: relative RMS force error of the two models (``pair``) over the low-field, high-field
+    and transition samples of each earthquake run (from ``validation_json["regimes"]``). Right:
+    at constant 0 V and 1 V on each run's most-moving damper, the identified models' error
+    (filled) against the best the same model form reaches when fitted to that very motion
+    (hollow; :mod:`~damper.identification.ceiling`).
+    """
+    nor, ext = pair
+    regimes = validation_json.get("regimes", {})
+    runs = [(r, o) for r in regimes for o in regimes[r]]
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2), gridspec_kw={"width_ratios": [3, 2]})
+    ax = axes[0]
+    labels = [f"{r} {o}" for r, o in runs]
+    y = np.arange(len(runs))
+    styles = {"low": ("tab:green", "low field"), "high": ("tab:purple", "high field"),
+              "transition": ("tab:gray", "transition")}
+    for k, (g, (color, name)) in enumerate(styles.items()):
+        off = (k - 1) * 0.27
+        en = [100 * regimes[r][o][nor][g]["rel_rms_error"] for r, o in runs]
+        ee = [100 * regimes[r][o][ext][g]["rel_rms_error"] for r, o in runs]
+        ax.scatter(en, y + off, marker="o", facecolors="none", edgecolors=color, s=30,
+                   label=f"{name}: {nor}")
+        ax.scatter(ee, y + off, marker="s", color=color, s=22, label=f"{name}: {ext}")
+        for a, b, yy in zip(en, ee, y + off):
+            ax.plot([a, b], [yy, yy], color=color, lw=0.8, alpha=0.6)
+    ax.set_yticks(y)
+    ax.set_yticklabels(labels, fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xlabel("Relative RMS force error over the regime's samples (%)")
+    ax.set_title("By estimated field (circle: normalized, square: extended)", fontsize=10)
+    ax.grid(True, axis="x", alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+
+    ax = axes[1]
+    entries = list(ceiling_entries)
+    volts = sorted({e.voltage for e in entries})
+    forms = ("normalized", "extended")
+    xs = np.arange(len(volts))
+    for j, m in enumerate(forms):
+        for k, (kind, fill) in enumerate((("identified_error", True), ("best_error", False))):
+            vals = [[100 * getattr(e, kind) for e in entries if e.voltage == v and e.model == m] for v in volts]
+            pos = xs + (j - 0.5) * 0.4 + (k - 0.5) * 0.16
+            for p, vv in zip(pos, vals):
+                if not vv:
+                    continue
+                ax.scatter(np.full(len(vv), p), vv, s=14, color=_COLORS[m] if fill else "none",
+                           edgecolors=_COLORS[m], alpha=0.8)
+                ax.plot([p - 0.06, p + 0.06], [np.mean(vv)] * 2, color=_COLORS[m], lw=2)
+            ax.scatter([], [], color=_COLORS[m] if fill else "none", edgecolors=_COLORS[m],
+                       label=f"{m}: {'identified' if fill else 'best fit on the motion'}")
+    ax.set_xticks(xs)
+    ax.set_xticklabels([f"{v:g} V" for v in volts])
+    ax.set_ylabel("Relative RMS force error (%)")
+    ax.set_title("Constant voltage on each run's damper motion:\nidentified vs the form's ceiling",
+                 fontsize=10)
+    ax.set_ylim(bottom=0)
+    ax.grid(True, axis="y", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.suptitle(f"Anatomy of the validation error ({validation_json.get('controller', '')})")
     fig.tight_layout()
     return _save(fig, path)

@@ -14,10 +14,15 @@ Steps (each through the public API):
    (:mod:`~damper.identification.voltage_lag`);
 3. validate the voltage-dependent identified models inside full earthquake simulations of the
    benchmark building, every record and orientation, under a semi-active controller
-   (:mod:`~damper.identification.validation`), and re-run the building with the identified
-   extended model in place of the device;
-4. write ``parameters.csv``, ``voltage_laws.json``, ``validation.json``, ``identification.h5``
-   (all histories, SI units, provenance) and the figures (seed Fig. 1–3, 6, 8, 11).
+   (:mod:`~damper.identification.validation`), split the errors by field regime (low, high,
+   transition), and re-run the building with the identified extended model in place of the
+   device;
+4. measure the structural ceiling on each run's most-moving damper at 0 V and 1 V
+   (:mod:`~damper.identification.ceiling`): the identified models' error against the best
+   each model form reaches fitted to that very motion;
+5. write ``parameters.csv``, ``voltage_laws.json``, ``validation.json``, ``ceiling.json``,
+   ``identification.h5`` (all histories, SI units, provenance) and the figures (seed
+   Fig. 1–3, 6, 8, 11, and the error anatomy).
 
 The device is injected (default ``"virtual"``, the registered name of the virtual benchmark
 damper): the identification sees it only through :mod:`damper.laboratory`, the validation only
@@ -52,6 +57,7 @@ from typing import Sequence
 import numpy as np
 
 from benchmark.atomic import atomic_path, atomic_write_text
+from damper.identification.ceiling import DEFAULT_CEILING_VOLTAGES
 from damper.identification.closed_form import PARAMETER_NAMES
 from damper.identification.identify import identify
 from damper.identification.parallel import make_executor, run_tasks, worker_count
@@ -150,7 +156,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                        rerun: Sequence[str] = ("extended",), validate: bool = True,
                        records_dir: str | None = None, synthetic: bool = False,
                        progress: bool = True, plots: bool = True, kappa_x: str | float = "large-loop",
-                       compare_free_kappa_x: bool = True, jobs: int | None = None) -> dict:
+                       compare_free_kappa_x: bool = True, ceiling: bool = True,
+                       jobs: int | None = None) -> dict:
     """Run the identification study and write its outputs to ``out``; return the summary.
 
     Parameters
@@ -186,6 +193,9 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     compare_free_kappa_x : bool
         Also identify the extended model with :math:`\\kappa_x` free at each voltage and validate
         it (names :data:`FREE_KX`, :data:`FREE_KX_PCHIP`).
+    ceiling : bool
+        With the validation: measure the structural ceiling of the normalized and extended forms
+        on each run's most-moving damper (:func:`~damper.identification.ceiling.structural_ceiling`).
     jobs : int, optional
         Worker processes (default all cores; 1: everything in this process).
 
@@ -213,7 +223,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     bar = None
     if progress:
         from tqdm import tqdm
-        bar = tqdm(total=(3 if with_free else 2) * len(voltages) + len(pairs), desc="sbib identify",
+        bar = tqdm(total=(3 if with_free else 2) * len(voltages) + (2 if ceiling else 1) * len(pairs),
+                   desc="sbib identify",
                    unit="step", leave=False)
 
     def tick(label: str) -> None:
@@ -266,6 +277,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                      {name: g.laws_json() for name, g in grids.items()}
                      | {"field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()}}, indent=2)))}
         figure_job = None
+        ceiling_entries: list = []
+        ceiling_summary = None
         if plots:
             figure_folder.mkdir(parents=True, exist_ok=True)
             args = (figure_folder, grid, fig6_test, large, grids.get("grid_free_kappa_x"))
@@ -286,6 +299,21 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             timings["validation_s"] = time.perf_counter() - t0
             files["validation"] = str(atomic_write_text(out / "validation.json",
                                                         json.dumps(validation.to_json(), indent=2)))
+            if ceiling and validation.runs:
+                from damper.identification.ceiling import structural_ceiling, summarize_ceiling
+
+                t0 = time.perf_counter()
+                forms = {m: identified[m] for m in ("normalized", "extended") if m in identified}
+                tasks = [(model, r.t, r.displacement, r.velocity, forms, DEFAULT_CEILING_VOLTAGES,
+                          r.record, r.orientation) for r in validation.runs]
+                ceiling_entries = [e for run_entries in run_tasks(
+                    structural_ceiling, tasks, pool, progress=lambda _: tick("ceiling"))
+                    for e in run_entries]
+                ceiling_summary = summarize_ceiling(ceiling_entries)
+                timings["ceiling_s"] = time.perf_counter() - t0
+                files["ceiling"] = str(atomic_write_text(out / "ceiling.json", json.dumps(
+                    {"voltages_V": list(DEFAULT_CEILING_VOLTAGES), "summary": ceiling_summary,
+                     "entries": [e.to_dict() for e in ceiling_entries]}, indent=2)))
         if figure_job is not None:
             files["figures"] = figure_job.result()
     finally:
@@ -296,6 +324,10 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     if plots and validation is not None:
         files["figures"] = files.get("figures", []) + [
             str(figure_folder / f"fig11_force_errors_{r.record}_{r.orientation}.png") for r in validation.runs]
+        if any(r.regimes for r in validation.runs):
+            from damper.identification.plots import plot_error_anatomy
+            files["figures"].append(str(plot_error_anatomy(validation.to_json(), ceiling_entries,
+                                                           figure_folder / "fig11_error_anatomy.png")))
     t0 = time.perf_counter()
     files["hdf5"] = str(_write_hdf5(out / "identification.h5", grids, fig6_test, validation, model.name))
     timings["hdf5_s"] = time.perf_counter() - t0
@@ -319,6 +351,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                           for m, i in large.items()},
         "field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()},
         "validation": validation.to_json() if validation is not None else None,
+        "ceiling": ceiling_summary,
         "files": files,
         "timings": timings,
     }

@@ -44,7 +44,8 @@ from damper.simulate import simulate as simulate_damper
 #: Suffix of the model names replayed through the identified field filter.
 LAG_SUFFIX = "+lag"
 
-__all__ = ["LAG_SUFFIX", "RunValidation", "ValidationResult", "MeasuredRun", "run_errors", "replay",
+__all__ = ["LAG_SUFFIX", "REGIMES", "REGIME_MARGIN", "field_estimate", "regime_masks", "regime_errors",
+           "RunValidation", "ValidationResult", "MeasuredRun", "run_errors", "replay",
            "measure_run", "compare_run", "validate_in_building"]
 
 
@@ -110,6 +111,9 @@ class RunValidation:
     J : dict
         ``"device" -> J1..J9`` of the run with the device under test and, where re-run,
         ``model name -> J1..J9`` with the identified model in its place.
+    regimes : dict
+        ``model name -> regime_errors(...)``: the relative RMS error over the samples where the
+        estimated field is low, high, or in transition (empty when not computed).
     """
 
     record: str
@@ -122,6 +126,51 @@ class RunValidation:
     predicted: dict = field(repr=False)
     errors: dict
     J: dict
+    regimes: dict = field(default_factory=dict)
+
+
+#: Field regimes: the estimated field within this fraction of the voltage range from its low
+#: ("low") or high ("high") end; everything between is "transition".
+REGIME_MARGIN = 0.05
+REGIMES = ("low", "high", "transition")
+
+
+def field_estimate(t: np.ndarray, voltage: np.ndarray, tau: float) -> np.ndarray:
+    """The field the fluid sees, estimated from the commanded voltage [V]: each column through the
+    identified first-order field filter :math:`\\tau\\dot u = v - u` (the commanded voltage
+    itself when ``tau`` is 0)."""
+    v = np.asarray(voltage, dtype=float)
+    if tau <= 0.0:
+        return v.copy()
+    if v.ndim == 1:
+        return first_order_filter(t, v, tau)
+    return np.column_stack([first_order_filter(t, v[:, d], tau) for d in range(v.shape[1])])
+
+
+def regime_masks(field_: np.ndarray, voltage_range: tuple[float, float] = (0.0, 1.0),
+                 margin: float = REGIME_MARGIN) -> dict[str, np.ndarray]:
+    """Boolean masks of the low-field, high-field and transition samples of ``field_``."""
+    lo, hi = voltage_range
+    span = hi - lo
+    low = field_ <= lo + margin * span
+    high = field_ >= hi - margin * span
+    return {"low": low, "high": high, "transition": ~(low | high)}
+
+
+def regime_errors(measured: np.ndarray, predicted: np.ndarray, masks: dict[str, np.ndarray]) -> dict:
+    """Relative RMS force error over each regime's samples, with the regime's share of the samples
+    and of the measured force's energy (so a reader sees which regime dominates the run's error)."""
+    f = np.asarray(measured, dtype=float)
+    g = np.asarray(predicted, dtype=float)
+    total = float(np.sum(f ** 2))
+    out = {}
+    for name, mask in masks.items():
+        fm = f[mask]
+        norm = float(np.linalg.norm(fm))
+        out[name] = {"rel_rms_error": float(np.linalg.norm(fm - g[mask]) / norm) if norm > 0 else float("nan"),
+                     "sample_share": float(mask.mean()) if mask.size else float("nan"),
+                     "force_share": float(np.sum(fm ** 2) / total) if total > 0 else float("nan")}
+    return out
 
 
 @dataclass
@@ -136,11 +185,17 @@ class ValidationResult:
         """``{record: {orientation: {model: {rel_rms_error, peak_error, energy_error}}}}`` plus J's."""
         errors: dict = {}
         criteria: dict = {}
+        regimes: dict = {}
         for run in self.runs:
             errors.setdefault(run.record, {})[run.orientation] = run.errors
             criteria.setdefault(run.record, {})[run.orientation] = run.J
-        return {"controller": self.controller, "models": list(self.models), "errors": errors,
-                "J": criteria, "summary": self.summary()}
+            if run.regimes:
+                regimes.setdefault(run.record, {})[run.orientation] = run.regimes
+        out = {"controller": self.controller, "models": list(self.models), "errors": errors,
+               "J": criteria, "summary": self.summary()}
+        if regimes:
+            out["regimes"] = regimes
+        return out
 
     def summary(self) -> dict:
         """Per model: mean and worst of each error over the runs; mean |ΔJ| with the identified model."""
@@ -165,6 +220,15 @@ class ValidationResult:
                 out[f"{ext}_below_{nor}_every_run"] = bool(max(ratios) < 1.0)
                 out[f"{ext}_over_{nor}_rel_rms_ratio_max"] = float(max(ratios))
                 out[f"{ext}_over_{nor}_rel_rms_ratio_mean"] = float(np.mean(ratios))
+                if all(r.regimes for r in self.runs):
+                    by = {}
+                    for g in REGIMES:
+                        rr = [r.regimes[ext][g]["rel_rms_error"] / r.regimes[nor][g]["rel_rms_error"]
+                              for r in self.runs if r.regimes[nor][g]["rel_rms_error"] > 0]
+                        if rr:
+                            by[g] = {"ratio_mean": float(np.mean(rr)), "ratio_max": float(np.max(rr)),
+                                     "below_every_run": bool(max(rr) < 1.0)}
+                    out[f"{ext}_over_{nor}_by_field_regime"] = by
         return out
 
 
@@ -257,20 +321,28 @@ def compare_run(building, measured: MeasuredRun, identified: dict, lags: dict | 
     from benchmark.simulation import simulate
 
     t, x, xd, v, f = measured.t, measured.displacement, measured.velocity, measured.voltage, measured.force
-    predicted, errors = {}, {}
+    predicted, errors, regimes = {}, {}, {}
+    # One field estimate for every model, so all are split on the same samples: the commanded
+    # voltage through the median identified lag (the identified lags differ by a few percent).
+    tau_ref = float(np.median(list(lags.values()))) if lags else 0.0
+    vrange = next(iter(identified.values())).voltage_range if identified else (0.0, 1.0)
+    masks = regime_masks(field_estimate(t, v, tau_ref), vrange)
     for m, model in identified.items():
         predicted[m] = replay(model, t, x, xd, v)
         errors[m] = run_errors(f, predicted[m], x)
+        regimes[m] = regime_errors(f, predicted[m], masks)
         if lags and m in lags:
             predicted[m + LAG_SUFFIX] = replay(model, t, x, xd, v, tau=lags[m])
             errors[m + LAG_SUFFIX] = run_errors(f, predicted[m + LAG_SUFFIX], x)
+            regimes[m + LAG_SUFFIX] = regime_errors(f, predicted[m + LAG_SUFFIX], masks)
     J = {"device": measured.J_device}
     info = {"orientation": measured.orientation}
     for m in rerun:
         swapped = building.with_devices(building.devices.with_model(identified[m]))
         J[m] = evaluate(simulate(swapped, measured.record, controller, info=info, record_states=False),
                         measured.reference)
-    run = RunValidation(measured.record_name, measured.orientation, t, x, xd, v, f, predicted, errors, J)
+    run = RunValidation(measured.record_name, measured.orientation, t, x, xd, v, f, predicted, errors, J,
+                        regimes)
     if figure is not None:
         from damper.identification.plots import plot_force_errors
         plot_force_errors(run, figure)

@@ -208,3 +208,13 @@ def test_identify_study_one_run(records_dir, tmp_path):
     assert {"extended-free-kx", "extended-free-kx+lag", "extended-free-kx-pchip"} <= set(errors)
     assert "extended_below_normalized_every_run" in val["summary"]
     assert val["J"]["kobe"]["FP-x"]["extended"]["J1"] > 0
+    # errors split by field regime, and the structural ceiling on the run's damper motion
+    regimes = val["regimes"]["kobe"]["FP-x"]["extended+lag"]
+    assert set(regimes) == {"low", "high", "transition"}
+    assert sum(r["sample_share"] for r in regimes.values()) == pytest.approx(1.0)
+    ceiling = json.loads((tmp_path / "ceiling.json").read_text())
+    assert {(e["voltage"], e["model"]) for e in ceiling["entries"]} == {
+        (0.0, "normalized"), (0.0, "extended"), (1.0, "normalized"), (1.0, "extended")}
+    assert all(e["best_error"] <= e["identified_error"] for e in ceiling["entries"])
+    assert summary["ceiling"]["1 V"]["extended"]["n_motions"] == 1
+    assert any(p.endswith("fig11_error_anatomy.png") for p in summary["files"]["figures"])
