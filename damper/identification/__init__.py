@@ -4,7 +4,8 @@ Modules: :mod:`~.cycles` (cycles, limit cycle, branches, excitation check),
 :mod:`~.closed_form` (closed-form steps, design points), :mod:`~.refine` (joint nonlinear least
 squares with uncertainty), :mod:`~.identify` (the chain for one test), :mod:`~.metrics`
 (error measures), :mod:`~.voltage_grid` (voltage grid and voltage laws), :mod:`~.voltage_lag`
-(field lag), :mod:`~.validation` (inside earthquake runs), :mod:`~.measured` (measured files),
+(field lag), :mod:`~.validation` (inside earthquake runs, errors by field regime), :mod:`~.ceiling` (the
+best each model form reaches on an earthquake's damper motion), :mod:`~.measured` (measured files),
 :mod:`~.study` (``sbib identify``), :mod:`~.plots`.
 
 The device under test is always handed in (a model instance or a registered name) and reached
