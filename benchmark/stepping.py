@@ -179,7 +179,7 @@ def initial_forces(dt, b_xy, b_type, b_params, b_state, d_infl, d_model, d_param
 
 @numba.njit(cache=True)
 def total_bearing_forces(z, nq, b_xy, k_lin, c_lin, fb):
-    """Turn the hysteretic bearing forces ``fb`` (n, n_b, 2) into total forces, in place, and return it.
+    r"""Turn the hysteretic bearing forces ``fb`` (n, n_b, 2) into total forces, in place, and return it.
 
     Bearing i at plan position (x_i, y_i) moves with the base as
     :math:`u_i = (u_x - y_i\theta,\ u_y + x_i\theta)`; its total force is
