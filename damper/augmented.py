@@ -12,7 +12,9 @@ applied around it,
    F = \\Big[\\prod_j g_j(F_\\text{base})\\Big] F_\\text{base}(x, \\dot x; u)
        + \\sum_k f_k(x, \\dot x, \\ddot x, t),
 
-with :math:`\\mathcal I` the input effects (``voltage_lag``), :math:`g_j` the factor effects
+with :math:`F_\\text{base}` the base model, or the base model in series with the ``roll_off``
+dashpot (:class:`~damper.series_dashpot.SeriesDashpotBoucWen`) when that effect is present,
+:math:`\\mathcal I` the input effects (``voltage_lag``), :math:`g_j` the factor effects
 (``asymmetry``, ``fade``) and :math:`f_k` the additive ones (``stiffness``, ``offset``,
 ``inertia``, ``quadratic_damping``).
 
@@ -58,7 +60,7 @@ __all__ = [
 #: Base model kinds accepted by the loop.
 BASE_MODELS: dict[str, type] = {"normalized": NormalizedBoucWen, "extended": ExtendedBoucWen}
 
-_ROLE_ORDER = {"input": 0, "factor": 1, "additive": 2}
+_ROLE_ORDER = {"series": 0, "input": 1, "factor": 2, "additive": 3}
 # Admissible class of the base parameters (bouc_wen: kappa > 0, sigma >= 1/2, n >= 1); n is capped
 # to keep the kernel's sub-stepping affordable.
 _BASE_LOWER_REL = 1e-9
@@ -213,10 +215,13 @@ class AugmentedModel:
             The base model's force is not finite.
         """
         u = motion.v
+        base = self.base
         for e in self.effects:
-            if e.role == "input":
+            if e.role == "series":
+                base = e.series_base(base)
+            elif e.role == "input":
                 u = e.transform_input(motion, u)
-        base_force = simulate(self.base, motion.t, motion.x, motion.xdot, u).force
+        base_force = simulate(base, motion.t, motion.x, motion.xdot, u).force
         force = base_force.copy()
         terms: dict[str, np.ndarray] = {}
         for e in self.effects:

@@ -6,6 +6,9 @@ Bouc-Wen, :mod:`damper.bouc_wen`) by *composition* with these terms
 which it vanishes (the base model is recovered exactly), physical bounds, and a role that says
 where it enters the composition:
 
+``series``
+    puts the base model in series with another element (the base model is then simulated
+    as that composite);
 ``input``
     transforms the coil input the base model sees;
 ``factor``
@@ -33,6 +36,7 @@ name                   role        term                                         
 ``asymmetry``          factor      :math:`1 + a\\,\\mathrm{sgn}(F_\\text{base})`      ``ratio`` [-], |a| < 1
 ``fade``               factor      :math:`1 + \\phi\\,(t - t_0)`                     ``rate`` [1/s]
 ``voltage_lag``        input       :math:`\\tau\\dot u = v - u`                      ``tau`` [s], >= 0
+``roll_off``           series      dashpot :math:`c_s = \\kappa_w/v_r` in series       ``velocity`` [m/s], >= 0
 =====================  ==========  ===============================================  ============
 
 * ``asymmetry``: extension (positive) forces are scaled by :math:`1 + a`, compression (negative)
@@ -40,6 +44,12 @@ name                   role        term                                         
   F_\\text{base} + a|F_\\text{base}|` is continuous in the force, so the term has no jump.
 * ``fade``: a slow linear change of the force level from the start :math:`t_0` of each test
   (heating thins the fluid); over one test a linear law is the first term of any smooth drift.
+* ``roll_off``: the base model's Bouc-Wen element and viscous dashpot carry their force
+  through a dashpot :math:`c_s = \\kappa_w / v_r` (Spencer et al.'s :math:`c_1`), so below about
+  the roll-off velocity :math:`v_r` the force falls viscously instead of holding the yield
+  force: the low-velocity roll-off of measured loops, which no rate-independent term
+  produces (:class:`damper.series_dashpot.SeriesDashpotBoucWen`). ``velocity = 0`` is the
+  base model itself.
 * ``voltage_lag``: first-order field build-up (coil inductance, eddy currents). The filter is
   integrated exactly for an input that is linear between samples, so ``tau = 0`` returns the
   input unchanged.
@@ -48,7 +58,8 @@ References
 ----------
 Bahar, Pozo, Acho, Rodellar, Barbat (2009): the elastic term :math:`\\kappa_x x` (seed eq. 3).
 Spencer, Dyke, Sain, Carlson (1997), *Phenomenological model for magnetorheological dampers*,
-J. Eng. Mech. 123(3): the first-order voltage filter :math:`\\dot u = -\\eta(u - v)`.
+J. Eng. Mech. 123(3): the first-order voltage filter :math:`\\dot u = -\\eta(u - v)` and the
+series dashpot :math:`c_1` of the low-velocity roll-off.
 Wang & Liao (2011), *Magnetorheological fluid dampers: a review of parametric modelling*,
 Smart Mater. Struct. 20: accumulator stiffness and preload, fluid inertia, turbulence,
 temperature, asymmetry.
@@ -72,6 +83,7 @@ __all__ = [
     "Offset",
     "Inertia",
     "VoltageLag",
+    "RollOff",
     "QuadraticDamping",
     "Asymmetry",
     "Fade",
@@ -146,8 +158,8 @@ class Effect:
     """One physical effect: a term with one named parameter (see the module docstring).
 
     Subclasses are frozen dataclasses with a single field named ``parameter_name``. Class
-    attributes: ``name`` (the library name), ``role`` (``"input"``, ``"factor"`` or
-    ``"additive"``), ``unit``, ``neutral`` (the value at which the term vanishes), ``lower`` and
+    attributes: ``name`` (the library name), ``role`` (``"series"``, ``"input"``, ``"factor"``
+    or ``"additive"``), ``unit``, ``neutral`` (the value at which the term vanishes), ``lower`` and
     ``upper`` (admissible interval), ``description``.
     """
 
@@ -213,6 +225,10 @@ class Effect:
         return None
 
     # -- the term ---------------------------------------------------------------------------
+    def series_base(self, base):
+        """Series role: the model simulated in place of the base model ``base``."""
+        raise NotImplementedError
+
     def transform_input(self, motion: Motion, v: np.ndarray) -> np.ndarray:
         """Input role: the coil input the base model sees."""
         raise NotImplementedError
@@ -465,6 +481,49 @@ class VoltageLag(Effect):
         return first_order_filter(motion.t, v, self.tau)
 
 
+@dataclass(frozen=True)
+class RollOff(Effect):
+    """Low-velocity roll-off: the base model in series with a dashpot :math:`c_s = \\kappa_w / v_r`.
+
+    Parameters
+    ----------
+    velocity : float
+        Roll-off velocity :math:`v_r` [m/s], >= 0 (``0``: no roll-off, the base model). See
+        :class:`damper.series_dashpot.SeriesDashpotBoucWen` for the equations; the base model's
+        ρ, σ and n must not depend on the coil input.
+    """
+
+    velocity: float
+    name: ClassVar[str] = "roll_off"
+    role: ClassVar[str] = "series"
+    parameter_name: ClassVar[str] = "velocity"
+    unit: ClassVar[str] = "m/s"
+    lower: ClassVar[float] = 0.0
+    upper: ClassVar[float] = 10.0  # beyond any MR damper's velocity range
+    description: ClassVar[str] = ("dashpot c_s = kappa_w/v_r in series with the base model "
+                                  "(force rolls off viscously below about v_r)")
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return 0.5 * max(_pooled_rms(motions, "xdot"), 1e-12)
+
+    @classmethod
+    def not_identifiable(cls, motions):
+        if _pooled_rms(motions, "xdot") == 0.0:
+            return "the velocity is zero throughout"
+        return None
+
+    def series_base(self, base):
+        """The model simulated in place of ``base``: ``base`` itself at ``velocity = 0``."""
+        if self.velocity == 0.0:
+            return base
+        from damper.series_dashpot import SeriesDashpotBoucWen
+        return SeriesDashpotBoucWen.from_bouc_wen(base, self.velocity)
+
+
 @numba.njit(cache=True)
 def _first_order_filter(t, v, tau, out):
     out[0] = v[0]
@@ -514,7 +573,7 @@ def first_order_filter(t: np.ndarray, v: np.ndarray, tau: float) -> np.ndarray:
 
 #: The library, in the order the loop lists candidates.
 EFFECTS: dict[str, type[Effect]] = {cls.name: cls for cls in (
-    Stiffness, Offset, Inertia, VoltageLag, QuadraticDamping, Asymmetry, Fade)}
+    Stiffness, Offset, Inertia, VoltageLag, QuadraticDamping, Asymmetry, Fade, RollOff)}
 #: The library's names.
 EFFECT_NAMES: tuple[str, ...] = tuple(EFFECTS)
 

@@ -19,6 +19,7 @@ from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, Exten
 from damper.spencer import (MEMO_LENGTH, SPENCER_ID, Spencer, spencer_type_force_kernel,
                             spencer_type_step, spencer_type_step_memo)
 from damper.virtual import VIRTUAL_DAMPER_ID, VirtualBenchmarkDamper
+from damper.series_dashpot import SERIES_DASHPOT_ID, SeriesDashpotBoucWen
 from damper.bingham import BINGHAM_ID, Bingham, bingham_force, bingham_step
 from damper.dahl import DAHL_ID, Dahl
 from damper.hyperbolic_tangent import (HYPERBOLIC_TANGENT_ID, HyperbolicTangent,
@@ -40,6 +41,7 @@ _MODEL_CLASSES = (
     ExtendedBoucWen,
     Spencer,
     VirtualBenchmarkDamper,
+    SeriesDashpotBoucWen,
     Bingham,
     Dahl,
     HyperbolicTangent,
@@ -102,7 +104,7 @@ def device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt):
     if (model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID
             or model_id == DAHL_ID):
         return bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt)
-    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID:
+    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
         return spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt)
     if model_id == BINGHAM_ID:
         return bingham_step(params, state, x0, x1, xd0, xd1, v, dt)
@@ -118,7 +120,7 @@ def device_step_memo(model_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
     state and voltage (the Spencer-type voltage laws), reused when the same device is advanced
     again from the same state, as the building's fixed-point iteration does. Same results as
     :func:`device_step`; models without such values ignore ``memo``."""
-    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID:
+    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
         return spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
     return device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt)
 
@@ -130,7 +132,7 @@ def device_force(model_id, params, state, x, xd, v):
     if (model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID
             or model_id == DAHL_ID):
         return bouc_wen_force(params, state, x, xd, v)
-    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID:
+    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
         return spencer_type_force_kernel(params, state, x, xd, v)
     if model_id == BINGHAM_ID:
         return bingham_force(params, state, x, xd, v)

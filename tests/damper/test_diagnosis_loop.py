@@ -20,7 +20,7 @@ from damper.data import DamperTest, write_csv
 from damper.diagnosis import DiagnosisData, diagnose
 from damper.diagnosis.synthetic import (HeatedDevice, PlayDevice, sinusoidal_tests,
                                         step_voltage_tests)
-from damper.effects import (Asymmetry, Fade, Inertia, Offset, QuadraticDamping, Stiffness,
+from damper.effects import (Asymmetry, Fade, Inertia, Offset, QuadraticDamping, RollOff, Stiffness,
                             VoltageLag)
 from damper.voltage_laws import Polynomial
 
@@ -152,6 +152,7 @@ EFFECT_CASES = {
     "quadratic_damping": QuadraticDamping(5e4),
     "asymmetry": Asymmetry(0.15),
     "fade": Fade(-0.03),
+    "roll_off": RollOff(0.01),
 }
 
 

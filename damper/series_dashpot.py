@@ -1,0 +1,190 @@
+"""Extended Bouc-Wen model in series with a dashpot: the low-velocity roll-off of real MR dampers.
+
+.. math::
+
+   F &= c_s\\,\\dot y + \\kappa_x x, \\qquad
+   c_s = \\kappa_w / v_r \\\\
+   \\dot y &= \\frac{\\kappa_w w + \\kappa_{\\dot x}\\dot x}{\\kappa_{\\dot x} + c_s} \\\\
+   \\dot w &= \\rho\\left(\\dot r - \\sigma|\\dot r||w|^{n-1}w + (\\sigma-1)\\dot r|w|^n\\right),
+      \\qquad \\dot r = \\dot x - \\dot y
+
+The Bouc-Wen element (force scale :math:`\\kappa_w`) and the viscous dashpot
+:math:`\\kappa_{\\dot x}` act on the relative motion :math:`x - y`; the series dashpot
+:math:`c_s` carries their force, and the accumulator spring :math:`\\kappa_x` acts in parallel.
+This is Spencer et al.'s (1997) phenomenological structure with the series spring
+:math:`k_0 = 0`, written with the extended model's names. At high speed the dashpot hardly
+moves and the force is the extended Bouc-Wen force
+:math:`\\kappa_x x + \\kappa_{\\dot x}\\dot x + \\kappa_w w`; below about the **roll-off
+velocity** :math:`v_r = \\kappa_w / c_s` the element cannot reach its yield force and the force
+falls viscously towards zero with the velocity (the "roll-off" of measured force-velocity
+loops, which a rate-independent Bouc-Wen element cannot produce). As :math:`v_r \\to 0` the
+model tends to the extended Bouc-Wen model (:class:`damper.bouc_wen.ExtendedBoucWen`); the
+normalized model is the case :math:`\\kappa_x = 0`.
+
+Parametrizing the dashpot by :math:`v_r` rather than :math:`c_s` keeps the parameter on the
+scale of the test velocities and makes it independent of the force level, so one roll-off
+velocity can serve every coil input while :math:`c_s(v) = \\kappa_w(v)/v_r` follows the yield
+force.
+
+Numerics: the compiled Spencer-type kernel (:func:`damper.spencer.spencer_type_step`: exact
+field update, RK4 sub-steps along the step's Hermite path, sub-step size from the stiffness
+estimate of DOMAIN.md §5). The field follows the coil input without lag (a lag is the
+``voltage_lag`` effect of :mod:`damper.effects`, applied to the input).
+
+References
+----------
+Spencer B.F. Jr., Dyke S.J., Sain M.K., Carlson J.D. (1997), *Phenomenological model for
+magnetorheological dampers*, J. Eng. Mech. 123(3):230-238 (the series dashpot :math:`c_1`).
+Bahar A., Pozo F., Acho L., Rodellar J., Barbat A. (2009), the seed paper (the extended model).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+from typing import ClassVar
+
+from benchmark.errors import ParameterError
+from damper.bouc_wen import _check_voltage_range
+from damper.spencer import SpencerTypeModel
+from damper.voltage_laws import (Constant, ParameterLike, Polynomial, Tabulated, VoltageLaw, as_law,
+                                 check_law)
+
+__all__ = ["SeriesDashpotBoucWen", "SERIES_DASHPOT_ID", "DEFAULT_SERIES_SUBSTEP_TOLERANCE", "scaled_law"]
+
+SERIES_DASHPOT_ID = 8
+#: Default RK4 sub-step size (``lambda * h``). The Spencer-type kernel's rate bound takes
+#: max(1, 2 sigma - 1) on every branch, which overestimates the loading branches' rate by up to
+#: 2 sigma - 1; on the UTFSM fits (sigma ~ 20) 1.0 changes the force by 2e-5 relative to 0.01
+#: (0.05: 5e-8) at a thirtieth of the cost, and keeps the true rate times h below RK4's
+#: stability limit (2.8).
+DEFAULT_SERIES_SUBSTEP_TOLERANCE = 1.0
+#: Field rate of the kernel [1/s]: the field follows the input within a microsecond (no lag).
+_NO_LAG_RATE = 1.0e6
+
+
+def scaled_law(law: VoltageLaw, factor: float) -> VoltageLaw:
+    """``factor`` times ``law`` (constant, polynomial and tabulated laws).
+
+    Raises
+    ------
+    ParameterError
+        For another kind of law, or a non-finite or non-positive factor.
+    """
+    factor = float(factor)
+    if not (math.isfinite(factor) and factor > 0.0):
+        raise ParameterError(f"scaled_law: expected a finite factor > 0, got {factor!r}")
+    if isinstance(law, Constant):
+        return Constant(law.value * factor)
+    if isinstance(law, Polynomial):
+        return Polynomial(tuple(c * factor for c in law.coefficients))
+    if isinstance(law, Tabulated):
+        return replace(law, values=tuple(v * factor for v in law.values))
+    raise ParameterError(f"scaled_law: a {type(law).__name__} law cannot be scaled here; use a "
+                         "constant, polynomial or tabulated law")
+
+
+def _constant(value, name: str) -> float:
+    """A parameter that must not depend on the coil input (a number, or a law with one value)."""
+    if isinstance(value, VoltageLaw):
+        if isinstance(value, Constant):
+            return value.value
+        if isinstance(value, Tabulated) and value.is_constant:
+            return value.values[0]
+        raise ParameterError(f"SeriesDashpotBoucWen.{name}: expected a value independent of the "
+                             f"coil input, got a {type(value).__name__} law")
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"SeriesDashpotBoucWen.{name}: expected a number, got {value!r}") from None
+    if not math.isfinite(out):
+        raise ParameterError(f"SeriesDashpotBoucWen.{name}: expected a finite number, got {out}")
+    return out
+
+
+@dataclass(frozen=True)
+class SeriesDashpotBoucWen(SpencerTypeModel):
+    """Extended Bouc-Wen element in series with a dashpot (equations in the module docstring).
+
+    Parameters
+    ----------
+    kappa_x : float
+        Parallel (accumulator) stiffness [N/m], >= 0.
+    kappa_xdot : float or VoltageLaw
+        Viscous coefficient of the element [N·s/m], > 0.
+    kappa_w : float or VoltageLaw
+        Force scale of the hysteretic variable [N], > 0.
+    rho, sigma, n : float
+        Bouc-Wen shape (ρ [1/m] > 0, σ >= 1/2, n >= 1), independent of the coil input.
+    roll_off_velocity : float
+        :math:`v_r = \\kappa_w / c_s` [m/s], > 0.
+    voltage_range : tuple of float
+        Admissible coil inputs [V] (or [A]).
+    substep_tolerance : float
+        RK4 sub-step size as ``lambda * h`` (default :data:`DEFAULT_SERIES_SUBSTEP_TOLERANCE`).
+
+    Examples
+    --------
+    >>> m = SeriesDashpotBoucWen(2e5, 1e5, 1e6, 100.0, 1.0, 1.5, roll_off_velocity=0.02)
+    >>> round(m.series_damping(0.0) / 1e6, 3)  # c_s = kappa_w / v_r [MN s/m]
+    50.0
+    """
+
+    kappa_x: float
+    kappa_xdot: ParameterLike
+    kappa_w: ParameterLike
+    rho: float
+    sigma: float
+    n: float
+    roll_off_velocity: float
+    voltage_range: tuple[float, float] = (0.0, 1.0)
+    substep_tolerance: float = DEFAULT_SERIES_SUBSTEP_TOLERANCE
+
+    name: ClassVar[str] = "series_dashpot_bouc_wen"
+    model_id: ClassVar[int] = SERIES_DASHPOT_ID
+    n_states: ClassVar[int] = 3
+    state_names: ClassVar[tuple[str, ...]] = ("y", "w", "u")
+    parameter_names: ClassVar[tuple[str, ...]] = ("kappa_x", "kappa_xdot", "kappa_w", "rho", "sigma",
+                                                  "n", "roll_off_velocity")
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "voltage_range", _check_voltage_range(self.voltage_range))
+        for f in fields(self):
+            if f.name in ("kappa_xdot", "kappa_w"):
+                law = as_law(getattr(self, f.name), f"SeriesDashpotBoucWen.{f.name}")
+                check_law(law, f.name, self.voltage_range, lower=0.0, strict=True)
+                object.__setattr__(self, f.name, law if not isinstance(law, Constant) else law.value)
+            elif f.name != "voltage_range":
+                object.__setattr__(self, f.name, _constant(getattr(self, f.name), f.name))
+        checks = (("kappa_x", self.kappa_x >= 0, ">= 0"), ("rho", self.rho > 0, "> 0"),
+                  ("sigma", self.sigma >= 0.5, ">= 1/2"), ("n", self.n >= 1, ">= 1"),
+                  ("roll_off_velocity", self.roll_off_velocity > 0, "> 0 m/s (0 is the extended model)"),
+                  ("substep_tolerance", 0 < self.substep_tolerance <= 1, "in (0, 1]"))
+        for name, ok, expected in checks:
+            if not ok:
+                raise ParameterError(f"SeriesDashpotBoucWen.{name}: expected {expected}, "
+                                     f"got {getattr(self, name):g}")
+
+    @classmethod
+    def from_bouc_wen(cls, base, roll_off_velocity: float,
+                      substep_tolerance: float = DEFAULT_SERIES_SUBSTEP_TOLERANCE) -> "SeriesDashpotBoucWen":
+        """The series-dashpot model built on a normalized or extended Bouc-Wen ``base``.
+
+        ``base`` keeps its parameters (``kappa_x = 0`` for the normalized model) and its
+        voltage laws; its ρ, σ and n must not depend on the coil input. (The base's own
+        sub-step tolerance belongs to another kernel and is not carried over.)
+        """
+        return cls(kappa_x=getattr(base, "kappa_x", 0.0), kappa_xdot=base.kappa_xdot,
+                   kappa_w=base.kappa_w, rho=base.rho, sigma=base.sigma, n=base.n,
+                   roll_off_velocity=roll_off_velocity, voltage_range=base.voltage_range,
+                   substep_tolerance=substep_tolerance)
+
+    def series_damping(self, v: float) -> float:
+        """:math:`c_s(v) = \\kappa_w(v) / v_r` [N·s/m]."""
+        return float(as_law(self.kappa_w)(float(v))) / self.roll_off_velocity
+
+    def _kernel_parameters(self) -> dict:
+        kappa_w = as_law(self.kappa_w)
+        return dict(k0=0.0, k1=self.kappa_x, x0=0.0, eta=_NO_LAG_RATE, rho=self.rho,
+                    sigma=self.sigma, n=self.n, alpha_w=kappa_w, c0=as_law(self.kappa_xdot),
+                    c1=scaled_law(kappa_w, 1.0 / self.roll_off_velocity))

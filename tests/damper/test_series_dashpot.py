@@ -1,0 +1,101 @@
+"""Bouc-Wen element in series with a dashpot (the roll-off model) and its ``roll_off`` effect."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from benchmark.errors import ParameterError
+from damper.augmented import AugmentedModel
+from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.effects import Motion, RollOff
+from damper.series_dashpot import SeriesDashpotBoucWen, scaled_law
+from damper.simulate import simulate
+from damper.voltage_laws import Constant, Exponential, Polynomial, Tabulated
+
+EXT = ExtendedBoucWen(2e5, Tabulated((0.0, 1.0), (1e5, 3e5)), Tabulated((0.0, 1.0), (5e4, 1e6)),
+                      100.0, 1.5, 1.4)
+
+
+def _sine(t, amp=0.1, freq=0.5):
+    w = 2 * np.pi * freq
+    return amp * np.sin(w * t), amp * w * np.cos(w * t)
+
+
+def test_tends_to_the_extended_model_as_the_roll_off_velocity_vanishes():
+    t = np.arange(0.0, 4.0, 1e-3)
+    x, xd = _sine(t)
+    v = (t > 2.0).astype(float)
+    fb = simulate(EXT, t, x, xd, v).force
+    errors = [np.linalg.norm(simulate(SeriesDashpotBoucWen.from_bouc_wen(EXT, vr), t, x, xd, v).force - fb)
+              / np.linalg.norm(fb) for vr in (1e-4, 1e-3, 1e-2)]
+    assert errors[0] < 1e-3
+    assert errors[1] / errors[0] == pytest.approx(10, rel=0.2)  # first order in v_r
+    assert errors[2] / errors[1] == pytest.approx(10, rel=0.2)
+
+
+def test_matches_solve_ivp_of_its_equations():
+    m = SeriesDashpotBoucWen(kappa_x=2e4, kappa_xdot=5e3, kappa_w=2e3, rho=300.0, sigma=2.0, n=1.5,
+                             roll_off_velocity=0.01)
+    kx, c0, kw, rho, sigma, n, cs = 2e4, 5e3, 2e3, 300.0, 2.0, 1.5, 2e3 / 0.01
+    freq, amp = 1.0, 0.01
+    t = np.arange(0.0, 3.0, 1e-3)
+    x, xd = _sine(t, amp, freq)
+
+    def rates(tt, s):
+        y, w = s
+        xdt = amp * 2 * np.pi * freq * np.cos(2 * np.pi * freq * tt)
+        ydot = (kw * w + c0 * xdt) / (c0 + cs)
+        r = xdt - ydot
+        return [ydot, rho * (r - sigma * abs(r) * abs(w) ** (n - 1) * w + (sigma - 1) * r * abs(w) ** n)]
+
+    sol = solve_ivp(rates, (0, t[-1]), [0.0, 0.0], t_eval=t, method="Radau", rtol=1e-10, atol=1e-12,
+                    max_step=1e-3)
+    y, w = sol.y
+    f_ref = cs * (kw * w + c0 * xd) / (c0 + cs) + kx * x
+    f = simulate(m, t, x, xd, 0.0).force
+    assert np.max(np.abs(f - f_ref)) < 2e-4 * np.max(np.abs(f_ref))
+
+
+def test_the_force_rolls_off_below_the_roll_off_velocity():
+    base = NormalizedBoucWen(kappa_xdot=1e3, kappa_w=1e4, rho=500.0, sigma=1.0, n=1.0)
+    m = SeriesDashpotBoucWen.from_bouc_wen(base, 0.02)
+    t = np.arange(0.0, 20.0, 1e-3)
+    for speed, share in ((0.002, 0.2), (0.2, 0.95)):
+        x = speed * t  # constant velocity, long enough for the steady state
+        f = simulate(m, t, x, np.full_like(t, speed), 0.0).force[-1]
+        steady = 1e4 + 1e3 * speed  # the Bouc-Wen force at this speed, without the dashpot
+        if share < 0.5:
+            assert f < share * steady
+            # steady creep below v_r: the element sits at w = speed / v_r and the dashpot
+            # carries F = c_s * speed
+            assert f == pytest.approx(speed * 1e4 / 0.02, rel=1e-3)
+        else:
+            assert f > share * steady
+
+
+def test_bad_parameters_are_refused_with_their_names():
+    with pytest.raises(ParameterError, match="roll_off_velocity"):
+        SeriesDashpotBoucWen(0.0, 1e3, 1e4, 100.0, 1.0, 1.0, roll_off_velocity=0.0)
+    with pytest.raises(ParameterError, match="sigma"):
+        SeriesDashpotBoucWen(0.0, 1e3, 1e4, 100.0, 0.2, 1.0, roll_off_velocity=0.01)
+    with pytest.raises(ParameterError, match="rho.*independent of the coil input"):
+        SeriesDashpotBoucWen(0.0, 1e3, 1e4, Polynomial((100.0, 10.0)), 1.0, 1.0, roll_off_velocity=0.01)
+    with pytest.raises(ParameterError, match="cannot be scaled"):
+        scaled_law(Exponential(1.0, 2.0, -3.0), 2.0)
+    assert scaled_law(Constant(2.0), 3.0) == Constant(6.0)
+    assert scaled_law(Tabulated((0.0, 1.0), (1.0, 2.0)), 2.0).values == (2.0, 4.0)
+
+
+def test_roll_off_effect_runs_the_series_model_and_vanishes_at_zero():
+    t = np.arange(0.0, 2.0, 1e-3)
+    x, xd = _sine(t, 0.01, 1.0)
+    motion = Motion(t, x, xd, np.gradient(xd, t), 0.0)
+    base = NormalizedBoucWen(1e3, 1e4, 500.0, 1.0, 1.2)
+    assert np.array_equal(AugmentedModel(base, (RollOff(0.0),)).force(motion),
+                          simulate(base, t, x, xd, 0.0).force)
+    np.testing.assert_allclose(AugmentedModel(base, (RollOff(0.02),)).force(motion),
+                               simulate(SeriesDashpotBoucWen.from_bouc_wen(base, 0.02), t, x, xd, 0.0).force)
+    with pytest.raises(ParameterError, match="velocity"):
+        RollOff(-1.0)
