@@ -49,6 +49,7 @@ def plot_loops(items, path, labels: Sequence[str] | None = None, title: str | No
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     if not isinstance(items, (list, tuple)):
         items = [items]
@@ -80,6 +81,7 @@ def plot_loops(items, path, labels: Sequence[str] | None = None, title: str | No
     axes[1].set_title("Force-velocity")
     for ax in axes:
         ax.grid(True, alpha=0.3)
+        ax.xaxis.set_major_locator(MaxNLocator(6))  # small strokes: long tick labels overlap
         ax.axhline(0.0, color="0.6", lw=0.5)
     axes[0].legend(fontsize=8, loc="upper left")
     if title:
