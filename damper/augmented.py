@@ -61,6 +61,8 @@ __all__ = [
 BASE_MODELS: dict[str, type] = {"normalized": NormalizedBoucWen, "extended": ExtendedBoucWen}
 
 _ROLE_ORDER = {"series": 0, "input": 1, "factor": 2, "additive": 3}
+#: Base parameters a series effect needs independent of the coil input.
+_SERIES_SHARED = ("kappa_x", "rho", "sigma", "n")
 # Admissible class of the base parameters (bouc_wen: kappa > 0, sigma >= 1/2, n >= 1); n is capped
 # to keep the kernel's sub-stepping affordable.
 _BASE_LOWER_REL = 1e-9
@@ -76,12 +78,14 @@ class AugmentedResponse:
     force : ndarray (n,)
         Total force [N].
     base_force : ndarray (n,)
-        Force of the base model alone (under the transformed input) [N].
+        Force of the base model (under the transformed input; with a ``series`` effect, of the
+        base model in series with it) [N].
     model_input : ndarray (n,)
         Coil input the base model saw (after input effects) [V or A].
     terms : dict of str to ndarray
-        Each effect's contribution to the force [N] (for a factor effect:
-        :math:`(g_j - 1)` times the force it scaled).
+        Each factor and additive effect's contribution to the force [N] (for a factor effect:
+        :math:`(g_j - 1)` times the force it scaled); a series effect changes ``base_force``
+        itself and has no entry.
     """
 
     force: np.ndarray
@@ -122,8 +126,8 @@ class AugmentedModel:
         The base model (constant parameters or voltage laws).
     effects : sequence of Effect
         Effect terms, at most one of each name; ``stiffness`` is refused on an extended base
-        (it already declares :math:`\\kappa_x x`). They are kept in composition order (input,
-        factor, additive; library order within a role).
+        (it already declares :math:`\\kappa_x x`). They are kept in composition order (series,
+        input, factor, additive; library order within a role).
 
     Examples
     --------
@@ -283,7 +287,9 @@ class Parametrization:
     Layout: the base parameters in ``parameter_names`` order, each a single value (constant
     parameters, ``nodes is None``) or its values at the voltage ``nodes`` (a
     :class:`~damper.voltage_laws.Tabulated` law, PCHIP between nodes); then one value per effect
-    in composition order.
+    in composition order. With a ``series`` effect (``roll_off``) the shape parameters ρ, σ, n
+    and κ_x stay single values even with nodes (the series model needs them independent of the
+    coil input; a template whose laws vary there starts from their mean over the nodes).
 
     Parameters
     ----------
@@ -309,6 +315,11 @@ class Parametrization:
             self.nodes = None
         self.fixed_base = bool(fixed_base)
         self.effect_classes = tuple(type(e) for e in template.effects)
+        # A series effect runs the base on the Spencer-type kernel, whose Bouc-Wen shape and
+        # parallel stiffness cannot depend on the coil input: one value each over the nodes.
+        self.shared = (frozenset(_SERIES_SHARED) & frozenset(self.base_names)
+                       if self.nodes is not None and any(c.role == "series" for c in self.effect_classes)
+                       else frozenset())
         scales = dict(scales or {})
         names, lower, upper, scale = [], [], [], []
         if not self.fixed_base:
@@ -319,7 +330,7 @@ class Parametrization:
                 typical = typical if typical > 0 else 1.0
                 lo, hi = _BASE_BOUNDS.get(p, (0.0 if p == "kappa_x" else _BASE_LOWER_REL * typical,
                                               math.inf))
-                labels = ([p] if self.nodes is None
+                labels = ([p] if self.nodes is None or p in self.shared
                           else [f"{p}@{v:g}" for v in self.nodes])
                 for label in labels:
                     names.append(label)
@@ -349,8 +360,10 @@ class Parametrization:
     @property
     def n_base(self) -> int:
         """Number of free base-model values."""
-        return 0 if self.fixed_base else len(self.base_names) * (1 if self.nodes is None
-                                                                  else self.nodes.size)
+        if self.fixed_base:
+            return 0
+        per = 1 if self.nodes is None else self.nodes.size
+        return sum(1 if p in self.shared else per for p in self.base_names)
 
     def vector(self, model: AugmentedModel) -> np.ndarray:
         """The free parameters of ``model`` (same base kind and effect names as the template)."""
@@ -361,7 +374,9 @@ class Parametrization:
         if not self.fixed_base:
             values = model.base_parameters()
             for p in self.base_names:
-                if self.nodes is None:
+                if p in self.shared:
+                    out.append(float(np.mean(_law_nodes(values[p], self.nodes))))
+                elif self.nodes is None:
                     v = values[p]
                     out.append(float(v(self.voltage_range[0])) if isinstance(v, VoltageLaw) else float(v))
                 else:
@@ -386,7 +401,7 @@ class Parametrization:
         else:
             params, k = {}, 0
             for p in self.base_names:
-                if self.nodes is None:
+                if self.nodes is None or p in self.shared:
                     params[p] = float(vector[k])
                     k += 1
                 else:

@@ -11,8 +11,9 @@ voltage laws) or whether the *model form* cannot do better. This module answers 
 2. each identified model (voltage-dependent, from the periodic tests) is replayed on the same
    motion at that voltage: its error is what the identification achieved;
 3. the same model form is then fitted by nonlinear least squares to this very motion, all its
-   parameters free and started from the identified values: its error is the best the form can
-   do on that motion (the "ceiling"), a bound no identification from other tests can beat.
+   parameters free and started from the identified values: its error estimates the best the
+   form can do on that motion (the "ceiling"; a local optimum within ``max_nfev`` evaluations,
+   so an upper estimate of the true bound), which no identification from other tests can beat.
 
 If the normalized and extended forms reach nearly the same ceiling, no identification procedure
 can make one well below the other on that motion and voltage; if the identified error is far
@@ -24,12 +25,13 @@ relative RMS force error over the whole motion (:func:`~damper.identification.me
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 from typing import Sequence
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.errors import InputError, NumericalError, ParameterError
 from damper.identification.closed_form import PARAMETER_NAMES
 from damper.identification.cycles import Cycle
 from damper.identification.metrics import relative_rms_error
@@ -63,6 +65,8 @@ class CeilingEntry:
         Relative RMS force error of the same form fitted to this motion (the ceiling).
     best_parameters : dict
         The fitted parameters (SI).
+    note : str
+        Why the fit fell back to the identified parameters, when it did (empty otherwise).
     """
 
     record: str
@@ -73,6 +77,7 @@ class CeilingEntry:
     identified_error: float
     best_error: float
     best_parameters: dict
+    note: str = ""
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -140,6 +145,8 @@ def structural_ceiling(device, t: np.ndarray, displacement: np.ndarray, velocity
         raise InputError(f"displacement and velocity must share a shape, got {x.shape} and {xd.shape}")
     if x.ndim == 2:
         d = pick_damper(x) if damper is None else int(damper)
+        if not 0 <= d < x.shape[1]:
+            raise InputError(f"damper: expected an index in [0, {x.shape[1]}), got {damper}")
         x, xd = x[:, d], xd[:, d]
     else:
         d = 0 if damper is None else int(damper)
@@ -158,13 +165,17 @@ def structural_ceiling(device, t: np.ndarray, displacement: np.ndarray, velocity
             vv = float(np.clip(v, lo, hi))
             predicted = simulate(model, t, x, xd, vv).force
             start = _parameters_at(model, vv)
-            best = refine(t, x, xd, measured, whole, start, model=form, max_nfev=max_nfev)
             identified_error = relative_rms_error(measured, predicted)
+            note = ""
+            try:
+                best = refine(t, x, xd, measured, whole, start, model=form, max_nfev=max_nfev)
+                candidate = (best.rel_rms_error, dict(best.parameters))
+            except (NumericalError, ParameterError, InputError) as exc:
+                candidate, note = (math.inf, {}), f"fit failed ({exc}); identified parameters kept"
             # The identified model is itself a member of the form: the ceiling is never above it.
-            best_error, best_parameters = min((best.rel_rms_error, dict(best.parameters)),
-                                              (identified_error, start), key=lambda p: p[0])
+            best_error, best_parameters = min(candidate, (identified_error, start), key=lambda p: p[0])
             out.append(CeilingEntry(record, orientation, d, float(v), name, identified_error,
-                                    best_error, best_parameters))
+                                    best_error, best_parameters, note))
     return out
 
 
@@ -177,7 +188,7 @@ def summarize_ceiling(entries: Sequence[CeilingEntry], pair: tuple[str, str] = (
     for v in sorted({e.voltage for e in entries}):
         at = [e for e in entries if e.voltage == v]
         entry: dict = {}
-        for m in {e.model for e in at}:
+        for m in sorted({e.model for e in at}):
             sel = [e for e in at if e.model == m]
             entry[m] = {"mean_identified_error": float(np.mean([e.identified_error for e in sel])),
                         "mean_best_error": float(np.mean([e.best_error for e in sel])),

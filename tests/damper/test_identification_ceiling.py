@@ -45,13 +45,14 @@ def test_ceiling_of_the_true_form_is_zero_and_the_wrong_form_stays_above():
     assert [(e.voltage, e.model) for e in entries] == [(0.0, "extended"), (0.0, "normalized"),
                                                         (1.0, "extended"), (1.0, "normalized")]
     for e in entries:
-        assert e.best_error <= e.identified_error + 1e-9
+        assert not e.note
         if e.model == "extended":
             # the device itself is in the extended form: identified and best errors vanish
             assert e.identified_error < 1e-6 and e.best_error < 1e-6
             assert e.best_parameters["kappa_x"] == pytest.approx(5e5, rel=1e-3)
         else:
-            assert e.best_error > 0.05  # no normalized model carries the elastic force
+            assert e.best_error < 0.7 * e.identified_error  # the fit improved on its start
+            assert e.best_error > 0.05  # but no normalized model carries the elastic force
     summary = summarize_ceiling(entries)
     assert set(summary) == {"0 V", "1 V"}
     assert summary["1 V"]["extended_over_normalized_best_error"]["max"] < 1e-3
@@ -68,6 +69,8 @@ def test_ceiling_picks_the_most_moving_damper_and_rejects_bad_motions():
         structural_ceiling(DEVICE, t, x, xd[:, :2], {"extended": DEVICE})
     with pytest.raises(InputError, match="time vector"):
         structural_ceiling(DEVICE, t[:-1], x, xd, {"extended": DEVICE})
+    with pytest.raises(InputError, match="damper: expected an index"):
+        structural_ceiling(DEVICE, t, x, xd, {"extended": DEVICE}, damper=3)
 
 
 def test_field_estimate_lags_a_voltage_step_by_the_identified_time_constant():
@@ -84,7 +87,7 @@ def test_regimes_partition_the_samples_and_measure_each_part():
     u = np.array([0.0, 0.02, 0.5, 0.97, 1.0, 0.3])
     masks = regime_masks(u, (0.0, 1.0))
     assert [m.sum() for m in masks.values()] == [2, 2, 2]
-    assert np.all(masks["low"] ^ masks["high"] ^ masks["transition"])
+    assert np.all(masks["low"].astype(int) + masks["high"] + masks["transition"] == 1)
     f = np.array([1.0, -1.0, 10.0, 100.0, -100.0, 5.0])
     g = f.copy()
     g[masks["high"]] *= 0.9  # error only where the field is high
