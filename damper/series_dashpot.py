@@ -50,7 +50,7 @@ from benchmark.errors import ParameterError
 from damper.bouc_wen import _check_voltage_range
 from damper.spencer import SpencerTypeModel, pack_spencer_type
 from damper.voltage_laws import (Constant, Exponential, ParameterLike, Polynomial, Saturating,
-                                 SeedKappaW, Tabulated, VoltageLaw, as_law, check_law)
+                                 SeedKappaW, Tabulated, VoltageLaw, _finite, as_law, check_law)
 
 __all__ = ["SeriesDashpotBoucWen", "SERIES_DASHPOT_ID", "DEFAULT_SERIES_SUBSTEP_TOLERANCE", "scaled_law"]
 
@@ -98,13 +98,7 @@ def _constant(value, name: str) -> float:
             return float(value(0.0))
         raise ParameterError(f"SeriesDashpotBoucWen.{name}: expected a value independent of the "
                              f"coil input, got a {type(value).__name__} law")
-    try:
-        out = float(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"SeriesDashpotBoucWen.{name}: expected a number, got {value!r}") from None
-    if not math.isfinite(out):
-        raise ParameterError(f"SeriesDashpotBoucWen.{name}: expected a finite number, got {out}")
-    return out
+    return _finite(value, f"SeriesDashpotBoucWen.{name}")
 
 
 @dataclass(frozen=True)
