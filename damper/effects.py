@@ -75,6 +75,7 @@ import numba
 import numpy as np
 
 from benchmark.errors import InputError, ParameterError
+from damper.series_dashpot import SeriesDashpotBoucWen
 
 __all__ = [
     "Motion",
@@ -254,6 +255,11 @@ def _pooled_rms(motions, field: str) -> float:
     return _rms(values)
 
 
+def _zero_throughout(motions, field: str, what: str) -> str | None:
+    """The reason an effect driven by ``field`` cannot be seen, or ``None`` when it moves."""
+    return f"the {what} is zero throughout" if _pooled_rms(motions, field) == 0.0 else None
+
+
 # ------------------------------------------------------------------------------- the library
 
 @dataclass(frozen=True)
@@ -340,9 +346,7 @@ class Inertia(Effect):
 
     @classmethod
     def not_identifiable(cls, motions):
-        if _pooled_rms(motions, "xddot") == 0.0:
-            return "the acceleration is zero throughout"
-        return None
+        return _zero_throughout(motions, "xddot", "acceleration")
 
     def force(self, motion):
         return self.mass * motion.xddot
@@ -512,15 +516,12 @@ class RollOff(Effect):
 
     @classmethod
     def not_identifiable(cls, motions):
-        if _pooled_rms(motions, "xdot") == 0.0:
-            return "the velocity is zero throughout"
-        return None
+        return _zero_throughout(motions, "xdot", "velocity")
 
     def series_base(self, base):
         """The model simulated in place of ``base``: ``base`` itself at ``velocity = 0``."""
         if self.velocity == 0.0:
             return base
-        from damper.series_dashpot import SeriesDashpotBoucWen
         return SeriesDashpotBoucWen.from_bouc_wen(base, self.velocity)
 
 

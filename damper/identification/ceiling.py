@@ -32,7 +32,6 @@ from typing import Sequence
 import numpy as np
 
 from benchmark.errors import InputError, NumericalError, ParameterError
-from damper.identification.closed_form import PARAMETER_NAMES
 from damper.identification.cycles import Cycle
 from damper.identification.metrics import relative_rms_error
 from damper.identification.refine import refine
@@ -91,17 +90,9 @@ def pick_damper(displacement: np.ndarray) -> int:
     return int(np.argmax(np.sqrt(np.mean(x ** 2, axis=0))))
 
 
-def _form(name: str) -> str:
-    return "extended" if name.startswith("extended") else "normalized"
-
-
-def _parameters_at(model, voltage: float) -> dict[str, float]:
-    """Constant parameters of a (possibly voltage-dependent) Bouc-Wen model at ``voltage``."""
-    out = {}
-    for k in PARAMETER_NAMES:
-        value = getattr(model, k, 0.0)
-        out[k] = float(value(voltage)) if callable(value) else float(value)
-    return out
+def _form(model) -> str:
+    """The Bouc-Wen form of an identified model: ``"extended"`` when it has ``kappa_x``."""
+    return "extended" if "kappa_x" in model.parameter_names else "normalized"
 
 
 def structural_ceiling(device, t: np.ndarray, displacement: np.ndarray, velocity: np.ndarray,
@@ -120,8 +111,8 @@ def structural_ceiling(device, t: np.ndarray, displacement: np.ndarray, velocity
         Recorded damper motion [m, m/s]; with several columns, ``damper`` picks one (default
         the one with the largest RMS displacement, :func:`pick_damper`).
     identified : dict
-        ``name -> identified (voltage-dependent) Bouc-Wen model``; the name's prefix
-        (``normalized``/``extended``) gives the form fitted for the ceiling.
+        ``name -> identified (voltage-dependent) normalized or extended Bouc-Wen model``; the
+        same form is fitted for the ceiling.
     voltages : sequence of float
         Constant test voltages [V].
     record, orientation : str
@@ -160,11 +151,11 @@ def structural_ceiling(device, t: np.ndarray, displacement: np.ndarray, velocity
     for v in voltages:
         measured = general_test(device, t, x, float(v), xdot=xd).force
         for name, model in identified.items():
-            form = _form(name)
+            form = _form(model)
             lo, hi = model.voltage_range
             vv = float(np.clip(v, lo, hi))
             predicted = simulate(model, t, x, xd, vv).force
-            start = _parameters_at(model, vv)
+            start = {"kappa_x": 0.0, **model.coefficients(vv)}
             identified_error = relative_rms_error(measured, predicted)
             note = ""
             try:

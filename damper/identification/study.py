@@ -233,7 +233,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             bar.update(1)
 
     pool = make_executor(n_jobs)
-    validation = None
+    validation = validation_json = None
     figure_folder = out / "figures"
     try:
         building = None
@@ -297,15 +297,19 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                                               progress=tick, executor=pool, jobs=1, measured=measured,
                                               figures=figure_folder if plots else None)
             timings["validation_s"] = time.perf_counter() - t0
+            validation_json = validation.to_json()
             files["validation"] = str(atomic_write_text(out / "validation.json",
-                                                        json.dumps(validation.to_json(), indent=2)))
+                                                        json.dumps(validation_json, indent=2)))
             if ceiling and validation.runs:
-                from damper.identification.ceiling import structural_ceiling, summarize_ceiling
+                from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
 
                 t0 = time.perf_counter()
                 forms = {m: identified[m] for m in ("normalized", "extended") if m in identified}
-                tasks = [(model, r.t, r.displacement, r.velocity, forms, DEFAULT_CEILING_VOLTAGES,
-                          r.record, r.orientation) for r in validation.runs]
+                tasks = []
+                for r in validation.runs:  # each task gets only the damper it measures
+                    d = pick_damper(r.displacement)
+                    tasks.append((model, r.t, r.displacement[:, d], r.velocity[:, d], forms,
+                                  DEFAULT_CEILING_VOLTAGES, r.record, r.orientation, d))
                 ceiling_entries = [e for run_entries in run_tasks(
                     structural_ceiling, tasks, pool, progress=lambda _: tick("ceiling"))
                     for e in run_entries]
@@ -326,7 +330,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             str(figure_folder / f"fig11_force_errors_{r.record}_{r.orientation}.png") for r in validation.runs]
         if any(r.regimes for r in validation.runs):
             from damper.identification.plots import plot_error_anatomy
-            files["figures"].append(str(plot_error_anatomy(validation.to_json(), ceiling_entries,
+            files["figures"].append(str(plot_error_anatomy(validation_json, ceiling_entries,
                                                            figure_folder / "fig11_error_anatomy.png")))
     t0 = time.perf_counter()
     files["hdf5"] = str(_write_hdf5(out / "identification.h5", grids, fig6_test, validation, model.name))
@@ -350,7 +354,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         "large_loop_0V": {m: {"parameters": i.parameters, "rel_rms_error": i.errors["rel_rms_error"]}
                           for m, i in large.items()},
         "field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()},
-        "validation": validation.to_json() if validation is not None else None,
+        "validation": validation_json,
         "ceiling": ceiling_summary,
         "files": files,
         "timings": timings,
