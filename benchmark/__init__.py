@@ -1,7 +1,7 @@
 """Smart base-isolated benchmark building (Narasimhan et al. 2006) with MR dampers.
 
 The package is kept light at import time: submodules are imported on use, so that
-``records`` and ``damper`` may import :mod:`benchmark.errors` without pulling in the
+``records`` and ``damper`` may import :mod:`benchmark.foundation.errors` without pulling in the
 simulator and its compiled kernels.
 """
 

@@ -1,5 +1,5 @@
 """``python -m benchmark`` is the ``sbib`` command."""
 
-from benchmark.cli import main
+from benchmark.applications.cli import main
 
 raise SystemExit(main())

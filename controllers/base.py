@@ -3,11 +3,12 @@
 A controller is a small object with a state:
 
 * ``reset(context)`` — called once before a run with a :class:`ControlContext` (number of
-  devices and measurements, control step, voltage limits, the building for model-based
-  designs); it (re)initialises the state;
+  devices and measurements, control step, voltage limits and, for model-based designs, the
+  :class:`DesignModel` the simulator hands over: the linearised plant and the devices); it
+  (re)initialises the state;
 * ``step(measurements) -> voltages`` — called at every control step with the measurement
-  vector (noise added, order of :mod:`benchmark.sensors`: absolute accelerations of the base
-  (3) and floors 1..8 (24), base displacement (3), device displacements, device forces) and
+  vector (noise added, layout of :mod:`controllers.measurements`: absolute accelerations of the
+  base (3) and floors 1..8 (24), base displacement (3), device displacements, device forces) and
   returning one coil voltage per device [V];
 * ``compiled()`` — built-in controllers return their :class:`~controllers.compiled.CompiledController`
   so that the stepping kernel runs them inside numba; a user's controller returns ``None`` (the
@@ -17,8 +18,8 @@ Both paths give the same voltages: a built-in's ``step`` calls the same kernel
 (:func:`~controllers.compiled.controller_update`) the stepping loop calls.
 
 Outputs are checked at every step (:func:`check_voltages`): a wrong number of voltages is an
-:class:`~benchmark.errors.InputError`, a NaN or infinite voltage a
-:class:`~benchmark.errors.NumericalError`; both name the controller and the time. Voltages
+:class:`~benchmark.foundation.errors.InputError`, a NaN or infinite voltage a
+:class:`~benchmark.foundation.errors.NumericalError`; both name the controller and the time. Voltages
 outside ``[0, v_max]`` are saturated and the slew limit applied, as the actuator would.
 """
 
@@ -29,16 +30,20 @@ from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 
-from benchmark import sensors as _sensors
-from benchmark.errors import InputError, NumericalError, ParameterError
+from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from controllers.compiled import STATUS_OK, CompiledController, controller_update
+from controllers.lqg import LinearPlant
+from controllers.measurements import (N_ACCELERATIONS, MeasurementLayout, measurement_layout,
+                                      measurement_slices, n_measurements)
 
 __all__ = [
-    "N_ACCELERATION_MEASUREMENTS",
+    "N_ACCELERATIONS",
+    "MeasurementLayout",
+    "measurement_layout",
     "measurement_slices",
     "n_measurements",
+    "DesignModel",
     "ControlContext",
-    "ControllerProtocol",
     "Controller",
     "CompiledBackedController",
     "FunctionController",
@@ -47,23 +52,25 @@ __all__ = [
     "check_voltages",
 ]
 
-#: Absolute accelerations of the base (x, y, θ) and of floors 1..8 (x, y, θ each).
-N_ACCELERATION_MEASUREMENTS = 27
+@runtime_checkable
+class DesignModel(Protocol):
+    """What a model-based design may know of the building, handed over by the simulator.
 
-
-def measurement_slices(n_devices: int) -> dict[str, slice]:
-    """Slices of the measurement vector (:func:`benchmark.sensors.measurement_slices`).
-
-    Keys: ``base_acceleration`` (3, absolute, [m/s², rad/s²]), ``floor_acceleration`` (24,
-    absolute, floor 1 → 8, (x, y, θ) each), ``base_displacement`` (3, relative to the ground
-    [m, rad]), ``device_displacement`` (``n_devices`` [m]), ``device_force`` (``n_devices`` [N]).
+    The simulator builds it (:func:`benchmark.simulator.control.design_model`) so that the
+    controllers never import the simulator. One object per building: designs are cached on it.
     """
-    return _sensors.measurement_slices(n_devices)
 
+    #: Damper model of each device, in device order.
+    device_models: tuple
+    #: Plan position of each device relative to the base's centre of mass, (n_devices, 2) [m].
+    device_positions: np.ndarray
+    #: Direction of each device (0 = x, 1 = y), (n_devices,).
+    device_directions: np.ndarray
 
-def n_measurements(n_devices: int) -> int:
-    """Length of the measurement vector for ``n_devices`` devices (``30 + 2 n_devices``)."""
-    return _sensors.n_measurements(n_devices)
+    def linear_plant(self, isolation: str = "equivalent") -> LinearPlant:
+        """The building's continuous linear plant with linearised isolation (``"equivalent"``:
+        harmonic linearisation at 0.1 m and 3 s; ``"linear-part"``)."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -80,9 +87,10 @@ class ControlContext:
         Largest admissible coil voltage of each device [V] (the device's ``voltage_range[1]``).
     n_measurements : int, optional
         Length of the measurement vector (default ``30 + 2 n_devices``).
-    building : benchmark.building.Building, optional
-        The building, for model-based designs (clipped-optimal, Lyapunov, skyhook's device
-        positions). Pure measurement-driven controllers do not need it.
+    design_model : DesignModel, optional
+        The building as a model-based design sees it (clipped-optimal, Lyapunov, skyhook's
+        device positions), supplied by the simulator. Pure measurement-driven controllers do not
+        need it.
     slew_rate : float or ndarray
         Actuator slew limit [V/s] applied to every controller's output (``inf``: none).
     info : dict
@@ -93,8 +101,8 @@ class ControlContext:
     control_step: float
     voltage_max: np.ndarray
     n_measurements: int | None = None
-    building: Any = None
-    slew_rate: Any = np.inf
+    design_model: DesignModel | None = None
+    slew_rate: float | np.ndarray = np.inf
     info: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -122,39 +130,20 @@ class ControlContext:
         set_(self, "slew_rate", slew)
 
     @property
+    def layout(self) -> MeasurementLayout:
+        """The measurement vector's layout (:mod:`controllers.measurements`)."""
+        return measurement_layout(self.n_devices)
+
+    @property
     def slices(self) -> dict[str, slice]:
         """Slices of the measurement vector (see :func:`measurement_slices`)."""
-        return measurement_slices(self.n_devices)
-
-    @classmethod
-    def from_building(cls, building: Any, control_step: float = 0.005, slew_rate: Any = np.inf,
-                      info: dict | None = None) -> "ControlContext":
-        """Build the context of a run on ``building`` (its device layout gives the device count
-        and each damper model's ``voltage_range`` the voltage limits)."""
-        devices = getattr(building, "devices", None)
-        if devices is None:
-            raise InputError("ControlContext.from_building: the building has no device layout "
-                             "(building.devices); a controller needs devices to command")
-        models = _device_models(devices)
-        vmax = np.array([float(m.voltage_range[1]) for m in models])
-        return cls(n_devices=len(models), control_step=control_step, voltage_max=vmax,
-                   building=building, slew_rate=slew_rate, info=dict(info or {}))
-
-
-def _device_models(devices: Any) -> list:
-    """The damper model of each device slot of a ``benchmark.devices.DeviceLayout``."""
-    for attr in ("models", "dampers"):
-        if hasattr(devices, attr):
-            return list(getattr(devices, attr))
-    slots = getattr(devices, "slots", devices)
-    return [getattr(slot, "model", None) or getattr(slot, "damper") for slot in slots]
+        return self.layout.slices()
 
 
 @runtime_checkable
 class ControllerProtocol(Protocol):
-    """The interface the simulation calls (a user's controller needs ``step``; the rest is optional)."""
-
-    def reset(self, context: ControlContext) -> None: ...
+    """What the simulation calls on a controller: ``step``. ``reset(context)``, ``compiled()`` and
+    ``name`` are optional (:class:`ControllerSession` uses them when present)."""
 
     def step(self, measurements: np.ndarray) -> np.ndarray: ...
 
@@ -259,7 +248,7 @@ class FunctionController(Controller):
         return self.function(t, measurements) if self.with_time else self.function(measurements)
 
 
-def as_controller(obj: Any) -> Any:
+def as_controller(obj: ControllerProtocol | Callable[..., Any]) -> ControllerProtocol:
     """Return ``obj`` as a controller: objects with ``step`` pass through, callables are wrapped.
 
     Raises
@@ -267,7 +256,7 @@ def as_controller(obj: Any) -> Any:
     InputError
         If ``obj`` has no ``step`` method and is not callable.
     """
-    if hasattr(obj, "step") and callable(obj.step):
+    if isinstance(obj, ControllerProtocol):
         return obj
     if callable(obj):
         return FunctionController(obj)
@@ -275,7 +264,7 @@ def as_controller(obj: Any) -> Any:
                      f"expected an object with step(measurements) -> voltages")
 
 
-def _controller_name(controller: Any) -> str:
+def _controller_name(controller: ControllerProtocol) -> str:
     return str(getattr(controller, "name", type(controller).__name__))
 
 
@@ -318,8 +307,8 @@ class ControllerSession:
     context : ControlContext
     """
 
-    def __init__(self, controller: Any, context: ControlContext) -> None:
-        self.controller = as_controller(controller)
+    def __init__(self, controller: ControllerProtocol | Callable[..., Any], context: ControlContext) -> None:
+        self.controller: ControllerProtocol = as_controller(controller)
         self.context = context
         self.name = _controller_name(self.controller)
         if hasattr(self.controller, "reset"):

@@ -2,7 +2,7 @@
 
 Design (Nagarajaiah & Narasimhan 2006, Part II; :mod:`controllers.lqg` for the equations):
 
-1. the building's linear model with linearised isolation (:mod:`benchmark.linear_model`),
+1. the building's linear model with linearised isolation (:mod:`benchmark.simulator.linear_model`),
    device forces as inputs, is reduced to its ``n_modes`` slowest modes (modal truncation with
    a static correction of the force feedthrough);
 2. an LQR gain minimises :math:`\\int z^T W_z z + f^T W_f f\\,dt` with the regulated outputs
@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from controllers.base import CompiledBackedController, ControlContext, measurement_slices, n_measurements
 from controllers.compiled import LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.lqg import (LinearPlant, ReducedPlant, estimator_fit, kalman_design, lqr_design,
@@ -320,7 +320,7 @@ class ClippedOptimal(CompiledBackedController):
     def _force_scale(self, context: ControlContext) -> np.ndarray:
         if self.weights.force_scale is not None:
             return np.full(context.n_devices, float(self.weights.force_scale))
-        models = device_models(context.building)
+        models = device_models(context.design_model)
         return np.array([device_force_capacity(m, v) for m, v in zip(models, self._v_on(context))])
 
     def _v_on(self, context: ControlContext) -> np.ndarray:
@@ -333,20 +333,20 @@ class ClippedOptimal(CompiledBackedController):
 
     def make_design(self, context: ControlContext) -> LQGDesign:
         """Run the design for ``context`` (building, device count, control step)."""
-        plant = self.plant if self.plant is not None else building_plant(context.building)
+        plant = self.plant if self.plant is not None else building_plant(context.design_model)
         return design_lqg(plant, context.n_devices, context.control_step, self.weights,
                           self._force_scale(context), check_fit=self.check_fit)
 
     def _cached_design(self, context: ControlContext) -> LQGDesign:
         # A comparison or ensemble makes a new controller object per run on the same building:
         # share the design (about 50 ms) between them. Only designs derived from the building
-        # itself are shared; the cache entry dies with the building.
-        if self.plant is not None or context.building is None:
+        # itself are shared; the cache entry dies with the design model (one per building).
+        if self.plant is not None or context.design_model is None:
             return self.make_design(context)
         key = (type(self).make_design, self.weights, None if self.voltage is None else float(self.voltage),
                self.check_fit, context.n_devices, context.control_step,
                tuple(np.asarray(context.voltage_max, dtype=float)))
-        designs = _DESIGN_CACHE.setdefault(context.building, {})
+        designs = _DESIGN_CACHE.setdefault(context.design_model, {})
         if key not in designs:
             designs[key] = self.make_design(context)
         return designs[key]
@@ -360,7 +360,7 @@ class ClippedOptimal(CompiledBackedController):
         return design.matrices
 
     def build(self, context: ControlContext) -> CompiledController:
-        key = (id(context.building), context.n_devices, context.control_step)
+        key = (id(context.design_model), context.n_devices, context.control_step)
         if self.design is None or getattr(self, "_design_key", None) != key:
             self.design = self._cached_design(context)
             self._design_key = key

@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 
 __all__ = [
     "LAW_CONSTANT",
@@ -112,7 +112,7 @@ def controller_update(Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, dt,
         Control step [s] (the step ``Ac``, ``Bc`` were discretised at).
     y : ndarray, shape (n_meas,)
         Measurement vector at this control step, noise already added, in the order of
-        :mod:`benchmark.sensors` (absolute accelerations of the base and floors, base
+        :mod:`benchmark.simulator.sensors` (absolute accelerations of the base and floors, base
         displacement, device displacements, device forces).
     device_force : ndarray, shape (n_dev,)
         Measured device forces [N] the voltage law compares with (normally the last
@@ -130,7 +130,7 @@ def controller_update(Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, dt,
     int
         0 (``STATUS_OK``); 1 (``STATUS_NONFINITE``) if the controller state or a desired
         force is NaN or infinite; the voltages are then left unchanged and the caller must
-        stop the run with a :class:`benchmark.errors.NumericalError`.
+        stop the run with a :class:`benchmark.foundation.errors.NumericalError`.
     """
     n_c = xc.shape[0]
     n_dev = voltage.shape[0]
@@ -409,7 +409,7 @@ def run_compiled(compiled: CompiledController, measurements: np.ndarray,
     for k in range(y.shape[0]):
         status = controller_update(*args, y[k], f[k], xc, v, fd)
         if status != STATUS_OK:
-            from benchmark.errors import NumericalError
+            from benchmark.foundation.errors import NumericalError
             raise NumericalError(f"controller {compiled.name!r}: state or desired force is not finite",
                                  time=k * compiled.control_step,
                                  hint="check the controller design (unstable estimator?) and the measurements")

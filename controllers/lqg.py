@@ -1,7 +1,7 @@
 """H2/LQG design on a linear model: modal reduction, LQR gain, discrete Kalman filter, and the
 observer-based controller in the compiled form :math:`(A_c, B_c, C_c, D_c)`.
 
-Plant (continuous, linearised isolation; from :mod:`benchmark.linear_model` for the
+Plant (continuous, linearised isolation; from :mod:`benchmark.simulator.linear_model` for the
 benchmark building, or any model in tests):
 
 .. math::
@@ -53,7 +53,7 @@ import control as ct
 import numpy as np
 import scipy.linalg
 
-from benchmark.errors import NumericalError, ParameterError
+from benchmark.foundation.errors import NumericalError, ParameterError
 
 __all__ = [
     "LinearPlant",

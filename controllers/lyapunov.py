@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from benchmark.errors import NumericalError
+from benchmark.foundation.errors import NumericalError
 from controllers.clipped_optimal import ClippedOptimal, LQGDesign, regulated_outputs
 from controllers.compiled import LAW_LYAPUNOV
 from controllers.lqg import observer_controller

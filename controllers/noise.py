@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from controllers.base import measurement_slices, n_measurements
 
 __all__ = ["MeasurementNoise"]

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from controllers.base import CompiledBackedController, ControlContext
 from controllers.compiled import CompiledController, constant_voltage
 
@@ -23,7 +23,7 @@ class ConstantVoltage(CompiledBackedController):
     ----------
     voltage : float or None
         Voltage [V]; ``None`` means each device's maximum voltage. Values above a device's
-        maximum raise :class:`~benchmark.errors.ParameterError` at :meth:`reset`.
+        maximum raise :class:`~benchmark.foundation.errors.ParameterError` at :meth:`reset`.
     name : str, optional
     """
 

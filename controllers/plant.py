@@ -1,8 +1,8 @@
 """The building as the model-based controllers see it: linear plant, device geometry, device capacity.
 
-Everything here reads the building through its public contracts
-(:mod:`benchmark.linear_model`, :mod:`benchmark.devices`, :mod:`damper`), so a controller
-design never reaches into the stepping kernel.
+Everything here reads the building through the :class:`~controllers.base.DesignModel` the
+simulator hands over in the run's :class:`~controllers.base.ControlContext`, so the controllers
+never import the simulator (the layers of ``docs/ARCHITECTURE.md``).
 """
 
 from __future__ import annotations
@@ -12,55 +12,41 @@ from typing import Any
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
+from controllers.base import DesignModel
 from controllers.lqg import LinearPlant
 
 __all__ = ["building_plant", "device_geometry", "device_models", "device_force_capacity"]
 
 
-def building_plant(building: Any, isolation: str = "equivalent") -> LinearPlant:
-    """Continuous linear plant of ``building`` with linearised isolation (:mod:`benchmark.linear_model`).
+def building_plant(design_model: DesignModel | None, isolation: str = "equivalent") -> LinearPlant:
+    """Continuous linear plant of the run's building with linearised isolation.
 
     ``x' = A x + B f + E ü_g``, ``y = C x + D f``: ``f`` the device forces [N] (resisting force,
     as measured), ``ü_g`` the ground acceleration (x, y) [m/s²], ``y`` the measurement vector.
     ``isolation`` selects the bearings' linearisation (``"equivalent"``: harmonic, at 0.1 m and
-    3 s; ``"linear-part"``), see :func:`benchmark.linear_model.linear_model`.
+    3 s; ``"linear-part"``). The simulator supplies it through the context's
+    :class:`~controllers.base.DesignModel` (built by :mod:`benchmark.simulator.control`).
     """
-    if building is None:
-        raise InputError("model-based controller: the run's ControlContext carries no building; "
-                         "pass ControlContext(building=...) or give the controller a LinearPlant")
-    try:
-        from benchmark import linear_model
-    except ImportError as exc:  # pragma: no cover - only while the package is being assembled
-        raise InputError(f"model-based controller needs benchmark.linear_model ({exc})") from None
-    model = linear_model.linear_model(building, isolation=isolation)
-    return LinearPlant(A=model.A, B=model.B, E=model.E, C=model.C, D=model.D)
+    if design_model is None:
+        raise InputError("model-based controller: the run's ControlContext carries no design model; "
+                         "run it through benchmark.simulator.simulate or give the controller a LinearPlant")
+    return design_model.linear_plant(isolation)
 
 
-def device_models(building: Any) -> list:
-    """Damper model of every device slot, in device order."""
-    devices = getattr(building, "devices", None)
-    if devices is None:
-        raise InputError("the building has no device layout (building.devices)")
-    for attr in ("models", "dampers"):
-        if hasattr(devices, attr):
-            return list(getattr(devices, attr))
-    slots = getattr(devices, "slots", devices)
-    return [getattr(slot, "model", None) or getattr(slot, "damper") for slot in slots]
+def device_models(design_model: DesignModel | None) -> list:
+    """Damper model of every device, in device order."""
+    if design_model is None:
+        raise InputError("the run's ControlContext carries no design model (device models)")
+    return list(design_model.device_models)
 
 
-def device_geometry(building: Any) -> tuple[np.ndarray, np.ndarray]:
+def device_geometry(design_model: DesignModel | None) -> tuple[np.ndarray, np.ndarray]:
     """Plan positions (n_dev, 2) [m] relative to the base centre of mass, and directions (0 = x, 1 = y)."""
-    devices = getattr(building, "devices", None)
-    if devices is None:
-        raise InputError("the building has no device layout (building.devices)")
-    for attr in ("xy", "positions"):
-        if hasattr(devices, attr) and hasattr(devices, "directions"):
-            return np.asarray(getattr(devices, attr), dtype=float), np.asarray(devices.directions, dtype=int)
-    slots = getattr(devices, "slots", devices)
-    pos = np.array([[float(getattr(s, "x")), float(getattr(s, "y"))] for s in slots])
-    dirs = np.array([int(getattr(s, "direction")) for s in slots])
-    return pos, dirs
+    if design_model is None:
+        raise InputError("the run's ControlContext carries no design model (device positions)")
+    return (np.asarray(design_model.device_positions, dtype=float),
+            np.asarray(design_model.device_directions, dtype=int))
 
 
 def device_force_capacity(model: Any, voltage: float | None = None, amplitude: float = 0.05,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any, Callable
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 __all__ = ["CONTROLLERS", "controller_names", "get_controller"]
 

@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from controllers.base import CompiledBackedController, ControlContext, measurement_slices
 from controllers.compiled import LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.plant import device_force_capacity, device_geometry, device_models
@@ -76,7 +76,7 @@ class Skyhook(CompiledBackedController):
     def build(self, context: ControlContext) -> CompiledController:
         n_dev, dt = context.n_devices, context.control_step
         if self.positions is None:
-            positions, directions = device_geometry(context.building)
+            positions, directions = device_geometry(context.design_model)
         else:
             positions = np.asarray(self.positions, dtype=float)
             directions = np.asarray(self.directions, dtype=int)
@@ -86,7 +86,7 @@ class Skyhook(CompiledBackedController):
         if self.damping is not None:
             c_sky = np.full(n_dev, self.damping)
         else:
-            models = device_models(context.building)
+            models = device_models(context.design_model)
             c_sky = np.array([device_force_capacity(m, v) for m, v in zip(models, context.voltage_max)]) \
                 / self.velocity_scale
         self.c_sky = c_sky

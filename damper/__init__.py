@@ -11,7 +11,7 @@ Quick start::
     response.force  # [N]
 """
 
-from benchmark.kernel_cache import ensure_fresh
+from benchmark.foundation.kernel_cache import ensure_fresh
 
 # The kernels here call kernels of other modules; numba's cache would not see edits there.
 ensure_fresh()

@@ -40,7 +40,7 @@ from typing import Sequence
 import numpy as np
 from scipy.optimize import least_squares
 
-from benchmark.errors import InputError, NumericalError, ParameterError
+from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.effects import EFFECTS, EFFECT_NAMES, Effect, Motion, get_effect
 from damper.simulate import simulate

@@ -17,7 +17,7 @@ Admissible class (BIBO-stable, physically meaningful loops): :math:`\\kappa_{\\d
 :math:`\\kappa_w > 0`, :math:`\\rho > 0`, :math:`\\sigma \\ge 1/2`, :math:`n \\ge 1`, and here
 :math:`\\kappa_x \\ge 0` (``kappa_x = 0`` is the normalized model). Each parameter may be a
 number or a :class:`~damper.voltage_laws.VoltageLaw`; the class is checked over the whole
-``voltage_range`` on construction, raising :class:`~benchmark.errors.ParameterError`.
+``voltage_range`` on construction, raising :class:`~benchmark.foundation.errors.ParameterError`.
 Units: ``kappa_x`` [N/m], ``kappa_xdot`` [N·s/m], ``kappa_w`` [N], ``rho`` [1/m],
 ``sigma`` and ``n`` dimensionless, ``w`` dimensionless (|w| <= 1 from w(0) = 0).
 
@@ -65,7 +65,7 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from damper.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 
 __all__ = [

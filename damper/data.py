@@ -30,8 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmark.atomic import atomic_path
-from benchmark.errors import DataNotFoundError, InputError
+from benchmark.foundation.atomic import atomic_path
+from benchmark.foundation.errors import DataNotFoundError, InputError
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files"]
@@ -367,7 +367,7 @@ def read_utfsm(path) -> DamperTest:
 def utfsm_files(shared_dir=None) -> list[Path]:
     """The preprocessed UTFSM test files, sorted by name (raises :class:`DataNotFoundError`)."""
     if shared_dir is None:
-        from benchmark.paths import shared_dir as _shared
+        from benchmark.foundation.paths import shared_dir as _shared
         shared_dir = _shared()
     folder = Path(shared_dir) / "hysteresis_data" / "quiroz_utfsm_mr_damper_sinusoidal" / "Preprocesados"
     if not folder.is_dir():

@@ -74,7 +74,7 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from damper.series_dashpot import SeriesDashpotBoucWen
 
 __all__ = [

@@ -29,7 +29,7 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from damper.bouc_wen import _check_voltage_range
 from damper.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 

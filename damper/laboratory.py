@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.data import DamperTest
 from damper.registry import get_model_class
 from damper.simulate import simulate

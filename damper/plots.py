@@ -12,8 +12,8 @@ from typing import Sequence
 
 import numpy as np
 
-from benchmark.errors import InputError
-from benchmark.figures import save_figure
+from benchmark.foundation.errors import InputError
+from benchmark.foundation.figures import save_figure
 
 __all__ = ["plot_loops", "plot_virtual_calibration"]
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, ExtendedBoucWen,
                              NormalizedBoucWen, bouc_wen_force, bouc_wen_step)
 from damper.spencer import (MEMO_LENGTH, SPENCER_ID, Spencer, spencer_type_force_kernel,

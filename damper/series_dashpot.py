@@ -46,7 +46,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from damper.bouc_wen import _check_voltage_range
 from damper.spencer import SpencerTypeModel, pack_spencer_type
 from damper.voltage_laws import (Constant, Exponential, ParameterLike, Polynomial, Saturating,

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
-from benchmark.errors import InputError, NumericalError
+from benchmark.foundation.errors import InputError, NumericalError
 from damper.data import check_samples
 from damper.registry import device_force, device_step, model_id_of
 

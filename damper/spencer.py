@@ -55,7 +55,7 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from damper.bouc_wen import _abs_pow, _check_voltage_range, hermite_position, DEFAULT_SUBSTEP_TOLERANCE
 from damper.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value
 

@@ -64,7 +64,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from damper.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, _check_voltage_range
 from damper.spencer import SpencerTypeModel
 from damper.voltage_laws import ParameterLike, Saturating, VoltageLaw, as_law, check_law

@@ -47,7 +47,7 @@ from typing import ClassVar, Sequence, Union
 import numba
 import numpy as np
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 
 __all__ = [
     "VoltageLaw",

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from records.record import Record, cumulative_trapezoid
 
 __all__ = ["baseline_correct", "baseline_correction_acceleration", "end_condition_correction"]

@@ -20,7 +20,7 @@ Catalogue numbers and where they come from
   El Centro 1940 is not pulse-like (so it gets no pulse).
 
 Records directory lookup: an explicit argument (``--records-dir``), ``SBIB_RECORDS_DIR``, then
-``<shared>/records/raw/FDZ`` (:func:`benchmark.paths.records_dir`).
+``<shared>/records/raw/FDZ`` (:func:`benchmark.foundation.paths.records_dir`).
 """
 
 from __future__ import annotations
@@ -30,8 +30,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from benchmark.errors import DataNotFoundError, InputError
-from benchmark.paths import records_dir as _records_dir
+from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.paths import records_dir as _records_dir
 from records.checks import Flaw, check_record
 from records.readers import BENCHMARK_DT, read_benchmark
 from records.record import Record

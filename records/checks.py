@@ -22,7 +22,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from records.record import STANDARD_GRAVITY, Record
 
 __all__ = [

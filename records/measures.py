@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 __all__ = ["arias_intensity", "husid", "significant_duration", "mean_period"]
 

@@ -11,8 +11,8 @@ from typing import Sequence
 
 from matplotlib.figure import Figure
 
-from benchmark.errors import InputError
-from benchmark.figures import save_figure
+from benchmark.foundation.errors import InputError
+from benchmark.foundation.figures import save_figure
 from records.record import STANDARD_GRAVITY, Record
 from records.spectra import ResponseSpectrum, default_periods, response_spectrum
 

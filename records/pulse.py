@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 
 __all__ = ["PulseParameters", "PulseFit", "fit_pulse"]
 

@@ -1,7 +1,7 @@
 """Readers for the ground-motion file formats users bring; units are converted here, at the edge.
 
 Every reader returns a :class:`records.Record` in m/s² and rejects a malformed file with
-an :class:`~benchmark.errors.InputError` whose one-line message names the file, the line
+an :class:`~benchmark.foundation.errors.InputError` whose one-line message names the file, the line
 and what was expected (empty file, text where a number belongs, NaN or infinity, ragged
 rows, a missing, zero or negative time step, time that does not increase).
 
@@ -41,8 +41,8 @@ from typing import Sequence
 
 import numpy as np
 
-from benchmark.atomic import atomic_path
-from benchmark.errors import DataNotFoundError, InputError
+from benchmark.foundation.atomic import atomic_path
+from benchmark.foundation.errors import DataNotFoundError, InputError
 from records.record import STANDARD_GRAVITY, Record
 
 __all__ = [

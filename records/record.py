@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 __all__ = ["Record", "STANDARD_GRAVITY", "cumulative_trapezoid"]
 

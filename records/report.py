@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from benchmark.atomic import atomic_write_text
+from benchmark.foundation.atomic import atomic_write_text
 from records.catalogue import BENCHMARK_RECORDS, check_catalogue, load_benchmark_record
 from records.plots import plot_record, plot_spectra_overview
 from records.synthetic import benchmark_like
@@ -36,7 +36,7 @@ def write_records_report(out_dir: str | os.PathLike, records_dir: str | os.PathL
     out_dir : path-like
         Output directory (created).
     records_dir : path-like, optional
-        Directory of the benchmark files (default lookup of :func:`benchmark.paths.records_dir`).
+        Directory of the benchmark files (default lookup of :func:`benchmark.foundation.paths.records_dir`).
     per_record_plots : bool
         Draw one figure per record (about half a second each) besides the spectra overview.
     seed : int

@@ -38,7 +38,7 @@ import numba
 import numpy as np
 from scipy.linalg import expm
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from records.record import Record
 
 __all__ = ["ResponseSpectrum", "response_spectrum", "default_periods", "sdof_response"]

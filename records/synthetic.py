@@ -74,7 +74,7 @@ import numpy as np
 from scipy.linalg import expm
 from scipy.optimize import brentq
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from records.baseline import end_condition_correction
 from records.catalogue import BENCHMARK_RECORDS, ORIENTATIONS, get_entry
 from records.measures import husid

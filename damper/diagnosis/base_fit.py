@@ -26,7 +26,7 @@ import math
 import numpy as np
 from scipy.optimize import lsq_linear
 
-from benchmark.errors import InputError, NumericalError
+from benchmark.foundation.errors import InputError, NumericalError
 from damper.augmented import AugmentedModel, RefitResult, make_base, refit
 from damper.bouc_wen import NormalizedBoucWen
 from damper.diagnosis.dataset import DiagnosisData

@@ -24,7 +24,7 @@ from typing import Sequence
 import numpy as np
 from scipy.signal import savgol_filter
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.data import DamperTest
 from damper.effects import Motion
 

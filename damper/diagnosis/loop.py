@@ -24,7 +24,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.augmented import AugmentedModel
 from damper.data import DamperTest
 from damper.diagnosis.base_fit import fit_base

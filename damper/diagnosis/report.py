@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from benchmark.atomic import atomic_write_text
-from benchmark.figures import save_figure
+from benchmark.foundation.atomic import atomic_write_text
+from benchmark.foundation.figures import save_figure
 from damper.diagnosis.trace import TRACE_VARIABLES
 
 __all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",

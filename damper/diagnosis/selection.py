@@ -41,7 +41,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from benchmark.errors import InputError, NumericalError, ParameterError
+from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.augmented import AugmentedModel, Parametrization, refit
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size

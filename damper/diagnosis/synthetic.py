@@ -26,7 +26,7 @@ from typing import Sequence
 import numba
 import numpy as np
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from damper.augmented import AugmentedModel, AugmentedResponse
 from damper.data import DamperTest
 from damper.effects import Motion

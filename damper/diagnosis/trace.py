@@ -53,7 +53,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.stats import chi2
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 __all__ = [
     "TRACE_VARIABLES",

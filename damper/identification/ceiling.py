@@ -1,6 +1,6 @@
 """The structural ceiling: how well can each model form do at all on an earthquake's damper motion?
 
-The earthquake validation (:mod:`~damper.identification.validation`) compares the force of the
+The earthquake validation (:mod:`~benchmark.applications.identification_validation`) compares the force of the
 identified models with the device's. When the two models' errors come out close, the question
 is whether the *identification* left accuracy on the table (test amplitudes, design points,
 voltage laws) or whether the *model form* cannot do better. This module answers it:
@@ -31,7 +31,7 @@ from typing import Sequence
 
 import numpy as np
 
-from benchmark.errors import InputError, NumericalError, ParameterError
+from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.identification.cycles import Cycle
 from damper.identification.metrics import relative_rms_error
 from damper.identification.refine import refine

@@ -50,7 +50,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.identification.cycles import (Branches, ExcitationWarning, check_excitation, g_integral, h_integral,
                                           limit_cycle_peak, plastic_distance)
 

@@ -30,7 +30,7 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.special import hyp2f1
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 __all__ = [
     "Cycle",

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.identification.closed_form import ClosedFormResult, closed_form
 from damper.identification.cycles import (MIN_RHO_STROKE, Branches, Cycle, average_branches,
                                           check_excitation,

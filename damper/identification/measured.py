@@ -17,7 +17,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
 from damper.simulate import simulate

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 __all__ = [
     "relative_rms_error",

@@ -2,7 +2,7 @@
 
 The tasks of the study are independent, deterministic functions of their arguments, so they
 run in a :class:`concurrent.futures.ProcessPoolExecutor` (``fork`` where available, as
-:mod:`controllers.comparison` does) and their results are gathered in task order: the outputs
+:mod:`benchmark.applications.comparison` does) and their results are gathered in task order: the outputs
 are the same for any number of workers. ``jobs=1`` runs every task in this process.
 
 Every task runs with OpenBLAS limited to one thread (:func:`single_threaded_blas`; the pool's
@@ -21,7 +21,7 @@ import os
 from concurrent.futures import Executor, ProcessPoolExecutor
 from typing import Any, Callable, Iterable, Sequence
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 __all__ = ["worker_count", "make_executor", "run_tasks", "single_threaded_blas"]
 

@@ -29,7 +29,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from benchmark.figures import save_figure  # noqa: E402
+from benchmark.foundation.figures import save_figure  # noqa: E402
 from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
 
 __all__ = ["plot_loops", "plot_inclination", "plot_elastic_removed", "plot_test_signals",

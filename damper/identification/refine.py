@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import least_squares
 
-from benchmark.errors import InputError, NumericalError, ParameterError
+from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.closed_form import MODELS, PARAMETER_NAMES
 from damper.identification.cycles import Cycle

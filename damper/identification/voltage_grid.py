@@ -45,7 +45,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.closed_form import MODELS, PARAMETER_NAMES, closed_form
 from damper.identification.cycles import average_branches, detect_cycles, steady_cycles
@@ -72,7 +72,7 @@ class TestProtocol:
     1 m/s, RMS a few cm), with :math:`\\rho(X_{max} - X_{min})` well above the plastic threshold
     for a device whose transition length is a centimetre; three cycles (the first is
     discarded as transient), 1 kHz sampling. The seed paper's large loop (±0.4 m, 0.8 Hz,
-    Fig. 1–3) is :data:`damper.identification.study.LARGE_LOOP_PROTOCOL`; identified on it the
+    Fig. 1–3) is :data:`benchmark.applications.identification_study.LARGE_LOOP_PROTOCOL`; identified on it the
     models reproduce that loop better and the earthquake runs worse (see the study's report).
     """
 

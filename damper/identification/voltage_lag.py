@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.effects import first_order_filter
 from damper.simulate import simulate
 

@@ -8,8 +8,8 @@ import h5py
 import numpy as np
 import pytest
 
-from benchmark.cli import main
-from benchmark.evaluation import PEAK_NAMES
+from benchmark.applications.cli import main
+from benchmark.simulator.evaluation import PEAK_NAMES
 
 SPEC_KEYS = {"record", "orientation", "isolation", "controller", "peaks", "J", "elapsed_s"}
 
@@ -97,7 +97,7 @@ def test_bad_input_is_one_line_and_exit_2(capsys, records_dir, args, message):
 
 
 def test_python_api_returns_results(records_dir, short_record_files):
-    from benchmark.cli_run import run_case
+    from benchmark.applications.cli_run import run_case
     two, _ = short_record_files
     s = run_case(str(two), "FN-x", "linear", "none")
     assert s["result"] is s["reference"]

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.building import Building
-from benchmark.simulation import ENERGY_NAMES, simulate
+from benchmark.simulator.building import Building
+from benchmark.simulator.simulation import ENERGY_NAMES, simulate
 from records import load_benchmark_record
 
 

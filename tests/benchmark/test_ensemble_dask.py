@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from benchmark.ensemble import EnsembleConfig, read_ensemble, run_ensemble
+from benchmark.applications.ensemble import EnsembleConfig, read_ensemble, run_ensemble
 
 distributed = pytest.importorskip("distributed")
 
@@ -57,10 +57,10 @@ def test_dask_ensemble_resumes_a_local_one(tmp_path, cluster):
 
 
 def test_unreachable_scheduler_is_an_input_error(tmp_path, monkeypatch):
-    import benchmark.ensemble
-    from benchmark.errors import InputError
+    import benchmark.applications.ensemble
+    from benchmark.foundation.errors import InputError
 
-    monkeypatch.setattr(benchmark.ensemble, "DASK_CONNECT_TIMEOUT_S", 2.0)
+    monkeypatch.setattr(benchmark.applications.ensemble, "DASK_CONNECT_TIMEOUT_S", 2.0)
     cfg = tmp_path / "d.toml"
     cfg.write_text('run = "probe"\ncontrollers = ["a"]\nrecords = ["kobe"]\n')
     config = EnsembleConfig.from_toml(cfg)

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from benchmark.ensemble import EnsembleConfig, journal_path, read_ensemble, run_ensemble
-from benchmark.ensemble_journal import Journal
+from benchmark.applications.ensemble import EnsembleConfig, journal_path, read_ensemble, run_ensemble
+from benchmark.applications.ensemble_journal import Journal
 
 TOML = """
 run = "probe"

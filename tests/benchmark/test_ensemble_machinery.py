@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from benchmark.cli import main
-from benchmark.ensemble import (EnsembleConfig, derive_seed, journal_path, read_ensemble,
+from benchmark.applications.cli import main
+from benchmark.applications.ensemble import (EnsembleConfig, derive_seed, journal_path, read_ensemble,
                                 run_ensemble)
-from benchmark.ensemble_journal import Journal, JournalEntry
-from benchmark.errors import DataNotFoundError, InputError
+from benchmark.applications.ensemble_journal import Journal, JournalEntry
+from benchmark.foundation.errors import DataNotFoundError, InputError
 
 PROBE_TOML = """
 name = "probe-test"

@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from benchmark.ensemble import EnsembleConfig, read_ensemble, run_ensemble
-from benchmark.ensemble_simulation import _split, build_building, load_motion
-from benchmark.errors import InputError
+from benchmark.applications.ensemble import EnsembleConfig, read_ensemble, run_ensemble
+from benchmark.applications.ensemble_simulation import _split, build_building, load_motion
+from benchmark.foundation.errors import InputError
 
 
 def test_grid_parameter_names_are_checked():

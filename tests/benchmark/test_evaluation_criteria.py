@@ -7,8 +7,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError
-from benchmark.evaluation import (J_NAMES, PEAK_NAMES, corner_responses, evaluate, peaks,
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.evaluation import (J_NAMES, PEAK_NAMES, corner_responses, evaluate, peaks,
                                   plan_corners)
 
 H = np.array([4.42] * 4 + [3.66] * 4)
@@ -104,7 +104,7 @@ def test_corner_responses_rotation_and_drift():
 
 
 def test_plan_corners_of_the_benchmark(shared_dir):
-    from benchmark.structure import load_superstructure
+    from benchmark.simulator.structure import load_superstructure
     c = plan_corners(load_superstructure().bearing_xy)
     assert {tuple(p) for p in c} == {(-17.25, 30.69), (-17.25, -47.79), (12.53, -47.79),
                                      (32.83, -11.16), (32.83, 30.69)}

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.special import ndtr
 
-from benchmark.ensemble import EnsembleResults
-from benchmark.errors import InputError
-from benchmark.fragility import (STANDARD_GRAVITY, exceedance_counts, fit_lognormal, fragility_config,
+from benchmark.applications.ensemble import EnsembleResults
+from benchmark.foundation.errors import InputError
+from benchmark.applications.fragility import (STANDARD_GRAVITY, exceedance_counts, fit_lognormal, fragility_config,
                                  fragility_curves, plot_fragility)
 
 
@@ -25,7 +25,7 @@ def test_fit_recovers_known_curve_from_many_binomial_draws():
     assert fit.median == pytest.approx(theta, rel=0.02)
     assert fit.beta == pytest.approx(beta, rel=0.05)
     # the optimum beats nearby parameter sets
-    from benchmark.fragility import _log_likelihood
+    from benchmark.applications.fragility import _log_likelihood
     for dt, db in ((0.05, 0), (-0.05, 0), (0, 0.05), (0, -0.05)):
         assert _log_likelihood(math.log(fit.median) + dt, math.log(fit.beta) + db, np.log(a), z, n) < fit.log_likelihood
 
@@ -105,7 +105,7 @@ def test_fragility_config_shares_motions_between_controllers():
 
 @pytest.mark.slow
 def test_run_fragility_end_to_end(tmp_path, shared_dir):
-    from benchmark.fragility import run_fragility
+    from benchmark.applications.fragility import run_fragility
 
     report = run_fragility(tmp_path, limit=0.05, jobs=1, progress=False, controllers=("passive-off", "passive-on"),
                            templates=("kobe",), realisations=2, pga_g=(0.1, 0.4))

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from benchmark.atomic import atomic_path, atomic_write_text
-from benchmark.cli import main
-from benchmark.errors import NumericalError
+from benchmark.foundation.atomic import atomic_path, atomic_write_text
+from benchmark.applications.cli import main
+from benchmark.foundation.errors import NumericalError
 
 
 def test_atomic_write_replaces_only_on_success(tmp_path):

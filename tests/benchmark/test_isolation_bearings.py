@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from benchmark.errors import ParameterError
-from benchmark.isolation import (FrictionPendulumBearing, LeadRubberBearing, LinearBearing,
+from benchmark.foundation.errors import ParameterError
+from benchmark.simulator.isolation import (FrictionPendulumBearing, LeadRubberBearing, LinearBearing,
                                  bearing_step, bearing_total_force, bearing_type, linear_part)
-from benchmark.isolation.park_wen import park_wen_substeps
+from benchmark.simulator.isolation.park_wen import park_wen_substeps
 
 W = 2.2e6
 

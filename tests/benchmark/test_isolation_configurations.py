@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from benchmark.errors import DataNotFoundError, InputError, ParameterError
-from benchmark.isolation import (BearingGroup, IsolationLayer, LinearBearing, MAX_PARAMS, MAX_STATES,
+from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
+from benchmark.simulator.isolation import (BearingGroup, IsolationLayer, LinearBearing, MAX_PARAMS, MAX_STATES,
                                  get_isolation, isolation_from_dict, load_isolation)
-from benchmark.isolation.configurations import (DEFAULT_NONLINEAR, ISOLATION_NAMES, TOTAL_MASS,
+from benchmark.simulator.isolation.configurations import (DEFAULT_NONLINEAR, ISOLATION_NAMES, TOTAL_MASS,
                                                 parse_bearing_numbers)
 
 
@@ -46,7 +46,7 @@ def test_total_mass_constant_matches_structure_file(shared_dir):
     ("friction-lrb", (3.27, 3.08, 2.59)),      # post-yield periods of the default nonlinear layer
 ])
 def test_isolated_periods_with_the_benchmark_masses(shared_dir, name, periods):
-    from benchmark.structure import load_superstructure, location_matrix
+    from benchmark.simulator.structure import load_superstructure, location_matrix
     s = load_superstructure()
     layer = get_isolation(name)
     k = layer.linear_stiffness()

@@ -7,14 +7,14 @@ import inspect
 
 import pytest
 
-MODULES = ["benchmark.isolation.registry", "benchmark.isolation.configurations",
-           "benchmark.isolation.linear", "benchmark.isolation.lead_rubber",
-           "benchmark.isolation.friction_pendulum", "benchmark.isolation.park_wen",
-           "benchmark.isolation.base", "benchmark.evaluation", "benchmark.results",
-           "benchmark.plots", "benchmark.cli_run"]
+MODULES = ["benchmark.simulator.isolation.registry", "benchmark.simulator.isolation.configurations",
+           "benchmark.simulator.isolation.linear", "benchmark.simulator.isolation.lead_rubber",
+           "benchmark.simulator.isolation.friction_pendulum", "benchmark.simulator.isolation.park_wen",
+           "benchmark.simulator.isolation.base", "benchmark.simulator.evaluation", "benchmark.simulator.results",
+           "benchmark.simulator.plots", "benchmark.applications.cli_run"]
 
 # arguments that are self-explanatory positional kernel arguments, documented once in the
-# module docstring of benchmark.isolation.registry (the dispatch contract)
+# module docstring of benchmark.simulator.isolation.registry (the dispatch contract)
 KERNEL_ARGS = {"params", "state", "ux0", "uy0", "ux1", "uy1", "vx0", "vy0", "vx1", "vy1", "dt",
                "force_out", "ux", "uy", "vx", "vy", "hysteretic_force", "offset"}
 

@@ -25,17 +25,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.building import Building
-from benchmark.devices import DeviceLayout
-from benchmark.isolation.linear import LinearBearing
-from benchmark.reference import ReferenceModel, group_force_and_rates, kernel_peaks, reference_peaks
-from benchmark.simulation import simulate
+from benchmark.simulator.building import Building
+from benchmark.simulator.devices import DeviceLayout
+from benchmark.simulator.isolation.linear import LinearBearing
+from benchmark.simulator.reference import ReferenceModel, group_force_and_rates, kernel_peaks, reference_peaks
+from benchmark.simulator.simulation import simulate
 from records import Record, load_benchmark_record
 
 
 # ----------------------------------------------------------------------------- oracle
 
-# The oracle lives in benchmark.reference, shared with `sbib bench` (which also drives it with a
+# The oracle lives in benchmark.simulator.reference, shared with `sbib bench` (which also drives it with a
 # controller); the names below are the ones these tests use.
 Oracle = ReferenceModel
 _group_force_and_rates = group_force_and_rates

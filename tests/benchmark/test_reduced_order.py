@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.building import Building
-from benchmark.linear_model import linear_model
-from benchmark.simulation import reduction_error, simulate
+from benchmark.simulator.building import Building
+from benchmark.simulator.linear_model import linear_model
+from benchmark.simulator.simulation import reduction_error, simulate
 from records import load_benchmark_record
 
 QUANTITIES = ("peak_base_displacement", "peak_base_shear", "peak_structure_shear", "peak_drift_ratio",

@@ -1,4 +1,4 @@
-"""The solve_ivp reference (benchmark.reference) with a controller: measurements, voltages held
+"""The solve_ivp reference (benchmark.simulator.reference) with a controller: measurements, voltages held
 over control steps, and agreement with the compiled kernel on a strong-motion window."""
 
 from __future__ import annotations
@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.building import Building
-from benchmark.reference import ReferenceModel, kernel_peaks, simulate_reference
-from benchmark.sensors import n_measurements
-from benchmark.simulation import simulate
+from benchmark.simulator.building import Building
+from benchmark.simulator.reference import ReferenceModel, kernel_peaks, simulate_reference
+from benchmark.simulator.sensors import n_measurements
+from benchmark.simulator.simulation import simulate
 from records import load_benchmark_record
 
 

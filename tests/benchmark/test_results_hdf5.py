@@ -8,11 +8,11 @@ import h5py
 import numpy as np
 import pytest
 
-import benchmark.results as results_module
-from benchmark.errors import DataNotFoundError, InputError
-from benchmark.evaluation import evaluate, peaks
-from benchmark.isolation import get_isolation
-from benchmark.results import FIELD_UNITS, read_evaluation, read_result, write_result
+import benchmark.simulator.results as results_module
+from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.simulator.evaluation import evaluate, peaks
+from benchmark.simulator.isolation import get_isolation
+from benchmark.simulator.results import FIELD_UNITS, read_evaluation, read_result, write_result
 
 
 @dataclass

@@ -7,9 +7,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError
-from benchmark.isolation import bearing_step, bearing_total_force, get_isolation
-from benchmark.plots import (plot_base_orbit, plot_bearing_hysteresis, plot_device_hysteresis,
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.isolation import bearing_step, bearing_total_force, get_isolation
+from benchmark.simulator.plots import (plot_base_orbit, plot_bearing_hysteresis, plot_device_hysteresis,
                              plot_floor_envelopes, plot_run)
 
 XY = np.column_stack([np.linspace(-17.0, 32.0, 92), np.linspace(-47.0, 30.0, 92)])

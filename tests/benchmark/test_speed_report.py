@@ -1,4 +1,4 @@
-"""The benchmark harness (benchmark.speed): table, fits, helpers and the report files.
+"""The benchmark harness (benchmark.applications.speed): table, fits, helpers and the report files.
 Correctness only; no timing is ever asserted."""
 
 from __future__ import annotations
@@ -10,9 +10,9 @@ import sys
 import numpy as np
 import pytest
 
-from benchmark import speed
-from benchmark.errors import InputError
-from benchmark.speed import BenchCase, format_table, run_bench, time_call
+from benchmark.applications import speed
+from benchmark.foundation.errors import InputError
+from benchmark.applications.speed import BenchCase, format_table, run_bench, time_call
 
 
 def test_time_call_counts_calls_and_returns_minimum():
@@ -71,7 +71,7 @@ def test_scaling_plot_is_written(tmp_path):
 
 
 def test_cli_bench_registered(capsys):
-    from benchmark.cli import main
+    from benchmark.applications.cli import main
 
     with pytest.raises(SystemExit):
         main(["bench", "--help"])
@@ -97,7 +97,7 @@ def test_building_with_n_devices_and_lengthened_record(shared_dir):
 
 @pytest.mark.slow
 def test_second_process_does_not_recompile():
-    script = ("import json; from benchmark import speed; "
+    script = ("import json; from benchmark.applications import speed; "
               "speed._simulate(speed._building(), speed._record(0.5)); "
               "print('COUNTS', json.dumps(speed.compile_counts()))")
     counts = []

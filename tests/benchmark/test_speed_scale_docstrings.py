@@ -7,9 +7,9 @@ import inspect
 
 import pytest
 
-MODULES = ["benchmark.ensemble", "benchmark.ensemble_journal", "benchmark.ensemble_simulation",
-           "benchmark.fragility", "benchmark.speed", "benchmark.reference", "benchmark.cli_ensemble",
-           "benchmark.cli_bench"]
+MODULES = ["benchmark.applications.ensemble", "benchmark.applications.ensemble_journal", "benchmark.applications.ensemble_simulation",
+           "benchmark.applications.fragility", "benchmark.applications.speed", "benchmark.simulator.reference", "benchmark.applications.cli_ensemble",
+           "benchmark.applications.cli_bench"]
 
 
 @pytest.mark.parametrize("module_name", MODULES)

@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.building import Building
-from benchmark.errors import InputError, NumericalError
-from benchmark.linear_model import linear_model
-from benchmark.sensors import measurement_slices, n_measurements
-from benchmark.simulation import simulate
+from benchmark.simulator.building import Building
+from benchmark.foundation.errors import InputError, NumericalError
+from benchmark.simulator.linear_model import linear_model
+from benchmark.simulator.sensors import measurement_slices, n_measurements
+from benchmark.simulator.simulation import simulate
 from controllers.noise import MeasurementNoise
 from controllers.registry import get_controller
 from records import Record, load_benchmark_record

@@ -3,7 +3,7 @@
 The reference is assembled here from STRUC.mat (t, kN) in the benchmark's own first-order
 form (u_s relative to the base, base equation solved for ü_b), discretised with
 ``scipy.signal.cont2discrete(method="foh")`` and run with ``dlsim``; it shares no code with
-``benchmark.linear_model`` or ``benchmark.stepping``.
+``benchmark.simulator.linear_model`` or ``benchmark.simulator.stepping``.
 """
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ import pytest
 import scipy.io
 import scipy.signal
 
-from benchmark.building import Building
-from benchmark.errors import InputError, NumericalError
-from benchmark.simulation import simulate
+from benchmark.simulator.building import Building
+from benchmark.foundation.errors import InputError, NumericalError
+from benchmark.simulator.simulation import simulate
 from records import BENCHMARK_RECORDS, ORIENTATIONS, Record, load_benchmark_record
 
 K_BEARING = 919.422  # kN/m

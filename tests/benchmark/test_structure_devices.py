@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.building import Building
-from benchmark.devices import DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout, DeviceSlot
-from benchmark.errors import InputError
-from benchmark.linear_model import equivalent_linear_bearing, linear_model
-from benchmark.sensors import measurement_names, noise_samples
-from benchmark.structure import load_superstructure, transformation
+from benchmark.simulator.building import Building
+from benchmark.simulator.devices import DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout, DeviceSlot
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.linear_model import equivalent_linear_bearing, linear_model
+from benchmark.simulator.sensors import measurement_names, noise_samples
+from benchmark.simulator.structure import load_superstructure, transformation
 
 
 @pytest.fixture(scope="module")
@@ -82,7 +82,7 @@ def test_linear_model_isolated_periods_and_shapes(structure_path):
 
 
 def test_equivalent_linearisation(structure_path):
-    from benchmark.isolation.configurations import get_isolation
+    from benchmark.simulator.isolation.configurations import get_isolation
 
     layer = get_isolation("friction-lrb")
     lrb = layer.groups[1].bearing

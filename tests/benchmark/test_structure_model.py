@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import scipy.io
 
-from benchmark.errors import DataNotFoundError, InputError
-from benchmark.structure import load_superstructure, location_matrix, transformation
+from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.simulator.structure import load_superstructure, location_matrix, transformation
 
 
 @pytest.fixture(scope="module")

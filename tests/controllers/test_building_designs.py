@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import damper
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.control import control_context, design_model
 from controllers.base import ControlContext
 from controllers.clipped_optimal import ClippedOptimal, LQGWeights
 from controllers.compiled import run_compiled
@@ -20,7 +21,7 @@ from controllers.skyhook import Skyhook
 
 @pytest.fixture(scope="module")
 def building(shared_dir):
-    from benchmark.building import Building
+    from benchmark.simulator.building import Building
 
     # A 1000 kN-class extended Bouc-Wen damper (DOMAIN.md §3 orders of magnitude).
     model = damper.ExtendedBoucWen(kappa_x=207e3, kappa_xdot=damper.Polynomial((100e3, 200e3)),
@@ -30,7 +31,7 @@ def building(shared_dir):
 
 @pytest.fixture(scope="module")
 def context(building):
-    return ControlContext.from_building(building, control_step=0.005)
+    return control_context(building, control_step=0.005)
 
 
 @pytest.fixture(scope="module")
@@ -60,7 +61,7 @@ def test_estimator_tracks_full_model_noise_free(clipped):
 def test_compiled_estimate_matches_linear_model_base_displacement(building, clipped):
     """Closed chain: full linear model → measurement vector → compiled kernel; the controller's
     state x̂[k|k-1] reproduces the base displacement of the full model."""
-    plant = building_plant(building)
+    plant = building_plant(design_model(building))
     rng = np.random.default_rng(2)
     n = 3000
     ground = np.column_stack([np.convolve(rng.standard_normal(n), np.ones(8) / 8, "same") for _ in range(2)]) * 2
@@ -103,14 +104,14 @@ def test_skyhook_integrates_base_acceleration(context):
     y = np.zeros((n, context.n_measurements))
     y[:, 0] = 1.0  # 1 m/s² absolute base acceleration in x for 1 s
     _, desired, _ = run_compiled(sky.compiled(), y, device_force=np.full((n, context.n_devices), 1.0))
-    x_devices = context.building.devices.directions == 0
+    x_devices = context.design_model.device_directions == 0
     np.testing.assert_allclose(desired[-1, x_devices], 1e6 * 1.0, rtol=1e-3)
     np.testing.assert_allclose(desired[-1, ~x_devices], 0.0, atol=1e-6)
 
 
-def test_model_based_controller_without_building_is_a_clear_error():
+def test_model_based_controller_without_design_model_is_a_clear_error():
     ctx = ControlContext(n_devices=2, control_step=0.005, voltage_max=1.0)
-    with pytest.raises(InputError, match="no building"):
+    with pytest.raises(InputError, match="no design model"):
         ClippedOptimal(weights=LQGWeights(force_scale=1e5)).reset(ctx)
 
 
@@ -123,12 +124,12 @@ def test_lqg_design_is_shared_between_controllers_on_one_building_only():
     """Per-run controller objects reuse the design; other weights or buildings get their own."""
     from dataclasses import replace
 
-    from benchmark.building import Building
+    from benchmark.simulator.building import Building
     from controllers.base import ControlContext
     from controllers.clipped_optimal import ClippedOptimal
 
     building = Building.default()
-    context = ControlContext.from_building(building, 0.005)
+    context = control_context(building, 0.005)
     first, second = ClippedOptimal(), ClippedOptimal()
     first.build(context)
     second.build(context)
@@ -137,5 +138,5 @@ def test_lqg_design_is_shared_between_controllers_on_one_building_only():
     other.build(context)
     assert other.design is not first.design
     elsewhere = ClippedOptimal()
-    elsewhere.build(ControlContext.from_building(Building.default(), 0.005))
+    elsewhere.build(control_context(Building.default(), 0.005))
     assert elsewhere.design is not first.design

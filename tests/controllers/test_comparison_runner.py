@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import damper
-from benchmark.errors import InputError, NumericalError
+from benchmark.foundation.errors import InputError, NumericalError
 from controllers.base import Controller
-from controllers.comparison import compare, parse_list
+from benchmark.applications.comparison import compare, parse_list
 
 
 def _model():
@@ -21,7 +21,7 @@ def _model():
 
 @pytest.fixture(scope="module")
 def building(shared_dir):
-    from benchmark.building import Building
+    from benchmark.simulator.building import Building
 
     return Building.default(damper_model=_model(), isolation="linear")
 
@@ -70,7 +70,7 @@ def test_parse_list_checks_names():
 
 
 def test_user_controller_runs_and_bad_controllers_stop_with_clear_errors(building):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     record = _short_record()
     result = simulate(building, record, HalfVoltage())

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from benchmark.errors import NumericalError, ParameterError
+from benchmark.foundation.errors import NumericalError, ParameterError
 from controllers.compiled import (LAW_CLIPPED_OPTIMAL, LAW_LYAPUNOV, LAW_MODULATED, STATUS_NONFINITE,
                                   STATUS_OK, CompiledController, constant_voltage, controller_update,
                                   run_compiled)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError, NumericalError, ParameterError
+from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from controllers.base import (Controller, ControlContext, ControllerSession, FunctionController,
                               as_controller, check_voltages, measurement_slices, n_measurements)
 from controllers.noise import MeasurementNoise

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from benchmark.errors import InputError, NumericalError, ParameterError
+from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper import ExtendedBoucWen, NormalizedBoucWen, StandardBoucWen, simulate
 from damper.bouc_wen import limit_cycle_peak, limit_cycle_psi
 from damper.registry import device_step, get_model_class

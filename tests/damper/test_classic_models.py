@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from damper import simulate
 from damper.bingham import Bingham
 from damper.dahl import Dahl

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.cli import main
+from benchmark.applications.cli import main
 from damper.data import read_csv
 from damper.laboratory import periodic_test
 from damper.loops import last_cycles

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.errors import DataNotFoundError, InputError
+from benchmark.foundation.errors import DataNotFoundError, InputError
 from damper.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm, utfsm_files, write_csv
 
 

@@ -12,8 +12,8 @@ import json
 import numpy as np
 import pytest
 
-from benchmark.cli import main
-from benchmark.errors import DataNotFoundError, InputError
+from benchmark.applications.cli import main
+from benchmark.foundation.errors import DataNotFoundError, InputError
 from damper.augmented import AugmentedModel
 from damper.bouc_wen import NormalizedBoucWen
 from damper.data import DamperTest, write_csv

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.diagnosis.loop import unexplained_structure
 from damper.diagnosis.selection import bic_delta, heldout_bic, screen_columns
 from damper.diagnosis.trace import (TRACE_VARIABLES, correlation_ratio, effective_sample_size,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from damper.augmented import AugmentedModel, Parametrization, refit
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.effects import (EFFECT_NAMES, EFFECTS, Asymmetry, Fade, Inertia, Motion, Offset,

@@ -7,11 +7,11 @@ import warnings
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
 from damper.identification.cycles import ExcitationWarning
-from damper.identification.validation import (RunValidation, ValidationResult, field_estimate,
+from benchmark.applications.identification_validation import (RunValidation, ValidationResult, field_estimate,
                                               regime_errors, regime_masks)
 from damper.voltage_laws import Polynomial
 

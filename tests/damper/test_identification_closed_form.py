@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.identification.closed_form import closed_form
 from damper.identification.cycles import (ExcitationWarning, average_branches, check_excitation,
                                           detect_cycles, g_integral, h_integral, limit_cycle_peak,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.bouc_wen import ExtendedBoucWen
 from damper.identification.identify import identify, identify_arrays
 from damper.identification.metrics import (dissipated_energy, energy_error, force_errors,

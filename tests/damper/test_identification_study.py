@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from damper.bouc_wen import ExtendedBoucWen
-from damper.identification.validation import replay, run_errors
+from benchmark.applications.identification_validation import replay, run_errors
 from damper.identification.voltage_grid import TestProtocol, fit_voltage_laws, identify_voltage_grid
 from damper.identification.voltage_lag import filtered_force, fit_voltage_lag
 from damper.simulate import simulate
@@ -129,7 +129,7 @@ def test_worker_count_rejects_bad_jobs():
 
 
 def test_cli_identify_rejects_a_bad_kappa_x(capsys):
-    from benchmark.cli import main
+    from benchmark.applications.cli import main
     assert main(["identify", "--kappa-x", "often", "--no-validation", "--no-plots"]) == 2
     assert "--kappa-x" in capsys.readouterr().err
 
@@ -164,7 +164,7 @@ def test_replay_and_run_errors():
 
 
 def test_cli_identify_data_on_utfsm_files(shared_dir, tmp_path, capsys):
-    from benchmark.cli import main
+    from benchmark.applications.cli import main
     folder = shared_dir / "hysteresis_data" / "quiroz_utfsm_mr_damper_sinusoidal" / "Preprocesados"
     files = [str(folder / "25mm0x25Hz1A.txt"), str(folder / "25mm0x1Hz1A.txt")]
     status = main(["identify", "--data", *files, "--model", "extended", "--bootstrap", "0",
@@ -181,14 +181,14 @@ def test_cli_identify_data_on_utfsm_files(shared_dir, tmp_path, capsys):
 
 
 def test_cli_identify_rejects_a_missing_file(tmp_path, capsys):
-    from benchmark.cli import main
+    from benchmark.applications.cli import main
     assert main(["identify", "--data", str(tmp_path / "absent.csv")]) == 2
     assert "absent.csv" in capsys.readouterr().err
 
 
 @pytest.mark.slow
 def test_identify_study_one_run(records_dir, tmp_path):
-    from damper.identification.study import run_identify_study
+    from benchmark.applications.identification_study import run_identify_study
     summary = run_identify_study(tmp_path, records=["kobe"], orientations=["FP-x"], progress=False)
     for name in ("parameters.csv", "voltage_laws.json", "validation.json", "identification.h5"):
         assert (tmp_path / name).is_file()

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from damper.augmented import AugmentedModel
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.effects import Motion, RollOff

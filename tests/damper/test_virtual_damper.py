@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from damper import simulate
 from damper.laboratory import general_test, periodic_test
 from damper.loops import dissipated_energy, last_cycles, midline_slope, plastic_branch_fit

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.interpolate import PchipInterpolator
 
-from benchmark.errors import ParameterError
+from benchmark.foundation.errors import ParameterError
 from damper.voltage_laws import (Constant, Exponential, Polynomial, Saturating, SeedKappaW, Tabulated,
                                  as_law, law_length, law_value)
 

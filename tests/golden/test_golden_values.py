@@ -27,8 +27,8 @@ RTOL = 1e-12
 
 def _run_values(isolation: str, devices: str | None, controller: str | None, n_modes: int | None,
                 orientation: str) -> dict:
-    from benchmark.building import Building
-    from benchmark.simulation import simulate
+    from benchmark.simulator.building import Building
+    from benchmark.simulator.simulation import simulate
     from records import load_benchmark_record
 
     record = load_benchmark_record("kobe", orientation)

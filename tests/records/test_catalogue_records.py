@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from benchmark.errors import DataNotFoundError, InputError
+from benchmark.foundation.errors import DataNotFoundError, InputError
 from records import (BENCHMARK_RECORDS, CATALOGUE, ORIENTATIONS, canonical_name, check_catalogue,
                      load_benchmark_record)
 from records.measures import mean_period, significant_duration

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from records import Record, baseline_correct, check_record, load_benchmark_record
 from records.baseline import baseline_correction_acceleration, end_condition_correction
 from records.checks import (check_baseline_drift, check_duration, check_identical_components, check_pga,

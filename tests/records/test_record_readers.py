@@ -7,7 +7,7 @@ import re
 import numpy as np
 import pytest
 
-from benchmark.errors import DataNotFoundError, InputError
+from benchmark.foundation.errors import DataNotFoundError, InputError
 from records import STANDARD_GRAVITY, Record, load_record, write_csv
 from records.readers import (detect_format, read_at2, read_benchmark, read_csv, read_single_column,
                              unit_factor)

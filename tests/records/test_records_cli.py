@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from benchmark.cli import main
+from benchmark.applications.cli import main
 from records import load_record
 
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 from records import Record, response_spectrum
 from records.spectra import default_periods, sdof_response
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.signal import welch
 
-from benchmark.errors import InputError, ParameterError
+from benchmark.foundation.errors import InputError, ParameterError
 from records import BENCHMARK_RECORDS, CATALOGUE, benchmark_like, check_record
 from records.measures import mean_period, significant_duration
 from records.pulse import PulseParameters, fit_pulse

@@ -1,6 +1,6 @@
 """Helpers of the reliability tests: what a "clear error" is, and running ``sbib`` in-process.
 
-A clear error is an :class:`benchmark.errors.InputError` (or subclass) whose message is one
+A clear error is an :class:`benchmark.foundation.errors.InputError` (or subclass) whose message is one
 line, names the file (or field) it is about, and says what was expected; from the command
 line it is exit status 2 with exactly one ``sbib: error: ...`` line on stderr.
 """
@@ -14,7 +14,7 @@ from typing import Callable, Sequence
 
 import pytest
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 
 def one_line(message: str) -> bool:
@@ -37,7 +37,7 @@ def run_cli(argv: Sequence[str]) -> tuple[int, str, str]:
 
     ``SystemExit`` (argparse) is turned into its status, as the console script would.
     """
-    from benchmark.cli import main
+    from benchmark.applications.cli import main
 
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):

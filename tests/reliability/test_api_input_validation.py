@@ -1,5 +1,5 @@
 """The Python API validates its input: records, damper models and tests, the laboratory,
-identification, diagnosis, the building and :func:`benchmark.simulation.simulate`.
+identification, diagnosis, the building and :func:`benchmark.simulator.simulation.simulate`.
 
 Each bad call must raise an :class:`InputError` (or :class:`ParameterError`) with a one-line
 message that names the argument or field at fault; never a ``TypeError``/``ValueError`` from
@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from benchmark.errors import DataNotFoundError, InputError, ParameterError
+from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
 
 T = np.linspace(0.0, 1.0, 101)
 X = 0.01 * np.sin(2 * np.pi * 3 * T)
@@ -211,9 +211,9 @@ def test_diagnosis_rejects_bad_arguments():
 # bearings, isolation layers, devices, the building
 # ---------------------------------------------------------------------------------------------
 def test_bearing_parameters_are_validated():
-    from benchmark.isolation.friction_pendulum import FrictionPendulumBearing
-    from benchmark.isolation.lead_rubber import LeadRubberBearing
-    from benchmark.isolation.linear import LinearBearing
+    from benchmark.simulator.isolation.friction_pendulum import FrictionPendulumBearing
+    from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing
+    from benchmark.simulator.isolation.linear import LinearBearing
 
     _raises(lambda: LinearBearing(-1.0, 1.0), "", ParameterError)
     _raises(lambda: LinearBearing(1.0, math.nan), "", ParameterError)
@@ -226,9 +226,9 @@ def test_bearing_parameters_are_validated():
 
 
 def test_isolation_layers_are_validated():
-    from benchmark.isolation.configurations import (BearingGroup, IsolationLayer, get_isolation,
+    from benchmark.simulator.isolation.configurations import (BearingGroup, IsolationLayer, get_isolation,
                                                     isolation_from_dict)
-    from benchmark.isolation.linear import LinearBearing
+    from benchmark.simulator.isolation.linear import LinearBearing
 
     b = LinearBearing(1e6, 1e4)
     _raises(lambda: IsolationLayer("gap", (BearingGroup(b, range(90)),)), "91-92", ParameterError)
@@ -247,7 +247,7 @@ def test_isolation_layers_are_validated():
 
 
 def test_devices_are_validated():
-    from benchmark.devices import DeviceLayout, DeviceSlot
+    from benchmark.simulator.devices import DeviceLayout, DeviceSlot
     from damper.virtual import VirtualBenchmarkDamper
 
     model = VirtualBenchmarkDamper()
@@ -260,7 +260,7 @@ def test_devices_are_validated():
 
 @pytest.fixture(scope="module")
 def linear_building():
-    from benchmark.building import Building
+    from benchmark.simulator.building import Building
 
     return Building.default(isolation="linear", devices="default")
 
@@ -274,9 +274,9 @@ def short_record():
 
 
 def test_building_rejects_a_layer_of_the_wrong_size(linear_building):
-    from benchmark.building import Building
-    from benchmark.isolation.configurations import BearingGroup, IsolationLayer
-    from benchmark.isolation.linear import LinearBearing
+    from benchmark.simulator.building import Building
+    from benchmark.simulator.isolation.configurations import BearingGroup, IsolationLayer
+    from benchmark.simulator.isolation.linear import LinearBearing
 
     small = IsolationLayer("small", (BearingGroup(LinearBearing(1e6, 1e4), range(10)),), n_bearings=10)
     _raises(lambda: Building(linear_building.superstructure, small), "10 bearings")
@@ -298,14 +298,14 @@ SIM_CASES = {
 
 @pytest.mark.parametrize("case", sorted(SIM_CASES))
 def test_simulate_rejects(case, linear_building, short_record):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     changes, match = SIM_CASES[case]
     _raises(lambda: simulate(linear_building.without_devices(), short_record, **changes), match)
 
 
 def test_simulate_rejects_bad_records_and_controllers(linear_building, short_record):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     three = dataclasses.replace(short_record, acceleration=np.zeros((41, 3)), labels=("a", "b", "c"))
     _raises(lambda: simulate(linear_building, three), "(n, 2)")
@@ -327,7 +327,7 @@ class _BadController:
 
 @pytest.mark.parametrize("voltages, match", [(np.zeros(3), "shape (3,)"), ("high", "str")])
 def test_simulate_rejects_malformed_controller_output(linear_building, short_record, voltages, match):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     message = _raises(lambda: simulate(linear_building, short_record, controller=_BadController(voltages)),
                       match)
@@ -336,8 +336,8 @@ def test_simulate_rejects_malformed_controller_output(linear_building, short_rec
 
 def test_simulate_stops_on_non_finite_controller_output(linear_building, short_record):
     """A NaN voltage is a numerical failure of the controller: NumericalError with time and hint."""
-    from benchmark.errors import NumericalError
-    from benchmark.simulation import simulate
+    from benchmark.foundation.errors import NumericalError
+    from benchmark.simulator.simulation import simulate
 
     with pytest.raises(NumericalError) as info:
         simulate(linear_building, short_record, controller=_BadController(np.full(16, np.nan)))
@@ -346,7 +346,7 @@ def test_simulate_stops_on_non_finite_controller_output(linear_building, short_r
 
 def test_simulate_saturates_voltages_above_the_device_range(linear_building, short_record):
     """Voltages above the device's maximum are saturated (the actuator's limit), never passed on."""
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     result = simulate(linear_building, short_record, controller=_BadController(np.full(16, 5.0)))
     assert np.all(result.voltage <= linear_building.devices.voltage_max) and result.voltage.max() > 0

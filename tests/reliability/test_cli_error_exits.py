@@ -3,7 +3,7 @@
 The table below holds, for each command, options and files a user gets wrong (missing or
 empty files, ragged rows, time going backwards, unknown names, non-positive steps, NaN,
 values outside the device range, inadmissible model parameters, a record shorter than one
-control step, an output path that cannot be created). Each case runs ``benchmark.cli.main``
+control step, an output path that cannot be created). Each case runs ``benchmark.applications.cli.main``
 in-process and checks the exit status, that stderr holds exactly one line, that it starts
 with ``sbib: error: `` and that it names what is wrong. Two cases also run the installed
 console script in a subprocess, to check the real exit status and that no traceback leaks.
@@ -183,7 +183,7 @@ def test_cli_rejects_bad_input_with_one_line(case, files, cli, cli_error):
 
 def test_every_command_is_covered():
     """A new command must come with its bad-input cases in the table above."""
-    from benchmark.cli import build_parser
+    from benchmark.applications.cli import build_parser
 
     parser = build_parser()
     commands = set(parser._subparsers._group_actions[0].choices)  # noqa: SLF001 - argparse has no public API

@@ -24,7 +24,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from benchmark.errors import InputError
+from benchmark.foundation.errors import InputError
 
 # examples per test; their sum is the total number of generated malformed inputs
 N_EXAMPLES = {
@@ -242,8 +242,8 @@ ENSEMBLE_LINES = ['name = "fuzz"', "base_seed = 7", 'run = "probe"', 'controller
 
 
 def test_valid_config_templates_are_read(tmp_path):
-    from benchmark.ensemble import EnsembleConfig
-    from benchmark.isolation.configurations import load_isolation
+    from benchmark.applications.ensemble import EnsembleConfig
+    from benchmark.simulator.isolation.configurations import load_isolation
 
     assert load_isolation(_write(tmp_path / "iso.json", "\n".join(ISOLATION_LINES))).n_bearings == 92
     assert len(EnsembleConfig.from_toml(_write(tmp_path / "e.toml", "\n".join(ENSEMBLE_LINES))).cases()) > 0
@@ -252,7 +252,7 @@ def test_valid_config_templates_are_read(tmp_path):
 @_settings("isolation_json")
 @given(data=st.data())
 def test_isolation_json_reader(tmp_path, data):
-    from benchmark.isolation.configurations import load_isolation
+    from benchmark.simulator.isolation.configurations import load_isolation
 
     path = _write(tmp_path / "isolation.json", data.draw(mutated(ISOLATION_LINES)))
     layer = _outcome(load_isolation, path)
@@ -264,7 +264,7 @@ def test_isolation_json_reader(tmp_path, data):
 @_settings("ensemble_toml")
 @given(data=st.data())
 def test_ensemble_toml_reader(tmp_path, data):
-    from benchmark.ensemble import EnsembleConfig
+    from benchmark.applications.ensemble import EnsembleConfig
 
     path = _write(tmp_path / "ensemble.toml", data.draw(mutated(ENSEMBLE_LINES)))
     config = _outcome(EnsembleConfig.from_toml, path)
@@ -283,7 +283,7 @@ ANY_FLOAT = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.sampled
 @given(kappa_x=ANY_FLOAT, kappa_xdot=ANY_FLOAT, kappa_w=ANY_FLOAT, rho=ANY_FLOAT, sigma=ANY_FLOAT, n=ANY_FLOAT)
 def test_extended_bouc_wen_parameters(kappa_x, kappa_xdot, kappa_w, rho, sigma, n):
     """Any float is either an admissible parameter set (finite packed array) or a ParameterError."""
-    from benchmark.errors import ParameterError
+    from benchmark.foundation.errors import ParameterError
     from damper import ExtendedBoucWen
 
     try:
@@ -301,7 +301,7 @@ def test_extended_bouc_wen_parameters(kappa_x, kappa_xdot, kappa_w, rho, sigma, 
 # The command line
 # --------------------------------------------------------------------------------------------
 def _cli(argv: list[str]) -> tuple[int, str, str]:
-    from benchmark.cli import main
+    from benchmark.applications.cli import main
 
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):

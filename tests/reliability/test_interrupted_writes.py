@@ -1,7 +1,7 @@
 """A write interrupted at any point leaves the previous file or a complete new one.
 
 A child process rewrites one destination in a loop (an HDF5 result of
-:func:`benchmark.results.write_result`, a record CSV of :func:`records.readers.write_csv`, a
+:func:`benchmark.simulator.results.write_result`, a record CSV of :func:`records.readers.write_csv`, a
 damper test CSV of :func:`damper.data.write_csv`), each generation filling every array with
 its generation number. The parent kills it (SIGKILL: no clean-up at all; SIGINT: Ctrl-C) after
 a delay from a fixed schedule, then reads the destination back: it must be readable, and
@@ -32,8 +32,8 @@ CHILD = textwrap.dedent('''
 
     def write(gen):
         if kind == "h5":
-            from benchmark.results import write_result
-            from benchmark.simulation import ENERGY_NAMES, SimulationResult
+            from benchmark.simulator.results import write_result
+            from benchmark.simulator.simulation import ENERGY_NAMES, SimulationResult
             g = float(gen)
             def full(*shape):
                 return np.full(shape, g)
@@ -76,7 +76,7 @@ NAMES = {"h5": "result.h5", "record": "record.csv", "damper": "damper.csv"}
 def _generation(kind: str, path: Path) -> int:
     """Read ``path`` back and return its single generation number (every value must agree)."""
     if kind == "h5":
-        from benchmark.results import read_result
+        from benchmark.simulator.results import read_result
 
         stored = read_result(path)
         gen = int(stored.attrs["generation"])
@@ -158,7 +158,7 @@ def test_interrupted_writes_many_times(tmp_path, trial):
 
 def test_atomic_path_keeps_the_previous_file_on_error(tmp_path):
     """An exception inside the ``with`` (here a failing writer) leaves the old file untouched."""
-    from benchmark.atomic import atomic_path
+    from benchmark.foundation.atomic import atomic_path
 
     dest = tmp_path / "out.txt"
     dest.write_text("previous")
@@ -171,7 +171,7 @@ def test_atomic_path_keeps_the_previous_file_on_error(tmp_path):
 
 def test_ctrl_c_during_a_write_is_honoured_after_it(tmp_path):
     """Ctrl-C inside the writer is held back (h5py would swallow it), then raised; old file kept."""
-    from benchmark.atomic import atomic_path
+    from benchmark.foundation.atomic import atomic_path
 
     dest = tmp_path / "out.txt"
     dest.write_text("previous")
@@ -184,8 +184,8 @@ def test_ctrl_c_during_a_write_is_honoured_after_it(tmp_path):
 
 
 # Writers that may write in place: the ensemble journal is append-only with torn-line handling
-# (benchmark/ensemble_journal.py), the atomic module itself, and its docstring example.
-_IN_PLACE_OK = {"benchmark/ensemble_journal.py", "benchmark/atomic.py"}
+# (benchmark/applications/ensemble_journal.py), the atomic module itself, and its docstring example.
+_IN_PLACE_OK = {"benchmark/applications/ensemble_journal.py", "benchmark/foundation/atomic.py"}
 _WRITE_CALL = ("savefig(", "h5py.File(", "write_text(", "write_bytes(", "np.save", "to_csv(", "json.dump(")
 
 
@@ -193,7 +193,7 @@ def test_every_result_writer_goes_through_atomic_path():
     """Static check: package code writes files only to the temporary path of ``atomic_path``.
 
     Every file-writing call must target the ``tmp`` path (or a handle opened on it); a new
-    writer that writes in place fails here and should use :func:`benchmark.atomic.atomic_path`.
+    writer that writes in place fails here and should use :func:`benchmark.foundation.atomic.atomic_path`.
     """
     import re
 

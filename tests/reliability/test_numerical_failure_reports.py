@@ -4,7 +4,7 @@ Failures are provoked on purpose: a record a thousand times stronger than any ea
 (blow-up), a fixed-point iteration allowed a single pass (no convergence), a damper whose
 hysteresis is far too stiff for the step (the sub-stepping cannot keep up, the state
 overflows), a controller returning NaN. The Python API must raise
-:class:`benchmark.errors.NumericalError` carrying ``time``, ``state`` and ``hint``; the command
+:class:`benchmark.foundation.errors.NumericalError` carrying ``time``, ``state`` and ``hint``; the command
 line must exit with status 3 and one ``sbib: numerical failure: ...`` line, and leave no
 result file behind.
 """
@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from benchmark.errors import NumericalError
+from benchmark.foundation.errors import NumericalError
 
 
 def _check(exc: NumericalError, state_key: str) -> None:
@@ -29,7 +29,7 @@ def _check(exc: NumericalError, state_key: str) -> None:
 
 @pytest.fixture(scope="module")
 def building():
-    from benchmark.building import Building
+    from benchmark.simulator.building import Building
 
     return Building.default(isolation="linear", devices="default")
 
@@ -44,7 +44,7 @@ def _record(scale: float, n: int = 201, seed: int = 3):
 
 
 def test_blow_up_stops_with_time_state_and_hint(building):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     with pytest.raises(NumericalError) as info:
         simulate(building.without_devices(), _record(1.0e4))
@@ -54,14 +54,14 @@ def test_blow_up_stops_with_time_state_and_hint(building):
 
 
 def test_blow_up_limit_is_the_users_choice(building):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     with pytest.raises(NumericalError, match="blow-up"):
         simulate(building.without_devices(), _record(2.0), blowup_limit=1e-4)
 
 
 def test_fixed_point_that_does_not_converge_is_reported(building):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     nonlinear = building.with_isolation("friction-lrb").without_devices()
     with pytest.raises(NumericalError) as info:
@@ -72,7 +72,7 @@ def test_fixed_point_that_does_not_converge_is_reported(building):
 
 def test_device_too_stiff_for_its_sub_steps_is_reported(building):
     """A damper whose transition displacement is 1e-11 m overflows its state: NaN is caught."""
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
     from damper import ExtendedBoucWen
 
     model = ExtendedBoucWen(kappa_x=2e5, kappa_xdot=1e5, kappa_w=1e5, rho=1e11, sigma=1.0, n=3.0)
@@ -95,7 +95,7 @@ def test_damper_simulate_reports_the_internal_state():
 
 def test_failed_run_returns_no_partial_result(building):
     """The exception is the only outcome: no result object with NaN or zeros after the failure."""
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     outcome = None
     try:
@@ -138,7 +138,7 @@ def test_substepping_that_cannot_meet_its_tolerance_stops_with_a_clear_error():
     """A hysteresis needing more than MAX_SUBSTEPS sub-steps per sample is a NumericalError."""
     import numpy as np
 
-    from benchmark.errors import NumericalError
+    from benchmark.foundation.errors import NumericalError
     from damper import NormalizedBoucWen, simulate
 
     model = NormalizedBoucWen(kappa_xdot=1.0e3, kappa_w=1.0e4, rho=1.0e9, sigma=1.0, n=1.0,

@@ -37,7 +37,7 @@ def record(records_dir):
 
 @pytest.fixture(scope="module")
 def building():
-    from benchmark.building import Building
+    from benchmark.simulator.building import Building
 
     return Building.default()
 
@@ -57,7 +57,7 @@ def _check_energy(result) -> None:
 
 @pytest.mark.parametrize("isolation", ISOLATIONS)
 def test_energy_balance_of_every_isolation_configuration(building, record, isolation):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     result = simulate(building.with_isolation(isolation).without_devices(), record)
     _check_energy(result)
@@ -67,7 +67,7 @@ def test_energy_balance_of_every_isolation_configuration(building, record, isola
 
 @pytest.mark.parametrize("controller", ["passive-on", "clipped-optimal"])
 def test_energy_balance_with_devices(building, record, controller):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     result = simulate(building, record, controller=controller)
     _check_energy(result)
@@ -84,7 +84,7 @@ FIELDS = ("base_displacement", "base_velocity", "base_acceleration_absolute", "f
 
 @pytest.mark.parametrize("controller", [None, "passive-on", "clipped-optimal"])
 def test_zero_record_gives_zero_response(building, record, controller):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     zero = record.replace(acceleration=np.zeros_like(record.acceleration[:400]))
     b = building if controller else building.without_devices()
@@ -98,7 +98,7 @@ def test_zero_record_gives_zero_response(building, record, controller):
                                                    ("friction-lrb", "passive-on"),
                                                    ("friction-lrb", "clipped-optimal")])
 def test_negated_record_gives_the_negated_response(building, record, isolation, controller):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     b = building.with_isolation(isolation)
     b = b if controller else b.without_devices()
@@ -137,9 +137,9 @@ def symmetric_variant(axis: int):
     """
     if axis in _SYMMETRIC:
         return _SYMMETRIC[axis]
-    from benchmark.building import Building
-    from benchmark.devices import DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout
-    from benchmark.isolation.configurations import (BearingGroup, IsolationLayer,
+    from benchmark.simulator.building import Building
+    from benchmark.simulator.devices import DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout
+    from benchmark.simulator.isolation.configurations import (BearingGroup, IsolationLayer,
                                                     _friction_pendulum_default, _lead_rubber_default)
 
     base = Building.default()
@@ -179,7 +179,7 @@ def _close(a, b, name):
 @pytest.mark.parametrize("axis", [0, 1], ids=["x-mirror", "y-mirror"])
 @pytest.mark.parametrize("controller", [None, "passive-on"])
 def test_mirror_image_record_gives_the_mirrored_response(record, axis, controller):
-    from benchmark.simulation import simulate
+    from benchmark.simulator.simulation import simulate
 
     building, bearing_perm, device_perm = symmetric_variant(axis)
     b = building if controller else building.without_devices()

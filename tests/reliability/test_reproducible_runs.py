@@ -1,6 +1,6 @@
 """Same inputs, same seed → bit-identical results: reruns, fresh processes, process counts.
 
-* :func:`benchmark.simulation.simulate` with seeded measurement noise and a semi-active
+* :func:`benchmark.simulator.simulation.simulate` with seeded measurement noise and a semi-active
   controller, run twice in this process and once in a fresh interpreter: every array equal
   bit for bit (compared by SHA-256 of the bytes); another seed changes the measurements.
 * The virtual laboratory with noise and a seed gives the same test twice.
@@ -22,8 +22,8 @@ import pytest
 SCRIPT = textwrap.dedent('''
     import hashlib, json, sys
     import numpy as np
-    from benchmark.building import Building
-    from benchmark.simulation import simulate
+    from benchmark.simulator.building import Building
+    from benchmark.simulator.simulation import simulate
     from controllers.noise import MeasurementNoise
     from records import load_benchmark_record
 
@@ -112,7 +112,7 @@ def test_compare_gives_the_same_numbers_on_one_and_two_processes(records_dir):
 
 @pytest.mark.slow
 def test_ensemble_gives_the_same_bits_on_one_and_two_processes(tmp_path):
-    from benchmark.ensemble import read_ensemble
+    from benchmark.applications.ensemble import read_ensemble
 
     config = tmp_path / "repro.toml"
     config.write_text('name = "repro"\nbase_seed = 5\nrun = "simulation"\n'

@@ -1,0 +1,108 @@
+"""The ``sbib`` command line: a thin layer that parses, calls the Python API and prints.
+
+Each command lives in the package it serves (``benchmark/applications/cli_records.py``, ``benchmark/applications/cli_damper.py``, ...):
+such a module defines ``register(subparsers)``, which adds its sub-parsers and sets
+``func`` (a callable taking the parsed namespace and returning an exit status) as the
+default. This module only gathers them and turns the project's errors into one-line
+messages with a non-zero exit status.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from typing import Sequence
+
+from benchmark import __version__
+from benchmark.foundation.errors import InputError, NumericalError, SbibError
+
+__all__ = ["main", "build_parser", "COMMAND_MODULES"]
+
+# Modules that contribute sub-commands, in the order they appear in ``sbib --help``.
+COMMAND_MODULES: tuple[str, ...] = (
+    "benchmark.applications.cli_study",
+    "benchmark.applications.cli_records",
+    "benchmark.applications.cli_run",
+    "benchmark.applications.cli_ensemble",
+    "benchmark.applications.cli_bench",
+    "benchmark.applications.cli_controllers",
+    "benchmark.applications.cli_damper",
+    "benchmark.applications.cli_diagnose",
+    "benchmark.applications.cli_identify",
+)
+
+EXIT_INPUT_ERROR = 2
+EXIT_NUMERICAL_ERROR = 3
+EXIT_INTERRUPTED = 130
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one ``sbib: error: ...`` line (exit status 2),
+    like every other input error, instead of the usage block followed by the message.
+    Sub-command parsers inherit the class (``add_subparsers`` uses the parent's type)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        where = "" if self.prog == "sbib" else f"{self.prog}: "
+        self.exit(EXIT_INPUT_ERROR, f"sbib: error: {where}{message} (see '{self.prog} --help')\n")
+
+    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        namespace, extras = super().parse_known_args(args, namespace)
+        # Python 3.11's argparse turns "--option=--" into an empty list instead of an error.
+        for action in self._actions:
+            if (action.nargs is None and action.type is not None and action.option_strings
+                    and isinstance(getattr(namespace, action.dest, None), list)
+                    and not isinstance(action, argparse._AppendAction)):
+                self.error(f"argument {'/'.join(action.option_strings)}: expected one value")
+        return namespace, extras
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the ``sbib`` argument parser with every registered sub-command."""
+    parser = _Parser(
+        prog="sbib",
+        description="Smart base-isolated benchmark building with MR dampers: simulation, "
+                    "semi-active control and damper identification.")
+    parser.add_argument("--version", action="version", version=f"sbib {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMAND_MODULES:
+        importlib.import_module(name).register(subparsers)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the ``sbib`` command line and return its exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return EXIT_INPUT_ERROR
+    try:
+        return int(args.func(args) or 0)
+    except NumericalError as exc:
+        print(f"sbib: numerical failure: {exc}", file=sys.stderr)
+        return EXIT_NUMERICAL_ERROR
+    except (InputError, SbibError) as exc:
+        print(f"sbib: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT_ERROR
+    except BrokenPipeError:  # output piped into `head` and the like: stop quietly
+        _silence_stdout()
+        return 0
+    except OSError as exc:  # an output path that cannot be created or written (the message names it)
+        print(f"sbib: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT_ERROR
+    except KeyboardInterrupt:
+        print("sbib: interrupted; finished result files are complete, unfinished ones were removed",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null so that the interpreter's final flush raises no second error."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # stdout replaced by an object without a descriptor (tests)
+        pass

@@ -1,0 +1,57 @@
+"""``sbib compare``: every record × orientation × controller, J1–J9 table, JSON, HDF5, plots."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``compare`` sub-command."""
+    from controllers.registry import controller_names
+
+    p = subparsers.add_parser(
+        "compare", help="compare controllers over the benchmark records (J1-J9)",
+        description="Run every record x orientation x controller against the uncontrolled building, "
+                    "print J1-J9 per run and the mean/max over records.")
+    p.add_argument("--records", default="all", help="'all' or a comma list of record names")
+    p.add_argument("--orientations", default="both", help="'both', FN-x or FP-x")
+    p.add_argument("--controllers", default="passive-off,passive-on,clipped-optimal",
+                   help="comma list of: " + ", ".join(controller_names()))
+    p.add_argument("--isolation", default=None, help="isolation configuration name (default: the building's)")
+    p.add_argument("--records-dir", default=None, help="directory of the benchmark record files")
+    p.add_argument("--synthetic", action="store_true", help="use the synthetic benchmark-like records")
+    p.add_argument("--control-step", type=float, default=0.005, help="control step [s] (default 0.005)")
+    p.add_argument("--n-modes", type=int, default=None, help="reduced superstructure (default: all modes)")
+    p.add_argument("--jobs", type=int, default=None, help="worker processes (default: all cores)")
+    p.add_argument("--json", action="store_true", help="print {\"runs\": [...]} as JSON instead of the table")
+    p.add_argument("--out", default=None, help="write every run to this HDF5 file (atomic)")
+    p.add_argument("--plot", default=None, metavar="DIR", help="write the PNG figures into DIR")
+    p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    p.set_defaults(func=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from benchmark.foundation.errors import InputError
+    from benchmark.applications.comparison import compare
+
+    if args.jobs is not None and args.jobs < 1:
+        raise InputError(f"--jobs: expected a positive number of processes, got {args.jobs}")
+    result = compare(records=args.records, orientations=args.orientations, controllers=args.controllers,
+                     isolation=args.isolation, records_dir=args.records_dir, jobs=args.jobs,
+                     control_step=args.control_step, n_modes=args.n_modes, synthetic=args.synthetic,
+                     progress=not args.no_progress and sys.stderr.isatty())
+    if args.out:
+        path = result.write_hdf5(args.out)
+        print(f"wrote {path}", file=sys.stderr)
+    if args.plot:
+        for path in result.plot(args.plot):
+            print(f"wrote {path}", file=sys.stderr)
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+    else:
+        print(result.table())
+    return 0

@@ -1,0 +1,109 @@
+"""``sbib damper test``: run a virtual-laboratory test on a damper model, write CSV (and a plot).
+
+Example::
+
+    sbib damper test --model virtual --amplitude 0.4 --frequency 0.8 --voltage 0 \\
+        --out virtual.csv --plot virtual.png
+
+Models: ``virtual`` (the virtual benchmark damper), ``spencer`` (the 1997 prototype),
+``bingham`` (Spencer's 1997 fit), ``dahl`` and ``hyperbolic_tangent`` (calibrated to the virtual
+damper at 0 V), and ``normalized_bouc_wen`` / ``extended_bouc_wen`` (give every parameter with
+``--param NAME=VALUE``, SI units). ``--param`` also overrides any default.
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import MISSING, fields
+
+import numpy as np
+
+from benchmark.foundation.errors import InputError
+
+__all__ = ["register", "default_model", "run_test"]
+
+_DEFAULT_FACTORIES = {
+    "virtual": ("damper.virtual", "VirtualBenchmarkDamper", None),
+    "spencer": ("damper.spencer", "Spencer", "prototype_1997"),
+    "bingham": ("damper.bingham", "Bingham", "spencer_1997"),
+    "dahl": ("damper.dahl", "Dahl", "virtual_0V"),
+    "hyperbolic_tangent": ("damper.hyperbolic_tangent", "HyperbolicTangent", "virtual_0V"),
+}
+
+
+def default_model(name: str, overrides: dict[str, float] | None = None):
+    """The model ``name`` with its documented default parameters, updated by ``overrides``."""
+    from dataclasses import replace
+
+    from damper.registry import get_model_class
+    cls = get_model_class(name)
+    overrides = dict(overrides or {})
+    known = {f.name for f in fields(cls)}
+    unknown = sorted(set(overrides) - known)
+    if unknown:
+        raise InputError(f"--param: {name} has no parameter {', '.join(unknown)}; expected one of "
+                         + ", ".join(sorted(known)))
+    if name in _DEFAULT_FACTORIES:
+        module, _, factory = _DEFAULT_FACTORIES[name]
+        base = getattr(cls, factory)() if factory else cls()
+        return replace(base, **overrides) if overrides else base
+    missing = [f.name for f in fields(cls) if f.name not in overrides
+               and f.default is MISSING and f.default_factory is MISSING]
+    if missing:
+        raise InputError(f"--model {name}: give its parameters with --param NAME=VALUE; missing "
+                         + ", ".join(missing))
+    return cls(**overrides)
+
+
+def _param(text: str) -> tuple[str, float]:
+    if "=" not in text:
+        raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
+    key, value = text.split("=", 1)
+    try:
+        return key.strip(), float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{key}: expected a number, got {value!r}") from None
+
+
+def run_test(args: argparse.Namespace) -> int:
+    """Run the test described by the parsed arguments; write the CSV and the plot."""
+    from damper.data import write_csv
+    from damper.laboratory import periodic_test
+    from damper.loops import last_cycles
+
+    model = default_model(args.model, dict(args.param or []))
+    test = periodic_test(model, args.amplitude, args.frequency, args.voltage, cycles=args.cycles,
+                         sample_rate=args.sample_rate, noise=args.noise, seed=args.seed,
+                         waveform=args.waveform)
+    write_csv(test, args.out)
+    steady = last_cycles(test)
+    print(f"{test.name}: {test.n_samples} samples -> {args.out}; last cycle force "
+          f"{steady.force.min() / 1e3:.1f} .. {steady.force.max() / 1e3:.1f} kN")
+    if args.plot:
+        from damper.plots import plot_loops
+        plot_loops(steady, args.plot, title=f"{test.name} (last cycle)")
+        print(f"plot -> {args.plot}")
+    return 0
+
+
+def register(subparsers) -> None:
+    """Add ``sbib damper test``."""
+    damper_parser = subparsers.add_parser("damper", help="damper models and virtual laboratory tests")
+    damper_sub = damper_parser.add_subparsers(dest="damper_command", metavar="SUBCOMMAND")
+    damper_parser.set_defaults(func=lambda args: (damper_parser.print_help(), 2)[1])
+    p = damper_sub.add_parser("test", help="periodic displacement test at constant voltage",
+                              description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--model", required=True, help="registered model name (e.g. virtual)")
+    p.add_argument("--amplitude", type=float, required=True, help="displacement amplitude [m]")
+    p.add_argument("--frequency", type=float, required=True, help="frequency [Hz]")
+    p.add_argument("--voltage", type=float, required=True, help="constant voltage [V]")
+    p.add_argument("--cycles", type=float, default=5.0, help="number of periods (default 5)")
+    p.add_argument("--sample-rate", type=float, default=200.0, help="samples per second [Hz] (default 200)")
+    p.add_argument("--noise", type=float, default=0.0, help="relative RMS force noise (default 0)")
+    p.add_argument("--seed", type=int, default=None, help="noise seed")
+    p.add_argument("--waveform", choices=("sine", "triangle"), default="sine")
+    p.add_argument("--param", type=_param, action="append", metavar="NAME=VALUE",
+                   help="model parameter in SI units (repeatable)")
+    p.add_argument("--out", required=True, help="output CSV file")
+    p.add_argument("--plot", default=None, help="output PNG with the loops of the last cycle")
+    p.set_defaults(func=run_test)

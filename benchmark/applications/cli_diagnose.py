@@ -1,0 +1,110 @@
+"""``sbib diagnose``: close the loop between a damper model and measured data.
+
+::
+
+    sbib diagnose --data FILE [FILE ...] [--model normalized|extended]
+                  [--holdout FRACTION | --validate FILE ...] [--out DIR] [--json]
+
+Fits the base model, traces its held-out residual, adds library effects while they pay (held-out
+BIC), and reports the held-out relative RMS force error before and after
+(:func:`damper.diagnosis.diagnose`). Data files: the damper CSV format
+(:mod:`damper.data`; ``time, displacement, force[, velocity][, voltage|current]``, SI) or the
+UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``). ``--json`` prints
+``{"model", "error_before", "error_after", "effects": [{"name", "parameters",
+"error_after_adding"}], "unexplained", "residual_trace": {variable: share}, ...}``; ``--out DIR``
+writes ``report.md``, ``diagnosis.json`` and the plots.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from benchmark.foundation.errors import InputError
+
+__all__ = ["register", "run", "read_test_file"]
+
+
+def read_test_file(path: str):
+    """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern) or damper CSV."""
+    from damper.data import parse_utfsm_name, read_csv, read_utfsm
+    p = Path(path)
+    if p.suffix.lower() == ".txt":
+        try:
+            parse_utfsm_name(p)
+        except InputError:
+            pass
+        else:
+            return read_utfsm(p)
+    return read_csv(p)
+
+
+def _fraction(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a fraction between 0 and 1, got {text!r}") from None
+    if not 0.0 < value < 1.0:
+        raise argparse.ArgumentTypeError(f"expected a fraction between 0 and 1, got {text!r}")
+    return value
+
+
+def register(subparsers) -> None:
+    """Add the ``diagnose`` sub-command."""
+    from damper.effects import EFFECT_NAMES
+    p = subparsers.add_parser(
+        "diagnose", help="residual loop: find the effects a damper model lacks in test data",
+        description="Fit a Bouc-Wen base model to damper tests, trace the held-out residual, add "
+                    "effects from the library (" + ", ".join(EFFECT_NAMES) + ") while they pay "
+                    "(held-out BIC) and report the error before and after.")
+    p.add_argument("--data", nargs="+", required=True, metavar="FILE",
+                   help="test files: damper CSV (SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
+    p.add_argument("--model", choices=("normalized", "extended"), default="normalized",
+                   help="base model (default: normalized)")
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--holdout", type=_fraction, default=None, metavar="FRACTION",
+                       help="fraction of each test, at its end, held out (default 0.25)")
+    group.add_argument("--validate", nargs="+", metavar="FILE",
+                       help="separate test files for the held-out errors")
+    p.add_argument("--effects", nargs="+", choices=EFFECT_NAMES, metavar="EFFECT",
+                   help="restrict the candidates to these effects (default: the whole library)")
+    p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and plots here")
+    p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+    p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Execute ``sbib diagnose`` with parsed ``args``; return the exit status."""
+    from damper.diagnosis import diagnose
+    from damper.diagnosis.dataset import DEFAULT_HOLDOUT
+    from damper.diagnosis.report import write_report
+
+    tests = [read_test_file(f) for f in args.data]
+    validate = [read_test_file(f) for f in args.validate] if args.validate else None
+    progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
+    holdout = args.holdout if args.holdout is not None else DEFAULT_HOLDOUT
+    result = diagnose(tests, model=args.model, holdout=holdout, validate=validate,
+                      candidates=args.effects, progress=progress)
+    if args.out:
+        paths = write_report(result, args.out)
+        if progress:
+            progress(f"report written to {paths['report']}")
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+    else:
+        print(f"model: {result.model_kind}")
+        print(f"held-out relative RMS error: {result.error_before:.4f} -> {result.error_after:.4f}")
+        for step in result.selection.steps:
+            params = ", ".join(f"{k}={v:.4g}" for k, v in step.parameters.items())
+            print(f"  + {step.name} ({params}): {step.error_before:.4f} -> {step.error_after:.4f}")
+        if not result.selection.steps:
+            print("  no library effect paid on the held-out data")
+        if result.unexplained:
+            print("unexplained structure in: " + ", ".join(
+                f"{v} (share {s:.2f}, {100 * lv:.1f} % of force RMS)" for v, s, lv in result.unexplained_in))
+        else:
+            print("no unexplained structure left")
+    return 0

@@ -1,0 +1,47 @@
+"""``sbib ensemble``: records × controllers × parameter grids × synthetic seeds, resumable."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``ensemble`` sub-command to ``subparsers``."""
+    p = subparsers.add_parser(
+        "ensemble", help="run an ensemble (records x controllers x grids x seeds) into one HDF5 file",
+        description="Run the cases of an ensemble described in a TOML file (see examples/ensemble.toml) "
+                    "on local processes or a Dask cluster, streaming finished runs into a journal and "
+                    "one HDF5 file. Re-running the same command after an interruption (Ctrl-C, kill) "
+                    "runs only the unfinished cases.")
+    p.add_argument("--config", required=True, help="ensemble description (TOML)")
+    p.add_argument("--out", default=None,
+                   help="HDF5 results file (default: <config stem>.h5 beside the config); "
+                        "its journal is <out>.journal")
+    p.add_argument("--jobs", type=int, default=None,
+                   help="local worker processes (default: all cores; 1 runs in this process)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler address (tcp://host:8786); needs the 'dask' extra")
+    p.add_argument("--run", default=None,
+                   help="override the config's run function ('simulation', 'probe' or module:function)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
+    from benchmark.foundation.errors import InputError
+
+    config = EnsembleConfig.from_toml(args.config)
+    out = Path(args.out) if args.out else Path(args.config).with_suffix(".h5")
+    jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
+    if jobs < 1:
+        raise InputError(f"--jobs must be >= 1, got {jobs}")
+    summary = run_ensemble(config, out, jobs=jobs, scheduler=args.scheduler, run=args.run,
+                           progress=not args.no_progress)
+    print(json.dumps(summary.as_dict(), indent=2))
+    return 0

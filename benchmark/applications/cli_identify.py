@@ -1,0 +1,118 @@
+"""``sbib identify``: the identification study on the virtual damper, or identification of measured files.
+
+* ``sbib identify [--out DIR] [--json]``: :func:`benchmark.applications.identification_study.run_identify_study`
+  on the virtual benchmark damper (voltage grid, voltage laws, field lag, validation in all
+  earthquake runs, HDF5, figures).
+* ``sbib identify --data FILE [FILE ...] [--model normalized|extended] [--json]``:
+  :func:`damper.identification.measured.identify_files` (parameters, uncertainty, fit error per
+  file, held-out check per level, one error figure per file in ``--out``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``identify`` sub-command."""
+    p = subparsers.add_parser(
+        "identify", help="identify normalized/extended Bouc-Wen MR damper models (seed paper study)",
+        description="Without --data: identify the virtual benchmark damper over 0-1 V through the "
+                    "virtual laboratory, fit the voltage laws and validate inside every earthquake "
+                    "run. With --data: identify measured constant-voltage/current tests.")
+    p.add_argument("--out", default=None,
+                   help="output directory (default: results/identify, or results/identify-data with --data)")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument("--data", nargs="+", metavar="FILE", default=None,
+                   help="measured test files (UTFSM <amp>mm<freq>Hz<cur>A.txt or CSV)")
+    p.add_argument("--model", choices=("normalized", "extended"), default=None,
+                   help="with --data: identify only this model (default: both)")
+    p.add_argument("--bootstrap", type=int, default=10,
+                   help="with --data: cycle-bootstrap refits per file (default 10)")
+    p.add_argument("--records", default=None,
+                   help="comma list of benchmark records for the validation (default: all seven)")
+    p.add_argument("--orientations", default=None, help="comma list of FN-x, FP-x (default: both)")
+    p.add_argument("--controller", default="clipped-optimal",
+                   help="semi-active controller of the validation runs (default: clipped-optimal)")
+    p.add_argument("--records-dir", default=None, help="directory of the benchmark record files")
+    p.add_argument("--synthetic", action="store_true", help="validate on synthetic benchmark-like records")
+    p.add_argument("--no-validation", action="store_true", help="skip the earthquake validation")
+    p.add_argument("--no-plots", action="store_true", help="write no figures")
+    p.add_argument("--kappa-x", default="large-loop", metavar="MODE",
+                   help="extended model's kappa_x: large-loop (seed step a: read once from the ±0.4 m "
+                        "0 V loop, held fixed; default), joint (one value refined over the whole grid), "
+                        "per-voltage (free at each voltage), or a number in N/m held fixed")
+    p.add_argument("--no-free-kappa-x", action="store_true",
+                   help="do not identify/validate the per-voltage-kappa_x variant for comparison")
+    p.add_argument("--no-ceiling", action="store_true",
+                   help="skip the structural ceiling (the best each model form reaches fitted to "
+                        "each run's own damper motion at 0 V and 1 V)")
+    p.add_argument("--jobs", type=int, default=None,
+                   help="worker processes (default: all cores; 1: no pool)")
+    p.set_defaults(func=_run)
+
+
+def _split(value: str | None) -> list[str] | None:
+    return [s.strip() for s in value.split(",") if s.strip()] if value else None
+
+
+def _run(args: argparse.Namespace) -> int:
+    if args.data:
+        from damper.identification.measured import identify_files
+
+        models = (args.model,) if args.model else ("normalized", "extended")
+        out = args.out or "results/identify-data"
+        result = identify_files(args.data, models=models, n_bootstrap=args.bootstrap,
+                                out=None if args.no_plots else out)
+        if args.json:
+            print(json.dumps(result, indent=2, default=float))
+        else:
+            for s in result["tests"]:
+                p = s["parameters"]
+                print(f"{s['file']:>22s} {s['model']:>10s} {s['level']!s:>5} {s['level_unit']}: "
+                      + ", ".join(f"{k}={p[k]:.4g}" for k in p)
+                      + f"; fit error {100 * s['errors']['rel_rms_error']:.2f} %")
+            for name, reason in result["failed"].items():
+                print(f"{name}: not identified: {reason}")
+            print(json.dumps(result["summary"], indent=2))
+        return 0 if result["tests"] else 2
+
+    from benchmark.applications.identification_study import run_identify_study
+
+    if args.model:
+        print("sbib identify: --model applies to --data only", file=sys.stderr)
+        return 2
+    kappa_x = args.kappa_x
+    if kappa_x not in ("large-loop", "joint", "per-voltage"):
+        try:
+            kappa_x = float(kappa_x)
+        except ValueError:
+            print(f"sbib identify: --kappa-x: expected large-loop, joint, per-voltage or a number "
+                  f"in N/m, got {args.kappa_x!r}", file=sys.stderr)
+            return 2
+    summary = run_identify_study(args.out or "results/identify", records=_split(args.records),
+                                 orientations=_split(args.orientations), controller=args.controller,
+                                 validate=not args.no_validation, records_dir=args.records_dir,
+                                 synthetic=args.synthetic, progress=True,
+                                 plots=not args.no_plots, kappa_x=kappa_x,
+                                 compare_free_kappa_x=not args.no_free_kappa_x,
+                                 ceiling=not args.no_ceiling, jobs=args.jobs)
+    if args.json:
+        print(json.dumps({k: summary[k] for k in ("device", "voltages", "kappa_x", "parameters", "identification_errors",
+                                                   "law_errors", "field_lag", "validation", "ceiling",
+                                                   "files", "timings")}, indent=2, default=float))
+    else:
+        val = summary["validation"]
+        print(f"identified {summary['device']} at {len(summary['voltages'])} voltages; files in "
+              f"{summary['files']['parameters'].rsplit('/', 1)[0]}")
+        if val:
+            print(json.dumps(val["summary"], indent=2))
+        if summary.get("ceiling"):
+            print("structural ceiling (constant voltage, each run's most-moving damper):")
+            print(json.dumps(summary["ceiling"], indent=2))
+        print(f"total {summary['timings']['total_s']:.1f} s")
+    return 0

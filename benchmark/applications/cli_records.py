@@ -1,0 +1,237 @@
+"""``sbib records``: list the benchmark catalogue, show one record, write a synthetic one.
+
+    sbib records list [--records-dir DIR] [--json]
+    sbib records show NAME|FILE [--orientation FN-x|FP-x] [--plot FILE.png] [--json]
+                      [--synthetic --seed N] [--baseline-correct]
+                      [--format auto|benchmark|at2|single|csv --dt S --units U]
+    sbib records generate NAME --out FILE.csv [--orientation] [--seed N] [--plot FILE.png]
+
+A thin layer over :mod:`records`: it parses, calls the Python API and prints.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``records`` command and its sub-commands to the ``sbib`` parser."""
+    parser = subparsers.add_parser(
+        "records", help="ground-motion records: catalogue, show, synthetic",
+        description="The benchmark's seven records (newhall, sylmar, elcentro, rinaldi, kobe, jiji, erzikan), "
+                    "your own record files and the built-in synthetic generator.")
+    sub = parser.add_subparsers(dest="records_command", metavar="SUBCOMMAND")
+    parser.set_defaults(func=lambda args: (parser.print_help(), 2)[1])
+
+    p = sub.add_parser("list", help="the catalogue: found or missing, PGA, duration, flaws",
+                       description="Check a records directory against the benchmark catalogue.")
+    p.add_argument("--records-dir", default=None,
+                   help="directory of the benchmark files (default: SBIB_RECORDS_DIR, then <shared>/records/raw/FDZ)")
+    p.add_argument("--json", action="store_true", help="print the check as JSON")
+    p.set_defaults(func=_list)
+
+    p = sub.add_parser("show", help="PGA, PGV, duration, dt of one record; optional plot",
+                       description="Show a benchmark record by name, a synthetic benchmark-like record "
+                                   "(--synthetic), or any record file (PEER .AT2, benchmark two-column, "
+                                   "single-column with --dt, CSV).")
+    p.add_argument("name", metavar="NAME|FILE", help="benchmark record name (erzincan accepted) or a file path")
+    p.add_argument("--orientation", default="FN-x", help="FN-x (file column 1 on x, default) or FP-x (swapped)")
+    p.add_argument("--records-dir", default=None, help="directory of the benchmark files")
+    p.add_argument("--synthetic", action="store_true", help="show the synthetic benchmark-like record instead")
+    p.add_argument("--seed", type=int, default=0, help="seed of the synthetic record (default 0)")
+    p.add_argument("--baseline-correct", action="store_true", help="apply the polynomial baseline correction")
+    p.add_argument("--format", default="auto", choices=("auto", "benchmark", "at2", "single", "csv"),
+                   help="file format when FILE is given (default: auto)")
+    p.add_argument("--dt", type=float, default=None, help="time step [s] (required for single-column files)")
+    p.add_argument("--units", default=None, help="units of the file's values: g, m/s2, cm/s2 (gal), mm/s2")
+    p.add_argument("--damping", type=float, default=0.05, help="damping ratio of the spectra (default 0.05)")
+    p.add_argument("--plot", default=None, metavar="FILE.png",
+                   help="write time histories (acc, vel, disp) and response spectra to this file")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.set_defaults(func=_show)
+
+    p = sub.add_parser("generate", help="write a synthetic benchmark-like record as CSV",
+                       description="Generate the synthetic record like a benchmark record (PGA, duration, "
+                                   "D5-95, mean period, pulse period) and write it as CSV in m/s2.")
+    p.add_argument("name", help="benchmark record to imitate")
+    p.add_argument("--out", required=True, help="output CSV file")
+    p.add_argument("--orientation", default="FN-x", help="FN-x (default) or FP-x")
+    p.add_argument("--seed", type=int, default=0, help="seed (default 0)")
+    p.add_argument("--plot", default=None, metavar="FILE.png", help="also plot it")
+    p.set_defaults(func=_generate)
+
+
+# --------------------------------------------------------------------------- list
+def _list(args: argparse.Namespace) -> int:
+    from records.catalogue import check_catalogue
+
+    report = check_catalogue(args.records_dir)
+    if args.json:
+        print(json.dumps(report, indent=2))
+    else:
+        print(_format_catalogue(report))
+    if args.records_dir and report["error"]:  # the table says what is missing; stderr says why (exit 2)
+        from benchmark.foundation.errors import InputError
+
+        raise InputError(f"--records-dir {args.records_dir}: {report['error']}")
+    return 0
+
+
+def _format_catalogue(report: dict[str, Any]) -> str:
+    lines = []
+    if report["error"]:
+        lines.append(f"records directory: unavailable ({report['error']})")
+    else:
+        lines.append(f"records directory: {report['records_dir']} ({report['n_found']} of "
+                     f"{len(report['records'])} found)")
+    lines.append(f"{'name':<9} {'file':<13} {'found':<7} {'PGA col 1 / col 2 [g]':<22} {'catalogue [g]':<15} "
+                 f"{'duration':>9}  flaws")
+    for item in report["records"]:
+        expected = " / ".join(f"{x:.3f}" for x in item["expected_pga_g"])
+        if not item["found"]:
+            lines.append(f"{item['name']:<9} {item['file']:<13} {'MISSING':<7} {'-':<22} {expected:<15} "
+                         f"{item['expected_duration_s']:>7.2f} s  -")
+            continue
+        if "error" in item:
+            lines.append(f"{item['name']:<9} {item['file']:<13} {'yes':<7} unreadable: {item['error']}")
+            continue
+        pga = " / ".join(f"{x:.3f}" for x in item["pga_g"])
+        flaws = item["flaws"]
+        lines.append(f"{item['name']:<9} {item['file']:<13} {'yes':<7} {pga:<22} {expected:<15} "
+                     f"{item['duration_s']:>7.2f} s  {len(flaws) if flaws else '-'}")
+        for flaw in flaws:
+            lines.append(f"{'':<11}flaw ({flaw['kind'].replace('_', ' ')}{', known' if flaw['known'] else ''}): "
+                         f"{flaw['message']}")
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- show
+def _load(args: argparse.Namespace):
+    from benchmark.foundation.errors import InputError
+    from records.catalogue import canonical_name, load_benchmark_record
+    from records.readers import load_record
+    from records.synthetic import benchmark_like
+
+    path = Path(args.name)
+    name = None
+    try:
+        name = canonical_name(args.name)
+    except InputError:
+        pass
+    if name is not None and not path.is_file():
+        if args.synthetic:
+            record = benchmark_like(name, args.orientation, seed=args.seed)
+            if args.baseline_correct:
+                from records.baseline import baseline_correct
+
+                record = baseline_correct(record)
+            return record
+        return load_benchmark_record(name, args.orientation, records_dir=args.records_dir,
+                                     baseline_correct=args.baseline_correct)
+    if args.synthetic:
+        raise InputError(f"--synthetic needs a benchmark record name, got {args.name!r}")
+    if not path.exists():
+        raise InputError(f"{args.name!r} is neither a benchmark record (newhall, sylmar, elcentro, rinaldi, kobe, "
+                         "jiji, erzikan) nor an existing file")
+    record = load_record(path, format=args.format, dt=args.dt, units=args.units)
+    if args.baseline_correct:
+        from records.baseline import baseline_correct
+
+        record = baseline_correct(record)
+    return record
+
+
+def _show(args: argparse.Namespace) -> int:
+    from benchmark.foundation.errors import InputError
+    from records.checks import check_record
+    from records.measures import mean_period, significant_duration
+    from records.spectra import response_spectrum
+
+    if not 0 <= args.damping < 1:
+        raise InputError(f"--damping {args.damping}; expected 0 <= damping < 1")
+    record = _load(args)
+    spectrum = response_spectrum(record, damping=args.damping)
+    summary = record.summary()
+    summary["significant_duration_s"] = [significant_duration(record.acceleration[:, c], record.dt)
+                                         for c in range(record.n_components)]
+    summary["mean_period_s"] = [_mean_period_or_none(record.acceleration[:, c], record.dt)
+                                for c in range(record.n_components)]
+    summary["spectral_peak_period_s"] = [spectrum.peak_period(c) for c in range(record.n_components)]
+    summary["peak_psa_g"] = [float(x) for x in spectrum.psa.max(axis=0) / 9.80665]
+    flaws = record.metadata.get("flaws")
+    if flaws is None:
+        flaws = [f.message for f in check_record(record)]
+    summary["flaws"] = list(flaws)
+    for key in ("event", "station", "orientation", "x_file_column", "baseline_correction", "units_in_file"):
+        if key in record.metadata:
+            summary[key] = record.metadata[key]
+    if args.plot:
+        from records.plots import plot_record
+
+        summary["plot"] = str(plot_record(record, args.plot, spectrum=spectrum))
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 0
+    print(_format_summary(summary))
+    return 0
+
+
+def _or_dash(value: float | None, width: int, digits: int) -> str:
+    return f"{'-':>{width}}" if value is None else f"{value:>{width}.{digits}f}"
+
+
+def _mean_period_or_none(acceleration, dt: float) -> float | None:
+    """The mean period, or None for a record without content in its band (zero, or very short)."""
+    from benchmark.foundation.errors import InputError
+    from records.measures import mean_period
+
+    try:
+        return mean_period(acceleration, dt)
+    except InputError:
+        return None
+
+
+def _format_summary(s: dict[str, Any]) -> str:
+    head = ("SYNTHETIC " if s["synthetic"] else "") + s["name"]
+    extra = [str(s[k]) for k in ("event", "station") if s.get(k)]
+    if s.get("orientation"):
+        extra.append(f"orientation {s['orientation']} (x = file column {s.get('x_file_column', 1)})")
+    lines = [head + (" — " + "; ".join(extra) if extra else ""), f"source: {s['source']}"]
+    lines.append(f"dt {s['dt_s']:g} s, {s['n_samples']} samples, duration {s['duration_s']:.3f} s"
+                 + (f"; {s['baseline_correction']}" if s.get("baseline_correction") else ""))
+    axis = ["x: ", "y: "] if s["n_samples"] and len(s["labels"]) == 2 else [""] * len(s["labels"])
+    lines.append(f"{'component':<28} {'PGA [g]':>8} {'PGA [m/s²]':>11} {'PGV [cm/s]':>11} {'PGD [cm]':>9} "
+                 f"{'D5-95 [s]':>10} {'Tm [s]':>7} {'PSA peak [g] at T [s]':>22}")
+    for c, label in enumerate(s["labels"]):
+        prefix = axis[c] if c < len(axis) else ""
+        lines.append(f"{(prefix + label)[:28]:<28} {s['pga_g'][c]:>8.3f} {s['pga_m_s2'][c]:>11.3f} "
+                     f"{100 * s['pgv_m_s'][c]:>11.1f} {100 * s['pgd_m'][c]:>9.1f} "
+                     f"{s['significant_duration_s'][c]:>10.2f} {_or_dash(s['mean_period_s'][c], 7, 3)} "
+                     f"{s['peak_psa_g'][c]:>13.3f} at {s['spectral_peak_period_s'][c]:.2f}")
+    if s["flaws"]:
+        lines.extend(f"flaw: {f}" for f in s["flaws"])
+    else:
+        lines.append("flaws: none found")
+    if s.get("plot"):
+        lines.append(f"plot written: {s['plot']}")
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- generate
+def _generate(args: argparse.Namespace) -> int:
+    from records.readers import write_csv
+    from records.synthetic import benchmark_like
+
+    record = benchmark_like(args.name, args.orientation, seed=args.seed)
+    path = write_csv(record, args.out)
+    print(f"SYNTHETIC record {record.name} ({record.source}) written to {path}")
+    if args.plot:
+        from records.plots import plot_record
+
+        print(f"plot written: {plot_record(record, args.plot)}")
+    return 0

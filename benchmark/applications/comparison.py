@@ -1,0 +1,369 @@
+"""The controller comparison: every record × orientation × controller, on all cores.
+
+For each record and orientation the uncontrolled building (no devices) is the reference; each
+controller's run is evaluated against it (:func:`benchmark.simulator.evaluation.evaluate`, J1–J9) and its
+peaks kept (:func:`benchmark.simulator.evaluation.peaks`). Runs are independent and go to a process pool
+(one task per run; the tasks of one record go to the same worker so that its reference run is
+computed once); a tqdm bar shows progress. The result prints as a table (J's per run, mean and
+max over records per controller), converts to JSON, writes one HDF5 file (atomically) and
+draws PNG figures (J's per controller and record; base-displacement, device-force and voltage
+histories).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+from benchmark.foundation.errors import InputError, SbibError
+
+__all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
+
+J_NAMES = tuple(f"J{i}" for i in range(1, 10))
+_HISTORY_STEP = 0.02  # [s] sampling of the stored histories
+
+
+@dataclass
+class ComparisonRun:
+    """One controlled run: J's, peaks, down-sampled histories (SI), wall time."""
+
+    record: str
+    orientation: str
+    controller: str
+    J: dict
+    peaks: dict
+    histories: dict = field(default_factory=dict, repr=False)
+    elapsed_s: float = 0.0
+    synthetic: bool = False
+
+    def to_json(self) -> dict:
+        return {"record": self.record, "orientation": self.orientation, "controller": self.controller,
+                "J": self.J, "peaks": self.peaks}
+
+
+@dataclass
+class ComparisonResult:
+    """All runs of a comparison, the references' peaks and the settings."""
+
+    runs: list
+    references: dict          # (record, orientation) -> peaks of the uncontrolled run
+    reference_histories: dict = field(default_factory=dict, repr=False)
+    settings: dict = field(default_factory=dict)
+
+    @property
+    def controllers(self) -> list[str]:
+        return list(dict.fromkeys(r.controller for r in self.runs))
+
+    @property
+    def cases(self) -> list[tuple[str, str]]:
+        return list(dict.fromkeys((r.record, r.orientation) for r in self.runs))
+
+    def summary(self) -> dict:
+        """Mean and max of every J over records and orientations, per controller."""
+        out = {}
+        for name in self.controllers:
+            runs = [r for r in self.runs if r.controller == name]
+            entry = {}
+            for j in J_NAMES:
+                values = [r.J.get(j) for r in runs if r.J.get(j) is not None]
+                entry[j] = {"mean": float(np.mean(values)) if values else None,
+                            "max": float(np.max(values)) if values else None}
+            out[name] = entry
+        return out
+
+    def to_json(self) -> dict:
+        """``{"runs": [...], "summary": {...}, "settings": {...}}``."""
+        return {"runs": [r.to_json() for r in self.runs], "summary": self.summary(),
+                "settings": self.settings}
+
+    def table(self) -> str:
+        """Fixed-width text table: J1–J9 per run, then mean and max per controller."""
+        def fmt(v):
+            return "   -  " if v is None else f"{v:6.3f}"
+        head = f"{'record':<10} {'orient':<6} {'controller':<16}" + "".join(f"{j:>7}" for j in J_NAMES)
+        lines = [head, "-" * len(head)]
+        for r in self.runs:
+            lines.append(f"{r.record:<10} {r.orientation:<6} {r.controller:<16}"
+                         + "".join(" " + fmt(r.J.get(j)) for j in J_NAMES))
+        lines.append("-" * len(head))
+        for name, entry in self.summary().items():
+            for stat in ("mean", "max"):
+                lines.append(f"{stat:<10} {'all':<6} {name:<16}" + "".join(" " + fmt(entry[j][stat]) for j in J_NAMES))
+        return "\n".join(lines)
+
+    def write_hdf5(self, path: str | os.PathLike) -> Path:
+        """Write every run (J's and peaks as attributes, histories as datasets) atomically."""
+        import h5py
+        import json
+
+        from benchmark.foundation.atomic import atomic_path
+        from benchmark.foundation.provenance import provenance
+
+        path = Path(path)
+        with atomic_path(path) as tmp:
+            with h5py.File(tmp, "w") as h5:
+                for key, value in provenance(kind="controller comparison").items():
+                    h5.attrs[key] = value
+                h5.attrs["settings"] = json.dumps(self.settings, default=str)
+                h5.attrs["summary"] = json.dumps(self.summary())
+                h5.attrs["units"] = "SI: m, N, V, s; J's dimensionless"
+                for (rec, ori), p in self.references.items():
+                    g = h5.require_group(f"reference/{rec}/{ori}")
+                    for k, v in p.items():
+                        g.attrs[k] = v
+                    for k, v in self.reference_histories.get((rec, ori), {}).items():
+                        g.create_dataset(k, data=v, compression="gzip")
+                for r in self.runs:
+                    g = h5.require_group(f"runs/{r.record}/{r.orientation}/{r.controller}")
+                    for k, v in r.J.items():
+                        g.attrs[k] = np.nan if v is None else v
+                    for k, v in r.peaks.items():
+                        g.attrs[k] = v
+                    g.attrs["elapsed_s"] = r.elapsed_s
+                    g.attrs["synthetic_record"] = r.synthetic
+                    for k, v in r.histories.items():
+                        g.create_dataset(k, data=v, compression="gzip")
+        return path
+
+    def plot(self, directory: str | os.PathLike) -> list[Path]:
+        """Draw the figures into ``directory`` (PNG) and return their paths."""
+        from benchmark.applications import comparison_plots
+
+        return comparison_plots.plot_all(self, Path(directory))
+
+
+def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: str,
+               all_words: tuple[str, ...] = ("all",)) -> list[str]:
+    """Split a comma list and check every entry against ``allowed`` (``all`` → everything).
+
+    Raises
+    ------
+    InputError
+        Naming the unknown entry and the allowed values.
+    """
+    if value is None:
+        return list(allowed)
+    items = [v.strip() for v in (value.split(",") if isinstance(value, str) else value) if v.strip()]
+    if not items:
+        raise InputError(f"--{what}: empty list; expected a comma-separated list of {', '.join(allowed)}")
+    if len(items) == 1 and items[0].lower() in all_words:
+        return list(allowed)
+    lookup = {a.lower(): a for a in allowed}
+    out = []
+    for item in items:
+        if item.lower() not in lookup:
+            raise InputError(f"--{what}: {item!r} unknown; expected one of {', '.join(allowed)}"
+                             f" or {all_words[0]}")
+        out.append(lookup[item.lower()])
+    return out
+
+
+# --------------------------------------------------------------------------- workers
+def _load_record(name: str, orientation: str, records_dir: str | None, synthetic: bool):
+    if synthetic:
+        from records.synthetic import benchmark_like
+
+        return benchmark_like(name, orientation)
+    try:
+        from records import load_benchmark_record
+    except ImportError:
+        from records.catalogue import load_benchmark_record
+    return load_benchmark_record(name, orientation, records_dir=records_dir)
+
+
+_BUILDING_OVERRIDE: Any = None  # a caller's Building, installed in each worker by _init_worker
+
+
+def _init_worker(building: Any) -> None:
+    global _BUILDING_OVERRIDE
+    _BUILDING_OVERRIDE = building
+    _reference.cache_clear()
+
+
+@lru_cache(maxsize=4)
+def _default_building(isolation: str | None, n_modes: int | None):
+    from benchmark.simulator.building import Building
+
+    return Building.default(isolation=isolation, n_modes=n_modes)
+
+
+def _building(isolation: str | None, n_modes: int | None):
+    if _BUILDING_OVERRIDE is not None:
+        return _BUILDING_OVERRIDE
+    return _default_building(isolation, n_modes)
+
+
+def _simulate(building, record, controller, settings: dict):
+    from benchmark.simulator.simulation import simulate
+
+    kwargs = {"control_step": settings["control_step"]}
+    if settings.get("noise") is not None:
+        kwargs["noise"] = settings["noise"]
+        kwargs["seed"] = settings.get("seed", 0)
+    return simulate(building, record, controller=controller, **kwargs)
+
+
+@lru_cache(maxsize=2)
+def _reference(record_name: str, orientation: str, settings_key: tuple):
+    settings = dict(settings_key)
+    record = _load_record(record_name, orientation, settings.get("records_dir"), settings.get("synthetic", False))
+    building = _building(settings.get("isolation"), settings.get("n_modes"))
+    result = _simulate(building, record, None, settings)  # controller=None: no devices
+    return record, result
+
+
+def _histories(result, step: float) -> dict:
+    t = np.asarray(result.t)
+    stride = max(1, int(round(step / (t[1] - t[0])))) if t.size > 1 else 1
+    out = {"t": t[::stride], "base_displacement": np.asarray(result.base_displacement)[::stride, :2]}
+    for name in ("device_force_total", "voltage"):
+        value = getattr(result, name, None)
+        if value is not None and np.size(value):
+            value = np.asarray(value)[::stride]
+            out[name] = value[:, :2] if name == "device_force_total" else value
+    return out
+
+
+def _make_controller(spec):
+    if isinstance(spec, str):
+        from controllers.registry import get_controller
+
+        return get_controller(spec)
+    return copy.deepcopy(spec)
+
+
+def _controller_label(spec) -> str:
+    return spec if isinstance(spec, str) else str(getattr(spec, "name", type(spec).__name__))
+
+
+def _run_one(task) -> tuple:
+    """Worker: one controlled run (and, cached per worker, its reference)."""
+    record_name, orientation, spec, settings_key = task
+    from benchmark.simulator.evaluation import evaluate, peaks
+
+    t0 = time.perf_counter()
+    record, reference = _reference(record_name, orientation, settings_key)
+    settings = dict(settings_key)
+    building = _building(settings.get("isolation"), settings.get("n_modes"))
+    controller = _make_controller(spec)
+    if controller is None:
+        result = reference
+    else:
+        result = _simulate(building, record, controller, settings)
+    run = ComparisonRun(record=record_name, orientation=orientation, controller=_controller_label(spec),
+                        J=evaluate(result, reference), peaks=peaks(result),
+                        histories=_histories(result, _HISTORY_STEP), elapsed_s=time.perf_counter() - t0,
+                        synthetic=bool(getattr(record, "synthetic", False)))
+    return run, peaks(reference), _histories(reference, _HISTORY_STEP)
+
+
+def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[str] = "both",
+            controllers: str | Sequence[Any] = ("passive-off", "passive-on", "clipped-optimal"),
+            isolation: str | None = None, records_dir: str | None = None, jobs: int | None = None,
+            control_step: float = 0.005, noise: Any = None, seed: int = 0, n_modes: int | None = None,
+            synthetic: bool = False, building: Any = None, progress: bool = True) -> ComparisonResult:
+    """Run every record × orientation × controller and evaluate each against the uncontrolled run.
+
+    Parameters
+    ----------
+    records : "all", comma list or sequence
+        Benchmark record names (:data:`records.BENCHMARK_RECORDS`).
+    orientations : "both", comma list or sequence
+        ``FN-x`` and/or ``FP-x``.
+    controllers : comma list or sequence
+        Registered names (:mod:`controllers.registry`) or controller objects (picklable when
+        ``jobs > 1``; each run gets a deep copy).
+    isolation : str, optional
+        Isolation configuration name (default: the building's default).
+    records_dir : str, optional
+        Directory of the record files.
+    jobs : int, optional
+        Worker processes (default: all cores; 1 runs in this process).
+    control_step : float
+        [s]
+    noise : optional
+        Measurement noise (e.g. :class:`controllers.noise.MeasurementNoise`), seeded by ``seed``.
+    n_modes : int, optional
+        Reduced superstructure (default: all 24 modes).
+    synthetic : bool
+        Use the labelled synthetic benchmark-like records (no files needed).
+    building : benchmark.simulator.building.Building, optional
+        The building to use instead of ``Building.default(isolation, n_modes)`` (then
+        ``isolation`` and ``n_modes`` are ignored).
+    progress : bool
+        Show a tqdm progress bar (on stderr).
+    """
+    try:
+        from records.catalogue import BENCHMARK_RECORDS, ORIENTATIONS
+    except ImportError:  # pragma: no cover
+        from records import BENCHMARK_RECORDS, ORIENTATIONS
+    from controllers.registry import controller_names
+
+    record_list = parse_list(records, BENCHMARK_RECORDS, "records")
+    orientation_list = parse_list(orientations, ORIENTATIONS, "orientations", ("both", "all"))
+    if isinstance(controllers, str):
+        specs: list = parse_list(controllers, controller_names(), "controllers")
+    else:
+        specs = [parse_list([c], controller_names(), "controllers")[0] if isinstance(c, str) else c
+                 for c in controllers]
+    if not specs:
+        raise InputError("--controllers: no controller given")
+    labels = [_controller_label(s) for s in specs]
+    if len(set(labels)) != len(labels):
+        raise InputError(f"--controllers: duplicate names {labels}")
+    if not (math.isfinite(control_step) and control_step > 0):
+        raise InputError(f"--control-step: expected a positive number of seconds, got {control_step}")
+    settings = {"control_step": float(control_step), "isolation": isolation, "records_dir":
+                None if records_dir is None else str(records_dir), "n_modes": n_modes,
+                "synthetic": bool(synthetic), "seed": int(seed), "noise": noise,
+                "building": None if building is None else f"custom:{getattr(building, 'name', '?')}:{id(building)}"}
+    settings_key = tuple(sorted(settings.items(), key=lambda kv: kv[0]))
+    tasks = [(rec, ori, spec, settings_key) for rec in record_list for ori in orientation_list for spec in specs]
+    n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
+
+    from tqdm import tqdm
+
+    bar = tqdm(total=len(tasks), desc="compare", unit="run", disable=not progress)
+    outcomes = []
+    try:
+        if n_jobs == 1:
+            _init_worker(building)
+            for task in tasks:
+                outcomes.append(_run_one(task))
+                bar.set_postfix_str(f"{task[0]} {task[1]} {_controller_label(task[2])}")
+                bar.update()
+        else:
+            import multiprocessing
+
+            chunk = max(1, min(len(specs), len(tasks) // n_jobs))
+            ctx = multiprocessing.get_context("spawn" if os.name == "nt" else "fork")
+            with ProcessPoolExecutor(max_workers=n_jobs, mp_context=ctx, initializer=_init_worker,
+                                     initargs=(building,)) as pool:
+                for outcome in pool.map(_run_one, tasks, chunksize=chunk):
+                    outcomes.append(outcome)
+                    bar.set_postfix_str(f"{outcome[0].record} {outcome[0].orientation} {outcome[0].controller}")
+                    bar.update()
+    finally:
+        bar.close()
+        if n_jobs == 1:
+            _init_worker(None)
+    runs, references, ref_hist = [], {}, {}
+    for run, ref_peaks, ref_histories in outcomes:
+        runs.append(run)
+        references[(run.record, run.orientation)] = ref_peaks
+        ref_hist[(run.record, run.orientation)] = ref_histories
+    public_settings = {k: v for k, v in settings.items() if k != "noise"}
+    public_settings["noise"] = None if noise is None else repr(noise)
+    public_settings["controllers"] = labels
+    public_settings["jobs"] = n_jobs
+    return ComparisonResult(runs=runs, references=references, reference_histories=ref_hist,
+                            settings=public_settings)

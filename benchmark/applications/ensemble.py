@@ -1,0 +1,890 @@
+"""Ensembles: records × controllers × parameter grids × synthetic-motion seeds, on all cores.
+
+An ensemble is a list of :class:`Case` objects expanded from an :class:`EnsembleConfig`
+(usually a TOML file, see ``examples/ensemble.toml``) and a *run function*
+``run(case) -> dict[str, float | numpy.ndarray]`` applied to each case:
+
+* ``"simulation"`` (default, :func:`simulate_case`): one benchmark run (record, controller,
+  parameter overrides) evaluated against the uncontrolled run of the same motion, giving the
+  peaks and J1–J9;
+* ``"peaks"`` (:func:`simulate_peaks_case`): the same simulation, peaks only (no uncontrolled
+  run, about half the cost; what fragility studies need);
+* ``"probe"`` (:func:`probe_case`): a cheap deterministic function of the case seed, for
+  checking a cluster or an installation before spending hours on it;
+* ``"package.module:function"``: any importable function with that signature.
+
+Execution (:func:`run_ensemble`): cases run in worker processes (``jobs``) or on a Dask
+cluster (``scheduler``/``client``); the parent process is the single writer. Each finished
+run is appended to a fsync'd journal (:mod:`benchmark.applications.ensemble_journal`), the source of
+truth; the HDF5 file is rebuilt from the journal atomically (temporary file + rename) at the
+end, every ``checkpoint_seconds`` and on interruption. Re-running the same command after
+Ctrl-C or ``kill -9`` runs only the cases missing from the journal.
+
+Reproducibility: every case carries two seeds derived with :class:`numpy.random.SeedSequence`
+from the base seed and a hash of a key — ``motion_seed`` from the *motion* key (template and
+realisation: every controller, parameter set, PGA and both orientations see the same synthetic
+pair), and ``seed`` from the full case key (measurement noise and anything else random in
+the run). Results therefore do not depend on the number of processes, on the order in which
+cases finish, on the machine that ran them, or on interruptions.
+
+HDF5 layout (all SI; case *i* is row *i* in every dataset)::
+
+    /                 attrs: provenance, name, base_seed, run, config (TOML text),
+                             n_cases, n_done, n_failed, complete
+    /cases/key, record, orientation, controller, status, error   (strings)
+    /cases/synthetic (bool), realisation (int, -1 for recorded motions), pga [m/s²] (NaN: unscaled),
+    /cases/seed, motion_seed (int64), elapsed_s [s]
+    /cases/parameters/<name>                                      (float64)
+    /results/<metric>     float64, shape (n_cases, ...), NaN for pending or failed runs
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import dataclasses
+import hashlib
+import importlib
+import itertools
+import json
+import math
+import multiprocessing
+import os
+import signal
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Iterable, Mapping, Sequence
+
+import numpy as np
+
+from benchmark.foundation.atomic import atomic_path
+from benchmark.applications.ensemble_journal import Journal, JournalEntry
+from benchmark.foundation.errors import InputError, NumericalError
+
+__all__ = [
+    "Case",
+    "EnsembleConfig",
+    "EnsembleSummary",
+    "EnsembleResults",
+    "RUN_FUNCTIONS",
+    "resolve_run_function",
+    "derive_seed",
+    "run_ensemble",
+    "write_hdf5",
+    "read_ensemble",
+    "probe_case",
+    "simulate_case",
+    "simulate_peaks_case",
+    "journal_path",
+]
+
+#: Named run functions (``run = "..."`` in the TOML file); anything else is ``module:function``.
+RUN_FUNCTIONS: dict[str, str] = {
+    "simulation": "benchmark.applications.ensemble:simulate_case",
+    "peaks": "benchmark.applications.ensemble:simulate_peaks_case",
+    "probe": "benchmark.applications.ensemble:probe_case",
+}
+
+#: Seconds to wait for a Dask scheduler to answer before giving up with an InputError.
+DASK_CONNECT_TIMEOUT_S = 30.0
+
+_TOP_LEVEL_KEYS = {"name", "base_seed", "run", "controllers", "orientations", "pga", "records",
+                   "synthetic", "grid"}
+_SYNTHETIC_KEYS = {"templates", "realisations"}
+
+
+# ---------------------------------------------------------------------------------------------
+# Seeds and cases
+# ---------------------------------------------------------------------------------------------
+def derive_seed(base_seed: int, key: str) -> int:
+    """Return a 63-bit seed derived from ``base_seed`` and the text ``key``.
+
+    Uses ``SeedSequence(base_seed, spawn_key=words)`` with ``words`` the first 16 bytes of
+    SHA-256(``key``) as four 32-bit words: independent streams for different keys, the same
+    seed for the same key on any machine and in any process.
+    """
+    digest = hashlib.sha256(key.encode("utf-8")).digest()[:16]
+    words = tuple(int.from_bytes(digest[i:i + 4], "little") for i in range(0, 16, 4))
+    state = np.random.SeedSequence(int(base_seed), spawn_key=words).generate_state(1, np.uint64)[0]
+    return int(state) & (2 ** 63 - 1)
+
+
+def _fmt(value: float) -> str:
+    return repr(float(value))
+
+
+@dataclass(frozen=True)
+class Case:
+    """One run of an ensemble.
+
+    Parameters
+    ----------
+    index : int
+        Row in the ensemble (and in every HDF5 dataset).
+    key : str
+        Canonical text that identifies the run (journal key, seed source).
+    record : str
+        Benchmark record name (``"kobe"``) or synthetic template name.
+    orientation : str
+        ``"FN-x"`` or ``"FP-x"``.
+    synthetic : bool
+        ``True`` for a synthetic benchmark-like motion (``records.synthetic.benchmark_like``).
+    realisation : int
+        Index of the synthetic realisation (``-1`` for recorded motions).
+    pga : float
+        Target peak ground acceleration of the stronger component [m/s²]; NaN: unscaled.
+    controller : str
+        Controller name (``controllers.registry``).
+    parameters : tuple of (str, float)
+        Parameter overrides from the grid, in the config's order.
+    seed : int
+        Seed of everything random in the run (from the full key).
+    motion_seed : int
+        Seed of the synthetic motion, from (template, realisation): the same pair for every
+        controller, parameter set, PGA and orientation.
+    """
+
+    index: int
+    key: str
+    record: str
+    orientation: str
+    synthetic: bool
+    realisation: int
+    pga: float
+    controller: str
+    parameters: tuple[tuple[str, float], ...]
+    seed: int
+    motion_seed: int
+
+    @property
+    def parameter_dict(self) -> dict[str, float]:
+        """The parameter overrides as a dict."""
+        return dict(self.parameters)
+
+    @property
+    def motion_key(self) -> str:
+        """Key of the ground motion alone (record, orientation, realisation, PGA)."""
+        return self.key.split("|controller=")[0]
+
+
+def _check_str_list(value: Any, where: str, allowed: Sequence[str] | None = None) -> tuple[str, ...]:
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) and v for v in value):
+        raise InputError(f"{where}: expected a non-empty list of names, got {value!r}")
+    if allowed is not None:
+        bad = [v for v in value if v not in allowed]
+        if bad:
+            raise InputError(f"{where}: unknown {bad}; expected some of {list(allowed)}")
+    if len(set(value)) != len(value):
+        raise InputError(f"{where}: duplicate entries in {value!r}")
+    return tuple(value)
+
+
+def _check_float_list(value: Any, where: str, positive: bool = False) -> tuple[float, ...]:
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        value = [value]
+    if (not isinstance(value, list) or not value
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)):
+        raise InputError(f"{where}: expected a non-empty list of numbers, got {value!r}")
+    out = tuple(float(v) for v in value)
+    if not all(math.isfinite(v) for v in out):
+        raise InputError(f"{where}: values must be finite, got {value!r}")
+    if positive and any(v <= 0 for v in out):
+        raise InputError(f"{where}: values must be > 0, got {value!r}")
+    if len(set(out)) != len(out):
+        raise InputError(f"{where}: duplicate values in {value!r}")
+    return out
+
+
+@dataclass(frozen=True)
+class EnsembleConfig:
+    """What an ensemble runs (validated; usually read from TOML by :meth:`from_toml`).
+
+    Parameters
+    ----------
+    controllers : tuple of str
+        Controller names.
+    records : tuple of str
+        Benchmark records (recorded motions); may be empty if ``synthetic_templates`` is not.
+    orientations : tuple of str
+        ``"FN-x"`` and/or ``"FP-x"`` (applied to recorded and synthetic motions).
+    synthetic_templates : tuple of str
+        Records whose character the synthetic motions imitate (``benchmark_like``).
+    realisations : int
+        Synthetic realisations per template and orientation.
+    pga : tuple of float
+        Target PGAs [m/s²] (stronger component); empty: motions unscaled.
+    grid : tuple of (str, tuple of float)
+        Parameter grid (cartesian product), in order.
+    base_seed : int
+        Seed every case seed is derived from.
+    run : str
+        Run function: a name in :data:`RUN_FUNCTIONS` or ``"module:function"``.
+    name : str
+        Label stored with the results.
+    source : str
+        Where the config came from (file path), for messages.
+    text : str
+        The TOML text (stored in the HDF5 file).
+    """
+
+    controllers: tuple[str, ...]
+    records: tuple[str, ...] = ()
+    orientations: tuple[str, ...] = ("FN-x", "FP-x")
+    synthetic_templates: tuple[str, ...] = ()
+    realisations: int = 0
+    pga: tuple[float, ...] = ()
+    grid: tuple[tuple[str, tuple[float, ...]], ...] = ()
+    base_seed: int = 0
+    run: str = "simulation"
+    name: str = "ensemble"
+    source: str = "<python>"
+    text: str = ""
+
+    def __post_init__(self) -> None:
+        where = self.source
+        if not self.records and not (self.synthetic_templates and self.realisations > 0):
+            raise InputError(f"{where}: no motions: give records = [...] and/or [synthetic] templates "
+                             "with realisations >= 1")
+        if not isinstance(self.base_seed, int) or isinstance(self.base_seed, bool) or self.base_seed < 0:
+            raise InputError(f"{where}: field 'base_seed' must be an integer >= 0, got {self.base_seed!r}")
+        if not isinstance(self.realisations, int) or self.realisations < 0:
+            raise InputError(f"{where}: field 'synthetic.realisations' must be an integer >= 0, "
+                             f"got {self.realisations!r}")
+        for name, values in self.grid:
+            if "|" in name or "=" in name or "/" in name or not name:
+                raise InputError(f"{where}: grid parameter name {name!r} must not be empty or contain "
+                                 "'|', '=' or '/'")
+
+    # -- construction ----------------------------------------------------------------------------
+    @classmethod
+    def from_toml(cls, path: str | os.PathLike) -> "EnsembleConfig":
+        """Read and validate a TOML ensemble description (see ``examples/ensemble.toml``).
+
+        Raises
+        ------
+        DataNotFoundError
+            If the file does not exist.
+        InputError
+            On a TOML syntax error (with line) or a field of the wrong type, value or name.
+        """
+        from benchmark.foundation.errors import DataNotFoundError
+
+        path = Path(path)
+        if not path.is_file():
+            raise DataNotFoundError(f"ensemble config {path} not found")
+        text = path.read_text(encoding="utf-8")
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"{path}: invalid TOML: {exc}") from None
+        return cls.from_dict(data, source=str(path), text=text)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>", text: str = "") -> "EnsembleConfig":
+        """Validate a parsed TOML document; every error names ``source`` and the field."""
+        orientations_allowed = _orientations()
+        unknown = sorted(set(data) - _TOP_LEVEL_KEYS)
+        if unknown:
+            raise InputError(f"{source}: unknown field(s) {unknown}; expected some of {sorted(_TOP_LEVEL_KEYS)}")
+        if "controllers" not in data:
+            raise InputError(f"{source}: missing field 'controllers' (a list of controller names)")
+        controllers = _check_str_list(data["controllers"], f"{source}: field 'controllers'")
+        records: tuple[str, ...] = ()
+        if "records" in data:
+            value = data["records"]
+            if value == "all":
+                from records import BENCHMARK_RECORDS
+                value = list(BENCHMARK_RECORDS)
+            records = _check_str_list(value, f"{source}: field 'records'")
+        orientations = _check_str_list(data.get("orientations", list(orientations_allowed)),
+                                       f"{source}: field 'orientations'", allowed=orientations_allowed)
+        templates: tuple[str, ...] = ()
+        realisations = 0
+        if "synthetic" in data:
+            syn = data["synthetic"]
+            if not isinstance(syn, dict):
+                raise InputError(f"{source}: field 'synthetic' must be a table [synthetic]")
+            bad = sorted(set(syn) - _SYNTHETIC_KEYS)
+            if bad:
+                raise InputError(f"{source}: unknown field(s) {['synthetic.' + b for b in bad]}; expected "
+                                 f"{sorted('synthetic.' + k for k in _SYNTHETIC_KEYS)}")
+            if "templates" not in syn:
+                raise InputError(f"{source}: missing field 'synthetic.templates'")
+            templates = _check_str_list(syn["templates"], f"{source}: field 'synthetic.templates'")
+            realisations = syn.get("realisations", 1)
+            if not isinstance(realisations, int) or isinstance(realisations, bool) or realisations < 1:
+                raise InputError(f"{source}: field 'synthetic.realisations' must be an integer >= 1, "
+                                 f"got {realisations!r}")
+        pga = _check_float_list(data["pga"], f"{source}: field 'pga'", positive=True) if "pga" in data else ()
+        grid: list[tuple[str, tuple[float, ...]]] = []
+        if "grid" in data:
+            if not isinstance(data["grid"], dict):
+                raise InputError(f"{source}: field 'grid' must be a table [grid] of name = [values]")
+            for name, values in _flatten(data["grid"]):
+                grid.append((name, _check_float_list(values, f"{source}: field 'grid.{name}'")))
+        base_seed = data.get("base_seed", 0)
+        if not isinstance(base_seed, int) or isinstance(base_seed, bool) or base_seed < 0:
+            raise InputError(f"{source}: field 'base_seed' must be an integer >= 0, got {base_seed!r}")
+        run = data.get("run", "simulation")
+        if not isinstance(run, str) or not (run in RUN_FUNCTIONS or ":" in run):
+            raise InputError(f"{source}: field 'run' must be one of {sorted(RUN_FUNCTIONS)} or "
+                             f"'module:function', got {run!r}")
+        name = data.get("name", Path(source).stem if source not in ("<dict>", "<python>") else "ensemble")
+        if not isinstance(name, str):
+            raise InputError(f"{source}: field 'name' must be a string, got {name!r}")
+        return cls(controllers=controllers, records=records, orientations=orientations,
+                   synthetic_templates=templates, realisations=realisations, pga=pga, grid=tuple(grid),
+                   base_seed=base_seed, run=run, name=name, source=source, text=text)
+
+    # -- expansion -------------------------------------------------------------------------------
+    def motions(self) -> list[tuple[str, str, bool, int, float]]:
+        """(record, orientation, synthetic, realisation, pga) of every motion, in order."""
+        pgas = self.pga or (math.nan,)
+        out = []
+        for record in self.records:
+            for orientation in self.orientations:
+                for pga in pgas:
+                    out.append((record, orientation, False, -1, pga))
+        for template in self.synthetic_templates:
+            for orientation in self.orientations:
+                for realisation in range(self.realisations):
+                    for pga in pgas:
+                        out.append((template, orientation, True, realisation, pga))
+        return out
+
+    def cases(self) -> list[Case]:
+        """Expand into cases: motions × controllers × grid (cartesian product, in this order)."""
+        names = [name for name, _ in self.grid]
+        grid_points = list(itertools.product(*[values for _, values in self.grid]))
+        cases: list[Case] = []
+        for record, orientation, synthetic, realisation, pga in self.motions():
+            motion = (f"synthetic={record}#{realisation}" if synthetic else f"record={record}")
+            motion += f"|orientation={orientation}"
+            # The PGA scales a motion, it does not change it; a synthetic realisation in FP-x is
+            # its FN-x pair swapped (records.synthetic.benchmark_like), as for recorded pairs.
+            motion_seed_key = f"synthetic={record}#{realisation}" if synthetic else f"record={record}"
+            if not math.isnan(pga):
+                motion += f"|pga={_fmt(pga)}"
+            motion_seed = derive_seed(self.base_seed, motion_seed_key)
+            for controller in self.controllers:
+                for point in grid_points:
+                    key = motion + f"|controller={controller}"
+                    key += "".join(f"|{n}={_fmt(v)}" for n, v in zip(names, point))
+                    cases.append(Case(index=len(cases), key=key, record=record, orientation=orientation,
+                                      synthetic=synthetic, realisation=realisation, pga=pga,
+                                      controller=controller, parameters=tuple(zip(names, point)),
+                                      seed=derive_seed(self.base_seed, key), motion_seed=motion_seed))
+        return cases
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        """Names of the grid parameters, in order."""
+        return tuple(name for name, _ in self.grid)
+
+
+def _orientations() -> tuple[str, ...]:
+    try:
+        from records import ORIENTATIONS
+    except ImportError:  # records package without its catalogue: the benchmark's two
+        ORIENTATIONS = ("FN-x", "FP-x")
+    return tuple(ORIENTATIONS)
+
+
+def _flatten(table: Mapping[str, Any], prefix: str = "") -> Iterable[tuple[str, Any]]:
+    """Flatten nested TOML tables: ``[grid.damper] kappa_w = [...]`` → ``damper.kappa_w``."""
+    for name, value in table.items():
+        full = f"{prefix}{name}"
+        if isinstance(value, dict):
+            yield from _flatten(value, full + ".")
+        else:
+            yield full, value
+
+
+# ---------------------------------------------------------------------------------------------
+# Run functions
+# ---------------------------------------------------------------------------------------------
+_RESOLVED: dict[str, Callable[[Case], dict[str, Any]]] = {}
+
+
+def resolve_run_function(spec: str | Callable[[Case], dict[str, Any]]) -> Callable[[Case], dict[str, Any]]:
+    """Return the run function for a name in :data:`RUN_FUNCTIONS`, ``"module:function"`` or a callable.
+
+    Parameters
+    ----------
+    spec : str or callable
+        ``"simulation"``, ``"peaks"``, ``"probe"``, ``"package.module:function"`` or the function.
+
+    Raises
+    ------
+    InputError
+        If the module or function cannot be found.
+    """
+    if callable(spec):
+        return spec
+    if spec in _RESOLVED:
+        return _RESOLVED[spec]
+    target = RUN_FUNCTIONS.get(spec, spec)
+    module_name, _, function_name = target.partition(":")
+    if not module_name or not function_name:
+        raise InputError(f"run function {spec!r}: expected one of {sorted(RUN_FUNCTIONS)} or 'module:function'")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as exc:
+        raise InputError(f"run function {spec!r}: cannot import module {module_name!r} ({exc})") from None
+    function = getattr(module, function_name, None)
+    if not callable(function):
+        raise InputError(f"run function {spec!r}: module {module_name!r} has no function {function_name!r}")
+    _RESOLVED[spec] = function
+    return function
+
+
+def probe_case(case: Case) -> dict[str, Any]:
+    """A cheap deterministic run function for checking the ensemble machinery and a cluster.
+
+    Draws from ``numpy.random.default_rng(case.seed)`` and the motion seed, so its results
+    depend only on the case: a run on another machine, in another process count, or after a
+    resume must give the same bits. Grid parameters are summed into ``parameter_sum``. A grid
+    parameter ``probe.delay`` [s] makes each run sleep that long (to test interruptions);
+    ``probe.fail_above`` makes runs whose first draw exceeds it fail with a
+    :class:`~benchmark.foundation.errors.NumericalError` (to test failure handling).
+
+    Returns
+    -------
+    dict
+        ``draw`` (float), ``motion_draw`` (float), ``samples`` (array of 4 floats),
+        ``parameter_sum`` (float), ``pga`` (float, NaN when unscaled).
+    """
+    params = case.parameter_dict
+    delay = params.get("probe.delay", 0.0)
+    if delay > 0:
+        time.sleep(delay)
+    rng = np.random.default_rng(case.seed)
+    draw = float(rng.random())
+    if "probe.fail_above" in params and draw > params["probe.fail_above"]:
+        raise NumericalError(f"probe draw {draw:.6g} above probe.fail_above", time=0.0,
+                             hint="this is the probe's deliberate failure")
+    return {
+        "draw": draw,
+        "motion_draw": float(np.random.default_rng(case.motion_seed).random()),
+        "samples": rng.standard_normal(4),
+        "parameter_sum": float(sum(v for n, v in case.parameters if not n.startswith("probe."))),
+        "pga": case.pga,
+    }
+
+
+def simulate_case(case: Case) -> dict[str, Any]:
+    """Run function of the benchmark: one simulation evaluated against the uncontrolled run.
+
+    The motion is the benchmark record ``case.record`` (or a synthetic benchmark-like
+    realisation seeded by ``case.motion_seed``) in ``case.orientation``, scaled to ``case.pga``
+    when given; the controller is ``case.controller``; grid parameters override the building
+    and controller settings (see :func:`benchmark.applications.ensemble_simulation.run_case`).
+
+    Returns
+    -------
+    dict
+        The peaks of :func:`benchmark.simulator.evaluation.peaks` and the criteria J1–J9.
+    """
+    from benchmark.applications.ensemble_simulation import run_case  # heavy imports only where needed
+
+    return run_case(case)
+
+
+def simulate_peaks_case(case: Case) -> dict[str, Any]:
+    """Run function ``"peaks"``: like :func:`simulate_case` without the uncontrolled run (no J's).
+
+    Returns
+    -------
+    dict
+        The peaks of :func:`benchmark.simulator.evaluation.peaks` (SI).
+    """
+    from benchmark.applications.ensemble_simulation import run_case
+
+    return run_case(case, evaluate_criteria=False)
+
+
+# ---------------------------------------------------------------------------------------------
+# Execution
+# ---------------------------------------------------------------------------------------------
+@dataclass
+class EnsembleSummary:
+    """What :func:`run_ensemble` did."""
+
+    path: Path
+    journal: Path
+    n_cases: int
+    n_resumed: int
+    n_run: int
+    n_failed: int
+    complete: bool
+    elapsed_s: float
+    workers: str
+
+    def as_dict(self) -> dict[str, Any]:
+        d = dataclasses.asdict(self)
+        d["path"], d["journal"] = str(self.path), str(self.journal)
+        return d
+
+
+def journal_path(out: str | os.PathLike) -> Path:
+    """The journal file of an ensemble whose HDF5 file is ``out`` (``<out>.journal``)."""
+    out = Path(out)
+    return out.with_name(out.name + ".journal")
+
+
+def _execute(run: str | Callable[[Case], dict[str, Any]], case: Case) -> JournalEntry:
+    """Run one case on a worker; a NumericalError becomes a failed entry, other errors propagate."""
+    function = resolve_run_function(run)
+    start = time.perf_counter()
+    try:
+        result = function(case)
+    except NumericalError as exc:
+        return JournalEntry(key=case.key, status="failed", error=str(exc),
+                            elapsed_s=time.perf_counter() - start)
+    if not isinstance(result, dict):
+        raise InputError(f"run function {run!r} returned {type(result).__name__} for case {case.key!r}; "
+                         "expected a dict of metric name -> number or array")
+    for name in result:
+        if not isinstance(name, str) or not name or "/" in name:
+            raise InputError(f"run function {run!r}: metric name {name!r} must be a non-empty string "
+                             "without '/'")
+    return JournalEntry(key=case.key, status="ok", result=result, elapsed_s=time.perf_counter() - start)
+
+
+def _ignore_sigint() -> None:
+    """Worker initialiser: Ctrl-C is the parent's to handle (it stops the workers)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _local_results(run: Any, cases: list[Case], jobs: int, mp_context: str | None) -> Iterable[JournalEntry]:
+    """Yield entries as cases finish, on ``jobs`` local processes (in-process when jobs == 1)."""
+    if jobs == 1:
+        for case in cases:
+            yield _execute(run, case)
+        return
+    context = multiprocessing.get_context(mp_context or "spawn")
+    executor = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=context, initializer=_ignore_sigint)
+    pending: set[cf.Future] = set()
+    queue = iter(cases)
+    try:
+        for case in itertools.islice(queue, 2 * jobs):
+            pending.add(executor.submit(_execute, run, case))
+        while pending:
+            done, pending = cf.wait(pending, return_when=cf.FIRST_COMPLETED)
+            for future in done:
+                entry = future.result()
+                for case in itertools.islice(queue, 1):
+                    pending.add(executor.submit(_execute, run, case))
+                yield entry
+    except BaseException:
+        # Interrupted (Ctrl-C) or a run raised: stop the workers now; finished runs are journaled.
+        for future in pending:
+            future.cancel()
+        processes = list(getattr(executor, "_processes", {}).values())  # no public API for this
+        executor.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            if process.is_alive():
+                process.terminate()
+        raise
+    else:
+        executor.shutdown(wait=True)
+
+
+def _dask_results(run: Any, cases: list[Case], scheduler: str | None, client: Any) -> Iterable[JournalEntry]:
+    """Yield entries as cases finish on a Dask cluster (``client`` or a new client of ``scheduler``)."""
+    try:
+        import distributed
+    except ImportError:
+        raise InputError("--scheduler needs dask.distributed: pip install 'sbib[dask]'") from None
+    own_client = client is None
+    if own_client:
+        try:
+            client = distributed.Client(scheduler, timeout=f"{DASK_CONNECT_TIMEOUT_S}s")
+        except (OSError, TimeoutError) as exc:
+            raise InputError(f"cannot connect to the Dask scheduler at {scheduler!r}: {exc}") from None
+    try:
+        n_workers = max(1, sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()))
+        queue = iter(cases)
+        completed = distributed.as_completed()
+        for case in itertools.islice(queue, 2 * n_workers):
+            completed.add(client.submit(_execute, run, case, pure=False))
+        for future in completed:
+            entry = future.result()
+            future.release()
+            for case in itertools.islice(queue, 1):
+                completed.add(client.submit(_execute, run, case, pure=False))
+            yield entry
+    finally:
+        if own_client:
+            client.close()
+
+
+def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
+                 scheduler: str | None = None, client: Any = None,
+                 run: str | Callable[[Case], dict[str, Any]] | None = None,
+                 progress: bool = True, checkpoint_seconds: float = 60.0,
+                 mp_context: str | None = None, max_cases: int | None = None) -> EnsembleSummary:
+    """Run (or resume) an ensemble and write its results to one HDF5 file.
+
+    Parameters
+    ----------
+    config : EnsembleConfig
+        What to run.
+    out : path-like
+        HDF5 file to write; its journal is ``<out>.journal`` (:func:`journal_path`).
+    jobs : int
+        Local worker processes (1: run in this process). Ignored with a Dask scheduler.
+    scheduler : str, optional
+        Address of a Dask scheduler (``tcp://host:8786``); runs go to its workers.
+    client : distributed.Client, optional
+        An existing Dask client (e.g. of a ``LocalCluster``); wins over ``scheduler``.
+    run : str or callable, optional
+        Run function; defaults to ``config.run``. A callable must be importable by the
+        workers (a module-level function).
+    progress : bool
+        Show a tqdm progress bar on stderr.
+    checkpoint_seconds : float
+        Rebuild the HDF5 file from the journal at most this often during the run.
+    mp_context : str, optional
+        ``multiprocessing`` start method of the local workers (default ``"spawn"``).
+    max_cases : int, optional
+        Run at most this many new cases, then stop (the ensemble stays resumable).
+
+    Returns
+    -------
+    EnsembleSummary
+
+    Raises
+    ------
+    InputError
+        Bad settings, a journal that belongs to another ensemble, a run function that
+        cannot be found or returns something other than a dict.
+    KeyboardInterrupt
+        After writing the HDF5 file of the finished runs; re-run to resume.
+    """
+    if not isinstance(jobs, int) or jobs < 1:
+        raise InputError(f"jobs must be an integer >= 1, got {jobs!r}")
+    run_spec = config.run if run is None else run
+    run_label = run_spec if isinstance(run_spec, str) else f"{run_spec.__module__}:{run_spec.__qualname__}"
+    resolve_run_function(run_spec)  # fail early, in the parent, with a clear message
+    out = Path(out)
+    cases = config.cases()
+    journal = Journal(journal_path(out), header={"base_seed": config.base_seed, "run": run_label})
+    known = {c.key for c in cases}
+    n_resumed = sum(1 for key in journal.entries if key in known)
+    todo = [c for c in cases if c.key not in journal.entries]
+    if max_cases is not None:
+        todo = todo[:max(0, int(max_cases))]
+    workers = (f"dask:{scheduler or 'client'}" if (scheduler or client is not None)
+               else f"{jobs} local process{'es' if jobs > 1 else ''}")
+    start = time.perf_counter()
+    n_run = 0
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=len(cases), initial=n_resumed, unit="run", desc=config.name, dynamic_ncols=True)
+    if scheduler or client is not None:
+        stream = _dask_results(run_spec, todo, scheduler, client)
+    else:
+        stream = _local_results(run_spec, todo, jobs, mp_context)
+    last_checkpoint = time.monotonic()
+    try:
+        with journal:
+            for entry in stream:
+                journal.append(entry)
+                n_run += 1
+                if bar is not None:
+                    bar.update(1)
+                if todo and time.monotonic() - last_checkpoint > checkpoint_seconds:
+                    write_hdf5(config, cases, journal.entries, out, run_label)
+                    last_checkpoint = time.monotonic()
+    except KeyboardInterrupt:
+        if bar is not None:
+            bar.close()
+            bar = None
+        write_hdf5(config, cases, journal.entries, out, run_label)
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+        close = getattr(stream, "close", None)
+        if close is not None:
+            close()
+    complete = write_hdf5(config, cases, journal.entries, out, run_label)
+    n_failed = sum(1 for c in cases if c.key in journal.entries and journal.entries[c.key].status != "ok")
+    return EnsembleSummary(path=out, journal=journal.path, n_cases=len(cases), n_resumed=n_resumed,
+                           n_run=n_run, n_failed=n_failed, complete=complete,
+                           elapsed_s=time.perf_counter() - start, workers=workers)
+
+
+# ---------------------------------------------------------------------------------------------
+# HDF5
+# ---------------------------------------------------------------------------------------------
+def write_hdf5(config: EnsembleConfig, cases: list[Case], entries: Mapping[str, JournalEntry],
+               out: str | os.PathLike, run_label: str | None = None) -> bool:
+    """Write the HDF5 file of an ensemble from its journal entries, atomically.
+
+    Rows are in case order, whatever order the runs finished in, so the file's datasets are
+    the same for any number of processes. Returns ``True`` when every case has finished.
+
+    Parameters
+    ----------
+    config : EnsembleConfig
+        The ensemble (its TOML text and settings are stored as attributes).
+    cases : list of Case
+        ``config.cases()``.
+    entries : mapping of str to JournalEntry
+        Finished runs by case key (the journal's entries).
+    out : path-like
+        HDF5 file, replaced atomically.
+    run_label : str, optional
+        Run function label stored as an attribute (default ``config.run``).
+
+    Raises
+    ------
+    InputError
+        If two runs return the same metric with different shapes.
+    """
+    import h5py
+
+    from benchmark.foundation.provenance import provenance
+
+    n = len(cases)
+    shapes: dict[str, tuple[int, ...]] = {}
+    origin: dict[str, str] = {}
+    for case in cases:
+        entry = entries.get(case.key)
+        if entry is None or entry.status != "ok":
+            continue
+        for metric, value in entry.result.items():
+            shape = np.shape(value)
+            if metric not in shapes:
+                shapes[metric], origin[metric] = shape, case.key
+            elif shapes[metric] != shape:
+                raise InputError(f"metric {metric!r} has shape {shape} in case {case.key!r} but "
+                                 f"{shapes[metric]} in case {origin[metric]!r}")
+    results = {m: np.full((n,) + s, np.nan) for m, s in shapes.items()}
+    status, error, elapsed = [], [], np.full(n, np.nan)
+    for i, case in enumerate(cases):
+        entry = entries.get(case.key)
+        if entry is None:
+            status.append("pending")
+            error.append("")
+            continue
+        status.append(entry.status)
+        error.append(entry.error)
+        elapsed[i] = entry.elapsed_s
+        if entry.status == "ok":
+            for metric, value in entry.result.items():
+                results[metric][i] = value
+    n_done = sum(s != "pending" for s in status)
+    n_failed = sum(s == "failed" for s in status)
+    complete = n_done == n
+    strings = h5py.string_dtype()
+    with atomic_path(out) as tmp:
+        with h5py.File(tmp, "w") as f:
+            f.attrs.update(provenance(name=config.name, base_seed=config.base_seed,
+                                      run=run_label or str(config.run), config_source=config.source))
+            f.attrs["config"] = config.text or json.dumps(dataclasses.asdict(config), default=str)
+            f.attrs["n_cases"], f.attrs["n_done"], f.attrs["n_failed"] = n, n_done, n_failed
+            f.attrs["complete"] = complete
+            g = f.create_group("cases")
+            for name, values in (("key", [c.key for c in cases]), ("record", [c.record for c in cases]),
+                                 ("orientation", [c.orientation for c in cases]),
+                                 ("controller", [c.controller for c in cases]),
+                                 ("status", status), ("error", error)):
+                g.create_dataset(name, data=np.array(values, dtype=object), dtype=strings)
+            g["synthetic"] = np.array([c.synthetic for c in cases], dtype=bool)
+            g["realisation"] = np.array([c.realisation for c in cases], dtype=np.int64)
+            g["pga"] = np.array([c.pga for c in cases], dtype=np.float64)
+            g["pga"].attrs["units"] = "m/s^2 (stronger component; NaN: unscaled)"
+            g["seed"] = np.array([c.seed for c in cases], dtype=np.int64)
+            g["motion_seed"] = np.array([c.motion_seed for c in cases], dtype=np.int64)
+            g["elapsed_s"] = elapsed
+            p = g.create_group("parameters")
+            for k, name in enumerate(config.parameter_names):
+                p[name] = np.array([c.parameters[k][1] for c in cases], dtype=np.float64)
+            r = f.create_group("results")
+            for metric, values in results.items():
+                r[metric] = values
+    return complete
+
+
+@dataclass
+class EnsembleResults:
+    """An ensemble's HDF5 file read back (:func:`read_ensemble`).
+
+    Attributes
+    ----------
+    cases : dict[str, numpy.ndarray]
+        ``key``, ``record``, ``orientation``, ``controller``, ``status``, ``error`` (str arrays),
+        ``synthetic``, ``realisation``, ``pga``, ``seed``, ``motion_seed``, ``elapsed_s``.
+    parameters : dict[str, numpy.ndarray]
+        Grid parameter values per case.
+    results : dict[str, numpy.ndarray]
+        Metric → array with the case along axis 0 (NaN where pending or failed).
+    attrs : dict
+        File attributes (provenance, config, counts, ``complete``).
+    """
+
+    cases: dict[str, np.ndarray]
+    parameters: dict[str, np.ndarray]
+    results: dict[str, np.ndarray]
+    attrs: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def n_cases(self) -> int:
+        return len(self.cases["key"])
+
+    def mask(self, **criteria: Any) -> np.ndarray:
+        """Boolean mask of the cases whose case fields or parameters equal the given values.
+
+        Example: ``res.mask(controller="clipped-optimal", status="ok")``.
+        """
+        m = np.ones(self.n_cases, dtype=bool)
+        for name, value in criteria.items():
+            column = self.cases.get(name, self.parameters.get(name))
+            if column is None:
+                raise InputError(f"no case field or parameter {name!r}; have "
+                                 f"{sorted(self.cases) + sorted(self.parameters)}")
+            m &= column == value
+        return m
+
+
+def read_ensemble(path: str | os.PathLike) -> EnsembleResults:
+    """Read an ensemble HDF5 file written by :func:`run_ensemble`.
+
+    Parameters
+    ----------
+    path : path-like
+        The ``--out`` file of the ensemble.
+
+    Raises
+    ------
+    DataNotFoundError
+        If the file does not exist.
+    InputError
+        If it is not an ensemble file.
+    """
+    import h5py
+
+    from benchmark.foundation.errors import DataNotFoundError
+
+    path = Path(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"ensemble results {path} not found")
+    with h5py.File(path, "r") as f:
+        if "cases" not in f or "results" not in f:
+            raise InputError(f"{path}: not an sbib ensemble file (groups /cases and /results expected)")
+        cases: dict[str, np.ndarray] = {}
+        for name, ds in f["cases"].items():
+            if isinstance(ds, h5py.Dataset):
+                cases[name] = (ds.asstr()[()] if h5py.check_string_dtype(ds.dtype) else ds[()])
+        parameters = {name: ds[()] for name, ds in f["cases/parameters"].items()}
+        results = {name: ds[()] for name, ds in f["results"].items()}
+        attrs = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in f.attrs.items()}
+    cases = {k: (np.asarray(v, dtype=str) if v.dtype == object else v) for k, v in cases.items()}
+    return EnsembleResults(cases=cases, parameters=parameters, results=results, attrs=attrs)

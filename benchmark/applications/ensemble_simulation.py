@@ -1,0 +1,189 @@
+"""The ensemble's simulation run function: one case → peaks and J1–J9.
+
+A case (:class:`benchmark.applications.ensemble.Case`) names a motion, a controller and grid parameters.
+:func:`run_case` loads or generates the motion, scales it, builds the building with the
+overrides, simulates it with the controller (:func:`benchmark.simulator.simulation.simulate`) and
+evaluates it against the uncontrolled run of the same motion and building
+(:func:`benchmark.simulator.evaluation.evaluate`), like :mod:`benchmark.applications.comparison` does for the
+benchmark suite. The uncontrolled run, the motion and the building are cached per worker
+process (cases of one motion are consecutive, so a worker usually reuses them).
+
+Grid parameters understood (names in the TOML ``[grid]`` table):
+
+``control_step``
+    Control sample time [s] (a multiple of the record step).
+``n_modes``
+    Retained superstructure modes (integer; reduced-order building).
+``substep_tolerance``
+    Sub-step tolerance of every bearing and device kernel.
+``isolation.<field>``
+    Replaces ``<field>`` of the parameters of every bearing group that has it (SI, e.g.
+    ``isolation.mu_fast`` for friction-pendulum bearings, if that is the field's name).
+``device.<field>``
+    Replaces ``<field>`` of every device's damper model (SI; a voltage-dependent field
+    becomes the constant value).
+``noise.<anything>``
+    Reserved; unknown names are an :class:`~benchmark.foundation.errors.InputError` naming the parameter.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from benchmark.foundation.errors import InputError
+
+__all__ = ["run_case", "load_motion", "build_building", "SIMULATION_PARAMETERS"]
+
+#: Plain grid parameters (besides ``isolation.<field>`` and ``device.<field>``).
+SIMULATION_PARAMETERS = ("control_step", "n_modes", "substep_tolerance")
+
+
+def _split(parameters: tuple[tuple[str, float], ...]) -> tuple[dict, tuple, tuple]:
+    plain: dict[str, float] = {}
+    isolation, devices = [], []
+    for name, value in parameters:
+        if name in SIMULATION_PARAMETERS:
+            plain[name] = value
+        elif name.startswith("isolation.") and len(name) > len("isolation."):
+            isolation.append((name[len("isolation."):], value))
+        elif name.startswith("device.") and len(name) > len("device."):
+            devices.append((name[len("device."):], value))
+        elif name.startswith("probe."):
+            continue  # the probe's own parameters are harmless here
+        else:
+            raise InputError(f"grid parameter {name!r} unknown to the simulation; expected one of "
+                             f"{', '.join(SIMULATION_PARAMETERS)}, isolation.<field> or device.<field>")
+    return plain, tuple(isolation), tuple(devices)
+
+
+@lru_cache(maxsize=8)
+def load_motion(record: str, orientation: str, synthetic: bool, motion_seed: int, pga: float) -> Any:
+    """The ground motion of a case: a benchmark record or a synthetic realisation, scaled.
+
+    ``pga`` [m/s²] (NaN: unscaled) becomes the peak absolute acceleration of the stronger
+    component; both components are scaled by the same factor.
+    """
+    if synthetic:
+        from records.synthetic import benchmark_like
+
+        motion = benchmark_like(record, orientation, seed=int(motion_seed))
+    else:
+        from records import load_benchmark_record
+
+        motion = load_benchmark_record(record, orientation)
+    if not math.isnan(pga):
+        peak = float(np.max(np.abs(motion.acceleration)))
+        if not peak > 0:
+            raise InputError(f"record {record!r}: zero acceleration cannot be scaled to PGA {pga} m/s^2")
+        motion = motion.scaled(pga / peak)
+    return motion
+
+
+def _replace_fields(obj: Any, overrides: tuple, what: str, strict: bool) -> tuple[Any, set]:
+    if not dataclasses.is_dataclass(obj):
+        return obj, set()
+    names = {f.name for f in dataclasses.fields(obj)}
+    changes = {k: float(v) for k, v in overrides if k in names}
+    if strict and len(changes) != len(overrides):
+        missing = [k for k, _ in overrides if k not in names]
+        raise InputError(f"grid parameter {what}.{missing[0]}: {type(obj).__name__} has no field "
+                         f"{missing[0]!r}; fields: {', '.join(sorted(names))}")
+    return (dataclasses.replace(obj, **changes) if changes else obj), set(changes)
+
+
+@lru_cache(maxsize=4)
+def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any:
+    """The default building with ``n_modes`` and the isolation/device field overrides."""
+    from benchmark.simulator.building import Building
+
+    building = Building.default(n_modes=n_modes)
+    if isolation:
+        from benchmark.simulator.isolation.configurations import BearingGroup
+
+        layer = building.isolation
+        groups, used = [], set()
+        for group in layer.groups:
+            bearing, changed = _replace_fields(group.bearing, isolation, "isolation", strict=False)
+            used |= changed
+            groups.append(BearingGroup(bearing, group.indices, group.label))
+        unused = [k for k, _ in isolation if k not in used]
+        if unused:
+            raise InputError(f"grid parameter isolation.{unused[0]}: no bearing group of "
+                             f"{layer.name!r} has a field {unused[0]!r}")
+        building = building.with_isolation(dataclasses.replace(layer, groups=tuple(groups)))
+    if devices:
+        from benchmark.simulator.devices import DeviceLayout, DeviceSlot
+
+        slots = []
+        for slot in building.devices.slots:
+            model, _ = _replace_fields(slot.model, devices, "device", strict=True)
+            slots.append(DeviceSlot(slot.x, slot.y, slot.direction, model, slot.label))
+        building = building.with_devices(DeviceLayout(tuple(slots), name=building.devices.name))
+    return building
+
+
+@lru_cache(maxsize=4)
+def _reference(motion_args: tuple, building_args: tuple, substep_tolerance: float | None) -> Any:
+    from benchmark.simulator.simulation import simulate
+
+    return simulate(build_building(*building_args), load_motion(*motion_args), controller=None,
+                    substep_tolerance=substep_tolerance, record_states=False)
+
+
+def run_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
+    """Simulate one ensemble case and evaluate it (see the module docstring).
+
+    Parameters
+    ----------
+    case : benchmark.applications.ensemble.Case
+        The case.
+    evaluate_criteria : bool
+        Also run the uncontrolled building (cached per motion) and return J1–J9.
+
+    Returns
+    -------
+    dict
+        The peaks of :func:`benchmark.simulator.evaluation.peaks` (SI) and ``J1``..``J9`` (NaN where a
+        criterion is undefined, e.g. J6 without devices).
+
+    Raises
+    ------
+    InputError
+        Unknown controller, record or grid parameter.
+    NumericalError
+        The simulation failed (the ensemble records the case as failed and goes on).
+    """
+    from benchmark.simulator.evaluation import evaluate, peaks
+    from benchmark.simulator.simulation import simulate
+    from controllers.registry import get_controller
+
+    plain, isolation, devices = _split(case.parameters)
+    n_modes = plain.get("n_modes")
+    if n_modes is not None:
+        if n_modes != int(n_modes) or n_modes < 1:
+            raise InputError(f"grid parameter n_modes = {n_modes!r}: expected a positive integer")
+        n_modes = int(n_modes)
+    substep = plain.get("substep_tolerance")
+    kwargs: dict[str, Any] = {"record_states": False, "seed": int(case.seed) % (2 ** 32)}
+    if "control_step" in plain:
+        kwargs["control_step"] = plain["control_step"]
+    if substep is not None:
+        kwargs["substep_tolerance"] = substep
+    motion_args = (case.record, case.orientation, bool(case.synthetic), int(case.motion_seed), float(case.pga))
+    motion = load_motion(*motion_args)
+    controller = get_controller(case.controller)
+    if controller is None:
+        result = _reference(motion_args, (n_modes, isolation, ()), substep)
+    else:
+        result = simulate(build_building(n_modes, isolation, devices), motion, controller=controller, **kwargs)
+    out = {name: float(value) for name, value in peaks(result).items()}
+    if evaluate_criteria:
+        reference = _reference(motion_args, (n_modes, isolation, ()), substep)
+        for name, value in evaluate(result, reference).items():
+            out[name] = math.nan if value is None else float(value)
+    return out

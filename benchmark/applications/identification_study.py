@@ -1,0 +1,396 @@
+"""The identification study (``sbib identify``): the seed paper's whole procedure on a device.
+
+Steps (each through the public API):
+
+1. read the extended model's :math:`\\kappa_x` once from the large 0 V loop (seed step a),
+   identify the normalized and the extended Bouc-Wen models at each voltage of the grid
+   0, 0.1, …, 1 V from periodic tests run on the device by the virtual laboratory, with that
+   :math:`\\kappa_x` held fixed, and fit the voltage laws
+   (:mod:`~damper.identification.voltage_grid`); for comparison, also the extended model with
+   :math:`\\kappa_x` free at each voltage (``extended-free-kx``: seed laws, i.e. :math:`\\kappa_x`
+   the mean of the per-voltage values; ``extended-free-kx-pchip``: the generic laws, i.e. a
+   voltage-dependent :math:`\\kappa_x(v)`);
+2. fit the field lag of each identified model on a voltage-switching test
+   (:mod:`~damper.identification.voltage_lag`);
+3. validate the voltage-dependent identified models inside full earthquake simulations of the
+   benchmark building, every record and orientation, under a semi-active controller
+   (:mod:`~benchmark.applications.identification_validation`), split the errors by field regime (low, high,
+   transition), and re-run the building with the identified extended model in place of the
+   device;
+4. measure the structural ceiling on each run's most-moving damper at 0 V and 1 V
+   (:mod:`~damper.identification.ceiling`): the identified models' error against the best
+   each model form reaches fitted to that very motion;
+5. write ``parameters.csv``, ``voltage_laws.json``, ``validation.json``, ``ceiling.json``,
+   ``identification.h5`` (all histories, SI units, provenance) and the figures (seed
+   Fig. 1–3, 6, 8, 11, and the error anatomy).
+
+The device is injected (default ``"virtual"``, the registered name of the virtual benchmark
+damper): the identification sees it only through :mod:`damper.laboratory`, the validation only
+through the building's recorded damper histories.
+
+Everything runs on one process pool (``jobs``, default all cores): the earthquake runs with the
+device under test (and their uncontrolled references, once per record and orientation) start
+at once, while the voltage grid is identified; then the replays, the re-runs with the
+identified model and the figures (one Fig. 11 per run) run as further tasks. Results are
+gathered in task order and do not depend on the number of workers.
+
+Test protocol
+-------------
+The grid's test (:class:`~damper.identification.voltage_grid.TestProtocol`, ±0.1 m at 0.5 Hz)
+satisfies the plastic assumption with margin (:math:`\\rho(X_{max}-X_{min}) \\approx 20` at every
+voltage) and spans the dampers' displacements and velocities in the earthquake runs (RMS
+0.01–0.11 m and 0.05–0.25 m/s). The seed's Fig. 6 test (±0.03 m) gives
+:math:`\\rho(X_{max}-X_{min}) \\approx 6`, below :data:`~damper.identification.cycles.RECOMMENDED_RHO_STROKE`,
+so its closed-form start is biased; it is run and plotted (Fig. 6), not used to identify.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import time
+import warnings
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from benchmark.foundation.atomic import atomic_path, atomic_write_text
+from damper.identification.ceiling import DEFAULT_CEILING_VOLTAGES
+from damper.identification.closed_form import PARAMETER_NAMES
+from damper.identification.identify import identify
+from damper.identification.parallel import make_executor, run_tasks, worker_count
+from damper.identification.voltage_grid import (DEFAULT_VOLTAGES, KAPPA_X_MODES, LARGE_LOOP_PROTOCOL,
+                                                TestProtocol, identify_voltage_grid)
+from damper.identification.voltage_lag import fit_voltage_lag, switching_test
+
+__all__ = ["run_identify_study", "write_parameters_csv", "FIG6_PROTOCOL", "LARGE_LOOP_PROTOCOL",
+           "FREE_KX", "FREE_KX_PCHIP"]
+
+#: Validation names of the comparison variant with kappa_x free at each voltage (seed laws:
+#: kappa_x constant at the mean of the per-voltage values; generic laws: kappa_x(v) by PCHIP).
+FREE_KX = "extended-free-kx"
+FREE_KX_PCHIP = "extended-free-kx-pchip"
+#: The seed paper's Fig. 6 test: ±0.03 m over 10 s at 0 V (1 Hz chosen; the seed gives no frequency).
+FIG6_PROTOCOL = TestProtocol(amplitude=0.03, frequency=1.0, cycles=10.0, sample_rate=1000.0)
+
+
+def write_parameters_csv(rows: Sequence[dict], path) -> Path:
+    """Write one row per (model, voltage) with parameters [SI], standard errors and fit errors."""
+    if not rows:
+        raise ValueError("no rows")
+    buf = io.StringIO()
+    buf.write("# identified parameters per model and voltage; SI units: kappa_x [N/m], kappa_xdot "
+              "[N s/m], kappa_w [N], rho [1/m], sigma [-], n [-]; *_std: Jacobian standard errors; "
+              "errors over the steady cycles of the identification test\n")
+    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
+    return atomic_write_text(path, buf.getvalue())
+
+
+_GZ = {"compression": "gzip", "compression_opts": 1}  # fastest here, and smaller than with shuffle
+
+
+def _write_hdf5(path: Path, grids: dict, fig6_test, validation, device_name: str) -> Path:
+    import h5py
+
+    from benchmark.foundation.provenance import provenance
+
+    with atomic_path(path) as tmp:
+        with h5py.File(tmp, "w") as h5:
+            for k, v in provenance(study="sbib identify", device=device_name).items():
+                h5.attrs[k] = v
+            h5.attrs["units"] = "SI: s, m, m/s, V, N"
+            for gname, grid in grids.items():
+                g = h5.create_group(gname)
+                g.attrs["voltages_V"] = grid.voltages
+                g.attrs["protocol"] = json.dumps(grid.protocol.__dict__)
+                if grid.kappa_x is not None:
+                    g.attrs["kappa_x"] = json.dumps(grid.kappa_x.to_dict())
+                for model, idents in grid.identifications.items():
+                    gm = g.create_group(model)
+                    gm.attrs["parameter_names"] = list(PARAMETER_NAMES)
+                    gm.create_dataset("parameters", data=grid.table(model)).attrs["units"] = \
+                        "N/m, N s/m, N, 1/m, -, -"
+                    gm.create_dataset("standard_errors", data=grid.standard_errors(model))
+                    for v, ident in zip(grid.voltages, idents):
+                        gv = gm.create_group(f"{v:.2f}V")
+                        for name, arr, unit in (("time", ident.t, "s"), ("displacement", ident.x, "m"),
+                                                ("velocity", ident.xdot, "m/s"), ("force", ident.force, "N"),
+                                                ("model_force", ident.fit.force, "N")):
+                            gv.create_dataset(name, data=arr, **_GZ).attrs["units"] = unit
+                        gv.attrs["summary"] = json.dumps(ident.summary())
+            f6 = h5.create_group("fig6_test")
+            for name, arr, unit in (("time", fig6_test.time, "s"), ("displacement", fig6_test.displacement, "m"),
+                                    ("force", fig6_test.force, "N")):
+                f6.create_dataset(name, data=arr).attrs["units"] = unit
+            if validation is not None:
+                gval = h5.create_group("validation")
+                gval.attrs["controller"] = validation.controller
+                for run in validation.runs:
+                    gr = gval.create_group(f"{run.record}/{run.orientation}")
+                    for name, arr, unit in (("time", run.t, "s"), ("displacement", run.displacement, "m"),
+                                            ("velocity", run.velocity, "m/s"), ("voltage", run.voltage, "V"),
+                                            ("force", run.force, "N")):
+                        gr.create_dataset(name, data=arr, **_GZ).attrs["units"] = unit
+                    for m, arr in run.predicted.items():
+                        gr.create_dataset(f"predicted_force/{m}", data=arr, **_GZ).attrs["units"] = "N"
+                    gr.attrs["errors"] = json.dumps(run.errors)
+                    gr.attrs["J"] = json.dumps(run.J)
+    return path
+
+
+def _identify_task(test, model: str, kappa_x: float | None):
+    """Pool task: identify one test (warnings kept in the result)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return identify(test, model=model, kappa_x=kappa_x if model == "extended" else None)
+
+
+def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAULT_VOLTAGES,
+                       protocol: TestProtocol = TestProtocol(), records: Sequence[str] | None = None,
+                       orientations: Sequence[str] | None = None, controller: str = "clipped-optimal",
+                       rerun: Sequence[str] = ("extended",), validate: bool = True,
+                       records_dir: str | None = None, synthetic: bool = False,
+                       progress: bool = True, plots: bool = True, kappa_x: str | float = "large-loop",
+                       compare_free_kappa_x: bool = True, ceiling: bool = True,
+                       jobs: int | None = None) -> dict:
+    """Run the identification study and write its outputs to ``out``; return the summary.
+
+    Parameters
+    ----------
+    out : path-like
+        Output directory (created).
+    device : damper model or str
+        The device under test (default the registered ``"virtual"`` benchmark damper).
+    voltages : sequence of float
+        Identification grid [V].
+    protocol : TestProtocol
+        Periodic test at each voltage.
+    records, orientations : sequence of str, optional
+        Validation runs (default: all seven records, both orientations).
+    controller : str
+        Semi-active controller of the validation runs.
+    rerun : sequence of str
+        Identified models put in the building in place of the device (J comparison).
+    validate : bool
+        Run the earthquake validation at all.
+    records_dir : str, optional
+        Record files directory.
+    synthetic : bool
+        Use synthetic benchmark-like records.
+    progress : bool
+        Show a progress bar (tqdm, on stderr).
+    plots : bool
+        Write the figures.
+    kappa_x : {"large-loop", "joint", "per-voltage"} or float
+        The extended model's :math:`\\kappa_x` (see
+        :func:`~damper.identification.voltage_grid.identify_voltage_grid`; default the seed's
+        step a, read once from the large 0 V loop).
+    compare_free_kappa_x : bool
+        Also identify the extended model with :math:`\\kappa_x` free at each voltage and validate
+        it (names :data:`FREE_KX`, :data:`FREE_KX_PCHIP`).
+    ceiling : bool
+        With the validation: measure the structural ceiling of the normalized and extended forms
+        on each run's most-moving damper (:func:`~damper.identification.ceiling.structural_ceiling`).
+    jobs : int, optional
+        Worker processes (default all cores; 1: everything in this process).
+
+    Returns
+    -------
+    dict
+        Summary: files written, identified parameters at each voltage, law errors, the
+        :math:`\\kappa_x` estimate, validation numbers, timings.
+    """
+    from damper.laboratory import resolve_device
+    from records import BENCHMARK_RECORDS, ORIENTATIONS
+
+    if isinstance(kappa_x, str) and kappa_x not in KAPPA_X_MODES:
+        from benchmark.foundation.errors import InputError
+        raise InputError(f"kappa_x: expected one of {KAPPA_X_MODES} or a number [N/m], got {kappa_x!r}")
+    n_jobs = worker_count(jobs)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    timings: dict[str, float] = {}
+    t_all = time.perf_counter()
+    model = resolve_device(device)
+    pairs = [(r, o) for r in (records or BENCHMARK_RECORDS) for o in (orientations or ORIENTATIONS)] \
+        if validate else []
+    with_free = compare_free_kappa_x and kappa_x != "per-voltage"
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=(3 if with_free else 2) * len(voltages) + (2 if ceiling else 1) * len(pairs),
+                   desc="sbib identify",
+                   unit="step", leave=False)
+
+    def tick(label: str) -> None:
+        if bar is not None:
+            bar.set_postfix_str(label)
+            bar.update(1)
+
+    pool = make_executor(n_jobs)
+    validation = validation_json = None
+    figure_folder = out / "figures"
+    try:
+        building = None
+        measuring: list = []
+        if validate:
+            from benchmark.simulator.building import Building
+            from benchmark.applications.identification_validation import measure_run
+
+            building = Building.default(damper_model=model)
+            # The runs with the device under test need no identified model: start them now.
+            if pool is not None:
+                measuring = [pool.submit(measure_run, building, r, o, controller, records_dir, synthetic)
+                             for r, o in pairs]
+        t0 = time.perf_counter()
+        grid = identify_voltage_grid(model, voltages=voltages, protocol=protocol, progress=tick,
+                                     kappa_x=kappa_x, executor=pool, jobs=1)
+        grids = {"grid": grid}
+        if with_free:
+            grids["grid_free_kappa_x"] = identify_voltage_grid(
+                model, voltages=voltages, models=("extended",), protocol=protocol, progress=tick,
+                kappa_x="per-voltage", executor=pool, jobs=1)
+        fig6_test = FIG6_PROTOCOL.run(model, 0.0)
+        large_test = LARGE_LOOP_PROTOCOL.run(model, 0.0)
+        fixed_kx = grid.kappa_x.value if grid.kappa_x is not None and grid.kappa_x.mode != "per-voltage" else None
+        identified = {m: grid.models[m]["seed"] for m in grid.models}
+        if with_free:
+            free = grids["grid_free_kappa_x"].models["extended"]
+            identified[FREE_KX] = free["seed"]
+            identified[FREE_KX_PCHIP] = free["generic"]
+        switching = switching_test(model)
+        names = list(identified)
+        results = run_tasks(_identify_task, [(large_test, m, fixed_kx) for m in grid.models], pool) + \
+            run_tasks(fit_voltage_lag, [(identified[m], switching) for m in names], pool)
+        large = dict(zip(grid.models, results[:len(grid.models)]))
+        lag_fits = dict(zip(names, results[len(grid.models):]))
+        timings["identification_s"] = time.perf_counter() - t0
+
+        files = {"parameters": str(write_parameters_csv(
+                     [row for g in grids.values() for row in g.rows()], out / "parameters.csv")),
+                 "voltage_laws": str(atomic_write_text(out / "voltage_laws.json", json.dumps(
+                     {name: g.laws_json() for name, g in grids.items()}
+                     | {"field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()}}, indent=2)))}
+        figure_job = None
+        ceiling_entries: list = []
+        ceiling_summary = None
+        if plots:
+            figure_folder.mkdir(parents=True, exist_ok=True)
+            args = (figure_folder, grid, fig6_test, large, grids.get("grid_free_kappa_x"))
+            figure_job = pool.submit(_figures, *args) if pool is not None else None
+            if pool is None:
+                files["figures"] = _figures(*args)
+        if validate:
+            from benchmark.applications.identification_validation import validate_in_building
+
+            t0 = time.perf_counter()
+            measured = [f.result() for f in measuring] if measuring else None
+            lags = {m: lf.tau for m, lf in lag_fits.items()}
+            validation = validate_in_building(building, identified, lags=lags, records=records,
+                                              orientations=orientations, controller=controller,
+                                              rerun=rerun, records_dir=records_dir, synthetic=synthetic,
+                                              progress=tick, executor=pool, jobs=1, measured=measured,
+                                              figures=figure_folder if plots else None)
+            timings["validation_s"] = time.perf_counter() - t0
+            validation_json = validation.to_json()
+            files["validation"] = str(atomic_write_text(out / "validation.json",
+                                                        json.dumps(validation_json, indent=2)))
+            if ceiling and validation.runs:
+                from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
+
+                t0 = time.perf_counter()
+                forms = {m: identified[m] for m in ("normalized", "extended") if m in identified}
+                tasks = []
+                for r in validation.runs:  # each task gets only the damper it measures
+                    d = pick_damper(r.displacement)
+                    tasks.append((model, r.t, r.displacement[:, d], r.velocity[:, d], forms,
+                                  DEFAULT_CEILING_VOLTAGES, r.record, r.orientation, d))
+                ceiling_entries = [e for run_entries in run_tasks(
+                    structural_ceiling, tasks, pool, progress=lambda _: tick("ceiling"))
+                    for e in run_entries]
+                ceiling_summary = summarize_ceiling(ceiling_entries)
+                timings["ceiling_s"] = time.perf_counter() - t0
+                files["ceiling"] = str(atomic_write_text(out / "ceiling.json", json.dumps(
+                    {"voltages_V": list(DEFAULT_CEILING_VOLTAGES), "summary": ceiling_summary,
+                     "entries": [e.to_dict() for e in ceiling_entries]}, indent=2)))
+        if figure_job is not None:
+            files["figures"] = figure_job.result()
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+        if bar is not None:
+            bar.close()
+    if plots and validation is not None:
+        files["figures"] = files.get("figures", []) + [
+            str(figure_folder / f"fig11_force_errors_{r.record}_{r.orientation}.png") for r in validation.runs]
+        if any(r.regimes for r in validation.runs):
+            from damper.identification.plots import plot_error_anatomy
+            files["figures"].append(str(plot_error_anatomy(validation_json, ceiling_entries,
+                                                           figure_folder / "fig11_error_anatomy.png")))
+    t0 = time.perf_counter()
+    files["hdf5"] = str(_write_hdf5(out / "identification.h5", grids, fig6_test, validation, model.name))
+    timings["hdf5_s"] = time.perf_counter() - t0
+    timings["total_s"] = time.perf_counter() - t_all
+    timings["jobs"] = n_jobs
+
+    summary = {
+        "device": model.name,
+        "voltages": [float(v) for v in grid.voltages],
+        "protocol": grid.protocol.__dict__,
+        "kappa_x": grid.kappa_x.to_dict() if grid.kappa_x is not None else None,
+        "parameters": {m: {f"{v:.2f} V": ident.parameters for v, ident in zip(grid.voltages, idents)}
+                       for m, idents in grid.identifications.items()},
+        "identification_errors": {m: {f"{v:.2f} V": ident.errors["rel_rms_error"]
+                                      for v, ident in zip(grid.voltages, idents)}
+                                  for m, idents in grid.identifications.items()},
+        "law_errors": {m: {fam: {p: fit.rms_error for p, fit in fits.items()}
+                           for fam, fits in fams.items()} for m, fams in grid.laws.items()},
+        "law_notes": grid.notes,
+        "large_loop_0V": {m: {"parameters": i.parameters, "rel_rms_error": i.errors["rel_rms_error"]}
+                          for m, i in large.items()},
+        "field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()},
+        "validation": validation_json,
+        "ceiling": ceiling_summary,
+        "files": files,
+        "timings": timings,
+    }
+    if with_free:
+        g = grids["grid_free_kappa_x"]
+        summary["parameters"][FREE_KX] = {f"{v:.2f} V": i.parameters
+                                          for v, i in zip(g.voltages, g.identifications["extended"])}
+        summary["identification_errors"][FREE_KX] = {f"{v:.2f} V": i.errors["rel_rms_error"]
+                                                     for v, i in zip(g.voltages, g.identifications["extended"])}
+    atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
+    return summary
+
+
+def _figures(folder: Path, grid, fig6_test, large: dict, comparison=None) -> list[str]:
+    """Seed Fig. 1-3, 6 and 8 (Fig. 11 is drawn per run by the validation)."""
+    from damper.identification import plots
+
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    for k, label in ((0, "0V"), (len(grid.voltages) - 1, f"{grid.voltages[-1]:g}V")):
+        idents = {m: grid.identifications[m][k] for m in grid.identifications}
+        written.append(plots.plot_loops(idents, folder / f"fig01_loops_{label}.png"))
+    written.append(plots.plot_loops(large, folder / "fig01_loops_large_0V.png",
+                                    title="±0.4 m, 0.8 Hz loop at 0 V (cf. seed Fig. 1)"))
+    if "extended" in large:
+        ext0 = large["extended"]
+        written.append(plots.plot_inclination(ext0, folder / "fig02_inclination_0V.png"))
+        written.append(plots.plot_elastic_removed(ext0, folder / "fig03_elastic_removed_0V.png"))
+    id_test = grid.identifications[next(iter(grid.identifications))][0]
+
+    class _Shown:  # the identification test at 0 V in the DamperTest shape the plot reads
+        time, displacement, force = id_test.t, id_test.x, id_test.force
+        name = f"identification test: ±{grid.protocol.amplitude:g} m, {grid.protocol.frequency:g} Hz, 0 V"
+
+    written.append(plots.plot_test_signals([fig6_test, _Shown], folder / "fig06_test_signals.png"))
+    written.append(plots.plot_parameters_vs_voltage(grid, folder / "fig08_parameters_vs_voltage.png",
+                                                    comparison=comparison))
+    return [str(p) for p in written]

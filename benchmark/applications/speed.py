@@ -1,0 +1,650 @@
+"""Performance benchmarks (``sbib bench``, run by ``make bench``): measured, never asserted.
+
+Cases (each reports project time, reference time, ratio, max relative difference, target):
+
+``single-run``
+    One 30-s record (the first 30 s of Kobe, FN-x; the synthetic Kobe-like record when the
+    record files are absent), default nonlinear isolation, default dampers, clipped-optimal
+    control, warm (kernels compiled and loaded), this process, one core. Target ≤ 50 ms.
+``vs-solve_ivp``
+    The same run against the scipy ``solve_ivp`` reference of the same equations
+    (:mod:`benchmark.simulator.reference`), in the same process: ratio (target ≥ 100×) and the largest
+    relative difference of the peaks (target ≤ 0.5 %). ``--quick`` compares on 5 s only.
+``suite-warm`` / ``cold-start``
+    The benchmark suite (7 records × 2 orientations) under 5 controllers with
+    :func:`benchmark.applications.comparison.compare` on 2 worker processes, in a fresh Python process:
+    the cold start (imports and loading the numba cache, measured by one short run) is reported
+    apart from the warm suite (target ≤ 5 s). The process's peak memory (parent and largest
+    worker, ``resource.getrusage``) is reported (target ≤ 300 MB).
+``no-recompile``
+    A second fresh process must load every kernel from the on-disk numba cache: the number of
+    compilations (numba dispatcher cache misses) it reports must be 0.
+``identify-warm``
+    The whole identification study (``sbib identify``) run a second time in one process.
+``scaling``
+    Time versus record length, number of devices, retained modes and ensemble size (table and
+    plot); the cost should be linear in record length and devices.
+
+Timings are wall-clock minima over repeats (``time.perf_counter``); this machine's load from
+other processes inflates them, never deflates them.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any, Callable, NamedTuple, Sequence
+
+import numpy as np
+
+__all__ = ["BenchCase", "time_call", "machine_description", "bench_single_run", "bench_suite",
+           "bench_identify", "bench_scaling", "Timing", "run_bench", "format_table", "plot_scaling",
+           "compile_counts", "SUITE_CONTROLLERS"]
+
+#: The five controllers of the suite case.
+SUITE_CONTROLLERS = ("passive-off", "passive-on", "clipped-optimal", "modulated", "lyapunov")
+_PACKAGES = ("benchmark", "damper", "controllers", "records")
+
+
+@dataclass
+class BenchCase:
+    """One row of the benchmark table.
+
+    Attributes
+    ----------
+    case : str
+        Case name.
+    project_s : float or None
+        Time of the project's code [s] (None: not measured).
+    reference_s : float or None
+        Time of the reference [s] (scipy ``solve_ivp`` where there is one).
+    ratio : float or None
+        ``reference_s / project_s``.
+    max_relative_difference : float or None
+        Largest relative difference of the compared quantities (peaks) [-].
+    target : str
+        The target, in words.
+    met : bool or None
+        Whether the target is met (None: no target or not measured).
+    note : str
+        What was measured, or why it was not.
+    details : dict
+        Extra numbers (JSON-serialisable).
+    """
+
+    case: str
+    project_s: float | None = None
+    reference_s: float | None = None
+    ratio: float | None = None
+    max_relative_difference: float | None = None
+    target: str = ""
+    met: bool | None = None
+    note: str = ""
+    details: dict = field(default_factory=dict)
+
+
+class Timing(NamedTuple):
+    """Result of :func:`time_call`: wall-clock and CPU times [s] of the repeats, and the last result."""
+
+    best: float
+    times: list
+    result: Any
+    cpu_best: float
+    cpu_times: list
+
+
+def time_call(function: Callable[[], Any], repeat: int = 5, warmup: int = 1) -> Timing:
+    """Call ``function`` ``warmup`` times, then ``repeat`` times, timing each call.
+
+    Returns a :class:`Timing` (unpacks as ``best, times, result, cpu_best, cpu_times``): the
+    minimum and every wall-clock time, the last result, and the process CPU times (which other
+    processes' load on a shared machine does not inflate).
+    """
+    result = None
+    for _ in range(warmup):
+        result = function()
+    times, cpu_times = [], []
+    for _ in range(max(1, repeat)):
+        c0, t0 = time.process_time(), time.perf_counter()
+        result = function()
+        times.append(time.perf_counter() - t0)
+        cpu_times.append(time.process_time() - c0)
+    return Timing(min(times), times, result, min(cpu_times), cpu_times)
+
+
+def machine_description() -> dict[str, Any]:
+    """CPU model, core count, memory, OS and library versions of this machine."""
+    cpu = platform.processor() or "unknown"
+    with contextlib.suppress(OSError):
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    memory_gb = None
+    with contextlib.suppress(OSError, ValueError, IndexError):
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemTotal"):
+                memory_gb = round(int(line.split()[1]) / 1024 ** 2, 1)
+    import numba
+    import scipy
+
+    return {"cpu": cpu, "cores": os.cpu_count(), "memory_gb": memory_gb, "platform": platform.platform(),
+            "python": sys.version.split()[0], "numpy": np.__version__, "scipy": scipy.__version__,
+            "numba": numba.__version__,
+            "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None}
+
+
+def compile_counts() -> dict[str, int]:
+    """Numba compilations (cache misses) and cache loads (hits) so far in this process.
+
+    Sums the statistics of every ``cache=True`` dispatcher in the project's modules that are
+    imported. A miss means the function was compiled in this process.
+    """
+    from numba.core.registry import CPUDispatcher
+
+    misses = hits = 0
+    compiled = []
+    seen = set()
+    for name, module in list(sys.modules.items()):
+        if module is None or name.split(".")[0] not in _PACKAGES:
+            continue
+        for attr in list(vars(module).values()):
+            if isinstance(attr, CPUDispatcher) and id(attr) not in seen:
+                seen.add(id(attr))
+                stats = attr.stats
+                m = sum(stats.cache_misses.values())
+                misses += m
+                hits += sum(stats.cache_hits.values())
+                if m:
+                    compiled.append(f"{attr.py_func.__module__}.{attr.py_func.__name__}")
+    return {"compilations": misses, "cache_loads": hits, "compiled": sorted(compiled)}
+
+
+# ---------------------------------------------------------------------------------------------
+# Building blocks (imported lazily: the simulator is heavy)
+# ---------------------------------------------------------------------------------------------
+def _record(duration: float | None = 30.0, name: str = "kobe", orientation: str = "FN-x") -> Any:
+    """The first ``duration`` seconds of a benchmark record (synthetic look-alike if files are absent)."""
+    from benchmark.foundation.errors import DataNotFoundError
+
+    try:
+        from records import load_benchmark_record
+
+        record = load_benchmark_record(name, orientation)
+    except DataNotFoundError:
+        from records.synthetic import benchmark_like
+
+        record = benchmark_like(name, orientation, seed=0)
+    if duration is not None:
+        n = int(round(duration / record.dt))
+        acc = record.acceleration
+        if acc.shape[0] < n:  # lengthen by repeating the record (for scaling runs only)
+            acc = np.concatenate([acc] * int(math.ceil(n / acc.shape[0])), axis=0)
+        record = record.replace(acceleration=np.ascontiguousarray(acc[:n]),
+                                metadata={**record.metadata, "bench_duration_s": duration})
+    return record
+
+
+def _stationary_record(duration: float, window: float = 5.0) -> Any:
+    """``duration`` seconds made of Kobe FN-x's strongest ``window`` seconds repeated, so that the
+    cost per step is the same all along (for the record-length scaling)."""
+    base = _record(None)
+    acc = base.acceleration
+    k_peak = int(np.argmax(np.abs(acc).max(axis=1)))
+    half = int(round(window / (2 * base.dt)))
+    segment = acc[max(0, k_peak - half):k_peak + half]
+    n = int(round(duration / base.dt))
+    tiled = np.concatenate([segment] * int(math.ceil(n / len(segment))), axis=0)[:n]
+    return base.replace(acceleration=np.ascontiguousarray(tiled),
+                        metadata={**base.metadata, "bench_duration_s": duration, "bench_tiled_window_s": window})
+
+
+def _building(n_modes: int | None = None, n_devices: int | None = None) -> Any:
+    from benchmark.simulator.building import Building
+
+    building = Building.default(n_modes=n_modes)
+    if n_devices is not None and n_devices != building.n_devices:
+        from benchmark.simulator.devices import DeviceLayout, DeviceSlot
+
+        base = building.devices.slots
+        # take slots alternately from the x and y sets; beyond 16, reuse positions (parallel devices)
+        order = [s for pair in zip(base[:len(base) // 2], base[len(base) // 2:]) for s in pair]
+        slots = [DeviceSlot(s.x, s.y, s.direction, s.model, f"{s.label}.{k // len(order)}")
+                 for k, s in ((k, order[k % len(order)]) for k in range(n_devices))]
+        building = building.with_devices(DeviceLayout(tuple(slots), name=f"bench-{n_devices}"))
+    return building
+
+
+def _simulate(building: Any, record: Any, controller: str = "clipped-optimal") -> Any:
+    from benchmark.simulator.simulation import simulate
+
+    return simulate(building, record, controller=controller, record_states=False)
+
+
+def _max_relative_difference(a: dict[str, float], b: dict[str, float]) -> tuple[float, str]:
+    worst, name = 0.0, ""
+    for key in a:
+        if key in b and b[key] not in (None, 0.0):
+            d = abs(a[key] - b[key]) / abs(b[key])
+            if d > worst:
+                worst, name = d, key
+    return worst, name
+
+
+# ---------------------------------------------------------------------------------------------
+# Cases
+# ---------------------------------------------------------------------------------------------
+def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration: float = 30.0) -> list[BenchCase]:
+    """``single-run`` and ``vs-solve_ivp`` (see the module docstring).
+
+    Parameters
+    ----------
+    repeat : int
+        Timed repeats of the warm run (the minimum is reported).
+    reference : bool
+        Also run the ``solve_ivp`` reference.
+    reference_duration : float
+        Length of the record of the comparison [s] (30; shorter in quick runs, where the kernel is
+        timed again on the same shorter record).
+    """
+    record = _record(30.0)
+    building = _building()
+    t0 = time.perf_counter()
+    _simulate(building, record)  # compile or load the cache
+    first = time.perf_counter() - t0
+    best, times, result, cpu_best, _ = time_call(lambda: _simulate(building, record), repeat=repeat, warmup=0)
+    single = BenchCase("single-run", project_s=best, target="<= 0.050 s (warm, one core)", met=best <= 0.050,
+                       note=f"{record.name} first 30 s, {record.acceleration.shape[0]} steps, "
+                            f"{building.n_devices} devices, clipped-optimal; median "
+                            f"{np.median(times):.4f} s; CPU {cpu_best:.4f} s; first call {first:.2f} s",
+                       details={"times_s": times, "cpu_s": cpu_best, "first_call_s": first,
+                                "steps_per_s": record.acceleration.shape[0] / best})
+    cases = [single]
+    if not reference:
+        return cases
+    from benchmark.simulator import reference as oracle
+
+    if reference_duration != 30.0:
+        record = _record(reference_duration)
+        best, _, result, _, _ = time_call(lambda: _simulate(building, record), repeat=repeat, warmup=1)
+    ref = oracle.simulate_reference(building, record, controller="clipped-optimal")
+    diff, worst = _max_relative_difference(oracle.kernel_peaks(result), ref.peaks)
+    ratio = ref.elapsed_s / best
+    same_voltage = float(np.mean(np.asarray(result.voltage) == ref.voltage))
+    cases.append(BenchCase("vs-solve_ivp", project_s=best, reference_s=ref.elapsed_s, ratio=ratio,
+                           max_relative_difference=diff, target=">= 100x, peaks within 0.5 %",
+                           met=ratio >= 100 and diff <= 0.005,
+                           note=f"{reference_duration:g}-s record; largest peak difference in {worst}; "
+                                f"solve_ivp {ref.info['method']} rtol 1e-7, max step = record step, restarted every control step; "
+                                f"{100 * same_voltage:.2f} % of voltage samples identical",
+                           details={"kernel_peaks": oracle.kernel_peaks(result), "reference_peaks": ref.peaks,
+                                    "voltage_agreement": same_voltage}))
+    return cases
+
+
+_SUITE_SCRIPT = r"""
+import json, resource, sys, time
+t0 = time.perf_counter()
+from benchmark.applications import speed
+from benchmark.applications.comparison import compare
+import benchmark.simulator.simulation, benchmark.simulator.evaluation
+t_import = time.perf_counter() - t0
+t1 = time.perf_counter()
+speed._simulate(speed._building(), speed._record(1.0))   # load (or compile) every kernel
+t_first = time.perf_counter() - t1
+counts = speed.compile_counts()
+args = json.loads(sys.argv[1])
+times = []
+for _ in range(args["repeat"]):
+    t2 = time.perf_counter()
+    res = compare(records="all", orientations="both", controllers=list(args["controllers"]),
+                  jobs=args["jobs"], synthetic=args["synthetic"], progress=False)
+    times.append(time.perf_counter() - t2)
+ru_self, ru_child = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+self_kb, child_kb = ru_self.ru_maxrss, ru_child.ru_maxrss
+cpu_s = ru_self.ru_utime + ru_self.ru_stime + ru_child.ru_utime + ru_child.ru_stime
+print("BENCH-JSON " + json.dumps({"import_s": t_import, "first_run_s": t_first, "suite_s": times,
+      "n_runs": len(res.runs), "cpu_total_s": cpu_s, "peak_rss_parent_mb": self_kb / 1024, "peak_rss_worker_mb": child_kb / 1024,
+      "compile": counts}))
+"""
+
+
+def _run_script(script: str, args: dict, timeout: float) -> dict:
+    env = dict(os.environ)
+    proc = subprocess.run([sys.executable, "-c", script, json.dumps(args)], capture_output=True, text=True,
+                          timeout=timeout, env=env)
+    for line in proc.stdout.splitlines():
+        if line.startswith("BENCH-JSON "):
+            return json.loads(line[len("BENCH-JSON "):])
+    tail = (proc.stderr or proc.stdout)[-2000:]
+    raise RuntimeError(f"benchmark subprocess failed (exit {proc.returncode}): {tail}")
+
+
+def _records_available() -> bool:
+    from benchmark.foundation.errors import DataNotFoundError
+
+    try:
+        from benchmark.foundation.paths import records_dir
+
+        return any(records_dir().glob("*.txt"))
+    except DataNotFoundError:
+        return False
+
+
+def bench_suite(jobs: int = 2, controllers: Sequence[str] = SUITE_CONTROLLERS, repeat: int = 2,
+                timeout: float = 900.0) -> list[BenchCase]:
+    """``suite-warm``, ``cold-start``, ``suite-memory`` and ``no-recompile`` (fresh processes).
+
+    Parameters
+    ----------
+    jobs : int
+        Worker processes of :func:`benchmark.applications.comparison.compare`.
+    controllers : sequence of str
+        The controllers of the suite (default :data:`SUITE_CONTROLLERS`).
+    repeat : int
+        Suite repeats in the first process (the second runs it once).
+    timeout : float
+        Seconds allowed per process.
+    """
+    synthetic = not _records_available()
+    args = {"jobs": jobs, "controllers": list(controllers), "repeat": repeat, "synthetic": synthetic}
+    first = _run_script(_SUITE_SCRIPT, args, timeout)
+    second = _run_script(_SUITE_SCRIPT, {**args, "repeat": 1}, timeout)
+    warm = min(first["suite_s"] + second["suite_s"])
+    n_runs = first["n_runs"]
+    label = "synthetic records" if synthetic else "benchmark records"
+    # memory of one suite run: the second process runs the suite once
+    peak = max(second["peak_rss_parent_mb"], second["peak_rss_worker_mb"])
+    cases = [
+        BenchCase("suite-warm", project_s=warm, target="<= 5 s (2 cores, warm)", met=warm <= 5.0,
+                  note=f"{n_runs} controlled runs (14 x {len(controllers)}) + 14 uncontrolled, {label}, "
+                       f"jobs={jobs}; fresh process, after one short warm-up run",
+                  details={"times_s": first["suite_s"] + second["suite_s"], "per_run_s": warm / n_runs,
+                           "cpu_total_s_first_process": first["cpu_total_s"]}),
+        BenchCase("cold-start", project_s=second["import_s"] + second["first_run_s"],
+                  note=f"imports {second['import_s']:.2f} s + first (1-s) run loading the numba cache "
+                       f"{second['first_run_s']:.2f} s (second fresh process)",
+                  details={"first_process": {"import_s": first["import_s"], "first_run_s": first["first_run_s"]},
+                           "second_process": {"import_s": second["import_s"], "first_run_s": second["first_run_s"]}}),
+        BenchCase("suite-memory", project_s=None, target="<= 300 MB", met=peak <= 300.0,
+                  note=f"one suite run in a fresh process: peak RSS parent {second['peak_rss_parent_mb']:.0f} MB, "
+                       f"largest worker {second['peak_rss_worker_mb']:.0f} MB (a forked worker's RSS counts "
+                       f"the pages it shares with the parent)"
+                       + (" — NOTE: this process compiled kernels (numba cache invalidated meanwhile), and "
+                          "compilation inflates the peak" if second["compile"]["compilations"] else ""),
+                  details={"peak_rss_parent_mb": second["peak_rss_parent_mb"],
+                           "peak_rss_worker_mb": second["peak_rss_worker_mb"],
+                           "first_process_after_repeats": {"peak_rss_parent_mb": first["peak_rss_parent_mb"],
+                                                           "peak_rss_worker_mb": first["peak_rss_worker_mb"]}}),
+        BenchCase("no-recompile", target="0 compilations in a second process",
+                  met=second["compile"]["compilations"] == 0,  # a kernel source edited between the two
+                  # processes (benchmark.foundation.kernel_cache clears the caches) also shows up here
+                  note=f"second process: {second['compile']['compilations']} compilations, "
+                       f"{second['compile']['cache_loads']} cache loads"
+                       + (f" (compiled: {', '.join(second['compile']['compiled'])})"
+                          if second["compile"]["compiled"] else "")
+                       + f"; first process compiled {first['compile']['compilations']}",
+                  details={"first": first["compile"], "second": second["compile"]}),
+    ]
+    return cases
+
+
+def bench_identify(repeat: int = 1) -> list[BenchCase]:
+    """``identify-warm``: the whole ``sbib identify`` study, second run in this process.
+
+    Parameters
+    ----------
+    repeat : int
+        Timed repeats after the first (cold) run.
+    """
+    from benchmark.applications.cli import main
+
+    with tempfile.TemporaryDirectory() as tmp:
+        def run() -> int:
+            sink = io.StringIO()
+            with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+                status = main(["identify", "--out", str(Path(tmp) / "identify")])
+            if status != 0:
+                raise RuntimeError(f"sbib identify exited with {status}: {sink.getvalue()[-1500:]}")
+            return status
+
+        t0 = time.perf_counter()
+        run()
+        cold = time.perf_counter() - t0
+        best, times, _, cpu_best, _ = time_call(run, repeat=repeat, warmup=0)
+    return [BenchCase("identify-warm", project_s=best, target="<= 10 s (warm)", met=best <= 10.0,
+                      note=f"sbib identify, second run in one process (CPU {cpu_best:.2f} s); first run {cold:.1f} s",
+                      details={"times_s": times, "cpu_s": cpu_best, "first_run_s": cold})]
+
+
+def _fit_linear(x: np.ndarray, y: np.ndarray) -> dict[str, float]:
+    """Least-squares y = a + b x and the worst relative deviation from it."""
+    A = np.column_stack([np.ones_like(x), x])
+    (a, b), *_ = np.linalg.lstsq(A, y, rcond=None)
+    fit = a + b * x
+    return {"intercept_s": float(a), "slope": float(b),
+            "max_relative_deviation": float(np.max(np.abs(y - fit) / y))}
+
+
+def bench_scaling(quick: bool = False, repeat: int = 3, jobs: int = 2) -> dict[str, Any]:
+    """Time versus record length, devices, retained modes and ensemble size.
+
+    Parameters
+    ----------
+    quick : bool
+        Fewer points.
+    repeat : int
+        Repeats per point (the minimum CPU time is kept).
+    jobs : int
+        Processes of the ensemble-size runs.
+
+    Returns a dict of tables: name → ``{"x": [...], "time_s": [...], "x_label": ..., "fit": ...}``.
+    """
+    tables: dict[str, Any] = {}
+
+    def table(name: str, x_values: Sequence[float], x_label: str, run: Callable[[float], Any],
+              measure: str = "CPU", warmup: int = 1) -> None:
+        times, errors = [], {}
+        for x in x_values:
+            try:
+                timing = time_call(lambda: run(x), repeat=repeat, warmup=warmup)
+                times.append(timing.cpu_best if measure == "CPU" else timing.best)
+            except Exception as exc:  # one point failing must not hide the others
+                times.append(math.nan)
+                errors[str(x)] = f"{type(exc).__name__}: {str(exc)[:200]}"
+        xs, ts = np.array(x_values, float), np.array(times, float)
+        ok = np.isfinite(ts)
+        fit = _fit_linear(xs[ok], ts[ok]) if ok.sum() >= 2 else {}
+        tables[name] = {"x": list(x_values), "time_s": times, "measure": measure, "x_label": x_label,
+                        "fit": fit, "errors": errors}
+
+    building = _building()
+    lengths = (5.0, 10.0, 20.0, 40.0) if quick else (5.0, 10.0, 20.0, 40.0, 80.0)
+    records = {d: _stationary_record(d) for d in lengths}
+    table("record_length", lengths, "record length [s] (Kobe's strongest 5 s repeated; clipped-optimal)",
+          lambda d: _simulate(building, records[d]))
+    record = _record(30.0)
+    devices = (4, 8, 16, 32) if quick else (2, 4, 8, 16, 32, 64)
+    buildings = {n: _building(n_devices=n) for n in devices}
+    table("devices", devices, "number of MR dampers (30-s record, passive-on)",
+          lambda n: _simulate(buildings[n], record, "passive-on"))
+    modes = (3, 6, 12, 24) if quick else (3, 6, 9, 12, 18, 24)
+    reduced = {m: _building(n_modes=m) for m in modes}
+    table("modes", modes, "retained superstructure modes (30-s record, passive-on)",
+          lambda m: _simulate(reduced[m], record, "passive-on"))
+    sizes = (2, 4, 8, 16) if quick else (4, 8, 16, 32)
+    repeat = 1  # each point is itself many runs
+    table("ensemble_size", sizes, f"ensemble size (runs; {jobs} processes, wall)",
+          lambda n: _time_ensemble(int(n), jobs), measure="wall", warmup=0)
+    return tables
+
+
+def _time_ensemble(n_runs: int, jobs: int) -> float:
+    """Wall time of an ``n_runs`` synthetic-motion ensemble (clipped-optimal) on ``jobs`` processes."""
+    from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
+
+    config = EnsembleConfig(controllers=("clipped-optimal",), orientations=("FN-x",),
+                            synthetic_templates=("kobe",), realisations=n_runs, base_seed=1,
+                            name=f"bench-{n_runs}", source="<bench>")
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        run_ensemble(config, Path(tmp) / "e.h5", jobs=jobs, progress=False, mp_context="fork")
+        return time.perf_counter() - t0
+
+
+# ---------------------------------------------------------------------------------------------
+# Report
+# ---------------------------------------------------------------------------------------------
+def _fmt_s(value: float | None) -> str:
+    if value is None:
+        return "-"
+    return f"{value * 1e3:.1f} ms" if value < 1.0 else f"{value:.2f} s"
+
+
+def format_table(cases: Sequence[BenchCase]) -> str:
+    """Text table of ``cases``: case, project time, reference time, ratio, max relative difference, target, met."""
+    head = f"{'case':<14} {'project':>10} {'reference':>10} {'ratio':>8} {'max rel diff':>12}  {'target':<32} met"
+    lines = [head, "-" * len(head)]
+    for c in cases:
+        ratio = "-" if c.ratio is None else f"{c.ratio:.0f}x"
+        diff = "-" if c.max_relative_difference is None else f"{100 * c.max_relative_difference:.3f} %"
+        met = {True: "yes", False: "NO", None: "-"}[c.met]
+        lines.append(f"{c.case:<14} {_fmt_s(c.project_s):>10} {_fmt_s(c.reference_s):>10} {ratio:>8} "
+                     f"{diff:>12}  {c.target:<32} {met}")
+        if c.note:
+            lines.append(f"{'':<14}   {c.note}")
+    return "\n".join(lines)
+
+
+def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
+    """Plot the scaling ``tables`` (:func:`bench_scaling`): time versus size with the least-squares line,
+    one panel each, to the PNG file ``path`` (atomic)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from benchmark.foundation.figures import save_figure
+
+    fig, axes = plt.subplots(2, 2, figsize=(9, 7))
+    for ax, (name, table) in zip(axes.ravel(), tables.items()):
+        x, y = np.asarray(table["x"], float), np.asarray(table["time_s"], float)
+        ax.plot(x, y * 1e3, "o", color="C0", label="measured (min of repeats)")
+        fit = table["fit"]
+        if fit:
+            xs = np.linspace(0, x.max() * 1.05, 50)
+            ax.plot(xs, (fit["intercept_s"] + fit["slope"] * xs) * 1e3, "-", color="C1",
+                    label=f"linear fit: {fit['intercept_s'] * 1e3:.1f} ms + {fit['slope'] * 1e3:.2f} ms/unit")
+        for x_failed in table.get("errors", {}):
+            ax.axvline(float(x_failed), color="C3", lw=0.8, ls=":", label=f"failed at {x_failed}")
+        ax.set_xlabel(table["x_label"])
+        ax.set_ylabel(f"{table.get('measure', 'wall')} time [ms]")
+        ax.set_xlim(0, None)
+        ax.set_ylim(0, None)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7.5)
+        ax.set_title(name.replace("_", " "), fontsize=10)
+    fig.suptitle("sbib: cost of a run (default nonlinear isolation, 16 MR dampers unless varied)", fontsize=11)
+    fig.tight_layout()
+    return save_figure(fig, path, dpi=120)
+
+
+def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
+              sections: Sequence[str] = ("single", "suite", "identify", "scaling"),
+              echo: Callable[[str], None] | None = print) -> dict[str, Any]:
+    """Run the benchmarks, print the table, write ``bench.json`` and ``scaling.png`` into ``out``.
+
+    Parameters
+    ----------
+    out : path-like
+        Output directory.
+    quick : bool
+        Fewer repeats and scaling points (a smoke run; figures are not the official ones).
+    jobs : int
+        Worker processes of the suite and ensemble cases (the target is stated for 2).
+    sections : sequence of str
+        Which of ``single``, ``suite``, ``identify``, ``scaling`` to run.
+    echo : callable, optional
+        Where progress lines and the table go (default ``print``; ``None``: silent).
+
+    Returns
+    -------
+    dict
+        ``machine``, ``cases`` (list of :class:`BenchCase` as dicts), ``scaling``, ``quick``.
+    """
+    from benchmark.foundation.atomic import atomic_write_text
+    from benchmark.foundation.errors import InputError
+
+    unknown = set(sections) - {"single", "suite", "identify", "scaling"}
+    if unknown:
+        raise InputError(f"bench sections {sorted(unknown)} unknown; expected single, suite, identify, scaling")
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    say = echo or (lambda _s: None)
+    cases: list[BenchCase] = []
+    scaling: dict[str, Any] = {}
+    started = time.perf_counter()
+
+    def attempt(label: str, function: Callable[[], list[BenchCase]]) -> None:
+        say(f"[bench] {label} ...")
+        try:
+            new = function()
+        except Exception as exc:  # report, do not hide: a case that cannot run is a row saying why
+            new = [BenchCase(label, note=f"not measured: {type(exc).__name__}: {str(exc)[:300]}")]
+        cases.extend(new)
+        for c in new:
+            say(f"[bench]   {c.case}: {_fmt_s(c.project_s)}" + (f"  ({c.note})" if c.note else ""))
+
+    if "single" in sections:
+        attempt("single-run", lambda: bench_single_run(repeat=3 if quick else 7,
+                                                       reference_duration=5.0 if quick else 30.0))
+    if "suite" in sections:
+        attempt("suite", lambda: bench_suite(jobs=jobs, repeat=1 if quick else 2))
+    if "identify" in sections:
+        attempt("identify-warm", lambda: bench_identify(repeat=1))
+    if "scaling" in sections:
+        say("[bench] scaling ...")
+        try:
+            scaling = bench_scaling(quick=quick, repeat=2 if quick else 3, jobs=jobs)
+        except Exception as exc:
+            cases.append(BenchCase("scaling", note=f"not measured: {type(exc).__name__}: {str(exc)[:300]}"))
+    report = {"machine": machine_description(), "quick": quick, "jobs": jobs,
+              "elapsed_s": time.perf_counter() - started,
+              "cases": [asdict(c) for c in cases], "scaling": scaling}
+    from benchmark.foundation.provenance import provenance
+
+    report["provenance"] = provenance()
+    if scaling:
+        report["scaling_plot"] = str(plot_scaling(scaling, out / "scaling.png"))
+        lines = [f"{'scaling':<16} {'x':>8} {'time':>10}"]
+        for name, table in scaling.items():
+            for x, t in zip(table["x"], table["time_s"]):
+                lines.append(f"{name:<16} {x:>8g} {_fmt_s(t):>10} {table.get('measure', 'wall')}")
+            if table["fit"]:
+                lines.append(f"{'':<16} linear fit: {table['fit']['intercept_s'] * 1e3:.1f} ms + "
+                             f"{table['fit']['slope'] * 1e3:.3f} ms/unit, worst deviation "
+                             f"{100 * table['fit']['max_relative_deviation']:.0f} %")
+            for x_failed, message in table.get("errors", {}).items():
+                lines.append(f"{'':<16} failed at {x_failed}: {message}")
+        report["scaling_table"] = "\n".join(lines)
+    atomic_write_text(out / "bench.json", json.dumps(report, indent=2, default=float))
+    machine = report["machine"]
+    say("")
+    say(f"machine: {machine['cpu']}, {machine['cores']} cores, {machine['memory_gb']} GB; "
+        f"load average {machine['load_average']}")
+    say(format_table(cases))
+    if scaling:
+        say("")
+        say(report["scaling_table"])
+    say(f"\nwritten: {out / 'bench.json'}" + (f", {out / 'scaling.png'}" if scaling else ""))
+    return report

@@ -1,0 +1,141 @@
+"""The building: superstructure (full or reduced) + isolation layer + device layout.
+
+:class:`Building` is the one object the simulator, the linear model and the controllers
+receive. It only gathers its three parts; the numbers live in :mod:`benchmark.simulator.structure`,
+:mod:`benchmark.simulator.isolation` and :mod:`benchmark.simulator.devices`.
+
+Example
+-------
+>>> from benchmark.simulator.building import Building                       # doctest: +SKIP
+>>> b = Building.default()                    # friction-lrb isolation, 16 virtual dampers
+>>> b = Building.default(isolation="linear", devices=None, n_modes=9)
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.structure import Superstructure, load_superstructure
+
+__all__ = ["Building"]
+
+
+@dataclass(frozen=True, eq=False)
+class Building:
+    """Superstructure + isolation layer + device layout.
+
+    Parameters
+    ----------
+    superstructure : Superstructure
+        Full or reduced (:meth:`Superstructure.reduced`).
+    isolation : benchmark.simulator.isolation.configurations.IsolationLayer
+        The bearings (one row per bearing of ``superstructure.bearing_xy``).
+    devices : benchmark.simulator.devices.DeviceLayout or None
+        The MR dampers; ``None`` for a building without devices.
+    name : str
+        Free text stored with results.
+    """
+
+    superstructure: Superstructure
+    isolation: Any
+    devices: Any = None
+    name: str = "benchmark"
+
+    def __post_init__(self) -> None:
+        n_iso = getattr(self.isolation, "n_bearings", None)
+        if n_iso != self.superstructure.n_bearings:
+            raise InputError(f"building: the isolation layer {getattr(self.isolation, 'name', '?')!r} has "
+                             f"{n_iso} bearings, the superstructure's plan has {self.superstructure.n_bearings}")
+
+    @classmethod
+    def default(cls, isolation: Any = None, devices: Any = "default", n_modes: int | None = None,
+                damper_model: Any = None, structure_path: str | os.PathLike | None = None) -> "Building":
+        """The benchmark building with the project's defaults.
+
+        Parameters
+        ----------
+        isolation : str or IsolationLayer, optional
+            A name of :data:`benchmark.simulator.isolation.configurations.ISOLATION_NAMES`, a JSON file
+            path, or a layer; default the default nonlinear configuration (``friction-lrb``).
+        devices : "default", DeviceLayout or None
+            ``"default"``: :meth:`benchmark.simulator.devices.DeviceLayout.default` (16 devices);
+            ``None``: no devices.
+        n_modes : int, optional
+            Keep only the first ``n_modes`` superstructure modes (reduced order).
+        damper_model : damper model, optional
+            Model of every device of the default layout (default: the virtual benchmark damper).
+        structure_path : path-like, optional
+            ``structure.json`` to read (default from :mod:`benchmark.foundation.paths`).
+        """
+        from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
+
+        sup = load_superstructure(structure_path)
+        if n_modes is not None:
+            sup = sup.reduced(n_modes)
+        if isolation is None:
+            isolation = DEFAULT_NONLINEAR
+        if isinstance(isolation, (str, os.PathLike)):
+            isolation = get_isolation(str(isolation))
+        if isinstance(devices, str):
+            if devices != "default":
+                raise InputError(f"devices: {devices!r}; expected 'default', a DeviceLayout or None")
+            from benchmark.simulator.devices import DeviceLayout
+
+            devices = DeviceLayout.default(model=damper_model)
+        return cls(sup, isolation, devices)
+
+    # ------------------------------------------------------------------ variants
+    def without_devices(self) -> "Building":
+        """The same building with no devices (the uncontrolled reference)."""
+        return replace(self, devices=None)
+
+    def with_devices(self, devices: Any) -> "Building":
+        return replace(self, devices=devices)
+
+    def with_isolation(self, isolation: Any) -> "Building":
+        if isinstance(isolation, (str, os.PathLike)):
+            from benchmark.simulator.isolation.configurations import get_isolation
+
+            isolation = get_isolation(str(isolation))
+        return replace(self, isolation=isolation)
+
+    def reduced(self, n_modes: int | None) -> "Building":
+        """The same building with a reduced (``n_modes``) or, for ``None``, full superstructure."""
+        sup = self.superstructure.full() if n_modes is None else self.superstructure.reduced(n_modes)
+        return replace(self, superstructure=sup)
+
+    # ------------------------------------------------------------------ views
+    @property
+    def n_devices(self) -> int:
+        return 0 if self.devices is None else self.devices.n_devices
+
+    @property
+    def n_bearings(self) -> int:
+        return self.superstructure.n_bearings
+
+    def isolation_linear_matrices(self) -> tuple[np.ndarray, np.ndarray]:
+        """Base stiffness and damping of the bearings' linear parts (3×3 each).
+
+        :math:`K_b = \\sum_i k_i T_i^T T_i`, :math:`C_b = \\sum_i c_i T_i^T T_i` with
+        :math:`(k_i, c_i)` each bearing's linear part (``IsolationLayer.linear_stiffness``).
+        """
+        from benchmark.simulator.structure import location_matrix
+
+        xy = self.superstructure.bearing_xy
+        return (location_matrix(xy, self.isolation.linear_stiffness()),
+                location_matrix(xy, self.isolation.linear_damping()))
+
+    def describe(self) -> dict:
+        """JSON-serialisable description (stored with results)."""
+        sup = self.superstructure
+        return {
+            "name": self.name,
+            "superstructure": {"source": sup.source, "n_modes": sup.n_modes if sup.is_reduced else "all (24)"},
+            "isolation": self.isolation.describe() if hasattr(self.isolation, "describe") else str(self.isolation),
+            "devices": None if self.devices is None else self.devices.describe(),
+        }

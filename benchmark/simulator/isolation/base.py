@@ -1,0 +1,102 @@
+"""Interface every bearing type follows, and the validation helpers their dataclasses share.
+
+A bearing type is one module holding a frozen dataclass derived from :class:`BearingParameters`.
+The flat parameter array (``to_array()``) of *every* type starts with its **linear part**::
+
+    params[0] = k_linear  [N/m]     (stiffness the building puts in its exact discretisation)
+    params[1] = c_linear  [N·s/m]   (viscous damping, likewise)
+    params[2:]            type-specific (documented in each module)
+
+so that the building core can read the linear part without knowing the type, and the
+numba kernel returns only the remaining (hysteretic) force. See :mod:`benchmark.simulator.isolation.registry`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import numpy as np
+
+from benchmark.foundation.errors import ParameterError
+
+__all__ = ["BearingParameters", "require_positive", "require_nonnegative", "require_range"]
+
+
+def _check_number(cls_name: str, field: str, value: object) -> float:
+    try:
+        x = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ParameterError(f"{cls_name}.{field} = {value!r}: expected a real number") from None
+    if not math.isfinite(x):
+        raise ParameterError(f"{cls_name}.{field} = {value!r}: expected a finite number")
+    return x
+
+
+def require_positive(obj: object, field: str) -> None:
+    """Raise :class:`ParameterError` unless ``obj.field`` is a finite number > 0."""
+    x = _check_number(type(obj).__name__, field, getattr(obj, field))
+    if not x > 0.0:
+        raise ParameterError(f"{type(obj).__name__}.{field} = {x!r}: expected > 0")
+
+
+def require_nonnegative(obj: object, field: str) -> None:
+    """Raise :class:`ParameterError` unless ``obj.field`` is a finite number >= 0."""
+    x = _check_number(type(obj).__name__, field, getattr(obj, field))
+    if not x >= 0.0:
+        raise ParameterError(f"{type(obj).__name__}.{field} = {x!r}: expected >= 0")
+
+
+def require_range(obj: object, field: str, low: float, high: float,
+                  low_open: bool = False, high_open: bool = False) -> None:
+    """Raise :class:`ParameterError` unless ``low <= obj.field <= high``.
+
+    ``low_open`` / ``high_open`` make the lower / upper bound strict.
+    """
+    x = _check_number(type(obj).__name__, field, getattr(obj, field))
+    ok_low = x > low if low_open else x >= low
+    ok_high = x < high if high_open else x <= high
+    if not (ok_low and ok_high):
+        lb = "(" if low_open else "["
+        hb = ")" if high_open else "]"
+        raise ParameterError(f"{type(obj).__name__}.{field} = {x!r}: expected in {lb}{low}, {high}{hb}")
+
+
+class BearingParameters:
+    """Base class of the bearing parameter dataclasses (frozen, SI units).
+
+    Subclasses define ``name``, ``type_id``, ``n_states`` and implement :meth:`to_array`,
+    :meth:`initial_state`, :meth:`linear_part`, :meth:`rates` and :meth:`force`.
+    """
+
+    name: ClassVar[str]
+    type_id: ClassVar[int]
+    n_states: ClassVar[int]
+
+    def to_array(self) -> np.ndarray:
+        """Flat ``float64`` parameter array for the kernels (``[k_linear, c_linear, ...]``)."""
+        raise NotImplementedError
+
+    def initial_state(self) -> np.ndarray:
+        """Internal states at rest (length ``n_states``)."""
+        return np.zeros(self.n_states)
+
+    def linear_part(self) -> tuple[float, float]:
+        """``(k, c)``: linear stiffness [N/m] and damping [N·s/m] per direction."""
+        p = self.to_array()
+        return float(p[0]), float(p[1])
+
+    def rates(self, state: np.ndarray, ux: float, uy: float, vx: float, vy: float) -> np.ndarray:
+        """Continuous-time state derivatives ``d state / dt`` (plain numpy, for the scipy oracle)."""
+        raise NotImplementedError
+
+    def force(self, state: np.ndarray, ux: float, uy: float, vx: float, vy: float) -> tuple[float, float]:
+        """Total bearing force ``(fx, fy)`` [N] including the linear part (plain numpy)."""
+        raise NotImplementedError
+
+    def hysteretic_force(self, state: np.ndarray, ux: float, uy: float,
+                         vx: float, vy: float) -> tuple[float, float]:
+        """Force minus the linear part, ``f - k u - c u̇`` [N]: what the kernel writes."""
+        fx, fy = self.force(state, ux, uy, vx, vy)
+        k, c = self.linear_part()
+        return fx - k * ux - c * vx, fy - k * uy - c * vy

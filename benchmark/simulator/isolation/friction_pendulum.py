@@ -1,0 +1,154 @@
+r"""Friction pendulum bearing with velocity-dependent friction and biaxial interaction.
+
+In each horizontal direction :math:`j \in \{x, y\}` (Mokha, Constantinou & Reinhorn 1990;
+Constantinou, Mokha & Reinhorn 1990; 3D-BASIS, Nagarajaiah et al. 1991)
+
+.. math::
+
+    f_j = \frac{W}{R}\, u_j + c\,\dot u_j + \mu(\|\dot u\|)\, W\, z_j,\qquad
+    \mu(v) = f_\max - (f_\max - f_\min)\, e^{-a v}
+
+with :math:`W` the vertical load carried by the bearing [N], :math:`R` the radius of the
+concave surface [m] (pendulum period :math:`2\pi\sqrt{R/g}` when the bearing carries its own
+mass), :math:`\|\dot u\| = \sqrt{\dot u_x^2 + \dot u_y^2}` the sliding speed [m/s], and
+:math:`z` the biaxial Park–Wen vector of :mod:`benchmark.simulator.isolation.park_wen` with a small
+yield displacement :math:`Y` (the pre-sliding elastic deformation; a few tenths of a mm)
+that makes :math:`z` a smooth, biaxially consistent sign function of the sliding direction.
+The vertical load is taken as constant (no overturning or vertical-acceleration effect).
+
+Linear part (handled exactly by the building): :math:`k_\mathrm{lin} = W/R`,
+:math:`c_\mathrm{lin} = c`. The kernel returns the friction force
+:math:`\mu(\|\dot u\|) W z` at the end of the step.
+
+Parameter array (``to_array()``)::
+
+    [W/R, c, W, mu_max, mu_min, a, Y, A, beta, gamma, substep_tolerance]
+
+States: ``[z_x, z_y]``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numba
+import numpy as np
+
+from benchmark.foundation.errors import ParameterError
+from benchmark.simulator.isolation.base import (BearingParameters, require_nonnegative, require_positive,
+                                      require_range)
+from benchmark.simulator.isolation.park_wen import park_wen_advance, park_wen_rates
+
+__all__ = ["FrictionPendulumBearing", "TYPE_ID", "N_PARAMS", "friction_pendulum_step",
+           "friction_coefficient"]
+
+TYPE_ID = 2
+N_PARAMS = 11
+
+
+def friction_coefficient(speed: float | np.ndarray, mu_max: float, mu_min: float,
+                         rate_parameter: float) -> float | np.ndarray:
+    r"""Sliding friction coefficient :math:`\mu(v) = f_\max - (f_\max - f_\min) e^{-a |v|}`.
+
+    Parameters
+    ----------
+    speed : float or ndarray
+        Sliding speed :math:`v` [m/s].
+    mu_max, mu_min : float
+        Coefficients at high and vanishing speed.
+    rate_parameter : float
+        :math:`a` [s/m].
+    """
+    return mu_max - (mu_max - mu_min) * np.exp(-rate_parameter * np.abs(speed))
+
+
+@dataclass(frozen=True)
+class FrictionPendulumBearing(BearingParameters):
+    """Friction pendulum bearing.
+
+    Parameters
+    ----------
+    weight : float
+        Vertical load W carried by the bearing [N] (> 0).
+    radius : float
+        Radius R of the concave sliding surface [m] (> 0).
+    mu_max, mu_min : float
+        Friction coefficients at high and at vanishing sliding speed, 0 <= mu_min <= mu_max < 1.
+    rate_parameter : float
+        a [s/m] (>= 0): how fast friction rises from mu_min to mu_max with sliding speed.
+    yield_displacement : float
+        Y [m] (> 0): pre-sliding displacement of the Park–Wen element (default 0.5 mm).
+    c : float
+        Additional viscous damping [N·s/m] (>= 0, default 0).
+    A, beta, gamma : float
+        Park–Wen shape parameters (defaults 1, 0.1, 0.9; gamma >= beta, beta + gamma > 0).
+    substep_tolerance : float
+        Sub-step tolerance of the kernel (default 0.75; see :class:`LeadRubberBearing`).
+    """
+
+    weight: float
+    radius: float
+    mu_max: float
+    mu_min: float
+    rate_parameter: float
+    yield_displacement: float = 5.0e-4
+    c: float = 0.0
+    A: float = 1.0
+    beta: float = 0.1
+    gamma: float = 0.9
+    substep_tolerance: float = 0.75
+
+    name: ClassVar[str] = "friction-pendulum"
+    type_id: ClassVar[int] = TYPE_ID
+    n_states: ClassVar[int] = 2
+
+    def __post_init__(self) -> None:
+        require_positive(self, "weight")
+        require_positive(self, "radius")
+        require_range(self, "mu_max", 0.0, 1.0, high_open=True)
+        require_range(self, "mu_min", 0.0, 1.0, high_open=True)
+        if self.mu_min > self.mu_max:
+            raise ParameterError(f"FrictionPendulumBearing.mu_min = {self.mu_min!r} > mu_max = "
+                                 f"{self.mu_max!r}: expected mu_min <= mu_max")
+        require_nonnegative(self, "rate_parameter")
+        require_positive(self, "yield_displacement")
+        require_nonnegative(self, "c")
+        require_positive(self, "A")
+        require_range(self, "substep_tolerance", 0.0, 2.0, low_open=True)
+        if not (self.beta + self.gamma > 0.0 and self.gamma >= self.beta):
+            raise ParameterError(f"FrictionPendulumBearing.beta = {self.beta!r}, gamma = {self.gamma!r}: "
+                                 "expected beta + gamma > 0 and gamma >= beta (bounded hysteresis)")
+
+    @property
+    def pendulum_stiffness(self) -> float:
+        """W / R [N/m]."""
+        return self.weight / self.radius
+
+    def to_array(self) -> np.ndarray:
+        return np.array([self.pendulum_stiffness, self.c, self.weight, self.mu_max, self.mu_min,
+                         self.rate_parameter, self.yield_displacement, self.A, self.beta,
+                         self.gamma, self.substep_tolerance], dtype=np.float64)
+
+    def rates(self, state, ux, uy, vx, vy):
+        rzx, rzy = park_wen_rates(float(state[0]), float(state[1]), float(vx), float(vy),
+                                  self.yield_displacement, self.A, self.beta, self.gamma)
+        return np.array([rzx, rzy])
+
+    def force(self, state, ux, uy, vx, vy):
+        mu = friction_coefficient(math.hypot(vx, vy), self.mu_max, self.mu_min, self.rate_parameter)
+        kp = self.pendulum_stiffness
+        return (kp * ux + self.c * vx + mu * self.weight * state[0],
+                kp * uy + self.c * vy + mu * self.weight * state[1])
+
+
+@numba.njit(cache=True, inline="always")
+def friction_pendulum_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out):
+    """Advance ``state = [z_x, z_y]`` over one step and write the friction force mu W z [N]."""
+    park_wen_advance(state, 0, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,
+                     params[6], params[7], params[8], params[9], params[10])
+    speed = math.sqrt(vx1 * vx1 + vy1 * vy1)
+    mu = params[3] - (params[3] - params[4]) * math.exp(-params[5] * speed)
+    force_out[0] = mu * params[2] * state[0]
+    force_out[1] = mu * params[2] * state[1]

@@ -1,0 +1,130 @@
+r"""Registry of bearing types and the one dispatch kernel the building's stepping kernel calls.
+
+Contract with the building core
+-------------------------------
+* Every bearing's flat parameter array starts with its **linear part**:
+  ``params[0] = k`` [N/m] and ``params[1] = c`` [N·s/m] per horizontal direction
+  (linear bearing: k, c; lead-rubber: alpha k_initial, c; friction pendulum: W/R, c).
+  The building puts :math:`\sum_i k_i T_i^\mathsf{T} T_i` and :math:`\sum_i c_i T_i^\mathsf{T} T_i`
+  into its exact discretisation (:func:`linear_part` in Python, ``params[0:2]`` in numba).
+* :func:`bearing_step` advances the bearing's internal states and writes into ``force_out``
+  the **remaining (hysteretic) force** :math:`f - k u - c \dot u` [N] at the end of the step
+  (zero for a linear bearing). The total bearing force is therefore
+  ``k*u1 + c*v1 + force_out`` (:func:`bearing_total_force`).
+* ``state`` is a float64 array of length ``n_states`` of the type (0 for linear, 2 for the
+  Park–Wen types), typically a row of an ``(n_bearings, MAX_STATES)`` array (rows may be
+  longer than ``n_states``; extra entries are untouched). ``params`` may likewise be a row of an
+  ``(n_bearings, MAX_PARAMS)`` array padded with zeros (see
+  :meth:`benchmark.simulator.isolation.configurations.IsolationLayer.pack`).
+* Sub-stepping: each nonlinear type sub-steps internally from its hysteretic stiffness
+  (:mod:`benchmark.simulator.isolation.park_wen`); the tolerance is the last entry of its parameter
+  array (``substep_tolerance`` field of the dataclass, default 0.75).
+* For a continuous-time oracle (scipy ``solve_ivp``) use the dataclasses' plain-numpy
+  ``rates(state, ux, uy, vx, vy)`` (d state/dt) and ``force(...)`` (total force) methods.
+
+Adding a bearing type means writing its module and adding one line to ``_TYPES`` and one
+branch to :func:`bearing_step`.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from benchmark.foundation.errors import ParameterError
+from benchmark.simulator.isolation import friction_pendulum, lead_rubber, linear
+from benchmark.simulator.isolation.base import BearingParameters
+from benchmark.simulator.isolation.friction_pendulum import FrictionPendulumBearing, friction_pendulum_step
+from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing, lead_rubber_step
+from benchmark.simulator.isolation.linear import LinearBearing, linear_step
+
+__all__ = [
+    "BEARING_TYPES", "BEARING_NAMES", "MAX_STATES", "MAX_PARAMS", "bearing_type", "bearing_step",
+    "bearing_total_force", "linear_part", "n_states_of", "LinearBearing", "LeadRubberBearing",
+    "FrictionPendulumBearing", "BearingParameters",
+]
+
+_TYPES: tuple[type[BearingParameters], ...] = (LinearBearing, LeadRubberBearing, FrictionPendulumBearing)
+
+#: type id -> parameter class
+BEARING_TYPES: dict[int, type[BearingParameters]] = {cls.type_id: cls for cls in _TYPES}
+#: bearing type names ("linear", "lead-rubber", "friction-pendulum")
+BEARING_NAMES: tuple[str, ...] = tuple(cls.name for cls in _TYPES)
+#: largest number of internal states of any type
+MAX_STATES: int = max(cls.n_states for cls in _TYPES)
+#: largest parameter-array length of any type
+MAX_PARAMS: int = max(linear.N_PARAMS, lead_rubber.N_PARAMS, friction_pendulum.N_PARAMS)
+
+assert sorted(BEARING_TYPES) == list(range(len(_TYPES)))
+
+
+def bearing_type(key: int | str) -> type[BearingParameters]:
+    """Return the parameter class of a bearing type.
+
+    Parameters
+    ----------
+    key : int or str
+        Type id (0 linear, 1 lead-rubber, 2 friction pendulum) or name (:data:`BEARING_NAMES`).
+
+    Raises
+    ------
+    ParameterError
+        If the type is unknown (the message lists the known ones).
+    """
+    if isinstance(key, str):
+        for cls in _TYPES:
+            if cls.name == key:
+                return cls
+        raise ParameterError(f"bearing type {key!r} unknown: expected one of {', '.join(BEARING_NAMES)}")
+    try:
+        return BEARING_TYPES[int(key)]
+    except (KeyError, TypeError, ValueError):
+        raise ParameterError(f"bearing type id {key!r} unknown: expected one of "
+                             f"{sorted(BEARING_TYPES)}") from None
+
+
+def n_states_of(type_id: int) -> int:
+    """Number of internal states of the bearing type ``type_id``."""
+    return bearing_type(type_id).n_states
+
+
+def linear_part(type_id: int, params: np.ndarray) -> tuple[float, float]:
+    """``(k, c)`` of a packed bearing: linear stiffness [N/m] and damping [N·s/m] per direction.
+
+    Parameters
+    ----------
+    type_id : int
+        Bearing type id (checked only: the layout is the same for every type).
+    params : ndarray
+        The bearing's packed parameters; returns ``params[0], params[1]``.
+    """
+    bearing_type(type_id)
+    return float(params[0]), float(params[1])
+
+
+@numba.njit(cache=True, inline="always")
+def bearing_step(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out):
+    """Advance one bearing's internal states (in place) along one structural step.
+
+    The path goes from displacement (ux0, uy0), velocity (vx0, vy0) to (ux1, uy1), (vx1, vy1)
+    over ``dt`` [m, m/s, s] (cubic Hermite in time), sub-stepping as the bearing's stiffness
+    needs. Writes the bearing's **hysteretic force** (total force minus ``params[0]*u1 +
+    params[1]*v1``) at the end of the step, ``(fx, fy)`` [N], into ``force_out[0:2]``.
+    An unknown ``type_id`` writes NaN (the stepping kernel's NaN check reports it).
+    """
+    if type_id == 0:
+        linear_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out)
+    elif type_id == 1:
+        lead_rubber_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out)
+    elif type_id == 2:
+        friction_pendulum_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out)
+    else:
+        force_out[0] = np.nan
+        force_out[1] = np.nan
+
+
+@numba.njit(cache=True)
+def bearing_total_force(params, ux, uy, vx, vy, hysteretic_force, force_out):
+    """Total bearing force = linear part + hysteretic force (as written by :func:`bearing_step`)."""
+    force_out[0] = params[0] * ux + params[1] * vx + hysteretic_force[0]
+    force_out[1] = params[0] * uy + params[1] * vy + hysteretic_force[1]

@@ -1,0 +1,573 @@
+"""Run the building under a ground motion: :func:`simulate` -> :class:`SimulationResult`.
+
+:func:`simulate` assembles the building into arrays (exactly discretised linear part, packed
+bearings and devices, measurement matrices, noise, compiled controller), runs the numba
+kernel of :mod:`benchmark.simulator.stepping`, and derives every output of docs/ARCHITECTURE.md from the
+state history. ``controller=None`` is the uncontrolled reference run: no devices at all.
+A controller with a compiled form (every built-in) runs inside the kernel; any other object
+with ``step(measurements) -> voltages`` is called from Python once per control step, the
+kernel advancing one control step per call (slower, same results).
+
+All quantities are SI (m, s, N, kg, rad, V); time along axis 0, one sample per record step.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import time as _time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from benchmark.foundation.errors import InputError, NumericalError
+
+__all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES"]
+
+ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "device")
+_DEFAULT_BLOWUP = 50.0  # m
+
+
+@dataclass(eq=False)
+class SimulationResult:
+    """Time histories of one run (SI; ``n`` samples at the record step, time along axis 0).
+
+    Attributes
+    ----------
+    t : (n,) [s]
+    base_displacement, base_velocity, base_acceleration : (n, 3)
+        Base centre of mass relative to the ground (x, y [m, m/s, m/s²], θ [rad, rad/s, rad/s²]).
+    base_acceleration_absolute : (n, 3)
+        :math:`\\ddot u_b + \\ddot u_g`.
+    floor_displacement : (n, 8, 3)
+        Floors 1..8 relative to the base (x, y [m], θ [rad]).
+    floor_acceleration_absolute : (n, 8, 3)
+        :math:`\\ddot u_s + R(\\ddot u_b + \\ddot u_g)` [m/s², rad/s²].
+    drift_ratio : (n, 8, 2)
+        Inter-storey drift / storey height at the centres of mass (storey 1 = floor 1 − base).
+    isolation_force : (n, 3)
+        Bearing forces resolved at the base centre of mass :math:`\\sum T_i^T f_i` [N, N·m].
+    device_force_total : (n, 3)
+        Device forces at the base centre of mass [N, N·m].
+    base_shear : (n, 3)
+        ``isolation_force + device_force_total`` (the isolation-level force).
+    structure_shear : (n, 3)
+        First-storey force :math:`R^T(K u_s + C\\dot u_s)` [N, N·m].
+    bearing_force : (n, n_bearings, 2)
+        Total force of each bearing (x, y) [N].
+    bearing_state : (n, n_bearings, n_states) or None
+        Hysteretic states of each bearing (``record_states=True``).
+    device_displacement, device_velocity, device_force, voltage : (n, n_devices)
+        [m], [m/s], [N] (device sign convention), [V] (held over each control step).
+    energy : dict of (n,) arrays
+        ``input, kinetic, strain, damping, hysteretic, device`` [J] (see :mod:`benchmark.simulator.stepping`).
+    measurements : (n_control, n_meas)
+        The measurement vectors the controller saw (noise added); empty without a controller.
+    desired_force : (n_control, n_devices)
+        Desired forces of a compiled controller (NaN for pure-Python controllers).
+    iterations : (n,) int
+        Fixed-point iterations of each step.
+    info : dict
+        record, orientation, isolation, controller, settings, elapsed time.
+    """
+
+    t: np.ndarray
+    base_displacement: np.ndarray
+    base_velocity: np.ndarray
+    base_acceleration: np.ndarray
+    base_acceleration_absolute: np.ndarray
+    floor_displacement: np.ndarray
+    floor_acceleration_absolute: np.ndarray
+    drift_ratio: np.ndarray
+    isolation_force: np.ndarray
+    device_force_total: np.ndarray
+    base_shear: np.ndarray
+    structure_shear: np.ndarray
+    bearing_force: np.ndarray
+    bearing_state: np.ndarray | None
+    device_displacement: np.ndarray
+    device_velocity: np.ndarray
+    device_force: np.ndarray
+    voltage: np.ndarray
+    energy: dict
+    measurements: np.ndarray
+    desired_force: np.ndarray
+    iterations: np.ndarray
+    info: dict = field(default_factory=dict)
+    state: np.ndarray | None = field(default=None, repr=False)
+    ground_acceleration: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def n_samples(self) -> int:
+        return self.t.shape[0]
+
+    @property
+    def dt(self) -> float:
+        return float(self.t[1] - self.t[0]) if self.t.size > 1 else float("nan")
+
+    def energy_balance_error(self) -> float:
+        """Largest |input − (kinetic + strain + damping + hysteretic + device)| over the run,
+        relative to the largest input energy."""
+        e = self.energy
+        residual = e["input"] - (e["kinetic"] + e["strain"] + e["damping"] + e["hysteretic"] + e["device"])
+        scale = np.max(np.abs(e["input"]))
+        return float(np.max(np.abs(residual)) / scale) if scale > 0 else 0.0
+
+
+# --------------------------------------------------------------------------- helpers
+
+def _ground_acceleration(record: Any) -> np.ndarray:
+    acc = getattr(record, "acceleration", None)
+    dt = getattr(record, "dt", None)
+    if acc is None or dt is None:
+        raise InputError(f"record: {type(record).__name__} has no 'acceleration' and 'dt'; "
+                         "expected a records.Record")
+    acc = np.asarray(acc, dtype=float)
+    if acc.ndim == 1:
+        acc = acc[:, None]
+    if acc.ndim != 2 or acc.shape[1] not in (1, 2):
+        raise InputError(f"record {getattr(record, 'name', '?')!r}: acceleration has shape {acc.shape}; "
+                         "expected (n, 1) (applied along x) or (n, 2) (x, y)")
+    if acc.shape[0] < 2:
+        raise InputError(f"record {getattr(record, 'name', '?')!r}: needs at least 2 samples")
+    if not np.all(np.isfinite(acc)):
+        bad = int(np.flatnonzero(~np.all(np.isfinite(acc), axis=1))[0])
+        raise InputError(f"record {getattr(record, 'name', '?')!r}: sample {bad} is NaN or infinite")
+    ag = np.zeros((acc.shape[0], 2))
+    ag[:, :acc.shape[1]] = acc
+    return np.ascontiguousarray(ag)
+
+
+def _control_ratio(control_step: float, dt: float) -> int:
+    if not (np.isfinite(control_step) and control_step > 0):
+        raise InputError(f"control_step: expected a positive time in s, got {control_step!r}")
+    ratio = control_step / dt
+    r = int(round(ratio))
+    if r < 1 or abs(ratio - r) > 1e-6 * max(1.0, ratio):
+        raise InputError(f"control_step = {control_step:g} s must be a whole multiple of the record step "
+                         f"{dt:g} s (the structure steps at the record step)")
+    return r
+
+
+_DISCRETE_CACHE: dict = {}
+
+
+def _discrete_system(building, dt: float):
+    """Continuous matrices with the bearings' linear parts and their FOH discretisation (cached)."""
+    from benchmark.simulator.linear_model import state_space_matrices
+    from benchmark.simulator.stepping import discretize_foh
+
+    sup = building.superstructure
+    Kb, Cb = building.isolation_linear_matrices()
+    # Key on the matrices themselves, not the file name: a modified superstructure
+    # (dataclasses.replace(sup, K=...)) must not get the discretisation of the original.
+    digest = hashlib.sha1()
+    for arr in (sup.M, sup.K, sup.C, sup.R, sup.basis, np.array([sup.base_mass, sup.base_inertia])):
+        a = np.ascontiguousarray(arr, dtype=np.float64)
+        digest.update(str(a.shape).encode())
+        digest.update(a.tobytes())
+    key = (digest.hexdigest(), Kb.tobytes(), Cb.tobytes(), float(dt))
+    hit = _DISCRETE_CACHE.get(key)
+    if hit is not None:
+        return hit
+    mats = state_space_matrices(sup, Kb, Cb)
+    B = np.hstack([mats["B_ag"], mats["B_g"]])
+    Phi, G0, G1 = discretize_foh(mats["A"], B, dt)
+    value = (mats, Kb, Cb, Phi, G0, G1)
+    if len(_DISCRETE_CACHE) > 16:
+        _DISCRETE_CACHE.clear()
+    _DISCRETE_CACHE[key] = value
+    return value
+
+
+def _resolve_controller(controller: Any):
+    if isinstance(controller, str):
+        try:
+            from controllers.registry import get_controller
+        except ImportError:  # pragma: no cover - controllers package incomplete
+            raise InputError(f"controller {controller!r}: controllers.registry is not available; "
+                             "pass a controller object") from None
+        return get_controller(controller)
+    return controller
+
+
+# --------------------------------------------------------------------------- simulate
+
+def simulate(building, record, controller: Any = None, control_step: float = 0.005,
+             substep_tolerance: float | None = None, noise: Any = None, seed: int | None = None,
+             fixed_point_tolerance: float = 1e-6, max_iterations: int = 100,
+             record_states: bool = True, blowup_limit: float = _DEFAULT_BLOWUP,
+             slew_rate: Any = np.inf, info: dict | None = None) -> SimulationResult:
+    """Simulate the building under a record.
+
+    Parameters
+    ----------
+    building : benchmark.simulator.building.Building
+        Superstructure (full or reduced), isolation layer, device layout.
+    record : records.Record
+        Ground acceleration [m/s²], ``(n, 2)`` for x and y (a single component acts along x),
+        at step ``record.dt``; the structure steps at ``record.dt``.
+    controller : None, str or controller object
+        ``None``: no devices (the uncontrolled reference). A name of
+        :mod:`controllers.registry`, or an object with ``step(measurements) -> voltages``
+        (``reset(context)`` and ``compiled()`` optional, see :mod:`controllers.base`).
+    control_step : float
+        Control sample time [s], a whole multiple of ``record.dt``; voltages are held between.
+    substep_tolerance : float, optional
+        Replace the sub-step tolerance of every nonlinear bearing and device (smaller = more
+        sub-steps, more accurate); ``None`` keeps each model's own value.
+    noise : None, array or noise object
+        Measurement noise (see :func:`benchmark.simulator.sensors.noise_samples`).
+    seed : int, optional
+        Seed of the noise generator.
+    fixed_point_tolerance : float
+        Relative tolerance of the nonlinear-force iteration per step (see :mod:`benchmark.simulator.stepping`).
+    max_iterations : int
+        Iterations allowed per step before a :class:`NumericalError`.
+    record_states : bool
+        Keep the bearings' hysteretic states (``bearing_state``).
+    blowup_limit : float
+        Base displacement [m] beyond which the run stops with a :class:`NumericalError`.
+    slew_rate : float or array
+        Actuator voltage slew limit [V/s] passed to the controller context.
+    info : dict, optional
+        Extra information stored in ``result.info`` (e.g. ``orientation``).
+
+    Returns
+    -------
+    SimulationResult
+
+    Raises
+    ------
+    InputError
+        Bad record, control step or controller output.
+    NumericalError
+        NaN, blow-up or a fixed point that does not converge; carries time, state and a hint.
+    """
+    from benchmark.simulator import stepping
+    from benchmark.simulator.sensors import n_measurements, noise_samples
+
+    t_start = _time.perf_counter()
+    ag = _ground_acceleration(record)
+    dt = float(record.dt)
+    if not (np.isfinite(dt) and dt > 0):
+        raise InputError(f"record {getattr(record, 'name', '?')!r}: dt = {dt!r}; expected a positive step in s")
+    n = ag.shape[0]
+    ratio = _control_ratio(control_step, dt)
+    if n - 1 < ratio:
+        raise InputError(f"record {getattr(record, 'name', '?')!r}: {n} samples ({(n - 1) * dt:g} s) is shorter "
+                         f"than one control step ({ratio * dt:g} s); expected at least {ratio + 1} samples")
+    if not (np.isfinite(fixed_point_tolerance) and fixed_point_tolerance > 0):
+        raise InputError(f"fixed_point_tolerance: expected > 0, got {fixed_point_tolerance!r}")
+    if int(max_iterations) < 1:
+        raise InputError(f"max_iterations: expected >= 1, got {max_iterations!r}")
+
+    isolation = building.isolation
+    if substep_tolerance is not None:
+        if not (np.isfinite(substep_tolerance) and substep_tolerance > 0):
+            raise InputError(f"substep_tolerance: expected > 0, got {substep_tolerance!r}")
+        isolation = isolation.with_substep_tolerance(substep_tolerance)
+    packed = isolation.pack()
+    b_type = np.ascontiguousarray(packed.type_ids, dtype=np.int64)
+    b_params = np.ascontiguousarray(packed.params, dtype=np.float64)
+    b_state = np.ascontiguousarray(packed.states, dtype=np.float64).copy()
+    sup = building.superstructure
+    b_xy = np.ascontiguousarray(sup.bearing_xy, dtype=np.float64)
+    nb = b_xy.shape[0]
+
+    mats, Kb, Cb, Phi, G0, G1 = _discrete_system(building, dt)
+    nq = sup.n_q
+    nv = nq + 3
+    nz = 2 * nv
+
+    # ---- devices and controller
+    controller = _resolve_controller(controller)
+    devices = building.devices if controller is not None else None
+    if controller is not None and devices is None:
+        raise InputError("simulate: a controller was given but the building has no devices "
+                         "(Building.default(devices='default') or building.with_devices(...))")
+    session = None
+    compiled = None
+    if devices is not None:
+        if substep_tolerance is not None:
+            devices = devices.with_substep_tolerance(substep_tolerance)
+        d_model, d_params, d_state, _ = devices.pack()
+        d_infl = np.ascontiguousarray(devices.influence())
+        from controllers.base import ControllerSession
+        from benchmark.simulator.control import control_context
+
+        context = control_context(building, control_step=ratio * dt, slew_rate=slew_rate,
+                                               info=dict(info or {}, record=getattr(record, "name", "")))
+        session = ControllerSession(controller, context)
+        compiled = session.compiled
+        if compiled is not None:
+            if abs(compiled.control_step - ratio * dt) > 1e-9 * ratio * dt:
+                raise InputError(f"controller {session.name!r} was designed for a control step of "
+                                 f"{compiled.control_step:g} s, the run uses {ratio * dt:g} s")
+            if compiled.n_devices != d_infl.shape[0] or compiled.n_meas != n_measurements(d_infl.shape[0]):
+                raise InputError(f"controller {session.name!r} expects {compiled.n_devices} devices and "
+                                 f"{compiled.n_meas} measurements; the building has {d_infl.shape[0]} "
+                                 f"devices ({n_measurements(d_infl.shape[0])} measurements)")
+    else:
+        d_model = np.zeros(0, dtype=np.int64)
+        d_params = np.zeros((0, 1))
+        d_state = np.zeros((0, 1))
+        d_infl = np.zeros((0, 3))
+    nd = d_infl.shape[0]
+    n_meas = n_measurements(nd)
+    n_control = (n - 1) // ratio + 1 if nd else 0
+    noise_arr, meas_range = noise_samples(noise if nd else None, n_control, nd, seed)
+
+    if compiled is not None:
+        ctrl_mode = 1
+        Ac, Bc, Cc, Dc = compiled.Ac, compiled.Bc, compiled.Cc, compiled.Dc
+        law_id, law_params = compiled.law_id, compiled.law_params
+        v_max, slew = compiled.v_max, compiled.slew_rate
+        xc, voltage = compiled.initial_state()
+    else:
+        ctrl_mode = 2 if session is not None else 0
+        Ac = np.zeros((0, 0))
+        Bc = np.zeros((0, n_meas))
+        Cc = np.zeros((nd, 0))
+        Dc = np.zeros((nd, n_meas))
+        law_id = 0
+        law_params = np.zeros(nd)
+        v_max = np.zeros(nd) if devices is None else devices.voltage_max
+        slew = np.full(nd, np.inf)
+        xc = np.zeros(0)
+        voltage = np.zeros(nd)
+    arrays = [np.ascontiguousarray(a, dtype=np.float64) for a in (Ac, Bc, Cc, Dc, law_params, v_max, slew, xc)]
+    Ac, Bc, Cc, Dc, law_params, v_max, slew, xc = arrays
+    voltage = np.ascontiguousarray(voltage, dtype=np.float64).copy()
+
+    # ---- outputs
+    z_out = np.zeros((n, nz))
+    gb_out = np.zeros((n, 3))
+    gd_out = np.zeros((n, 3))
+    fb_out = np.zeros((n, nb, 2))
+    sb = b_state.shape[1]
+    bstate_out = np.zeros((n if record_states else 1, nb, sb))
+    fd_out = np.zeros((n, nd))
+    v_out = np.zeros((n, nd))
+    energy_out = np.zeros((n, 6))
+    meas_out = np.zeros((n_control, n_meas))
+    desired_out = np.full((n_control, nd), np.nan)
+    iter_out = np.zeros(n, dtype=np.int64)
+    if record_states:
+        bstate_out[0] = b_state
+    stepping.initial_forces(dt, b_xy, b_type, b_params, b_state, d_infl, d_model, d_params, d_state,
+                            voltage, fb_out[0], fd_out[0], gb_out[0], gd_out[0])
+
+    Kq = np.ascontiguousarray(mats["Kg"][:nq, :nq])
+    Cq = np.ascontiguousarray(mats["Cg"][:nq, :nq])
+    common = (dt, ratio, nq, Phi, G0, G1, ag, b_xy, b_type, b_params, b_state,
+              d_infl, d_model, d_params, d_state,
+              np.ascontiguousarray(mats["Mg"]), Kq, Cq, np.ascontiguousarray(Kb), np.ascontiguousarray(Cb),
+              np.ascontiguousarray(mats["momentum"]),
+              np.ascontiguousarray(mats["C_acc"]), np.ascontiguousarray(mats["D_acc_g"]),
+              np.ascontiguousarray(mats["D_acc_ag"]), noise_arr, meas_range)
+    outputs = (z_out, gb_out, gd_out, fb_out, bstate_out, fd_out, v_out, energy_out, meas_out,
+               desired_out, iter_out)
+    settings = (float(fixed_point_tolerance), int(max_iterations), float(blowup_limit), bool(record_states))
+
+    def run(k0, k1, mode):
+        return stepping.run_steps(k0, k1, *common, mode, Ac, Bc, Cc, Dc, int(law_id),
+                                  law_params, v_max, slew, ratio * dt, xc, voltage, *settings, *outputs)
+
+    if ctrl_mode == 2:
+        y = np.empty(n_meas)
+        g_tot = np.empty(3)
+        status, k_fail = 0, 0
+        for kc in range(n_control):
+            k = kc * ratio
+            g_tot[:] = gb_out[k] + gd_out[k]
+            stepping.measure(k, nq, z_out[k], g_tot, ag[k], mats["C_acc"], mats["D_acc_g"], mats["D_acc_ag"],
+                             d_infl, fd_out[k], noise_arr[kc], meas_range, y)
+            meas_out[kc] = y
+            voltage[:] = session.step(y.copy(), time=k * dt)
+            k1 = min(k + ratio, n - 1)
+            if k1 <= k:
+                break
+            status, k_fail = run(k, k1, 2)
+            if status:
+                break
+    else:
+        status, k_fail = run(0, n - 1, ctrl_mode)
+    if nd:
+        v_out[n - 1] = voltage
+    if status:
+        _raise_numerical(status, k_fail, dt, z_out, nq, nv, session)
+
+    elapsed = _time.perf_counter() - t_start
+    return _build_result(building, record, ag, dt, z_out, gb_out, gd_out, fb_out,
+                         bstate_out if record_states else None, fd_out, v_out, energy_out, meas_out,
+                         desired_out, iter_out, mats, Kb, Cb, packed, d_infl, isolation, session,
+                         dict(info or {}), elapsed, control_step=ratio * dt,
+                         substep_tolerance=substep_tolerance, fixed_point_tolerance=fixed_point_tolerance,
+                         seed=seed, noise=noise)
+
+
+def _raise_numerical(status, k, dt, z_out, nq, nv, session):
+    from benchmark.simulator.stepping import STATUS_MESSAGES, STATUS_NOT_CONVERGED, STATUS_CONTROLLER
+
+    z = z_out[k]
+    state = {"u_b_x [m]": float(z[nq]), "u_b_y [m]": float(z[nq + 1]), "u_b_theta [rad]": float(z[nq + 2]),
+             "v_b_x [m/s]": float(z[nv + nq]), "v_b_y [m/s]": float(z[nv + nq + 1])}
+    if status == STATUS_NOT_CONVERGED:
+        hint = ("the bearings or devices are too stiff for the record step; soften their parameters, "
+                "or resample the record to a smaller step")
+    elif status == STATUS_CONTROLLER:
+        hint = f"check the design of controller {getattr(session, 'name', '?')!r} (unstable estimator?)"
+    else:
+        hint = ("check the isolation and device parameters (a negative or zero stiffness?) and the "
+                "controller; a bearing or damper whose hysteresis would need more than 200 000 "
+                "sub-steps in one record step also stops here: soften it or loosen substep_tolerance")
+    raise NumericalError(STATUS_MESSAGES.get(status, f"kernel status {status}"), time=(k + 1) * dt,
+                         state=state, hint=hint)
+
+
+def _build_result(building, record, ag, dt, z, gb, gd, fb, bstate, fd, v, energy, meas, desired, iters,
+                  mats, Kb, Cb, packed, d_infl, isolation, session, info, elapsed, **settings):
+    from benchmark.simulator.stepping import total_bearing_forces
+
+    sup = building.superstructure
+    nq = sup.n_q
+    nv = nq + 3
+    nz = z.shape[1]
+    n = z.shape[0]
+    nd = d_infl.shape[0]
+    t = np.arange(n) * dt
+    # Every derived history is linear in X = [z, g_bearings, g_devices, ag]: one matrix product
+    # X @ W gives them all (a single BLAS call instead of a dozen small ones on strided views).
+    X = np.empty((n, nz + 8))
+    X[:, :nz] = z
+    X[:, nz:nz + 3] = gb
+    X[:, nz + 3:nz + 6] = gd
+    X[:, nz + 6:] = ag
+    A_v = mats["A"][nv:]                        # (nv, nz): accelerations from the state
+    Bg_v = mats["B_g"][nv:]                     # (nv, 3): from the nonlinear forces
+    Bag_v = mats["B_ag"][nv:]                   # (nv, 2): from the ground acceleration
+    L_v = np.hstack([A_v, Bg_v, Bg_v, Bag_v])   # (nv, nz + 8): [q̈; ü_b] = L_v X
+    basis = sup.basis
+    KR = basis.T @ (sup.K.T @ sup.R)            # (nq, 3)
+    CR = basis.T @ (sup.C.T @ sup.R)
+    blocks = {}
+    cols = []
+
+    def add(name, w):
+        blocks[name] = slice(sum(c.shape[1] for c in cols), sum(c.shape[1] for c in cols) + w.shape[1])
+        cols.append(w)
+
+    add("acc", L_v.T)                                   # q̈, ü_b
+    Wus = np.zeros((nz + 8, basis.shape[0]))
+    Wus[:nq] = basis.T
+    add("us", Wus)                                      # u_s = basis q
+    add("floor_rel_acc", L_v[:nq].T @ basis.T)          # basis q̈
+    Wss = np.zeros((nz + 8, 3))
+    Wss[:nq] = KR
+    Wss[nv:nv + nq] = CR
+    add("structure_shear", Wss)                         # Rᵀ(K u_s + C u̇_s)
+    Wiso = np.zeros((nz + 8, 3))
+    Wiso[nq:nv] = Kb.T
+    Wiso[nv + nq:nz] = Cb.T
+    Wiso[nz:nz + 3] = np.eye(3)
+    add("isolation", Wiso)                              # K_b u_b + C_b u̇_b + g_bearings
+    Wdev = np.zeros((nz + 8, 2 * nd))
+    Wdev[nq:nv, :nd] = d_infl.T
+    Wdev[nv + nq:nz, nd:] = d_infl.T
+    add("devices", Wdev)                                # device displacement, velocity
+    Y = X @ np.hstack(cols)
+    acc = Y[:, blocks["acc"]]
+    ub = z[:, nq:nv].copy()
+    vb = z[:, nv + nq:].copy()
+    ab = acc[:, nq:]
+    base_abs = ab.copy()
+    base_abs[:, :2] += ag
+    us = Y[:, blocks["us"]]
+    floor_abs = Y[:, blocks["floor_rel_acc"]].reshape(n, 8, 3) + base_abs[:, None, :]
+    floor_disp = us.reshape(n, 8, 3)
+    drift = np.empty((n, 8, 2))
+    drift[:, 0] = floor_disp[:, 0, :2]
+    drift[:, 1:] = floor_disp[:, 1:, :2] - floor_disp[:, :-1, :2]
+    drift /= sup.storey_heights[None, :, None]
+    structure_shear = Y[:, blocks["structure_shear"]]
+    iso = Y[:, blocks["isolation"]]
+    dev = Y[:, blocks["devices"]]
+    dev_disp = dev[:, :nd]
+    dev_vel = dev[:, nd:]
+    # total bearing forces, in place of the hysteretic ones (a compiled loop: no temporaries)
+    bearing_force = total_bearing_forces(z, nq, np.ascontiguousarray(sup.bearing_xy, dtype=np.float64),
+                                         np.ascontiguousarray(packed.params[:, 0]),
+                                         np.ascontiguousarray(packed.params[:, 1]), fb)
+    info = dict(info)
+    info.setdefault("record", getattr(record, "name", ""))
+    info.setdefault("record_source", getattr(record, "source", ""))
+    meta = getattr(record, "metadata", None) or {}
+    if "orientation" in meta:
+        info.setdefault("orientation", meta["orientation"])
+    info.setdefault("isolation", getattr(isolation, "name", ""))
+    info["controller"] = "none" if session is None else session.name
+    info["n_devices"] = d_infl.shape[0]
+    info["n_modes"] = sup.n_modes if sup.is_reduced else 24
+    info["record_step"] = dt
+    info["settings"] = {k: (v if isinstance(v, (int, float, str, type(None))) else repr(v))
+                        for k, v in settings.items()}
+    info["elapsed_s"] = elapsed
+    info["mean_iterations"] = float(iters[1:].mean()) if n > 1 else 0.0
+    info["max_iterations_used"] = int(iters.max()) if n > 1 else 0
+    return SimulationResult(
+        t=t, base_displacement=ub, base_velocity=vb, base_acceleration=ab,
+        base_acceleration_absolute=base_abs, floor_displacement=floor_disp,
+        floor_acceleration_absolute=floor_abs.reshape(n, 8, 3), drift_ratio=drift,
+        isolation_force=iso, device_force_total=gd.copy(), base_shear=iso + gd,
+        structure_shear=structure_shear, bearing_force=bearing_force, bearing_state=bstate,
+        device_displacement=dev_disp, device_velocity=dev_vel, device_force=fd, voltage=v,
+        energy={name: energy[:, i].copy() for i, name in enumerate(ENERGY_NAMES)},
+        measurements=meas, desired_force=desired, iterations=iters, info=info, state=z,
+        ground_acceleration=ag)
+
+
+# --------------------------------------------------------------------------- reduced order
+
+def reduction_error(building, record, n_modes: int, **kwargs) -> dict:
+    """Peak-response error of a reduced superstructure against the full one on a record.
+
+    Parameters
+    ----------
+    building : Building
+        The building (its superstructure is used in full and with ``n_modes`` modes).
+    record : records.Record
+    n_modes : int
+        Modes kept.
+    **kwargs
+        Passed to :func:`simulate` (e.g. ``controller``).
+
+    Returns
+    -------
+    dict
+        ``n_modes``, ``mass_participation`` (x, y, θ kept by the first ``n_modes`` modes), and for
+        each peak quantity (base displacement, base shear, structure shear, drift ratio, absolute
+        floor acceleration) the full and reduced peaks and the relative error; ``elapsed_full_s``,
+        ``elapsed_reduced_s``.
+    """
+    full = simulate(building.reduced(None), record, **kwargs)
+    red = simulate(building.reduced(n_modes), record, **kwargs)
+    kept = building.superstructure.mass_participation()[:n_modes].sum(axis=0)
+
+    def peaks(r: SimulationResult) -> dict[str, float]:
+        return {
+            "peak_base_displacement": float(np.max(np.hypot(r.base_displacement[:, 0], r.base_displacement[:, 1]))),
+            "peak_base_shear": float(np.max(np.hypot(r.base_shear[:, 0], r.base_shear[:, 1]))),
+            "peak_structure_shear": float(np.max(np.hypot(r.structure_shear[:, 0], r.structure_shear[:, 1]))),
+            "peak_drift_ratio": float(np.max(np.hypot(r.drift_ratio[..., 0], r.drift_ratio[..., 1]))),
+            "peak_floor_acceleration": float(np.max(np.hypot(r.floor_acceleration_absolute[..., 0],
+                                                             r.floor_acceleration_absolute[..., 1]))),
+        }
+
+    pf, pr = peaks(full), peaks(red)
+    out = {"n_modes": int(n_modes), "mass_participation": {"x": float(kept[0]), "y": float(kept[1]),
+                                                          "theta": float(kept[2])},
+           "elapsed_full_s": full.info["elapsed_s"], "elapsed_reduced_s": red.info["elapsed_s"]}
+    for k in pf:
+        out[k] = {"full": pf[k], "reduced": pr[k], "relative_error": (pr[k] - pf[k]) / pf[k] if pf[k] else 0.0}
+    return out
