@@ -22,6 +22,7 @@ run: setup
 	$(SBIB) study --out $(OUT)
 
 test: setup
+	$(VENV)/bin/lint-imports
 	$(PY) -m pytest -q
 
 test-all: setup

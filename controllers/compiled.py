@@ -55,6 +55,7 @@ import numba
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
+from benchmark.foundation.errors import NumericalError
 
 __all__ = [
     "LAW_CONSTANT",
@@ -409,7 +410,6 @@ def run_compiled(compiled: CompiledController, measurements: np.ndarray,
     for k in range(y.shape[0]):
         status = controller_update(*args, y[k], f[k], xc, v, fd)
         if status != STATUS_OK:
-            from benchmark.foundation.errors import NumericalError
             raise NumericalError(f"controller {compiled.name!r}: state or desired force is not finite",
                                  time=k * compiled.control_step,
                                  hint="check the controller design (unstable estimator?) and the measurements")

@@ -15,6 +15,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from controllers.base import DesignModel
 from controllers.lqg import LinearPlant
+import damper
 
 __all__ = ["building_plant", "device_geometry", "device_models", "device_force_capacity"]
 
@@ -62,7 +63,6 @@ def device_force_capacity(model: Any, voltage: float | None = None, amplitude: f
 
 
 def _capacity(model: Any, v: float, amplitude: float, frequency: float) -> float:
-    import damper
 
     t = np.linspace(0.0, 2.0 / frequency, 801)
     response = damper.simulate(model, t, amplitude * np.sin(2 * np.pi * frequency * t), v=v)

@@ -5,37 +5,37 @@ from __future__ import annotations
 from typing import Any, Callable
 
 from benchmark.foundation.errors import InputError
+from controllers.passive import PassiveOff
+from controllers.passive import PassiveOn
+from controllers.clipped_optimal import ClippedOptimal
+from controllers.modulated import ModulatedClippedOptimal
+from controllers.skyhook import Skyhook
+from controllers.lyapunov import Lyapunov
 
 __all__ = ["CONTROLLERS", "controller_names", "get_controller"]
 
 
 def _passive_off():
-    from controllers.passive import PassiveOff
     return PassiveOff()
 
 
 def _passive_on():
-    from controllers.passive import PassiveOn
     return PassiveOn()
 
 
 def _clipped_optimal():
-    from controllers.clipped_optimal import ClippedOptimal
     return ClippedOptimal()
 
 
 def _modulated():
-    from controllers.modulated import ModulatedClippedOptimal
     return ModulatedClippedOptimal()
 
 
 def _skyhook():
-    from controllers.skyhook import Skyhook
     return Skyhook()
 
 
 def _lyapunov():
-    from controllers.lyapunov import Lyapunov
     return Lyapunov()
 
 

@@ -32,6 +32,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.paths import shared_dir as _shared
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files"]
@@ -367,7 +368,6 @@ def read_utfsm(path) -> DamperTest:
 def utfsm_files(shared_dir=None) -> list[Path]:
     """The preprocessed UTFSM test files, sorted by name (raises :class:`DataNotFoundError`)."""
     if shared_dir is None:
-        from benchmark.foundation.paths import shared_dir as _shared
         shared_dir = _shared()
     folder = Path(shared_dir) / "hysteresis_data" / "quiroz_utfsm_mr_damper_sinusoidal" / "Preprocesados"
     if not folder.is_dir():

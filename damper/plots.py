@@ -14,6 +14,8 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.figures import save_figure
+from damper.laboratory import periodic_test
+from damper.loops import last_cycles, midline_slope, plastic_branch_fit
 
 __all__ = ["plot_loops", "plot_virtual_calibration"]
 
@@ -104,8 +106,6 @@ def plot_virtual_calibration(path, device="virtual", voltages=(0.0, 0.25, 0.5, 0
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from damper.laboratory import periodic_test
-    from damper.loops import last_cycles, midline_slope, plastic_branch_fit
 
     big = last_cycles(periodic_test(device, 0.4, 0.8, 0.0, cycles=3, sample_rate=400))
     kappa_x = midline_slope(big)

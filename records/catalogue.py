@@ -35,6 +35,7 @@ from benchmark.foundation.paths import records_dir as _records_dir
 from records.checks import Flaw, check_record
 from records.readers import BENCHMARK_DT, read_benchmark
 from records.record import Record
+from records.baseline import baseline_correct as _correct
 
 __all__ = [
     "CatalogueEntry",
@@ -276,7 +277,6 @@ def load_benchmark_record(name: str, orientation: str = "FN-x", records_dir: str
                  "flaws": [f.message for f in flaws], "catalogue": entry.to_dict()})
     record = record.replace(metadata=meta)
     if baseline_correct:
-        from records.baseline import baseline_correct as _correct
 
         record = _correct(record)
     return record

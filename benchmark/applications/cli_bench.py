@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+from benchmark.foundation.errors import InputError
+from benchmark.applications.speed import run_bench
 
 __all__ = ["register"]
 
@@ -25,8 +27,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from benchmark.foundation.errors import InputError
-    from benchmark.applications.speed import run_bench
 
     if args.jobs < 1:
         raise InputError(f"--jobs must be >= 1, got {args.jobs}")

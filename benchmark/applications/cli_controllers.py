@@ -5,13 +5,15 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from controllers.registry import controller_names
+from benchmark.foundation.errors import InputError
+from benchmark.applications.comparison import compare
 
 __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``compare`` sub-command."""
-    from controllers.registry import controller_names
 
     p = subparsers.add_parser(
         "compare", help="compare controllers over the benchmark records (J1-J9)",
@@ -35,8 +37,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from benchmark.foundation.errors import InputError
-    from benchmark.applications.comparison import compare
 
     if args.jobs is not None and args.jobs < 1:
         raise InputError(f"--jobs: expected a positive number of processes, got {args.jobs}")

@@ -19,6 +19,11 @@ from dataclasses import MISSING, fields
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from damper.registry import get_model_class
+from damper.data import write_csv
+from damper.laboratory import periodic_test
+from damper.loops import last_cycles
+from damper.plots import plot_loops
 
 __all__ = ["register", "default_model", "run_test"]
 
@@ -35,7 +40,6 @@ def default_model(name: str, overrides: dict[str, float] | None = None):
     """The model ``name`` with its documented default parameters, updated by ``overrides``."""
     from dataclasses import replace
 
-    from damper.registry import get_model_class
     cls = get_model_class(name)
     overrides = dict(overrides or {})
     known = {f.name for f in fields(cls)}
@@ -67,9 +71,6 @@ def _param(text: str) -> tuple[str, float]:
 
 def run_test(args: argparse.Namespace) -> int:
     """Run the test described by the parsed arguments; write the CSV and the plot."""
-    from damper.data import write_csv
-    from damper.laboratory import periodic_test
-    from damper.loops import last_cycles
 
     model = default_model(args.model, dict(args.param or []))
     test = periodic_test(model, args.amplitude, args.frequency, args.voltage, cycles=args.cycles,
@@ -80,7 +81,6 @@ def run_test(args: argparse.Namespace) -> int:
     print(f"{test.name}: {test.n_samples} samples -> {args.out}; last cycle force "
           f"{steady.force.min() / 1e3:.1f} .. {steady.force.max() / 1e3:.1f} kN")
     if args.plot:
-        from damper.plots import plot_loops
         plot_loops(steady, args.plot, title=f"{test.name} (last cycle)")
         print(f"plot -> {args.plot}")
     return 0

@@ -23,13 +23,17 @@ import sys
 from pathlib import Path
 
 from benchmark.foundation.errors import InputError
+from damper.data import parse_utfsm_name, read_csv, read_utfsm
+from damper.effects import EFFECT_NAMES
+from damper.diagnosis import diagnose
+from damper.diagnosis.dataset import DEFAULT_HOLDOUT
+from damper.diagnosis.report import write_report
 
 __all__ = ["register", "run", "read_test_file"]
 
 
 def read_test_file(path: str):
     """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern) or damper CSV."""
-    from damper.data import parse_utfsm_name, read_csv, read_utfsm
     p = Path(path)
     if p.suffix.lower() == ".txt":
         try:
@@ -53,7 +57,6 @@ def _fraction(text: str) -> float:
 
 def register(subparsers) -> None:
     """Add the ``diagnose`` sub-command."""
-    from damper.effects import EFFECT_NAMES
     p = subparsers.add_parser(
         "diagnose", help="residual loop: find the effects a damper model lacks in test data",
         description="Fit a Bouc-Wen base model to damper tests, trace the held-out residual, add "
@@ -78,9 +81,6 @@ def register(subparsers) -> None:
 
 def run(args) -> int:
     """Execute ``sbib diagnose`` with parsed ``args``; return the exit status."""
-    from damper.diagnosis import diagnose
-    from damper.diagnosis.dataset import DEFAULT_HOLDOUT
-    from damper.diagnosis.report import write_report
 
     tests = [read_test_file(f) for f in args.data]
     validate = [read_test_file(f) for f in args.validate] if args.validate else None

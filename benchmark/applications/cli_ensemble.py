@@ -6,6 +6,8 @@ import argparse
 import json
 import os
 from pathlib import Path
+from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
+from benchmark.foundation.errors import InputError
 
 __all__ = ["register"]
 
@@ -33,8 +35,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
-    from benchmark.foundation.errors import InputError
 
     config = EnsembleConfig.from_toml(args.config)
     out = Path(args.out) if args.out else Path(args.config).with_suffix(".h5")

@@ -13,6 +13,8 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from benchmark.applications.identification_study import run_identify_study
+from damper.identification.measured import identify_files
 
 __all__ = ["register"]
 
@@ -62,7 +64,6 @@ def _split(value: str | None) -> list[str] | None:
 
 def _run(args: argparse.Namespace) -> int:
     if args.data:
-        from damper.identification.measured import identify_files
 
         models = (args.model,) if args.model else ("normalized", "extended")
         out = args.out or "results/identify-data"
@@ -81,7 +82,6 @@ def _run(args: argparse.Namespace) -> int:
             print(json.dumps(result["summary"], indent=2))
         return 0 if result["tests"] else 2
 
-    from benchmark.applications.identification_study import run_identify_study
 
     if args.model:
         print("sbib identify: --model applies to --data only", file=sys.stderr)

@@ -15,6 +15,17 @@ import argparse
 import json
 from pathlib import Path
 from typing import Any
+from records.catalogue import check_catalogue
+from benchmark.foundation.errors import InputError
+from records.catalogue import canonical_name, load_benchmark_record
+from records.readers import load_record
+from records.synthetic import benchmark_like
+from records.checks import check_record
+from records.measures import mean_period, significant_duration
+from records.spectra import response_spectrum
+from records.readers import write_csv
+from records.baseline import baseline_correct
+from records.plots import plot_record
 
 __all__ = ["register"]
 
@@ -68,7 +79,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 # --------------------------------------------------------------------------- list
 def _list(args: argparse.Namespace) -> int:
-    from records.catalogue import check_catalogue
 
     report = check_catalogue(args.records_dir)
     if args.json:
@@ -76,7 +86,6 @@ def _list(args: argparse.Namespace) -> int:
     else:
         print(_format_catalogue(report))
     if args.records_dir and report["error"]:  # the table says what is missing; stderr says why (exit 2)
-        from benchmark.foundation.errors import InputError
 
         raise InputError(f"--records-dir {args.records_dir}: {report['error']}")
     return 0
@@ -112,10 +121,6 @@ def _format_catalogue(report: dict[str, Any]) -> str:
 
 # --------------------------------------------------------------------------- show
 def _load(args: argparse.Namespace):
-    from benchmark.foundation.errors import InputError
-    from records.catalogue import canonical_name, load_benchmark_record
-    from records.readers import load_record
-    from records.synthetic import benchmark_like
 
     path = Path(args.name)
     name = None
@@ -127,7 +132,6 @@ def _load(args: argparse.Namespace):
         if args.synthetic:
             record = benchmark_like(name, args.orientation, seed=args.seed)
             if args.baseline_correct:
-                from records.baseline import baseline_correct
 
                 record = baseline_correct(record)
             return record
@@ -140,17 +144,12 @@ def _load(args: argparse.Namespace):
                          "jiji, erzikan) nor an existing file")
     record = load_record(path, format=args.format, dt=args.dt, units=args.units)
     if args.baseline_correct:
-        from records.baseline import baseline_correct
 
         record = baseline_correct(record)
     return record
 
 
 def _show(args: argparse.Namespace) -> int:
-    from benchmark.foundation.errors import InputError
-    from records.checks import check_record
-    from records.measures import mean_period, significant_duration
-    from records.spectra import response_spectrum
 
     if not 0 <= args.damping < 1:
         raise InputError(f"--damping {args.damping}; expected 0 <= damping < 1")
@@ -171,7 +170,6 @@ def _show(args: argparse.Namespace) -> int:
         if key in record.metadata:
             summary[key] = record.metadata[key]
     if args.plot:
-        from records.plots import plot_record
 
         summary["plot"] = str(plot_record(record, args.plot, spectrum=spectrum))
     if args.json:
@@ -187,8 +185,6 @@ def _or_dash(value: float | None, width: int, digits: int) -> str:
 
 def _mean_period_or_none(acceleration, dt: float) -> float | None:
     """The mean period, or None for a record without content in its band (zero, or very short)."""
-    from benchmark.foundation.errors import InputError
-    from records.measures import mean_period
 
     try:
         return mean_period(acceleration, dt)
@@ -224,14 +220,11 @@ def _format_summary(s: dict[str, Any]) -> str:
 
 # --------------------------------------------------------------------------- generate
 def _generate(args: argparse.Namespace) -> int:
-    from records.readers import write_csv
-    from records.synthetic import benchmark_like
 
     record = benchmark_like(args.name, args.orientation, seed=args.seed)
     path = write_csv(record, args.out)
     print(f"SYNTHETIC record {record.name} ({record.source}) written to {path}")
     if args.plot:
-        from records.plots import plot_record
 
         print(f"plot written: {plot_record(record, args.plot)}")
     return 0

@@ -39,23 +39,21 @@ from typing import Any
 import numpy as np
 
 from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.simulator.building import Building
+from benchmark.simulator.evaluation import corner_responses, evaluate, peaks, plan_corners
+from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
+from benchmark.simulator.simulation import simulate
+from controllers.registry import get_controller
+from records import ORIENTATIONS, load_benchmark_record, load_record
+from benchmark.simulator.evaluation import J_DESCRIPTIONS, PEAK_UNITS
+from benchmark.simulator.isolation.configurations import ISOLATION_NAMES
+from records.baseline import baseline_correct as _correct
+from benchmark.simulator.results import write_result
+from benchmark.simulator.plots import plot_run
 
 __all__ = ["register", "run_case", "resolve_record", "main_run"]
 
 _RECORD_SUFFIXES = {".txt", ".at2", ".csv", ".dat", ".acc", ".tsv"}
-
-
-def _records_api():
-    """The records package's loaders (contract names, with their module paths as fallback)."""
-    try:
-        from records import ORIENTATIONS, load_benchmark_record
-    except ImportError:
-        from records.catalogue import ORIENTATIONS, load_benchmark_record
-    try:
-        from records import load_record
-    except ImportError:
-        from records.readers import load_record
-    return ORIENTATIONS, load_benchmark_record, load_record
 
 
 def resolve_record(spec: str, orientation: str = "FN-x", records_dir: str | None = None,
@@ -77,7 +75,7 @@ def resolve_record(spec: str, orientation: str = "FN-x", records_dir: str | None
     records.Record
         Two components [m/s²], column 0 on x, column 1 on y.
     """
-    orientations, load_benchmark_record, load_record = _records_api()
+    orientations = ORIENTATIONS
     if orientation not in orientations:
         raise InputError(f"--orientation {orientation!r}; expected one of {', '.join(orientations)}")
     path = Path(spec).expanduser()
@@ -103,7 +101,6 @@ def resolve_record(spec: str, orientation: str = "FN-x", records_dir: str | None
     meta["orientation"] = orientation
     record = record.replace(metadata=meta)
     if baseline_correct:
-        from records.baseline import baseline_correct as _correct
 
         record = _correct(record)
     return record
@@ -160,11 +157,6 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         The ``--json`` object (module docstring), plus ``result`` and ``reference`` (the
         :class:`benchmark.simulator.simulation.SimulationResult` objects, not JSON).
     """
-    from benchmark.simulator.building import Building
-    from benchmark.simulator.evaluation import corner_responses, evaluate, peaks, plan_corners
-    from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
-    from benchmark.simulator.simulation import simulate
-    from controllers.registry import get_controller
 
     start = time.perf_counter()
     if control_step is None or not (math.isfinite(control_step) and control_step > 0):
@@ -206,7 +198,6 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         "plots": [],
     }
     if out:
-        from benchmark.simulator.results import write_result
 
         say(f"writing {out}")
         write_result(result, out, reference=None if result is reference else reference, evaluation=J,
@@ -216,7 +207,6 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
                                                                                          default=str))
         summary["out"] = str(out)
     if plot_dir:
-        from benchmark.simulator.plots import plot_run
 
         say(f"plotting into {plot_dir}")
         paths = plot_run(result, plot_dir, reference=None if result is reference else reference,
@@ -229,7 +219,6 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
 
 
 def _print_table(summary: dict[str, Any]) -> None:
-    from benchmark.simulator.evaluation import J_DESCRIPTIONS, PEAK_UNITS
 
     print(f"{summary['record']} ({summary['orientation']}), isolation {summary['isolation']}, "
           f"controller {summary['controller']}: {summary['elapsed_s']:.1f} s")
@@ -265,7 +254,6 @@ def main_run(args: argparse.Namespace) -> int:
 
 def register(subparsers: Any) -> None:
     """Add ``sbib run`` to the ``sbib`` command line (``subparsers`` of :mod:`benchmark.applications.cli`)."""
-    from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, ISOLATION_NAMES
 
     p = subparsers.add_parser(
         "run", help="simulate one record with one isolation and controller (and its uncontrolled reference)",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from benchmark.applications.study import run_study
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -15,7 +16,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from benchmark.applications.study import run_study
 
     summary = run_study(args.out, records_dir=args.records_dir, quick=args.quick)
     print(f"\nmain job finished in {summary['elapsed_s']:.1f} s; results in {args.out}/")

@@ -25,6 +25,16 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, SbibError
+from benchmark.simulator.building import Building
+from benchmark.simulator.simulation import simulate
+from benchmark.simulator.evaluation import evaluate, peaks
+from controllers.registry import controller_names
+from records import BENCHMARK_RECORDS, ORIENTATIONS, load_benchmark_record
+from benchmark.foundation.atomic import atomic_path
+from benchmark.foundation.provenance import provenance
+from benchmark.applications import comparison_plots
+from records.synthetic import benchmark_like
+from controllers.registry import get_controller
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -105,8 +115,6 @@ class ComparisonResult:
         import h5py
         import json
 
-        from benchmark.foundation.atomic import atomic_path
-        from benchmark.foundation.provenance import provenance
 
         path = Path(path)
         with atomic_path(path) as tmp:
@@ -136,7 +144,6 @@ class ComparisonResult:
 
     def plot(self, directory: str | os.PathLike) -> list[Path]:
         """Draw the figures into ``directory`` (PNG) and return their paths."""
-        from benchmark.applications import comparison_plots
 
         return comparison_plots.plot_all(self, Path(directory))
 
@@ -170,13 +177,8 @@ def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: 
 # --------------------------------------------------------------------------- workers
 def _load_record(name: str, orientation: str, records_dir: str | None, synthetic: bool):
     if synthetic:
-        from records.synthetic import benchmark_like
 
         return benchmark_like(name, orientation)
-    try:
-        from records import load_benchmark_record
-    except ImportError:
-        from records.catalogue import load_benchmark_record
     return load_benchmark_record(name, orientation, records_dir=records_dir)
 
 
@@ -191,7 +193,6 @@ def _init_worker(building: Any) -> None:
 
 @lru_cache(maxsize=4)
 def _default_building(isolation: str | None, n_modes: int | None):
-    from benchmark.simulator.building import Building
 
     return Building.default(isolation=isolation, n_modes=n_modes)
 
@@ -203,7 +204,6 @@ def _building(isolation: str | None, n_modes: int | None):
 
 
 def _simulate(building, record, controller, settings: dict):
-    from benchmark.simulator.simulation import simulate
 
     kwargs = {"control_step": settings["control_step"]}
     if settings.get("noise") is not None:
@@ -235,7 +235,6 @@ def _histories(result, step: float) -> dict:
 
 def _make_controller(spec):
     if isinstance(spec, str):
-        from controllers.registry import get_controller
 
         return get_controller(spec)
     return copy.deepcopy(spec)
@@ -248,7 +247,6 @@ def _controller_label(spec) -> str:
 def _run_one(task) -> tuple:
     """Worker: one controlled run (and, cached per worker, its reference)."""
     record_name, orientation, spec, settings_key = task
-    from benchmark.simulator.evaluation import evaluate, peaks
 
     t0 = time.perf_counter()
     record, reference = _reference(record_name, orientation, settings_key)
@@ -302,12 +300,6 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     progress : bool
         Show a tqdm progress bar (on stderr).
     """
-    try:
-        from records.catalogue import BENCHMARK_RECORDS, ORIENTATIONS
-    except ImportError:  # pragma: no cover
-        from records import BENCHMARK_RECORDS, ORIENTATIONS
-    from controllers.registry import controller_names
-
     record_list = parse_list(records, BENCHMARK_RECORDS, "records")
     orientation_list = parse_list(orientations, ORIENTATIONS, "orientations", ("both", "all"))
     if isinstance(controllers, str):

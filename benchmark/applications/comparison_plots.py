@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from benchmark.foundation.figures import save_figure
 
 __all__ = ["plot_all", "plot_J_by_record", "plot_J_summary", "plot_histories"]
 
@@ -28,7 +29,6 @@ def _pyplot():
 
 
 def _save(fig, path: Path) -> Path:
-    from benchmark.foundation.figures import save_figure
 
     return save_figure(fig, path, dpi=110)
 

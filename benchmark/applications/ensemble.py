@@ -61,6 +61,10 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_path
 from benchmark.applications.ensemble_journal import Journal, JournalEntry
 from benchmark.foundation.errors import InputError, NumericalError
+from benchmark.applications.ensemble_simulation import run_case
+from benchmark.foundation.provenance import provenance
+from benchmark.foundation.errors import DataNotFoundError
+from records import BENCHMARK_RECORDS, ORIENTATIONS
 
 __all__ = [
     "Case",
@@ -270,7 +274,6 @@ class EnsembleConfig:
         InputError
             On a TOML syntax error (with line) or a field of the wrong type, value or name.
         """
-        from benchmark.foundation.errors import DataNotFoundError
 
         path = Path(path)
         if not path.is_file():
@@ -296,7 +299,6 @@ class EnsembleConfig:
         if "records" in data:
             value = data["records"]
             if value == "all":
-                from records import BENCHMARK_RECORDS
                 value = list(BENCHMARK_RECORDS)
             records = _check_str_list(value, f"{source}: field 'records'")
         orientations = _check_str_list(data.get("orientations", list(orientations_allowed)),
@@ -386,10 +388,6 @@ class EnsembleConfig:
 
 
 def _orientations() -> tuple[str, ...]:
-    try:
-        from records import ORIENTATIONS
-    except ImportError:  # records package without its catalogue: the benchmark's two
-        ORIENTATIONS = ("FN-x", "FP-x")
     return tuple(ORIENTATIONS)
 
 
@@ -488,7 +486,6 @@ def simulate_case(case: Case) -> dict[str, Any]:
     dict
         The peaks of :func:`benchmark.simulator.evaluation.peaks` and the criteria J1–J9.
     """
-    from benchmark.applications.ensemble_simulation import run_case  # heavy imports only where needed
 
     return run_case(case)
 
@@ -501,7 +498,6 @@ def simulate_peaks_case(case: Case) -> dict[str, Any]:
     dict
         The peaks of :func:`benchmark.simulator.evaluation.peaks` (SI).
     """
-    from benchmark.applications.ensemble_simulation import run_case
 
     return run_case(case, evaluate_criteria=False)
 
@@ -750,7 +746,6 @@ def write_hdf5(config: EnsembleConfig, cases: list[Case], entries: Mapping[str, 
     """
     import h5py
 
-    from benchmark.foundation.provenance import provenance
 
     n = len(cases)
     shapes: dict[str, tuple[int, ...]] = {}
@@ -871,7 +866,6 @@ def read_ensemble(path: str | os.PathLike) -> EnsembleResults:
     """
     import h5py
 
-    from benchmark.foundation.errors import DataNotFoundError
 
     path = Path(path)
     if not path.is_file():

@@ -36,6 +36,14 @@ from typing import Any
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.simulator.building import Building
+from benchmark.simulator.simulation import simulate
+from benchmark.simulator.evaluation import evaluate, peaks
+from controllers.registry import get_controller
+from records.synthetic import benchmark_like
+from records import load_benchmark_record
+from benchmark.simulator.isolation.configurations import BearingGroup
+from benchmark.simulator.devices import DeviceLayout, DeviceSlot
 
 __all__ = ["run_case", "load_motion", "build_building", "SIMULATION_PARAMETERS"]
 
@@ -69,11 +77,9 @@ def load_motion(record: str, orientation: str, synthetic: bool, motion_seed: int
     component; both components are scaled by the same factor.
     """
     if synthetic:
-        from records.synthetic import benchmark_like
 
         motion = benchmark_like(record, orientation, seed=int(motion_seed))
     else:
-        from records import load_benchmark_record
 
         motion = load_benchmark_record(record, orientation)
     if not math.isnan(pga):
@@ -99,11 +105,9 @@ def _replace_fields(obj: Any, overrides: tuple, what: str, strict: bool) -> tupl
 @lru_cache(maxsize=4)
 def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any:
     """The default building with ``n_modes`` and the isolation/device field overrides."""
-    from benchmark.simulator.building import Building
 
     building = Building.default(n_modes=n_modes)
     if isolation:
-        from benchmark.simulator.isolation.configurations import BearingGroup
 
         layer = building.isolation
         groups, used = [], set()
@@ -117,7 +121,6 @@ def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any
                              f"{layer.name!r} has a field {unused[0]!r}")
         building = building.with_isolation(dataclasses.replace(layer, groups=tuple(groups)))
     if devices:
-        from benchmark.simulator.devices import DeviceLayout, DeviceSlot
 
         slots = []
         for slot in building.devices.slots:
@@ -129,7 +132,6 @@ def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any
 
 @lru_cache(maxsize=4)
 def _reference(motion_args: tuple, building_args: tuple, substep_tolerance: float | None) -> Any:
-    from benchmark.simulator.simulation import simulate
 
     return simulate(build_building(*building_args), load_motion(*motion_args), controller=None,
                     substep_tolerance=substep_tolerance, record_states=False)
@@ -158,9 +160,6 @@ def run_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
     NumericalError
         The simulation failed (the ensemble records the case as failed and goes on).
     """
-    from benchmark.simulator.evaluation import evaluate, peaks
-    from benchmark.simulator.simulation import simulate
-    from controllers.registry import get_controller
 
     plain, isolation, devices = _split(case.parameters)
     n_modes = plain.get("n_modes")

@@ -44,6 +44,10 @@ from typing import Any, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.applications.ensemble import EnsembleConfig
+from benchmark.foundation.figures import save_figure
+from benchmark.foundation.atomic import atomic_write_text
+from benchmark.applications.ensemble import read_ensemble, run_ensemble
 
 __all__ = [
     "STANDARD_GRAVITY",
@@ -301,7 +305,6 @@ def fragility_config(controllers: Sequence[str] = ("passive-off", "clipped-optim
     run : str
         Run function (default ``"peaks"``: no uncontrolled runs).
     """
-    from benchmark.applications.ensemble import EnsembleConfig
 
     text = "\n".join([
         "# fragility study (benchmark.applications.fragility.fragility_config)",
@@ -335,7 +338,6 @@ def plot_fragility(curves: dict[str, FragilityCurve], path: str | os.PathLike, l
     import matplotlib.pyplot as plt
     from scipy.stats import norm
 
-    from benchmark.foundation.figures import save_figure
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     a_max = max(float(c.pga.max()) for c in curves.values())
@@ -390,8 +392,6 @@ def run_fragility(out: str | os.PathLike, limit: float = DEFAULT_LIMIT, metric: 
     dict
         The JSON summary (curves with counts and fits, ensemble summary, file paths).
     """
-    from benchmark.foundation.atomic import atomic_write_text
-    from benchmark.applications.ensemble import read_ensemble, run_ensemble
 
     if not (isinstance(limit, (int, float)) and limit > 0):
         raise InputError(f"fragility limit must be > 0, got {limit!r}")

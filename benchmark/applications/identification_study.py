@@ -64,6 +64,16 @@ from damper.identification.parallel import make_executor, run_tasks, worker_coun
 from damper.identification.voltage_grid import (DEFAULT_VOLTAGES, KAPPA_X_MODES, LARGE_LOOP_PROTOCOL,
                                                 TestProtocol, identify_voltage_grid)
 from damper.identification.voltage_lag import fit_voltage_lag, switching_test
+from benchmark.foundation.provenance import provenance
+from damper.laboratory import resolve_device
+from records import BENCHMARK_RECORDS, ORIENTATIONS
+from damper.identification import plots
+from benchmark.foundation.errors import InputError
+from damper.identification.plots import plot_error_anatomy
+from benchmark.simulator.building import Building
+from benchmark.applications.identification_validation import measure_run
+from benchmark.applications.identification_validation import validate_in_building
+from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
 
 __all__ = ["run_identify_study", "write_parameters_csv", "FIG6_PROTOCOL", "LARGE_LOOP_PROTOCOL",
            "FREE_KX", "FREE_KX_PCHIP"]
@@ -97,7 +107,6 @@ _GZ = {"compression": "gzip", "compression_opts": 1}  # fastest here, and smalle
 def _write_hdf5(path: Path, grids: dict, fig6_test, validation, device_name: str) -> Path:
     import h5py
 
-    from benchmark.foundation.provenance import provenance
 
     with atomic_path(path) as tmp:
         with h5py.File(tmp, "w") as h5:
@@ -205,11 +214,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         Summary: files written, identified parameters at each voltage, law errors, the
         :math:`\\kappa_x` estimate, validation numbers, timings.
     """
-    from damper.laboratory import resolve_device
-    from records import BENCHMARK_RECORDS, ORIENTATIONS
 
     if isinstance(kappa_x, str) and kappa_x not in KAPPA_X_MODES:
-        from benchmark.foundation.errors import InputError
         raise InputError(f"kappa_x: expected one of {KAPPA_X_MODES} or a number [N/m], got {kappa_x!r}")
     n_jobs = worker_count(jobs)
     out = Path(out)
@@ -239,8 +245,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         building = None
         measuring: list = []
         if validate:
-            from benchmark.simulator.building import Building
-            from benchmark.applications.identification_validation import measure_run
 
             building = Building.default(damper_model=model)
             # The runs with the device under test need no identified model: start them now.
@@ -286,7 +290,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             if pool is None:
                 files["figures"] = _figures(*args)
         if validate:
-            from benchmark.applications.identification_validation import validate_in_building
 
             t0 = time.perf_counter()
             measured = [f.result() for f in measuring] if measuring else None
@@ -301,7 +304,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             files["validation"] = str(atomic_write_text(out / "validation.json",
                                                         json.dumps(validation_json, indent=2)))
             if ceiling and validation.runs:
-                from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
 
                 t0 = time.perf_counter()
                 forms = {m: identified[m] for m in ("normalized", "extended") if m in identified}
@@ -329,7 +331,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         files["figures"] = files.get("figures", []) + [
             str(figure_folder / f"fig11_force_errors_{r.record}_{r.orientation}.png") for r in validation.runs]
         if any(r.regimes for r in validation.runs):
-            from damper.identification.plots import plot_error_anatomy
             files["figures"].append(str(plot_error_anatomy(validation_json, ceiling_entries,
                                                            figure_folder / "fig11_error_anatomy.png")))
     t0 = time.perf_counter()
@@ -371,7 +372,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
 
 def _figures(folder: Path, grid, fig6_test, large: dict, comparison=None) -> list[str]:
     """Seed Fig. 1-3, 6 and 8 (Fig. 11 is drawn per run by the validation)."""
-    from damper.identification import plots
 
     folder.mkdir(parents=True, exist_ok=True)
     written = []

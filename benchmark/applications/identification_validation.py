@@ -40,6 +40,13 @@ from benchmark.foundation.errors import InputError
 from damper.identification.metrics import dissipated_energy
 from damper.effects import first_order_filter
 from damper.simulate import simulate as simulate_damper
+from records import load_benchmark_record
+from benchmark.simulator.evaluation import evaluate
+from benchmark.simulator.simulation import simulate
+from damper.identification.parallel import make_executor, run_tasks, worker_count
+from records import BENCHMARK_RECORDS, ORIENTATIONS
+from records.synthetic import benchmark_like
+from damper.identification.plots import plot_force_errors
 
 #: Suffix of the model names replayed through the identified field filter.
 LAG_SUFFIX = "+lag"
@@ -269,9 +276,7 @@ _REFERENCE_FIELDS = ("t", "base_shear", "structure_shear", "base_displacement", 
 
 def _load_record(name: str, orientation: str, records_dir, synthetic: bool):
     if synthetic:
-        from records.synthetic import benchmark_like
         return benchmark_like(name, orientation)
-    from records import load_benchmark_record
     return load_benchmark_record(name, orientation, records_dir=records_dir)
 
 
@@ -282,8 +287,6 @@ def measure_run(building, record_name: str, orientation: str, controller: str = 
     Returns the dampers' recorded histories, the run's J1–J9 and a compact copy of the
     reference (see :class:`MeasuredRun`).
     """
-    from benchmark.simulator.evaluation import evaluate
-    from benchmark.simulator.simulation import simulate
 
     record = _load_record(record_name, orientation, records_dir, synthetic)
     info = {"orientation": orientation}
@@ -317,8 +320,6 @@ def compare_run(building, measured: MeasuredRun, identified: dict, lags: dict | 
     figure : str, optional
         Write this run's Fig. 11 (:func:`damper.identification.plots.plot_force_errors`) there.
     """
-    from benchmark.simulator.evaluation import evaluate
-    from benchmark.simulator.simulation import simulate
 
     t, x, xd, v, f = measured.t, measured.displacement, measured.velocity, measured.voltage, measured.force
     predicted, errors, regimes = {}, {}, {}
@@ -344,7 +345,6 @@ def compare_run(building, measured: MeasuredRun, identified: dict, lags: dict | 
     run = RunValidation(measured.record_name, measured.orientation, t, x, xd, v, f, predicted, errors, J,
                         regimes)
     if figure is not None:
-        from damper.identification.plots import plot_force_errors
         plot_force_errors(run, figure)
     return run
 
@@ -392,8 +392,6 @@ def validate_in_building(building, identified: dict, lags: dict | None = None,
         Folder for one Fig. 11 per run (``fig11_force_errors_<record>_<orientation>.png``),
         drawn in the workers.
     """
-    from damper.identification.parallel import make_executor, run_tasks, worker_count
-    from records import BENCHMARK_RECORDS, ORIENTATIONS
 
     if building.devices is None or building.n_devices == 0:
         raise InputError("validation: the building has no dampers to validate against")

@@ -46,6 +46,20 @@ from pathlib import Path
 from typing import Any, Callable, NamedTuple, Sequence
 
 import numpy as np
+from benchmark.foundation.errors import DataNotFoundError
+from benchmark.simulator.building import Building
+from benchmark.simulator.simulation import simulate
+from benchmark.simulator import reference as oracle
+from benchmark.applications.cli import main
+from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
+from benchmark.foundation.figures import save_figure
+from benchmark.foundation.atomic import atomic_write_text
+from benchmark.foundation.errors import InputError
+from benchmark.foundation.provenance import provenance
+from benchmark.simulator.devices import DeviceLayout, DeviceSlot
+from records import load_benchmark_record
+from benchmark.foundation.paths import records_dir
+from records.synthetic import benchmark_like
 
 __all__ = ["BenchCase", "time_call", "machine_description", "bench_single_run", "bench_suite",
            "bench_identify", "bench_scaling", "Timing", "run_bench", "format_table", "plot_scaling",
@@ -175,14 +189,11 @@ def compile_counts() -> dict[str, int]:
 # ---------------------------------------------------------------------------------------------
 def _record(duration: float | None = 30.0, name: str = "kobe", orientation: str = "FN-x") -> Any:
     """The first ``duration`` seconds of a benchmark record (synthetic look-alike if files are absent)."""
-    from benchmark.foundation.errors import DataNotFoundError
 
     try:
-        from records import load_benchmark_record
 
         record = load_benchmark_record(name, orientation)
     except DataNotFoundError:
-        from records.synthetic import benchmark_like
 
         record = benchmark_like(name, orientation, seed=0)
     if duration is not None:
@@ -210,11 +221,9 @@ def _stationary_record(duration: float, window: float = 5.0) -> Any:
 
 
 def _building(n_modes: int | None = None, n_devices: int | None = None) -> Any:
-    from benchmark.simulator.building import Building
 
     building = Building.default(n_modes=n_modes)
     if n_devices is not None and n_devices != building.n_devices:
-        from benchmark.simulator.devices import DeviceLayout, DeviceSlot
 
         base = building.devices.slots
         # take slots alternately from the x and y sets; beyond 16, reuse positions (parallel devices)
@@ -226,7 +235,6 @@ def _building(n_modes: int | None = None, n_devices: int | None = None) -> Any:
 
 
 def _simulate(building: Any, record: Any, controller: str = "clipped-optimal") -> Any:
-    from benchmark.simulator.simulation import simulate
 
     return simulate(building, record, controller=controller, record_states=False)
 
@@ -272,7 +280,6 @@ def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration
     cases = [single]
     if not reference:
         return cases
-    from benchmark.simulator import reference as oracle
 
     if reference_duration != 30.0:
         record = _record(reference_duration)
@@ -331,10 +338,8 @@ def _run_script(script: str, args: dict, timeout: float) -> dict:
 
 
 def _records_available() -> bool:
-    from benchmark.foundation.errors import DataNotFoundError
 
     try:
-        from benchmark.foundation.paths import records_dir
 
         return any(records_dir().glob("*.txt"))
     except DataNotFoundError:
@@ -407,7 +412,6 @@ def bench_identify(repeat: int = 1) -> list[BenchCase]:
     repeat : int
         Timed repeats after the first (cold) run.
     """
-    from benchmark.applications.cli import main
 
     with tempfile.TemporaryDirectory() as tmp:
         def run() -> int:
@@ -491,7 +495,6 @@ def bench_scaling(quick: bool = False, repeat: int = 3, jobs: int = 2) -> dict[s
 
 def _time_ensemble(n_runs: int, jobs: int) -> float:
     """Wall time of an ``n_runs`` synthetic-motion ensemble (clipped-optimal) on ``jobs`` processes."""
-    from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
 
     config = EnsembleConfig(controllers=("clipped-optimal",), orientations=("FN-x",),
                             synthetic_templates=("kobe",), realisations=n_runs, base_seed=1,
@@ -534,7 +537,6 @@ def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from benchmark.foundation.figures import save_figure
 
     fig, axes = plt.subplots(2, 2, figsize=(9, 7))
     for ax, (name, table) in zip(axes.ravel(), tables.items()):
@@ -582,8 +584,6 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
     dict
         ``machine``, ``cases`` (list of :class:`BenchCase` as dicts), ``scaling``, ``quick``.
     """
-    from benchmark.foundation.atomic import atomic_write_text
-    from benchmark.foundation.errors import InputError
 
     unknown = set(sections) - {"single", "suite", "identify", "scaling"}
     if unknown:
@@ -621,7 +621,6 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
     report = {"machine": machine_description(), "quick": quick, "jobs": jobs,
               "elapsed_s": time.perf_counter() - started,
               "cases": [asdict(c) for c in cases], "scaling": scaling}
-    from benchmark.foundation.provenance import provenance
 
     report["provenance"] = provenance()
     if scaling:

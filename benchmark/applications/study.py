@@ -13,6 +13,15 @@ import time
 from pathlib import Path
 
 from benchmark.foundation.atomic import atomic_write_text
+from records.report import write_records_report
+from benchmark.applications.comparison import compare
+from benchmark.applications.identification_study import run_identify_study
+from damper.diagnosis import diagnose
+from damper.diagnosis.report import write_report
+from damper.laboratory import periodic_test
+from benchmark.foundation.paths import shared_dir
+from damper.data import read_utfsm, utfsm_files
+from benchmark.foundation.paths import records_dir as _records_dir
 
 __all__ = ["run_study"]
 
@@ -35,7 +44,6 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
     t0 = time.perf_counter()
 
     # records: catalogue check and figures (synthetic benchmark-like records if no file is found)
-    from records.report import write_records_report
 
     summary["steps"]["records"] = write_records_report(out / "records", records_dir=records_dir,
                                                        per_record_plots=not quick)
@@ -45,7 +53,6 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
         summary["steps"]["records"], dict) else False
     if records_dir is None and not synthetic:
         try:
-            from benchmark.foundation.paths import records_dir as _records_dir
             records_dir = str(_records_dir())
         except Exception:  # noqa: BLE001 - any lookup failure means: use the synthetic set
             synthetic = True
@@ -76,7 +83,6 @@ STUDY_CONTROLLERS = ("passive-off", "passive-on", "clipped-optimal", "modulated"
 
 
 def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> dict:
-    from benchmark.applications.comparison import compare
 
     folder.mkdir(parents=True, exist_ok=True)
     result = compare(records=("kobe", "elcentro") if quick else "all",
@@ -93,7 +99,6 @@ def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) 
 
 
 def _identification(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> dict:
-    from benchmark.applications.identification_study import run_identify_study
 
     kwargs = {"records": ("kobe",), "orientations": ("FP-x",)} if quick else {}
     summary = run_identify_study(folder, records_dir=records_dir, synthetic=synthetic, **kwargs)
@@ -101,9 +106,6 @@ def _identification(folder: Path, records_dir: str | None, synthetic: bool, quic
 
 
 def _diagnosis(folder: Path, quick: bool) -> dict:
-    from damper.diagnosis import diagnose
-    from damper.diagnosis.report import write_report
-    from damper.laboratory import periodic_test
 
     result: dict = {"output": str(folder)}
     # The seed paper's finding, systematically: the normalized model lacks a stiffness term.
@@ -117,8 +119,6 @@ def _diagnosis(folder: Path, quick: bool) -> dict:
     if quick:
         return result
     try:
-        from benchmark.foundation.paths import shared_dir
-        from damper.data import read_utfsm, utfsm_files
 
         files = [f for f in utfsm_files(shared_dir()) if f.name.endswith("Hz1A.txt")]
     except Exception as exc:  # noqa: BLE001 - measured data are optional for the main job

@@ -8,6 +8,7 @@ import subprocess
 import sys
 from functools import lru_cache
 from pathlib import Path
+from benchmark import __version__
 
 __all__ = ["provenance"]
 
@@ -33,7 +34,6 @@ def provenance(**extra: object) -> dict[str, str]:
     import numpy
     import scipy
 
-    from benchmark import __version__
 
     attrs = {
         "package": "sbib",

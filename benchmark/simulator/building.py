@@ -21,6 +21,9 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import Superstructure, load_superstructure
+from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
+from benchmark.simulator.structure import location_matrix
+from benchmark.simulator.devices import DeviceLayout
 
 __all__ = ["Building"]
 
@@ -72,7 +75,6 @@ class Building:
         structure_path : path-like, optional
             ``structure.json`` to read (default from :mod:`benchmark.foundation.paths`).
         """
-        from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
 
         sup = load_superstructure(structure_path)
         if n_modes is not None:
@@ -84,7 +86,6 @@ class Building:
         if isinstance(devices, str):
             if devices != "default":
                 raise InputError(f"devices: {devices!r}; expected 'default', a DeviceLayout or None")
-            from benchmark.simulator.devices import DeviceLayout
 
             devices = DeviceLayout.default(model=damper_model)
         return cls(sup, isolation, devices)
@@ -99,7 +100,6 @@ class Building:
 
     def with_isolation(self, isolation: Any) -> "Building":
         if isinstance(isolation, (str, os.PathLike)):
-            from benchmark.simulator.isolation.configurations import get_isolation
 
             isolation = get_isolation(str(isolation))
         return replace(self, isolation=isolation)
@@ -124,7 +124,6 @@ class Building:
         :math:`K_b = \\sum_i k_i T_i^T T_i`, :math:`C_b = \\sum_i c_i T_i^T T_i` with
         :math:`(k_i, c_i)` each bearing's linear part (``IsolationLayer.linear_stiffness``).
         """
-        from benchmark.simulator.structure import location_matrix
 
         xy = self.superstructure.bearing_xy
         return (location_matrix(xy, self.isolation.linear_stiffness()),

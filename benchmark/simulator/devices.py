@@ -39,6 +39,8 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import transformation
+from damper.virtual import VirtualBenchmarkDamper
+from damper.registry import model_id_of
 
 __all__ = ["DeviceSlot", "DeviceLayout", "default_damper_model", "DEFAULT_X_POSITIONS",
            "DEFAULT_Y_POSITIONS", "DIRECTION_NAMES"]
@@ -55,7 +57,6 @@ DEFAULT_Y_POSITIONS = ((-17.25, -39.93), (-17.25, -16.18), (-17.25, 7.35), (-17.
 
 def default_damper_model() -> Any:
     """Return the default damper model of a device slot: the virtual benchmark damper."""
-    from damper.virtual import VirtualBenchmarkDamper
 
     return VirtualBenchmarkDamper()
 
@@ -65,7 +66,6 @@ def _check_model(model: Any, where: str) -> None:
     if missing:
         raise InputError(f"{where}: {type(model).__name__} is not a damper model (missing "
                          f"{', '.join(missing)}); expected a model from damper.registry")
-    from damper.registry import model_id_of
 
     model_id_of(model)
 
@@ -228,7 +228,6 @@ class DeviceLayout:
         states : (n, S) float64, each model's ``initial_state()`` zero-padded (S >= 1)
         n_states : (n,) int64
         """
-        from damper.registry import model_id_of
 
         arrays = [np.asarray(m.to_array(), dtype=np.float64) for m in self.models]
         inits = [np.asarray(m.initial_state(), dtype=np.float64) for m in self.models]

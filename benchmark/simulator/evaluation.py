@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.simulator.structure import load_superstructure
 
 __all__ = ["evaluate", "peaks", "corner_responses", "plan_corners", "PEAK_NAMES", "PEAK_UNITS",
            "J_NAMES", "J_DESCRIPTIONS"]
@@ -251,7 +252,6 @@ def corner_responses(result: Any, corners: np.ndarray | None = None,
         corners ``max_corner_base_displacement`` [m], ``max_corner_drift_ratio`` [-].
     """
     if corners is None or storey_heights is None:
-        from benchmark.simulator.structure import load_superstructure
 
         s = load_superstructure()
         corners = plan_corners(s.bearing_xy) if corners is None else corners

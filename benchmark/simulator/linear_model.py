@@ -64,6 +64,8 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from controllers.measurements import measurement_layout, measurement_names
+from benchmark.simulator.isolation.registry import bearing_step
+from benchmark.simulator.structure import location_matrix
 
 __all__ = ["LinearModel", "linear_model", "state_space_matrices", "equivalent_linear_bearing",
            "state_names"]
@@ -143,7 +145,6 @@ def state_space_matrices(superstructure, Kb: np.ndarray, Cb: np.ndarray) -> dict
 @lru_cache(maxsize=64)
 def _equivalent_cached(type_id: int, params: tuple, state0: tuple, amplitude: float,
                        period: float, steps_per_cycle: int) -> tuple[float, float]:
-    from benchmark.simulator.isolation.registry import bearing_step
 
     p = np.asarray(params, dtype=np.float64)
     state = np.zeros(max(1, len(state0)))
@@ -295,7 +296,6 @@ def linear_model(building, isolation: str = "equivalent", amplitude: float = 0.1
     -------
     LinearModel
     """
-    from benchmark.simulator.structure import location_matrix
 
     sup = building.superstructure
     k, c = _isolation_coefficients(building.isolation, isolation, amplitude, period)

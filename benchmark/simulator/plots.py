@@ -18,6 +18,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.figures import save_figure
+from benchmark.simulator.structure import load_superstructure
 
 __all__ = ["plot_base_orbit", "plot_floor_envelopes", "plot_bearing_hysteresis",
            "plot_device_hysteresis", "plot_run"]
@@ -60,7 +61,6 @@ def _get(result: Any, name: str) -> np.ndarray:
 def _bearing_xy(result: Any, bearing_xy: np.ndarray | None) -> np.ndarray:
     if bearing_xy is not None:
         return np.asarray(bearing_xy, dtype=float)
-    from benchmark.simulator.structure import load_superstructure
 
     return load_superstructure().bearing_xy
 

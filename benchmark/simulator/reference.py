@@ -37,6 +37,13 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from benchmark.foundation.errors import NumericalError
+from benchmark.simulator.isolation.friction_pendulum import FrictionPendulumBearing
+from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing
+from benchmark.simulator.isolation.linear import LinearBearing
+from benchmark.simulator.sensors import noise_samples
+from benchmark.simulator.simulation import _resolve_controller
+from controllers.base import ControllerSession
+from benchmark.simulator.control import control_context
 
 __all__ = ["park_wen_rates", "group_force_and_rates", "ReferenceModel", "ReferenceResult",
            "simulate_reference", "reference_peaks", "kernel_peaks"]
@@ -74,9 +81,6 @@ def group_force_and_rates(bearing: Any, u: np.ndarray, v: np.ndarray, z: np.ndar
     z : numpy.ndarray
         Hysteretic states (n, n_states).
     """
-    from benchmark.simulator.isolation.friction_pendulum import FrictionPendulumBearing
-    from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing
-    from benchmark.simulator.isolation.linear import LinearBearing
 
     b = bearing
     if isinstance(b, LinearBearing):
@@ -359,7 +363,6 @@ def simulate_reference(building: Any, record: Any, controller: Any = None, contr
     NumericalError
         If the integrator fails.
     """
-    from benchmark.simulator.sensors import noise_samples
 
     t_start = _time.perf_counter()
     dt = float(record.dt)
@@ -369,9 +372,6 @@ def simulate_reference(building: Any, record: Any, controller: Any = None, contr
         X = model.solve(n, max_step=max_step, rtol=rtol, method=method)
         voltage = np.zeros((n, 0))
     else:
-        from benchmark.simulator.simulation import _resolve_controller
-        from controllers.base import ControllerSession
-        from benchmark.simulator.control import control_context
 
         controller = _resolve_controller(controller)
         ratio = int(round(control_step / dt))

@@ -36,6 +36,9 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.simulator.evaluation import PEAK_UNITS, peaks
+from benchmark.simulator.evaluation import J_DESCRIPTIONS
+from benchmark.foundation.provenance import provenance
 
 __all__ = ["write_result", "read_result", "read_evaluation", "StoredResult", "FIELD_UNITS",
            "FORMAT_NAME", "FORMAT_VERSION"]
@@ -150,7 +153,6 @@ def _json_default(obj: Any) -> Any:
 
 
 def _write_run(group: Any, result: Any) -> None:
-    from benchmark.simulator.evaluation import PEAK_UNITS, peaks
 
     items = _result_items(result)
     th = group.create_group("time_histories")
@@ -217,8 +219,6 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
     """
     import h5py
 
-    from benchmark.simulator.evaluation import J_DESCRIPTIONS
-    from benchmark.foundation.provenance import provenance
 
     path = Path(path)
     info = _result_items(result).get("info") or {}

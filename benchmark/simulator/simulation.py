@@ -21,6 +21,15 @@ from typing import Any
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError
+from benchmark.simulator.linear_model import state_space_matrices
+from benchmark.simulator.stepping import discretize_foh
+from benchmark.simulator import stepping
+from benchmark.simulator.sensors import n_measurements, noise_samples
+from benchmark.simulator.stepping import STATUS_MESSAGES, STATUS_NOT_CONVERGED, STATUS_CONTROLLER
+from benchmark.simulator.stepping import total_bearing_forces
+from controllers.base import ControllerSession
+from controllers.registry import get_controller
+from benchmark.simulator.control import control_context
 
 __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES"]
 
@@ -154,8 +163,6 @@ _DISCRETE_CACHE: dict = {}
 
 def _discrete_system(building, dt: float):
     """Continuous matrices with the bearings' linear parts and their FOH discretisation (cached)."""
-    from benchmark.simulator.linear_model import state_space_matrices
-    from benchmark.simulator.stepping import discretize_foh
 
     sup = building.superstructure
     Kb, Cb = building.isolation_linear_matrices()
@@ -182,11 +189,6 @@ def _discrete_system(building, dt: float):
 
 def _resolve_controller(controller: Any):
     if isinstance(controller, str):
-        try:
-            from controllers.registry import get_controller
-        except ImportError:  # pragma: no cover - controllers package incomplete
-            raise InputError(f"controller {controller!r}: controllers.registry is not available; "
-                             "pass a controller object") from None
         return get_controller(controller)
     return controller
 
@@ -244,8 +246,6 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     NumericalError
         NaN, blow-up or a fixed point that does not converge; carries time, state and a hint.
     """
-    from benchmark.simulator import stepping
-    from benchmark.simulator.sensors import n_measurements, noise_samples
 
     t_start = _time.perf_counter()
     ag = _ground_acceleration(record)
@@ -293,8 +293,6 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
             devices = devices.with_substep_tolerance(substep_tolerance)
         d_model, d_params, d_state, _ = devices.pack()
         d_infl = np.ascontiguousarray(devices.influence())
-        from controllers.base import ControllerSession
-        from benchmark.simulator.control import control_context
 
         context = control_context(building, control_step=ratio * dt, slew_rate=slew_rate,
                                                info=dict(info or {}, record=getattr(record, "name", "")))
@@ -408,7 +406,6 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
 
 
 def _raise_numerical(status, k, dt, z_out, nq, nv, session):
-    from benchmark.simulator.stepping import STATUS_MESSAGES, STATUS_NOT_CONVERGED, STATUS_CONTROLLER
 
     z = z_out[k]
     state = {"u_b_x [m]": float(z[nq]), "u_b_y [m]": float(z[nq + 1]), "u_b_theta [rad]": float(z[nq + 2]),
@@ -428,7 +425,6 @@ def _raise_numerical(status, k, dt, z_out, nq, nv, session):
 
 def _build_result(building, record, ag, dt, z, gb, gd, fb, bstate, fd, v, energy, meas, desired, iters,
                   mats, Kb, Cb, packed, d_infl, isolation, session, info, elapsed, **settings):
-    from benchmark.simulator.stepping import total_bearing_forces
 
     sup = building.superstructure
     nq = sup.n_q

@@ -36,6 +36,7 @@ from damper.identification.cycles import Cycle
 from damper.identification.metrics import relative_rms_error
 from damper.identification.refine import refine
 from damper.simulate import simulate
+from damper.laboratory import general_test
 
 __all__ = ["CeilingEntry", "structural_ceiling", "pick_damper", "DEFAULT_CEILING_VOLTAGES",
            "summarize_ceiling"]
@@ -127,7 +128,6 @@ def structural_ceiling(device, t: np.ndarray, displacement: np.ndarray, velocity
     list of CeilingEntry
         One per voltage and identified model, in that order.
     """
-    from damper.laboratory import general_test
 
     t = np.asarray(t, dtype=float)
     x = np.asarray(displacement, dtype=float)

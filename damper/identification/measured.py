@@ -21,13 +21,14 @@ from benchmark.foundation.errors import InputError
 from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
 from damper.simulate import simulate
+from damper.data import parse_utfsm_name, read_csv, read_utfsm
+from damper.identification import plots
 
 __all__ = ["read_test", "identify_files", "held_out_errors"]
 
 
 def read_test(path):
     """Read one test file: UTFSM name pattern → :func:`damper.data.read_utfsm`, else CSV."""
-    from damper.data import parse_utfsm_name, read_csv, read_utfsm
 
     path = Path(path)
     try:
@@ -113,7 +114,6 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
         tests.append(s)
     figures: list[str] = []
     if out is not None:
-        from damper.identification import plots
 
         folder = Path(out)
         folder.mkdir(parents=True, exist_ok=True)

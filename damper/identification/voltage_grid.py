@@ -54,6 +54,7 @@ from damper.identification.parallel import make_executor, run_tasks, worker_coun
 from damper.identification.refine import free_parameters, refine_shared
 from damper.voltage_laws import (Constant, Exponential, Polynomial, SeedKappaW, Tabulated,
                                  VoltageLaw, check_law)
+from damper.laboratory import periodic_test
 
 __all__ = ["TestProtocol", "LawFit", "VoltageGridResult", "KappaXEstimate", "identify_voltage_grid",
            "estimate_kappa_x", "fit_voltage_laws", "voltage_model", "DEFAULT_VOLTAGES",
@@ -87,7 +88,6 @@ class TestProtocol:
 
     def run(self, device, voltage: float):
         """Run the test on ``device`` at ``voltage`` [V] through the virtual laboratory."""
-        from damper.laboratory import periodic_test
         return periodic_test(device, self.amplitude, self.frequency, voltage, cycles=self.cycles,
                              sample_rate=self.sample_rate, noise=self.noise, seed=self.seed)
 

@@ -23,6 +23,7 @@ from scipy.optimize import minimize_scalar
 from benchmark.foundation.errors import InputError
 from damper.effects import first_order_filter
 from damper.simulate import simulate
+from damper.laboratory import general_test, resolve_device
 
 __all__ = ["LagFit", "switching_test", "fit_voltage_lag", "filtered_force"]
 
@@ -51,7 +52,6 @@ def switching_test(device, amplitude: float = 0.1, frequency: float = 0.5, switc
     Displacement :math:`X\\sin(2\\pi f t)`; voltage a square wave 0 V / 1 V of period
     ``switch_period`` [s] (the device's own voltage range is used).
     """
-    from damper.laboratory import general_test, resolve_device
 
     model = resolve_device(device)
     lo, hi = model.voltage_range

@@ -1,0 +1,67 @@
+"""The layers of docs/ARCHITECTURE.md hold: the import contract, and no import left inside a
+function to dodge a cycle."""
+
+from __future__ import annotations
+
+import ast
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+PACKAGES = ("benchmark", "damper", "controllers", "records")
+
+
+def test_import_contract_is_kept():
+    """import-linter's layers contract (pyproject.toml): applications > simulator > controllers >
+    damper > records > foundation, imports inside functions included."""
+    exe = shutil.which("lint-imports") or str(Path(sys.executable).with_name("lint-imports"))
+    if not Path(exe).exists():
+        pytest.skip("import-linter is not installed (pip install -e '.[test]')")
+    done = subprocess.run([exe, "--config", str(ROOT / "pyproject.toml")], cwd=ROOT, capture_output=True,
+                          text=True, timeout=300)
+    assert done.returncode == 0, done.stdout[-4000:] + done.stderr[-2000:]
+
+
+def _function_level_project_imports(path: Path) -> list[str]:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found: list[str] = []
+
+    def visit(node, in_function):
+        nonlocal found
+        for child in ast.iter_child_nodes(node):
+            inside = in_function or isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef))
+            if in_function and isinstance(child, ast.ImportFrom) and child.level == 0 and child.module \
+                    and child.module.split(".")[0] in PACKAGES:
+                found.append(f"{path.relative_to(ROOT)}:{child.lineno}: from {child.module} import ...")
+            elif in_function and isinstance(child, ast.Import):
+                found += [f"{path.relative_to(ROOT)}:{child.lineno}: import {a.name}" for a in child.names
+                          if a.name.split(".")[0] in PACKAGES]
+            visit(child, inside)
+
+    visit(tree, False)
+    return found
+
+
+def test_no_project_import_inside_a_function():
+    """Project modules are imported at module level; only heavy optional third-party packages
+    (matplotlib, dask) are imported lazily."""
+    found = []
+    for package in PACKAGES:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            found += _function_level_project_imports(path)
+    assert not found, "\n".join(found)
+
+
+@pytest.mark.parametrize("library", ["records", "damper", "controllers"])
+def test_libraries_do_not_load_the_simulator_or_the_applications(library):
+    code = (f"import sys, {library}; import importlib, pkgutil, {library} as p\n"
+            f"for m in pkgutil.walk_packages(p.__path__, '{library}.'):\n"
+            f"    importlib.import_module(m.name)\n"
+            "bad = sorted(m for m in sys.modules if m.startswith(('benchmark.simulator', 'benchmark.applications')))\n"
+            "print(bad); raise SystemExit(1 if bad else 0)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=ROOT)
+    assert done.returncode == 0, done.stdout + done.stderr
