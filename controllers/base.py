@@ -214,7 +214,8 @@ class CompiledBackedController(Controller):
             raise InputError(f"controller {self.name!r}: measurement vector has shape {y.shape}, "
                              f"expected ({c.n_meas},)")
         f = np.ascontiguousarray(y[measurement_slices(c.n_devices)["device_force"]])
-        status = controller_update(*c.kernel_arguments(), y, f, self._xc, self._voltage, self._desired)
+        status = controller_update(*c.kernel_arguments(), y, f, self._xc, self._voltage,  # type: ignore[call-arg]
+                                   self._desired)
         if status != STATUS_OK:
             raise NumericalError(f"controller {self.name!r}: its state or desired force is not finite",
                                  time=self._steps * c.control_step,
@@ -235,7 +236,7 @@ class FunctionController(Controller):
         super().__init__()
         self.function = function
         self.with_time = with_time
-        self.name = name or getattr(function, "__name__", "function")
+        self.name = str(name or getattr(function, "__name__", "function"))
         self._steps = 0
 
     def reset(self, context: ControlContext) -> None:
@@ -243,6 +244,8 @@ class FunctionController(Controller):
         self._steps = 0
 
     def step(self, measurements: np.ndarray) -> np.ndarray:
+        if self.context is None:
+            raise InputError(f"controller {self.name!r}: step() before reset(context)")
         t = self._steps * self.context.control_step
         self._steps += 1
         return self.function(t, measurements) if self.with_time else self.function(measurements)

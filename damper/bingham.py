@@ -29,6 +29,7 @@ from typing import ClassVar
 import numba
 import numpy as np
 
+from damper.base import DamperModel, KERNEL_BINGHAM
 from benchmark.foundation.errors import ParameterError
 from damper.bouc_wen import _check_voltage_range
 from damper.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
@@ -39,7 +40,7 @@ BINGHAM_ID = 4
 
 
 @dataclass(frozen=True)
-class Bingham:
+class Bingham(DamperModel):
     """Bingham model ``F = f_c sgn(xdot) + c0 xdot + f0`` (see module docstring)."""
 
     f_c: ParameterLike
@@ -49,6 +50,7 @@ class Bingham:
 
     name: ClassVar[str] = "bingham"
     model_id: ClassVar[int] = BINGHAM_ID
+    kernel: ClassVar[int] = KERNEL_BINGHAM
     n_states: ClassVar[int] = 0
     state_names: ClassVar[tuple[str, ...]] = ()
 

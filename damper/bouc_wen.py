@@ -31,10 +31,10 @@ Standard (over-parametrized) form, Wen's sign convention (Ikhouane & Rodellar 20
 maps onto the normalized form with :math:`z_0 = (A/(\\beta+\\gamma))^{1/n}`, :math:`w = z/z_0`,
 :math:`\\rho = A/(D z_0)`, :math:`\\sigma = \\beta/(\\beta+\\gamma)`,
 :math:`\\kappa_w = \\alpha z_0`, :math:`\\kappa_{\\dot x} = c_0`, :math:`\\kappa_x = k_0`
-(DOMAIN.md §3; seed appendix). The reverse map is not unique: ``to_standard(A, D)`` picks the
+(Bahar et al. 2009, appendix). The reverse map is not unique: ``to_standard(A, D)`` picks the
 free scale.
 
-Numerics (DOMAIN.md §5): the model is rate-independent, :math:`dw/dx = \\rho\\,g(w, \\mathrm{sgn}\\,\\Delta x)`,
+Numerics: the model is rate-independent, :math:`dw/dx = \\rho\\,g(w, \\mathrm{sgn}\\,\\Delta x)`,
 and stiff (:math:`|\\partial \\dot w/\\partial w| \\le \\rho n \\max(1, 2\\sigma-1)|w|^{n-1}|\\dot x|`).
 The kernel follows the cubic Hermite path through :math:`(x_0, \\dot x_0)`, :math:`(x_1, \\dot x_1)`,
 splits it at its turning points into monotone pieces (only their end displacements matter), and
@@ -65,6 +65,7 @@ from typing import ClassVar
 import numba
 import numpy as np
 
+from damper.base import DamperModel, KERNEL_BOUC_WEN
 from benchmark.foundation.errors import InputError, ParameterError
 from damper.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 
@@ -102,11 +103,12 @@ def _check_voltage_range(voltage_range) -> tuple[float, float]:
     return lo, hi
 
 
-class _BoucWenBase:
+class _BoucWenBase(DamperModel):
     """Methods shared by the normalized and the extended model (the kernel is common)."""
 
     name: ClassVar[str]
     model_id: ClassVar[int]
+    kernel: ClassVar[int] = KERNEL_BOUC_WEN
     n_states: ClassVar[int] = 1
     state_names: ClassVar[tuple[str, ...]] = ("w",)
     parameter_names: ClassVar[tuple[str, ...]]
@@ -386,8 +388,7 @@ def limit_cycle_psi(w0: float, sigma: float, n: float) -> float:
 def limit_cycle_peak(rho: float, sigma: float, n: float, x_min: float, x_max: float) -> float:
     """Peak :math:`w_0` of the normalized Bouc-Wen limit cycle under a wave input.
 
-    Solves :math:`\\psi(w_0) - \\psi(-w_0) = \\rho (X_{max} - X_{min})` (Ikhouane & Rodellar
-    2007; DOMAIN.md §4). The loading branch runs from :math:`-w_0` at :math:`X_{min}` to
+    Solves :math:`\\psi(w_0) - \\psi(-w_0) = \\rho (X_{max} - X_{min})` (Ikhouane & Rodellar 2007). The loading branch runs from :math:`-w_0` at :math:`X_{min}` to
     :math:`w_0` at :math:`X_{max}`; the "plastic" assumption :math:`\\bar w \\approx 1` needs
     :math:`\\rho(X_{max}-X_{min}) \\gtrsim 6`.
     """

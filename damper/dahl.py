@@ -5,7 +5,7 @@
    F = \\kappa_x(v)\\,x + \\kappa_{\\dot x}(v)\\,\\dot x + \\kappa_w(v)\\,w, \\qquad
    \\dot w = \\rho\\,(\\dot x - |\\dot x|\\,w)
 
-the normalized Bouc-Wen model with :math:`\\sigma = 1`, :math:`n = 1` (DOMAIN.md §3): the
+the normalized Bouc-Wen model with :math:`\\sigma = 1`, :math:`n = 1` (Spencer et al. 1997; Bahar et al. 2009): the
 hysteretic force relaxes exponentially, :math:`w = \\pm 1 \\mp (1 \\mp w_r)e^{-\\rho|x - x_r|}`, after
 each reversal. It runs on the Bouc-Wen kernel (:func:`damper.bouc_wen.bouc_wen_step`).
 Units as in :class:`~damper.bouc_wen.ExtendedBoucWen`; ``kappa_x >= 0``, the others > 0.
@@ -28,6 +28,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from damper.base import KERNEL_BOUC_WEN, DamperModel
 from damper.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, ExtendedBoucWen
 from damper.voltage_laws import ParameterLike
 
@@ -37,7 +38,7 @@ DAHL_ID = 5
 
 
 @dataclass(frozen=True)
-class Dahl:
+class Dahl(DamperModel):
     """Dahl model (normalized Bouc-Wen with sigma = 1, n = 1); see module docstring."""
 
     kappa_x: ParameterLike
@@ -49,6 +50,7 @@ class Dahl:
 
     name: ClassVar[str] = "dahl"
     model_id: ClassVar[int] = DAHL_ID
+    kernel: ClassVar[int] = KERNEL_BOUC_WEN
     n_states: ClassVar[int] = 1
     state_names: ClassVar[tuple[str, ...]] = ("w",)
 

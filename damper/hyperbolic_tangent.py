@@ -29,6 +29,7 @@ from typing import ClassVar
 import numba
 import numpy as np
 
+from damper.base import DamperModel, KERNEL_HYPERBOLIC_TANGENT
 from benchmark.foundation.errors import ParameterError
 from damper.bouc_wen import _check_voltage_range
 from damper.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
@@ -40,7 +41,7 @@ HYPERBOLIC_TANGENT_ID = 6
 
 
 @dataclass(frozen=True)
-class HyperbolicTangent:
+class HyperbolicTangent(DamperModel):
     """``F = c xdot + k x + alpha tanh(beta xdot + delta sgn x) + f0`` (see module docstring)."""
 
     c: ParameterLike
@@ -53,6 +54,8 @@ class HyperbolicTangent:
 
     name: ClassVar[str] = "hyperbolic_tangent"
     model_id: ClassVar[int] = HYPERBOLIC_TANGENT_ID
+    kernel: ClassVar[int] = KERNEL_HYPERBOLIC_TANGENT
+    kernel: ClassVar[int] = KERNEL_HYPERBOLIC_TANGENT
     n_states: ClassVar[int] = 0
     state_names: ClassVar[tuple[str, ...]] = ()
 

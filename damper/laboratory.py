@@ -21,6 +21,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from damper.data import DamperTest
+from damper.base import DamperModel
 from damper.registry import get_model_class
 from damper.simulate import simulate
 
@@ -37,7 +38,7 @@ def resolve_device(device):
             return cls()
         except TypeError:
             raise InputError(f"device: model {device!r} needs parameters; pass an instance") from None
-    if not hasattr(device, "model_id") or not hasattr(device, "to_array"):
+    if not isinstance(device, DamperModel):
         raise InputError(f"device: expected a damper model or its name, got {type(device).__name__}")
     return device
 

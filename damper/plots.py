@@ -14,10 +14,8 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.figures import save_figure
-from damper.laboratory import periodic_test
-from damper.loops import last_cycles, midline_slope, plastic_branch_fit
 
-__all__ = ["plot_loops", "plot_virtual_calibration"]
+__all__ = ["plot_loops"]
 
 
 def _series(item):
@@ -91,61 +89,3 @@ def plot_loops(items, path, labels: Sequence[str] | None = None, title: str | No
     fig.tight_layout()
     return save_figure(fig, path, dpi=120)
 
-
-def plot_virtual_calibration(path, device="virtual", voltages=(0.0, 0.25, 0.5, 0.75, 1.0)) -> dict:
-    """Figure of the virtual damper's calibration figures (DOMAIN.md §3), measured from loops.
-
-    Panels: (a) 0 V, ±0.4 m at 0.8 Hz force-displacement loop with the measured average
-    inclination (seed Fig. 2); (b) its force-velocity loop and the force minus
-    :math:`\\kappa_x x` (Fig. 1, 3); (c) the ±0.03 m, 1 Hz, 10 s test at 0 V (Fig. 6);
-    (d) force-velocity loops over the voltage range with the dry-friction force read off each.
-    Returns the measured figures (``kappa_x`` [N/m], ``reduced_force_at_max_velocity`` [N],
-    ``small_test_peak`` [N], ``dry_friction`` {V: N}).
-    """
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-
-    big = last_cycles(periodic_test(device, 0.4, 0.8, 0.0, cycles=3, sample_rate=400))
-    kappa_x = midline_slope(big)
-    reduced = big.force - kappa_x * big.displacement
-    small = periodic_test(device, 0.03, 1.0, 0.0, cycles=10, sample_rate=200)
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
-    ax = axes[0, 0]
-    ax.plot(big.displacement, big.force / 1e3, lw=1.2)
-    grid = np.array([-0.4, 0.4])
-    ax.plot(grid, kappa_x * grid / 1e3, "k--", lw=1,
-            label=f"average inclination {kappa_x / 1e3:.0f} kN/m ({kappa_x * 0.4 / 1e3:.1f} kN over 0.4 m)")
-    ax.set(xlabel="Displacement (m)", ylabel="Force (kN)", title="(a) 0 V, ±0.4 m, 0.8 Hz")
-    ax.legend(fontsize=8, loc="upper left")
-    ax = axes[0, 1]
-    ax.plot(big.velocity, big.force / 1e3, "--", lw=1.2, label="force")
-    ax.plot(big.velocity, reduced / 1e3, lw=1.2, label="force $-\\ \\kappa_x x$")
-    ax.set(xlabel="Velocity (m/s)", ylabel="Force (kN)", title="(b) force-velocity, 0 V")
-    ax.legend(fontsize=8, loc="upper left")
-    ax = axes[1, 0]
-    ax.plot(small.time, small.force / 1e3, lw=1.0, label="force (kN)")
-    ax2 = ax.twinx()
-    ax2.plot(small.time, small.displacement, color="C1", lw=0.8)
-    ax2.set_ylabel("Displacement (m)", color="C1")
-    ax.set(xlabel="Time (s)", ylabel="Force (kN)", title="(c) 0 V, ±0.03 m, 1 Hz (seed Fig. 6)")
-    friction = {}
-    ax = axes[1, 1]
-    for v in voltages:
-        loop = last_cycles(periodic_test(device, 0.4, 0.8, v, cycles=3, sample_rate=200))
-        friction[float(v)] = plastic_branch_fit(loop, kappa_x)[1]
-        ax.plot(loop.velocity, (loop.force - kappa_x * loop.displacement) / 1e3, lw=1.0,
-                label=f"{v:g} V: dry friction {friction[float(v)] / 1e3:.0f} kN")
-    ax.set(xlabel="Velocity (m/s)", ylabel="Force $-\\ \\kappa_x x$ (kN)",
-           title="(d) ±0.4 m, 0.8 Hz over the voltage range")
-    ax.legend(fontsize=7, loc="upper left")
-    for a in axes.ravel():
-        a.grid(True, alpha=0.3)
-    fig.suptitle("Virtual benchmark damper: calibration figures read off laboratory loops")
-    fig.tight_layout()
-    save_figure(fig, path, dpi=110)
-    return {"kappa_x": kappa_x,
-            "reduced_force_at_max_velocity": float(reduced[np.argmax(big.velocity)]),
-            "small_test_peak": float(np.abs(last_cycles(small, cycles=2).force).max()),
-            "dry_friction": friction}

@@ -1,11 +1,13 @@
-"""Registry of damper models: names and integer ids, and the one dispatch kernel.
+"""Registry of damper models: one name and one integer id per model, and the one dispatch kernel.
 
-Every damper model is a frozen parameter dataclass in its own module with ``name``,
-``model_id``, ``n_states``, ``to_array()``, ``initial_state()``, ``voltage_range`` and
-plain-numpy ``rates``/``force`` (see ``docs/ARCHITECTURE.md``). The building's stepping
-kernel and :func:`damper.simulate` call :func:`device_step` with a model's id, its packed
-parameters and its state vector. Adding a model means one module plus one entry in
-``_MODEL_CLASSES`` and one branch in each of :func:`device_step` and :func:`device_force`.
+Every damper model is a frozen parameter dataclass in its own module that subclasses
+:class:`damper.base.DamperModel` (the contract: ``name``, ``model_id``, ``kernel``,
+``n_states``, ``to_array()``, ``initial_state()``, ``voltage_range``, plain-numpy
+``rates``/``force``). It is registered once, by :func:`register_model`, under its ``name``.
+The building's stepping kernel and :func:`damper.simulate` call :func:`device_step` with the
+model's *kernel family* (:data:`damper.base.KERNELS`), its packed parameters and its state, so
+adding a model is one module plus one :func:`register_model` call (a test registers a toy model
+and runs it in the building: ``tests/damper/test_model_registration.py``).
 """
 
 from __future__ import annotations
@@ -14,49 +16,70 @@ import numba
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, ExtendedBoucWen,
-                             NormalizedBoucWen, bouc_wen_force, bouc_wen_step)
-from damper.spencer import (MEMO_LENGTH, SPENCER_ID, Spencer, spencer_type_force_kernel,
-                            spencer_type_step, spencer_type_step_memo)
-from damper.virtual import VIRTUAL_DAMPER_ID, VirtualBenchmarkDamper
-from damper.series_dashpot import SERIES_DASHPOT_ID, SeriesDashpotBoucWen
-from damper.bingham import BINGHAM_ID, Bingham, bingham_force, bingham_step
-from damper.dahl import DAHL_ID, Dahl
-from damper.hyperbolic_tangent import (HYPERBOLIC_TANGENT_ID, HyperbolicTangent,
-                                       hyperbolic_tangent_force, hyperbolic_tangent_step)
+from damper.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANGENT, KERNEL_SPENCER_TYPE,
+                         KERNELS, DamperModel)
+from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, bouc_wen_force, bouc_wen_step
+from damper.spencer import (MEMO_LENGTH, Spencer, spencer_type_force_kernel, spencer_type_step,
+                            spencer_type_step_memo)
+from damper.virtual import VirtualBenchmarkDamper
+from damper.series_dashpot import SeriesDashpotBoucWen
+from damper.bingham import Bingham, bingham_force, bingham_step
+from damper.dahl import Dahl
+from damper.hyperbolic_tangent import HyperbolicTangent, hyperbolic_tangent_force, hyperbolic_tangent_step
 
 __all__ = [
     "MODELS",
     "MODELS_BY_ID",
+    "register_model",
     "get_model_class",
     "model_id_of",
+    "kernel_id_of",
     "device_step",
     "device_step_memo",
     "MEMO_LENGTH",
     "device_force",
 ]
 
-_MODEL_CLASSES = (
-    NormalizedBoucWen,
-    ExtendedBoucWen,
-    Spencer,
-    VirtualBenchmarkDamper,
-    SeriesDashpotBoucWen,
-    Bingham,
-    Dahl,
-    HyperbolicTangent,
-)
-
 #: Model classes by name.
-MODELS: dict[str, type] = {cls.name: cls for cls in _MODEL_CLASSES}
-#: Model classes by integer id (the id the kernels dispatch on).
-MODELS_BY_ID: dict[int, type] = {cls.model_id: cls for cls in _MODEL_CLASSES}
-
-if len(MODELS) != len(_MODEL_CLASSES) or len(MODELS_BY_ID) != len(_MODEL_CLASSES):
-    raise RuntimeError("damper.registry: duplicate model name or id")  # a programming error
+MODELS: dict[str, type[DamperModel]] = {}
+#: Model classes by integer id.
+MODELS_BY_ID: dict[int, type[DamperModel]] = {}
 
 
-def get_model_class(name: str) -> type:
+def register_model(cls: type[DamperModel]) -> type[DamperModel]:
+    """Register a damper model class under its ``name`` and ``model_id`` and return it.
+
+    Raises
+    ------
+    InputError
+        If ``cls`` is not a :class:`~damper.base.DamperModel` subclass, names an unknown kernel
+        family, or its name or id is already taken by another class.
+    """
+    if not (isinstance(cls, type) and issubclass(cls, DamperModel)):
+        raise InputError(f"register_model: {cls!r} is not a damper.base.DamperModel subclass")
+    name, model_id, kernel = getattr(cls, "name", None), getattr(cls, "model_id", None), getattr(cls, "kernel", None)
+    if not isinstance(name, str) or not name:
+        raise InputError(f"register_model: {cls.__name__} has no name")
+    if not isinstance(model_id, int) or model_id <= 0:
+        raise InputError(f"register_model: {cls.__name__}.model_id must be a positive int, got {model_id!r}")
+    if kernel not in KERNELS:
+        raise InputError(f"register_model: {cls.__name__}.kernel {kernel!r} is not a kernel family; expected "
+                         "one of " + ", ".join(f"{k} ({v})" for k, v in KERNELS.items()))
+    taken = MODELS.get(name) or MODELS_BY_ID.get(model_id)
+    if taken is not None and taken is not cls:
+        key = name if name in MODELS else model_id
+        raise InputError(f"register_model: {cls.__name__}: {key!r} is already registered by {taken.__name__}")
+    MODELS[name] = cls
+    MODELS_BY_ID[model_id] = cls
+    return cls
+
+
+for _cls in (NormalizedBoucWen, ExtendedBoucWen, Spencer, VirtualBenchmarkDamper, SeriesDashpotBoucWen,
+             Bingham, Dahl, HyperbolicTangent):
+    register_model(_cls)
+
+
+def get_model_class(name: str) -> type[DamperModel]:
     """The model class registered as ``name`` (raises :class:`InputError` listing the names)."""
     try:
         return MODELS[name]
@@ -65,7 +88,7 @@ def get_model_class(name: str) -> type:
                          + ", ".join(sorted(MODELS))) from None
 
 
-def model_id_of(model) -> int:
+def model_id_of(model: DamperModel) -> int:
     """The registered integer id of a model instance (checks it is registered)."""
     model_id = getattr(model, "model_id", None)
     if model_id not in MODELS_BY_ID or not isinstance(model, MODELS_BY_ID[model_id]):
@@ -74,14 +97,21 @@ def model_id_of(model) -> int:
     return int(model_id)
 
 
+def kernel_id_of(model: DamperModel) -> int:
+    """The kernel family (:data:`damper.base.KERNELS`) of a registered model instance: the number
+    :func:`device_step` dispatches on."""
+    model_id_of(model)
+    return int(type(model).kernel)
+
+
 @numba.njit(cache=True)
-def device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt):
+def device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt):
     """Advance one device over one step; return its force at the end of the step [N].
 
     Parameters
     ----------
-    model_id : int
-        Registered model id (``model.model_id``).
+    kernel_id : int
+        The model's kernel family (:func:`kernel_id_of`).
     params : float64 array
         ``model.to_array()``.
     state : float64 array
@@ -98,44 +128,42 @@ def device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt):
     Notes
     -----
     The motion inside the step is the cubic Hermite path through ``(x0, xd0)`` and
-    ``(x1, xd1)``; each model sub-steps as its stiffness needs (DOMAIN.md §5). An unknown
-    ``model_id`` returns NaN (the caller turns it into a :class:`NumericalError`).
+    ``(x1, xd1)``; each model sub-steps as its stiffness needs. An unknown ``kernel_id`` returns
+    NaN (the caller turns it into a :class:`NumericalError`).
     """
-    if (model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID
-            or model_id == DAHL_ID):
+    if kernel_id == KERNEL_BOUC_WEN:
         return bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt)
-    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
+    if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt)
-    if model_id == BINGHAM_ID:
+    if kernel_id == KERNEL_BINGHAM:
         return bingham_step(params, state, x0, x1, xd0, xd1, v, dt)
-    if model_id == HYPERBOLIC_TANGENT_ID:
+    if kernel_id == KERNEL_HYPERBOLIC_TANGENT:
         return hyperbolic_tangent_step(params, state, x0, x1, xd0, xd1, v, dt)
     return np.nan
 
 
 @numba.njit(cache=True)
-def device_step_memo(model_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
+def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
     """:func:`device_step` with a per-device scratch array ``memo`` (float64, :data:`MEMO_LENGTH`,
     any initial content) in which a model may keep values that depend only on the step's start
     state and voltage (the Spencer-type voltage laws), reused when the same device is advanced
     again from the same state, as the building's fixed-point iteration does. Same results as
     :func:`device_step`; models without such values ignore ``memo``."""
-    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
+    if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
-    return device_step(model_id, params, state, x0, x1, xd0, xd1, v, dt)
+    return device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt)
 
 
 @numba.njit(cache=True)
-def device_force(model_id, params, state, x, xd, v):
+def device_force(kernel_id, params, state, x, xd, v):
     """Force [N] of a device at its current state, displacement ``x`` [m], velocity ``xd`` [m/s]
-    and voltage ``v`` [V] (no state change); NaN for an unknown ``model_id``."""
-    if (model_id == NORMALIZED_BOUC_WEN_ID or model_id == EXTENDED_BOUC_WEN_ID
-            or model_id == DAHL_ID):
+    and voltage ``v`` [V] (no state change); NaN for an unknown ``kernel_id``."""
+    if kernel_id == KERNEL_BOUC_WEN:
         return bouc_wen_force(params, state, x, xd, v)
-    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
+    if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_force_kernel(params, state, x, xd, v)
-    if model_id == BINGHAM_ID:
+    if kernel_id == KERNEL_BINGHAM:
         return bingham_force(params, state, x, xd, v)
-    if model_id == HYPERBOLIC_TANGENT_ID:
+    if kernel_id == KERNEL_HYPERBOLIC_TANGENT:
         return hyperbolic_tangent_force(params, state, x, xd, v)
     return np.nan

@@ -28,7 +28,7 @@ force.
 
 Numerics: the compiled Spencer-type kernel (:func:`damper.spencer.spencer_type_step`: exact
 field update, RK4 sub-steps along the step's Hermite path, sub-step size from the stiffness
-estimate of DOMAIN.md §5). The field follows the coil input without lag (a lag is the
+estimate). The field follows the coil input without lag (a lag is the
 ``voltage_lag`` effect of :mod:`damper.effects`, applied to the input).
 
 References

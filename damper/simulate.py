@@ -13,7 +13,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError
 from damper.data import check_samples
-from damper.registry import device_force, device_step, model_id_of
+from damper.registry import device_force, device_step, kernel_id_of
 
 __all__ = ["DamperResponse", "simulate", "prepare_motion"]
 
@@ -76,11 +76,11 @@ def prepare_motion(model, t, x, xdot=None, v=0.0):
 
 
 @numba.njit(cache=True)
-def _run(model_id, params, state, t, x, xd, v, force, states):
-    force[0] = device_force(model_id, params, state, x[0], xd[0], v[0])
+def _run(kernel_id, params, state, t, x, xd, v, force, states):
+    force[0] = device_force(kernel_id, params, state, x[0], xd[0], v[0])
     states[0, :] = state
     for k in range(t.size - 1):
-        f = device_step(model_id, params, state, x[k], x[k + 1], xd[k], xd[k + 1], v[k],
+        f = device_step(kernel_id, params, state, x[k], x[k + 1], xd[k], xd[k + 1], v[k],
                         t[k + 1] - t[k])
         if not np.isfinite(f):
             return k + 1
@@ -119,7 +119,7 @@ def simulate(model, t, x, xdot=None, v=0.0, state0=None) -> DamperResponse:
     NumericalError
         The force became NaN or infinite.
     """
-    model_id = model_id_of(model)
+    kernel_id = kernel_id_of(model)
     t, x, xdot, v = prepare_motion(model, t, x, xdot, v)
     state = (np.array(model.initial_state(), dtype=np.float64) if state0 is None
              else _as_1d("state0", state0).copy())
@@ -128,7 +128,7 @@ def simulate(model, t, x, xdot=None, v=0.0, state0=None) -> DamperResponse:
     params = model.to_array()
     force = np.empty(t.size)
     states = np.empty((t.size, max(model.n_states, 0)))
-    failed = _run(model_id, params, state, t, x, xdot, v, force, states)
+    failed = _run(kernel_id, params, state, t, x, xdot, v, force, states)
     if failed >= 0 or not np.isfinite(force[0]):
         k = max(failed, 0)
         names = getattr(model, "state_names", tuple(f"s{i}" for i in range(model.n_states)))

@@ -13,7 +13,7 @@ element, ``v`` the commanded voltage and ``u`` the voltage the fluid "sees". Not
 attaches ``gamma`` to the :math:`|\\dot x - \\dot y|` term, the reverse of Wen's convention.
 
 The kernel works with the normalized hysteretic variable :math:`w = z/z_0`,
-:math:`z_0 = (A/(\\beta+\\gamma))^{1/n}` (DOMAIN.md §3), so the element's force is
+:math:`z_0 = (A/(\\beta+\\gamma))^{1/n}` (Spencer et al. 1997; Bahar et al. 2009), so the element's force is
 :math:`\\alpha z = (\\alpha z_0) w` and
 :math:`\\dot w = \\rho(\\dot r - \\sigma|\\dot r||w|^{n-1}w + (\\sigma-1)\\dot r|w|^n)` with
 :math:`\\dot r = \\dot x - \\dot y`, :math:`\\rho = A/z_0`, :math:`\\sigma = \\gamma/(\\beta+\\gamma)`
@@ -29,13 +29,13 @@ Numerics: the filtered voltage is advanced exactly,
 in time along the cubic Hermite path of the step, in
 :math:`N = \\lceil \\lambda\\,\\Delta t/\\mathrm{tol} \\rceil` sub-steps with
 :math:`\\lambda = (\\rho\\,\\alpha z_0 + k_0)/(c_0+c_1) + \\rho n\\max(1, 2\\sigma-1)\\max(1,|w|)^{n-1}
-(|\\dot x|_{max} + |\\dot y|)` (DOMAIN.md §5), the ratios taken at the worse of the
+(|\\dot x|_{max} + |\\dot y|)`, the ratios taken at the worse of the
 field's values at the start and the end of the step (the field moves monotonically between
 them). The laws are evaluated once per RK4 node: the end of one sub-step
 is the start of the next, and the last node's values give the force at the end of the step.
 
 Parameters of the 1.5 kN prototype (:meth:`Spencer.prototype_1997`, Spencer et al. 1997, as
-listed in DOMAIN.md §3, **unverified against the paper's table**): c0a 21.0 N·s/cm,
+as quoted by Bahar et al. 2009, **unverified against the paper's table**): c0a 21.0 N·s/cm,
 c0b 3.50 N·s/(cm·V), k0 46.9 N/cm, c1a 283 N·s/cm, c1b 2.95 N·s/(cm·V), k1 5.00 N/cm,
 x0 14.3 cm, αa 140 N/cm, αb 695 N/(cm·V), γ = β = 363 cm⁻², A = 301, n = 2, η = 190 s⁻¹,
 voltage 0-2.25 V.
@@ -55,6 +55,7 @@ from typing import ClassVar
 import numba
 import numpy as np
 
+from damper.base import DamperModel, KERNEL_SPENCER_TYPE
 from benchmark.foundation.errors import InputError, ParameterError
 from damper.bouc_wen import _abs_pow, _check_voltage_range, hermite_position, DEFAULT_SUBSTEP_TOLERANCE
 from damper.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value
@@ -106,11 +107,13 @@ def spencer_type_force(state, x, xdot, *, k0, k1, x0, rho, sigma, n, alpha_w, c0
     return float(d1 * ydot + k1 * (x - x0))
 
 
-class SpencerTypeModel:
+class SpencerTypeModel(DamperModel):
     """What every Spencer-type device shares: packing, initial state, and the plain-numpy
     ``rates``/``force`` of the scipy oracle. A subclass defines ``_kernel_parameters()`` (the
     keyword arguments of :func:`pack_spencer_type`), ``substep_tolerance`` and ``voltage_range``.
     """
+
+    kernel: ClassVar[int] = KERNEL_SPENCER_TYPE
 
     def _kernel_parameters(self) -> dict:  # pragma: no cover - defined by subclasses
         raise NotImplementedError

@@ -40,7 +40,7 @@ Constants: ``k0 = 40 kN/m``, ``k1 = 170 kN/m``, ``x0 = 0``, ``rho = 120 1/m``,
 ``sigma = 0.9``, ``n = 1.4``, ``eta = 30 1/s`` (field time constant 33 ms), voltage range
 [0, 1] V.
 
-Calibration targets (DOMAIN.md §3, the seed's Fig. 1-3 and 6), checked by the tests from loops
+Calibration targets (Bahar et al. 2009: the seed's Fig. 1-3 and 6), checked by the tests from loops
 produced by :mod:`damper.laboratory`:
 
 * 0 V, ±0.4 m at 0.8 Hz (±2 m/s): inclined loop, average slope ≈ 207 kN/m (82.8 kN over 0.4 m);

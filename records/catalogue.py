@@ -7,9 +7,10 @@ loads them in either orientation, and checks a records directory against the cat
 
 Catalogue numbers and where they come from
 -------------------------------------------
-* event, station, column meaning, PGA (g), PGV and length: ``../shared/docs/DOMAIN.md`` §2 and
-  ``../shared/records/raw/SOURCES.md`` (computed there from the files; PGV trapezoidal, no
-  baseline correction).
+* event, station, column meaning, PGA (g), PGV and length: the benchmark's record set
+  (Narasimhan et al. 2006, Part I, Table 2) and the provenance file of the shared records
+  (``records/raw/SOURCES.md`` in the shared data directory; computed there from the files: PGV
+  trapezoidal, no baseline correction).
 * ``significant_duration_s`` (D5–95, Arias), ``mean_period_s`` (Rathje et al. 2004, 0.25–20 Hz)
   and ``pulse_period_s`` (Mavroeidis–Papageorgiou fit, :func:`records.pulse.fit_pulse`) were
   measured on the benchmark files as distributed with :mod:`records.measures` and

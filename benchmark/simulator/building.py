@@ -15,15 +15,15 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, replace
-from typing import Any
 
 import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import Superstructure, load_superstructure
-from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
+from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, IsolationLayer, get_isolation
 from benchmark.simulator.structure import location_matrix
 from benchmark.simulator.devices import DeviceLayout
+from damper.base import DamperModel
 
 __all__ = ["Building"]
 
@@ -45,8 +45,8 @@ class Building:
     """
 
     superstructure: Superstructure
-    isolation: Any
-    devices: Any = None
+    isolation: IsolationLayer
+    devices: DeviceLayout | None = None
     name: str = "benchmark"
 
     def __post_init__(self) -> None:
@@ -56,8 +56,9 @@ class Building:
                              f"{n_iso} bearings, the superstructure's plan has {self.superstructure.n_bearings}")
 
     @classmethod
-    def default(cls, isolation: Any = None, devices: Any = "default", n_modes: int | None = None,
-                damper_model: Any = None, structure_path: str | os.PathLike | None = None) -> "Building":
+    def default(cls, isolation: str | os.PathLike | IsolationLayer | None = None,
+                devices: DeviceLayout | str | None = "default", n_modes: int | None = None,
+                damper_model: DamperModel | str | None = None, structure_path: str | os.PathLike | None = None) -> "Building":
         """The benchmark building with the project's defaults.
 
         Parameters
@@ -95,10 +96,10 @@ class Building:
         """The same building with no devices (the uncontrolled reference)."""
         return replace(self, devices=None)
 
-    def with_devices(self, devices: Any) -> "Building":
+    def with_devices(self, devices: DeviceLayout | None) -> "Building":
         return replace(self, devices=devices)
 
-    def with_isolation(self, isolation: Any) -> "Building":
+    def with_isolation(self, isolation: IsolationLayer) -> "Building":
         if isinstance(isolation, (str, os.PathLike)):
 
             isolation = get_isolation(str(isolation))

@@ -9,11 +9,11 @@ from :mod:`damper.registry` (any registered model object: ``model_id``, ``to_arr
 
     x_j = e_{d_j}^T T_j u_b, \\qquad T_j = \\begin{bmatrix} 1 & 0 & -y_j \\\\ 0 & 1 & x_j \\end{bmatrix},
 
-and its force :math:`f_j` acts on the base as :math:`T_j^T e_{d_j} f_j` (DOMAIN.md §1).
+and its force :math:`f_j` acts on the base as :math:`T_j^T e_{d_j} f_j` (Narasimhan et al. 2006, Part I).
 
 Default layout (:meth:`DeviceLayout.default`)
 ---------------------------------------------
-The benchmark's own device count and placement were not available (DOMAIN.md §1), so the
+The benchmark's own device count and placement were not available (Narasimhan et al. 2006, Part I), so the
 project chooses 16 devices, 8 per direction, beside perimeter bearings of the L-shaped plan,
 where they resist torsion best, and balanced so that each direction's devices sit close to the
 base centre of mass on average (small torsional coupling):
@@ -33,14 +33,15 @@ model can be given (``DeviceLayout.default(model=...)``) and every slot can be c
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Iterable, Sequence
+from typing import Iterable, Sequence
 
 import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import transformation
 from damper.virtual import VirtualBenchmarkDamper
-from damper.registry import model_id_of
+from damper.base import DamperModel
+from damper.registry import get_model_class, kernel_id_of, model_id_of
 
 __all__ = ["DeviceSlot", "DeviceLayout", "default_damper_model", "DEFAULT_X_POSITIONS",
            "DEFAULT_Y_POSITIONS", "DIRECTION_NAMES"]
@@ -55,18 +56,16 @@ DEFAULT_Y_POSITIONS = ((-17.25, -39.93), (-17.25, -16.18), (-17.25, 7.35), (-17.
                        (32.83, 3.41), (32.83, 19.11), (12.53, -39.75), (12.53, -24.05))
 
 
-def default_damper_model() -> Any:
+def default_damper_model() -> DamperModel:
     """Return the default damper model of a device slot: the virtual benchmark damper."""
 
     return VirtualBenchmarkDamper()
 
 
-def _check_model(model: Any, where: str) -> None:
-    missing = [a for a in ("model_id", "to_array", "initial_state", "voltage_range") if not hasattr(model, a)]
-    if missing:
-        raise InputError(f"{where}: {type(model).__name__} is not a damper model (missing "
-                         f"{', '.join(missing)}); expected a model from damper.registry")
-
+def _check_model(model: object, where: str) -> None:
+    if not isinstance(model, DamperModel):
+        raise InputError(f"{where}: {type(model).__name__} is not a damper model; expected a "
+                         "damper.base.DamperModel registered in damper.registry")
     model_id_of(model)
 
 
@@ -88,11 +87,17 @@ class DeviceSlot:
 
     x: float
     y: float
-    direction: int
-    model: Any
+    direction: int | str
+    model: DamperModel | str
     label: str = ""
 
     def __post_init__(self) -> None:
+        if isinstance(self.model, str):  # a registered model's name, with its default parameters
+            try:
+                object.__setattr__(self, "model", get_model_class(self.model)())
+            except TypeError:
+                raise InputError(f"device {self.label}: model {self.model!r} needs parameters; pass an "
+                                 "instance") from None
         d = self.direction
         if isinstance(d, str):
             if d not in DIRECTION_NAMES:
@@ -139,7 +144,7 @@ class DeviceLayout:
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def default(cls, model: Any = None) -> "DeviceLayout":
+    def default(cls, model: DamperModel | str | None = None) -> "DeviceLayout":
         """The documented default: 8 devices per direction at the plan's perimeter.
 
         Parameters
@@ -154,17 +159,17 @@ class DeviceLayout:
 
     @classmethod
     def from_positions(cls, positions: Sequence[Sequence[float]], directions: Iterable[int | str],
-                       model: Any, name: str = "custom") -> "DeviceLayout":
+                       model: DamperModel | str, name: str = "custom") -> "DeviceLayout":
         """Build a layout of identical devices from positions (n, 2) [m] and directions (n,)."""
-        positions = np.asarray(positions, dtype=float)
-        directions = list(directions)
-        if positions.ndim != 2 or positions.shape[1] != 2 or len(directions) != len(positions):
+        xy = np.asarray(positions, dtype=float)
+        dirs = list(directions)
+        if xy.ndim != 2 or xy.shape[1] != 2 or len(dirs) != len(xy):
             raise InputError(f"device layout: positions must have shape (n, 2) and directions length n; "
-                             f"got {positions.shape} and {len(directions)}")
+                             f"got {xy.shape} and {len(dirs)}")
         return cls(tuple(DeviceSlot(x, y, d, model, label=f"d{i + 1}")
-                         for i, ((x, y), d) in enumerate(zip(positions, directions))), name=name)
+                         for i, ((x, y), d) in enumerate(zip(xy, dirs))), name=name)
 
-    def with_model(self, model: Any) -> "DeviceLayout":
+    def with_model(self, model: DamperModel | str) -> "DeviceLayout":
         """The same slots with every device's model replaced by ``model``."""
         return DeviceLayout(tuple(DeviceSlot(s.x, s.y, s.direction, model, s.label) for s in self.slots),
                             name=self.name)
@@ -223,7 +228,7 @@ class DeviceLayout:
 
         Returns
         -------
-        model_ids : (n,) int64
+        kernel_ids : (n,) int64, each model's kernel family (:func:`damper.registry.kernel_id_of`)
         params : (n, P) float64, each model's ``to_array()`` zero-padded to the longest
         states : (n, S) float64, each model's ``initial_state()`` zero-padded (S >= 1)
         n_states : (n,) int64
@@ -237,11 +242,11 @@ class DeviceLayout:
         for j, (a, s) in enumerate(zip(arrays, inits)):
             params[j, :a.size] = a
             states[j, :s.size] = s
-        ids = np.array([model_id_of(m) for m in self.models], dtype=np.int64)
+        ids = np.array([kernel_id_of(m) for m in self.models], dtype=np.int64)
         return ids, params, states, np.array([s.size for s in inits], dtype=np.int64)
 
     def describe(self) -> dict:
         """JSON-serialisable description of the layout."""
         return {"name": self.name, "n_devices": self.n_devices,
-                "slots": [{"label": s.label, "x": s.x, "y": s.y, "direction": DIRECTION_NAMES[s.direction],
+                "slots": [{"label": s.label, "x": s.x, "y": s.y, "direction": DIRECTION_NAMES[int(s.direction)],
                            "model": getattr(s.model, "name", type(s.model).__name__)} for s in self.slots]}

@@ -25,7 +25,7 @@ J9        energy dissipated by the devices over the input energy at the end of t
 ========  ==========================================================================  ============
 
 This follows Narasimhan et al. (2006, Part I, section "Evaluation criteria"): J1–J5 peak
-responses, J6 peak control force, J7–J8 RMS responses, J9 control energy. DOMAIN.md marks
+responses, J6 peak control force, J7–J8 RMS responses, J9 control energy. The project marks
 the numbering of J6 and J9 as unverified; the project **chooses** the assignment above and
 keeps it fixed. J6 and J9 are not ratios to the reference run (the reference has no devices);
 they are ``None`` for a run without devices. A ratio whose reference value is zero is ``None``.

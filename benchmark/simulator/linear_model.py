@@ -1,6 +1,6 @@
 """Continuous-time state space of the building with its isolation linearised.
 
-Equations (DOMAIN.md §1) with :math:`u_s = \\Psi q` (Ψ = I for the full superstructure, the
+Equations (Narasimhan et al. 2006, Part I) with :math:`u_s = \\Psi q` (Ψ = I for the full superstructure, the
 first N modes for a reduced one, see :mod:`benchmark.simulator.structure`), :math:`u_b` the base
 displacement (x, y, θ) relative to the ground at the base centre of mass:
 

@@ -1,6 +1,6 @@
 """The scipy ``solve_ivp`` reference of the building's equations (the oracle of tests and ``sbib bench``).
 
-The reference integrates the continuous equations of DOMAIN.md §1 in the benchmark's own form
+The reference integrates the continuous equations of Narasimhan et al. (2006, Part I) in the benchmark's own form
 (:math:`u_s` relative to the base, the base equation solved for :math:`\\ddot u_b`) with
 ``solve_ivp`` (RK45 by default, rtol 1e-7) and a step bounded by the record step:
 

@@ -5,7 +5,7 @@ Read from ``<shared>/benchmark/structure.json`` (the numbers of the benchmark's
 masses in t (= kN·s²/m) and rotational inertias in t·m². Everything here is converted
 to SI on reading: masses ×10³ → kg, inertias ×10³ → kg·m², stiffness kN/m → N/m.
 
-Model (Narasimhan et al. 2006, Part I; DOMAIN.md §1)
+Model (Narasimhan et al. 2006, Part I)
 ----------------------------------------------------
 Eight floors, each with three degrees of freedom (x, y, θ) at its centre of mass;
 24 DOF ordered floor 1 → floor 8, (x, y, θ) per floor. The file's mass-normalised
@@ -223,7 +223,7 @@ class Superstructure:
         """Return (ω [rad/s] ascending, Ψ (24, 24) M-orthonormal) of the fixed-base (K, M).
 
         These are the exact modes of the K actually used (0.897/0.780/0.658 s first periods,
-        DOMAIN.md §1); the file's Φ is their rounded version.
+        Narasimhan et al. 2006, Part I); the file's Φ is their rounded version.
         """
         if self._modes:
             return self._modes

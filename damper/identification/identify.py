@@ -1,6 +1,6 @@
 """Identification of one constant-voltage periodic test: cycles → closed form → refinement → errors.
 
-:func:`identify` chains the steps of DOMAIN.md §4 for one test (a
+:func:`identify` chains the steps of Bahar et al. (2009, Sec. 3) for one test (a
 :class:`damper.data.DamperTest` from the virtual laboratory or a file):
 
 1. detect the cycles and wait for the limit cycle (:mod:`~damper.identification.cycles`);
@@ -127,7 +127,7 @@ class Identification:
 
 def _check_device_excitation(branches: Branches, cf: ClosedFormResult, fit: RefinedFit, model: str,
                              n_method: str, strict: bool) -> None:
-    """Excitation check on the device's reading of rho (DOMAIN.md §4, step 1).
+    """Excitation check on the device's reading of rho (Ikhouane & Rodellar 2007; Bahar et al. 2009, step 1).
 
     The stroke is large enough when rho*(X_max - X_min) is, with rho the device's transition
     scale: for the extended model the refined fit's (the least-squares estimate; the closed-form

@@ -37,7 +37,7 @@ from damper.identification.closed_form import MODELS, PARAMETER_NAMES
 from damper.identification.cycles import Cycle
 from damper.simulate import simulate
 
-__all__ = ["RefinedFit", "refine", "SharedFit", "refine_shared", "make_model", "model_parameters",
+__all__ = ["RefinedFit", "refine", "SharedFit", "refine_shared", "make_model",
            "free_parameters"]
 
 _UPPER = {"sigma": 50.0, "n": 20.0}
@@ -59,11 +59,6 @@ def make_model(model: str, parameters: dict[str, float], **options):
     if model == "normalized":
         return NormalizedBoucWen(*(parameters[k] for k in PARAMETER_NAMES[1:]), **options)
     raise InputError(f"model: expected one of {MODELS}, got {model!r}")
-
-
-def model_parameters(model_object) -> dict[str, float]:
-    """The six parameters of a constant-parameter Bouc-Wen model object (``kappa_x`` = 0 if absent)."""
-    return {k: float(getattr(model_object, k, 0.0)) for k in PARAMETER_NAMES}
 
 
 @dataclass(frozen=True)

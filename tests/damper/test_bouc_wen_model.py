@@ -138,7 +138,7 @@ def test_voltage_dependent_model_and_voltage_out_of_range():
 def test_device_step_advances_state_in_place():
     model = NormalizedBoucWen(kappa_xdot=1e3, kappa_w=1e4, rho=50.0, sigma=1.0, n=1.0)
     state = model.initial_state()
-    f = device_step(model.model_id, model.to_array(), state, 0.0, 0.01, 0.5, 0.5, 0.0, 0.02)
+    f = device_step(model.kernel, model.to_array(), state, 0.0, 0.01, 0.5, 0.5, 0.0, 0.02)
     # n = 1, sigma = 1 on loading from w = 0: w = 1 - exp(-rho x) exactly
     assert state[0] == pytest.approx(1 - np.exp(-0.5), rel=1e-7)
     assert f == pytest.approx(1e3 * 0.5 + 1e4 * state[0], rel=1e-12)

@@ -7,6 +7,7 @@ import pytest
 
 from benchmark.foundation.errors import ParameterError
 from damper import simulate
+from damper.base import DamperModel
 from damper.bingham import Bingham
 from damper.dahl import Dahl
 from damper.hyperbolic_tangent import HyperbolicTangent
@@ -79,7 +80,7 @@ EXAMPLES = {
 def test_every_registered_model_follows_the_contract(name):
     cls = MODELS[name]
     model = EXAMPLES[name](cls)
-    assert MODELS_BY_ID[cls.model_id] is cls and model.name == name
+    assert MODELS_BY_ID[cls.model_id] is cls and model.name == name and isinstance(model, DamperModel)
     params = model.to_array()
     assert params.dtype == np.float64 and params.ndim == 1
     state = model.initial_state()
@@ -88,7 +89,7 @@ def test_every_registered_model_follows_the_contract(name):
     assert lo < hi
     assert model.rates(state, 0.01, 0.1, lo).shape == (model.n_states,)
     # the kernel's force equals the plain-numpy force at the same state
-    k_force = device_force(cls.model_id, params, state.copy(), 0.01, 0.1, lo)
+    k_force = device_force(cls.kernel, params, state.copy(), 0.01, 0.1, lo)
     assert k_force == pytest.approx(model.force(state, 0.01, 0.1, lo), rel=1e-12, abs=1e-9)
     response = simulate(model, T, X, XD, v=hi)
     assert np.all(np.isfinite(response.force)) and response.states.shape == (T.size, model.n_states)

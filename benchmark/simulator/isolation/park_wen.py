@@ -32,7 +32,7 @@ segment, on which the path is monotone in both components, with :math:`N` equal 
     \rho = \frac{\max(A,\ 2(\beta + \gamma))}{Y},
 
 :math:`L_j = |u_j(s_b) - u_j(s_a)|` the exact distance travelled along the segment in each
-direction (the displacement-based rule of DOMAIN.md §5: :math:`\rho` bounds
+direction (a displacement-based rule: :math:`\rho` bounds
 :math:`\|\partial (dz/du) / \partial z\|`, so ``tol`` is the largest product of the local
 stiffness and the sub-step length; RK4 is stable up to ~2.8). With the default tol = 0.75 the
 bearing oracle tests' hysteretic-force errors are <= 5e-5 relative, and the base-shear histories

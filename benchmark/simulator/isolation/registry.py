@@ -40,7 +40,7 @@ from benchmark.simulator.isolation.linear import LinearBearing, linear_step
 
 __all__ = [
     "BEARING_TYPES", "BEARING_NAMES", "MAX_STATES", "MAX_PARAMS", "bearing_type", "bearing_step",
-    "bearing_total_force", "linear_part", "n_states_of", "LinearBearing", "LeadRubberBearing",
+    "bearing_total_force", "linear_part", "LinearBearing", "LeadRubberBearing",
     "FrictionPendulumBearing", "BearingParameters",
 ]
 
@@ -81,11 +81,6 @@ def bearing_type(key: int | str) -> type[BearingParameters]:
     except (KeyError, TypeError, ValueError):
         raise ParameterError(f"bearing type id {key!r} unknown: expected one of "
                              f"{sorted(BEARING_TYPES)}") from None
-
-
-def n_states_of(type_id: int) -> int:
-    """Number of internal states of the bearing type ``type_id``."""
-    return bearing_type(type_id).n_states
 
 
 def linear_part(type_id: int, params: np.ndarray) -> tuple[float, float]:
