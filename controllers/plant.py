@@ -63,7 +63,6 @@ def device_force_capacity(model: Any, voltage: float | None = None, amplitude: f
 
 
 def _capacity(model: Any, v: float, amplitude: float, frequency: float) -> float:
-
     t = np.linspace(0.0, 2.0 / frequency, 801)
     response = damper.simulate(model, t, amplitude * np.sin(2 * np.pi * frequency * t), v=v)
     second_cycle = response.force[t >= 1.0 / frequency]

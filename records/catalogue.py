@@ -278,7 +278,6 @@ def load_benchmark_record(name: str, orientation: str = "FN-x", records_dir: str
                  "flaws": [f.message for f in flaws], "catalogue": entry.to_dict()})
     record = record.replace(metadata=meta)
     if baseline_correct:
-
         record = _correct(record)
     return record
 

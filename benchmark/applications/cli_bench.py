@@ -27,7 +27,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-
     if args.jobs < 1:
         raise InputError(f"--jobs must be >= 1, got {args.jobs}")
     sections = ("single", "suite", "identify", "scaling")

@@ -37,7 +37,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-
     if args.jobs is not None and args.jobs < 1:
         raise InputError(f"--jobs: expected a positive number of processes, got {args.jobs}")
     result = compare(records=args.records, orientations=args.orientations, controllers=args.controllers,

@@ -35,7 +35,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-
     config = EnsembleConfig.from_toml(args.config)
     out = Path(args.out) if args.out else Path(args.config).with_suffix(".h5")
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)

@@ -64,7 +64,6 @@ def _split(value: str | None) -> list[str] | None:
 
 def _run(args: argparse.Namespace) -> int:
     if args.data:
-
         models = (args.model,) if args.model else ("normalized", "extended")
         out = args.out or "results/identify-data"
         result = identify_files(args.data, models=models, n_bootstrap=args.bootstrap,

@@ -79,7 +79,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 # --------------------------------------------------------------------------- list
 def _list(args: argparse.Namespace) -> int:
-
     report = check_catalogue(args.records_dir)
     if args.json:
         print(json.dumps(report, indent=2))
@@ -121,7 +120,6 @@ def _format_catalogue(report: dict[str, Any]) -> str:
 
 # --------------------------------------------------------------------------- show
 def _load(args: argparse.Namespace):
-
     path = Path(args.name)
     name = None
     try:
@@ -132,7 +130,6 @@ def _load(args: argparse.Namespace):
         if args.synthetic:
             record = benchmark_like(name, args.orientation, seed=args.seed)
             if args.baseline_correct:
-
                 record = baseline_correct(record)
             return record
         return load_benchmark_record(name, args.orientation, records_dir=args.records_dir,
@@ -144,13 +141,11 @@ def _load(args: argparse.Namespace):
                          "jiji, erzikan) nor an existing file")
     record = load_record(path, format=args.format, dt=args.dt, units=args.units)
     if args.baseline_correct:
-
         record = baseline_correct(record)
     return record
 
 
 def _show(args: argparse.Namespace) -> int:
-
     if not 0 <= args.damping < 1:
         raise InputError(f"--damping {args.damping}; expected 0 <= damping < 1")
     record = _load(args)
@@ -170,7 +165,6 @@ def _show(args: argparse.Namespace) -> int:
         if key in record.metadata:
             summary[key] = record.metadata[key]
     if args.plot:
-
         summary["plot"] = str(plot_record(record, args.plot, spectrum=spectrum))
     if args.json:
         print(json.dumps(summary, indent=2))
@@ -220,11 +214,9 @@ def _format_summary(s: dict[str, Any]) -> str:
 
 # --------------------------------------------------------------------------- generate
 def _generate(args: argparse.Namespace) -> int:
-
     record = benchmark_like(args.name, args.orientation, seed=args.seed)
     path = write_csv(record, args.out)
     print(f"SYNTHETIC record {record.name} ({record.source}) written to {path}")
     if args.plot:
-
         print(f"plot written: {plot_record(record, args.plot)}")
     return 0

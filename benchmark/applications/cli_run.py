@@ -101,7 +101,6 @@ def resolve_record(spec: str, orientation: str = "FN-x", records_dir: str | None
     meta["orientation"] = orientation
     record = record.replace(metadata=meta)
     if baseline_correct:
-
         record = _correct(record)
     return record
 
@@ -198,7 +197,6 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         "plots": [],
     }
     if out:
-
         say(f"writing {out}")
         write_result(result, out, reference=None if result is reference else reference, evaluation=J,
                      isolation=layer, record_source=getattr(rec, "source", ""),
@@ -207,7 +205,6 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
                                                                                          default=str))
         summary["out"] = str(out)
     if plot_dir:
-
         say(f"plotting into {plot_dir}")
         paths = plot_run(result, plot_dir, reference=None if result is reference else reference,
                          bearing_xy=sup.bearing_xy, corners=plan_corners(sup.bearing_xy))
@@ -219,7 +216,6 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
 
 
 def _print_table(summary: dict[str, Any]) -> None:
-
     print(f"{summary['record']} ({summary['orientation']}), isolation {summary['isolation']}, "
           f"controller {summary['controller']}: {summary['elapsed_s']:.1f} s")
     print(f"  {'response':<26s} {'run':>12s} {'uncontrolled':>13s}  units")

@@ -16,7 +16,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-
     summary = run_study(args.out, records_dir=args.records_dir, quick=args.quick)
     print(f"\nmain job finished in {summary['elapsed_s']:.1f} s; results in {args.out}/")
     for name, step in summary["steps"].items():

@@ -177,7 +177,6 @@ def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: 
 # --------------------------------------------------------------------------- workers
 def _load_record(name: str, orientation: str, records_dir: str | None, synthetic: bool):
     if synthetic:
-
         return benchmark_like(name, orientation)
     return load_benchmark_record(name, orientation, records_dir=records_dir)
 
@@ -193,7 +192,6 @@ def _init_worker(building: Any) -> None:
 
 @lru_cache(maxsize=4)
 def _default_building(isolation: str | None, n_modes: int | None):
-
     return Building.default(isolation=isolation, n_modes=n_modes)
 
 
@@ -204,7 +202,6 @@ def _building(isolation: str | None, n_modes: int | None):
 
 
 def _simulate(building, record, controller, settings: dict):
-
     kwargs = {"control_step": settings["control_step"]}
     if settings.get("noise") is not None:
         kwargs["noise"] = settings["noise"]
@@ -235,7 +232,6 @@ def _histories(result, step: float) -> dict:
 
 def _make_controller(spec):
     if isinstance(spec, str):
-
         return get_controller(spec)
     return copy.deepcopy(spec)
 

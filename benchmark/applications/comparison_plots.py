@@ -29,7 +29,6 @@ def _pyplot():
 
 
 def _save(fig, path: Path) -> Path:
-
     return save_figure(fig, path, dpi=110)
 
 

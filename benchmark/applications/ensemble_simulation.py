@@ -77,10 +77,8 @@ def load_motion(record: str, orientation: str, synthetic: bool, motion_seed: int
     component; both components are scaled by the same factor.
     """
     if synthetic:
-
         motion = benchmark_like(record, orientation, seed=int(motion_seed))
     else:
-
         motion = load_benchmark_record(record, orientation)
     if not math.isnan(pga):
         peak = float(np.max(np.abs(motion.acceleration)))
@@ -108,7 +106,6 @@ def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any
 
     building = Building.default(n_modes=n_modes)
     if isolation:
-
         layer = building.isolation
         groups, used = [], set()
         for group in layer.groups:
@@ -121,7 +118,6 @@ def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any
                              f"{layer.name!r} has a field {unused[0]!r}")
         building = building.with_isolation(dataclasses.replace(layer, groups=tuple(groups)))
     if devices:
-
         slots = []
         for slot in building.devices.slots:
             model, _ = _replace_fields(slot.model, devices, "device", strict=True)
@@ -132,7 +128,6 @@ def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any
 
 @lru_cache(maxsize=4)
 def _reference(motion_args: tuple, building_args: tuple, substep_tolerance: float | None) -> Any:
-
     return simulate(build_building(*building_args), load_motion(*motion_args), controller=None,
                     substep_tolerance=substep_tolerance, record_states=False)
 

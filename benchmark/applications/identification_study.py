@@ -245,7 +245,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         building = None
         measuring: list = []
         if validate:
-
             building = Building.default(damper_model=model)
             # The runs with the device under test need no identified model: start them now.
             if pool is not None:
@@ -290,7 +289,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             if pool is None:
                 files["figures"] = _figures(*args)
         if validate:
-
             t0 = time.perf_counter()
             measured = [f.result() for f in measuring] if measuring else None
             lags = {m: lf.tau for m, lf in lag_fits.items()}
@@ -304,7 +302,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             files["validation"] = str(atomic_write_text(out / "validation.json",
                                                         json.dumps(validation_json, indent=2)))
             if ceiling and validation.runs:
-
                 t0 = time.perf_counter()
                 forms = {m: identified[m] for m in ("normalized", "extended") if m in identified}
                 tasks = []

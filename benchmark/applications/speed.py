@@ -191,10 +191,8 @@ def _record(duration: float | None = 30.0, name: str = "kobe", orientation: str 
     """The first ``duration`` seconds of a benchmark record (synthetic look-alike if files are absent)."""
 
     try:
-
         record = load_benchmark_record(name, orientation)
     except DataNotFoundError:
-
         record = benchmark_like(name, orientation, seed=0)
     if duration is not None:
         n = int(round(duration / record.dt))
@@ -221,10 +219,8 @@ def _stationary_record(duration: float, window: float = 5.0) -> Any:
 
 
 def _building(n_modes: int | None = None, n_devices: int | None = None) -> Any:
-
     building = Building.default(n_modes=n_modes)
     if n_devices is not None and n_devices != building.n_devices:
-
         base = building.devices.slots
         # take slots alternately from the x and y sets; beyond 16, reuse positions (parallel devices)
         order = [s for pair in zip(base[:len(base) // 2], base[len(base) // 2:]) for s in pair]
@@ -235,7 +231,6 @@ def _building(n_modes: int | None = None, n_devices: int | None = None) -> Any:
 
 
 def _simulate(building: Any, record: Any, controller: str = "clipped-optimal") -> Any:
-
     return simulate(building, record, controller=controller, record_states=False)
 
 
@@ -338,9 +333,7 @@ def _run_script(script: str, args: dict, timeout: float) -> dict:
 
 
 def _records_available() -> bool:
-
     try:
-
         return any(records_dir().glob("*.txt"))
     except DataNotFoundError:
         return False

@@ -83,7 +83,6 @@ STUDY_CONTROLLERS = ("passive-off", "passive-on", "clipped-optimal", "modulated"
 
 
 def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> dict:
-
     folder.mkdir(parents=True, exist_ok=True)
     result = compare(records=("kobe", "elcentro") if quick else "all",
                      orientations="FN-x" if quick else "both",
@@ -99,14 +98,12 @@ def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) 
 
 
 def _identification(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> dict:
-
     kwargs = {"records": ("kobe",), "orientations": ("FP-x",)} if quick else {}
     summary = run_identify_study(folder, records_dir=records_dir, synthetic=synthetic, **kwargs)
     return {"output": str(folder), "summary": summary}
 
 
 def _diagnosis(folder: Path, quick: bool) -> dict:
-
     result: dict = {"output": str(folder)}
     # The seed paper's finding, systematically: the normalized model lacks a stiffness term.
     tests = [periodic_test("virtual", amplitude=0.4, frequency=0.8, voltage=0.0, cycles=4,
@@ -119,7 +116,6 @@ def _diagnosis(folder: Path, quick: bool) -> dict:
     if quick:
         return result
     try:
-
         files = [f for f in utfsm_files(shared_dir()) if f.name.endswith("Hz1A.txt")]
     except Exception as exc:  # noqa: BLE001 - measured data are optional for the main job
         result["utfsm"] = f"skipped: {exc}"

@@ -101,7 +101,6 @@ class Building:
 
     def with_isolation(self, isolation: IsolationLayer) -> "Building":
         if isinstance(isolation, (str, os.PathLike)):
-
             isolation = get_isolation(str(isolation))
         return replace(self, isolation=isolation)
 

@@ -252,7 +252,6 @@ def corner_responses(result: Any, corners: np.ndarray | None = None,
         corners ``max_corner_base_displacement`` [m], ``max_corner_drift_ratio`` [-].
     """
     if corners is None or storey_heights is None:
-
         s = load_superstructure()
         corners = plan_corners(s.bearing_xy) if corners is None else corners
         storey_heights = s.storey_heights if storey_heights is None else storey_heights

@@ -145,7 +145,6 @@ def state_space_matrices(superstructure, Kb: np.ndarray, Cb: np.ndarray) -> dict
 @lru_cache(maxsize=64)
 def _equivalent_cached(type_id: int, params: tuple, state0: tuple, amplitude: float,
                        period: float, steps_per_cycle: int) -> tuple[float, float]:
-
     p = np.asarray(params, dtype=np.float64)
     state = np.zeros(max(1, len(state0)))
     state[:len(state0)] = state0

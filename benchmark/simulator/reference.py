@@ -372,7 +372,6 @@ def simulate_reference(building: Any, record: Any, controller: Any = None, contr
         X = model.solve(n, max_step=max_step, rtol=rtol, method=method)
         voltage = np.zeros((n, 0))
     else:
-
         controller = _resolve_controller(controller)
         ratio = int(round(control_step / dt))
         context = control_context(building, control_step=ratio * dt,

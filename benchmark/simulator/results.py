@@ -153,7 +153,6 @@ def _json_default(obj: Any) -> Any:
 
 
 def _write_run(group: Any, result: Any) -> None:
-
     items = _result_items(result)
     th = group.create_group("time_histories")
     n = None

@@ -406,7 +406,6 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
 
 
 def _raise_numerical(status, k, dt, z_out, nq, nv, session):
-
     z = z_out[k]
     state = {"u_b_x [m]": float(z[nq]), "u_b_y [m]": float(z[nq + 1]), "u_b_theta [rad]": float(z[nq + 2]),
              "v_b_x [m/s]": float(z[nv + nq]), "v_b_y [m/s]": float(z[nv + nq + 1])}
@@ -425,7 +424,6 @@ def _raise_numerical(status, k, dt, z_out, nq, nv, session):
 
 def _build_result(building, record, ag, dt, z, gb, gd, fb, bstate, fd, v, energy, meas, desired, iters,
                   mats, Kb, Cb, packed, d_infl, isolation, session, info, elapsed, **settings):
-
     sup = building.superstructure
     nq = sup.n_q
     nv = nq + 3

@@ -114,7 +114,6 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
         tests.append(s)
     figures: list[str] = []
     if out is not None:
-
         folder = Path(out)
         folder.mkdir(parents=True, exist_ok=True)
         for ident in idents:
