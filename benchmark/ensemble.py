@@ -271,11 +271,12 @@ class EnsembleConfig:
             On a TOML syntax error (with line) or a field of the wrong type, value or name.
         """
         from benchmark.errors import DataNotFoundError
+        from benchmark.textfile import read_text
 
         path = Path(path)
         if not path.is_file():
             raise DataNotFoundError(f"ensemble config {path} not found")
-        text = path.read_text(encoding="utf-8")
+        text = read_text(path, "ensemble config")  # binary or not UTF-8: one-line InputError
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:

@@ -43,6 +43,7 @@ import numpy as np
 
 from benchmark.atomic import atomic_path
 from benchmark.errors import DataNotFoundError, InputError
+from benchmark.textfile import decode_text
 from records.record import STANDARD_GRAVITY, Record
 
 __all__ = [
@@ -112,12 +113,8 @@ def _read_lines(path: str | os.PathLike) -> tuple[Path, list[str]]:
     raw = path.read_bytes()
     if not raw.strip():
         raise InputError(f"{path}: file is empty; expected acceleration values")
-    if b"\x00" in raw[:4096]:
-        raise InputError(f"{path}: looks like a binary file; expected a text record")
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        text = raw.decode("latin-1")  # old headers carry degree signs and the like
+    # binary or not UTF-8: one line naming the file and the line (benchmark.textfile)
+    text = decode_text(raw, str(path))
     return path, text.splitlines()
 
 
