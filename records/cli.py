@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 from pathlib import Path
 from typing import Any
 
@@ -79,6 +80,10 @@ def _list(args: argparse.Namespace) -> int:
         from benchmark.errors import InputError
 
         raise InputError(f"--records-dir {args.records_dir}: {report['error']}")
+    if report["error"] and (os.environ.get("SBIB_RECORDS_DIR") or os.environ.get("SBIB_SHARED")):
+        from benchmark.errors import DataNotFoundError
+
+        raise DataNotFoundError(report["error"])  # a directory the user set is missing: say which
     return 0
 
 
