@@ -300,7 +300,7 @@ class EnsembleConfig:
                 from records import BENCHMARK_RECORDS
                 value = list(BENCHMARK_RECORDS)
             records = _check_str_list(value, f"{source}: field 'records'")
-        orientations = _check_str_list(data.get("orientations", list(orientations_allowed)),
+        orientations = _check_str_list(_seed_orientation_names(data.get("orientations", list(orientations_allowed))),
                                        f"{source}: field 'orientations'", allowed=orientations_allowed)
         templates: tuple[str, ...] = ()
         realisations = 0
@@ -384,6 +384,18 @@ class EnsembleConfig:
     def parameter_names(self) -> tuple[str, ...]:
         """Names of the grid parameters, in order."""
         return tuple(name for name, _ in self.grid)
+
+
+def _seed_orientation_names(value: Any) -> Any:
+    """Map the seed paper's ``FP-y`` / ``FN-y`` in a list to ``FN-x`` / ``FP-x`` (other values untouched)."""
+    try:
+        from records.catalogue import ORIENTATION_ALIASES
+    except ImportError:  # pragma: no cover
+        return value
+    aliases = {k.lower(): v for k, v in ORIENTATION_ALIASES.items()}
+    if not isinstance(value, list):
+        return value
+    return [aliases.get(v.strip().lower(), v) if isinstance(v, str) else v for v in value]
 
 
 def _orientations() -> tuple[str, ...]:

@@ -11,6 +11,8 @@
 * **PGA far from the catalogue**: measured PGA differs from the expected one by more than a
   relative tolerance (default 5 %).
 * **length far from the catalogue**: duration differs by more than one second.
+* **physically implausible**: a PGA, PGV, displacement, time step or length that no recorded
+  earthquake has had, the sign of wrong units or a wrong dt (:mod:`records.plausibility`).
 
 Each check returns a list of :class:`Flaw` (empty when the record passes).
 """
@@ -43,7 +45,8 @@ class Flaw:
     Attributes
     ----------
     kind : str
-        ``"identical_components"``, ``"baseline_drift"``, ``"pga_mismatch"`` or ``"duration_mismatch"``.
+        ``"identical_components"``, ``"baseline_drift"``, ``"pga_mismatch"``, ``"duration_mismatch"`` or
+        ``"implausible_..."`` (:func:`records.plausibility.check_plausibility`).
     message : str
         One line for people.
     component : int or None
@@ -207,7 +210,9 @@ def check_record(record: Record, expected_pga_g: Sequence[float] | None = None,
     pga_rtol : float
         Relative tolerance of the PGA check.
     """
-    flaws = check_identical_components(record) + check_baseline_drift(record)
+    from records.plausibility import check_plausibility  # wrong units or time step (issue #16)
+
+    flaws = check_identical_components(record) + check_baseline_drift(record) + check_plausibility(record)
     if expected_pga_g is not None:
         flaws += check_pga(record, expected_pga_g, pga_rtol)
     if expected_duration is not None:

@@ -186,7 +186,9 @@ class Record:
         return self.replace(acceleration=self.acceleration[:, idx], labels=tuple(self.labels[i] for i in idx))
 
     def summary(self) -> dict[str, Any]:
-        """Plain-JSON summary: name, dt, samples, duration, PGA [m/s² and g], PGV [m/s], PGD [m]."""
+        """Plain-JSON summary: name, dt, samples, duration, PGA [m/s² and g], PGV [m/s], PGD [m], and
+        ``units_assumed``: the units the file's values were read in and why
+        (:func:`records.resolve.units_assumed`)."""
         return {
             "name": self.name,
             "synthetic": self.synthetic,
@@ -199,9 +201,16 @@ class Record:
             "pga_g": [float(x) for x in self.pga_g],
             "pgv_m_s": [float(x) for x in self.pgv],
             "pgd_m": [float(x) for x in self.pgd],
+            "units_assumed": _units_assumed(self),
         }
 
     def __repr__(self) -> str:  # arrays are long; keep the repr short
         kind = "synthetic " if self.synthetic else ""
         return (f"Record({kind}{self.name!r}, dt={self.dt:g} s, n={self.n_samples}, "
                 f"components={self.labels}, pga_g={np.round(self.pga_g, 3).tolist()})")
+
+
+def _units_assumed(record: Record) -> str:
+    from records.resolve import units_assumed  # records.resolve imports this module
+
+    return units_assumed(record)

@@ -217,8 +217,10 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     timings: dict[str, float] = {}
     t_all = time.perf_counter()
     model = resolve_device(device)
-    pairs = [(r, o) for r in (records or BENCHMARK_RECORDS) for o in (orientations or ORIENTATIONS)] \
-        if validate else []
+    from records.catalogue import canonical_orientation  # the seed paper's FP-y / FN-y accepted
+
+    pairs = [(r, canonical_orientation(o)) for r in (records or BENCHMARK_RECORDS)
+             for o in (orientations or ORIENTATIONS)] if validate else []
     with_free = compare_free_kappa_x and kappa_x != "per-voltage"
     bar = None
     if progress:

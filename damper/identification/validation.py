@@ -402,7 +402,9 @@ def validate_in_building(building, identified: dict, lags: dict | None = None,
             raise InputError(f"rerun: {m!r} is not among the identified models {sorted(identified)}")
     if measured is None:
         records = tuple(records or BENCHMARK_RECORDS)
-        orientations = tuple(orientations or ORIENTATIONS)
+        from records.catalogue import canonical_orientation  # the seed paper's FP-y / FN-y accepted
+
+        orientations = tuple(canonical_orientation(o) for o in (orientations or ORIENTATIONS))
         pairs = [(r, o) for r in records for o in orientations]
     else:
         pairs = [(mr.record_name, mr.orientation) for mr in measured]
