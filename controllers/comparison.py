@@ -215,11 +215,11 @@ def _canonical_orientations(orientations: str | Sequence[str]) -> Any:
 
 
 def _check_records(record_list: list[str], orientation: str, settings: dict,
-                   warn: bool) -> tuple[dict[str, str], dict[str, str]]:
+                   warn: bool) -> tuple[dict[str, str], dict[str, str], dict[str, float]]:
     """Load each record once here: bad files and control steps that do not fit fail before any
     run, implausible records are warned about, and each gets its row label (the catalogue name,
-    or the file's record name, made unique). Returns the labels by spec and the units each
-    record's values were read in, by label."""
+    or the file's record name, made unique). Returns the labels by spec, and by label the units
+    each record's values were read in and its control step [s]."""
     import sys
 
     from benchmark.cli_run import choose_control_step
@@ -227,6 +227,7 @@ def _check_records(record_list: list[str], orientation: str, settings: dict,
 
     labels: dict[str, str] = {}
     units: dict[str, str] = {}
+    steps: dict[str, float] = {}
     seen: set[str] = set()
     for spec in record_list:
         record = _load_record(spec, orientation, settings.get("records_dir"), settings.get("synthetic", False),
@@ -240,6 +241,7 @@ def _check_records(record_list: list[str], orientation: str, settings: dict,
         labels[spec] = label
         units[label] = record.metadata.get("units_assumed", "")
         step, note = choose_control_step(record.dt, settings.get("control_step"))  # names --control-step
+        steps[label] = step
         if not warn:
             continue
         for flaw in record.metadata.get("flaws", []):
@@ -247,7 +249,7 @@ def _check_records(record_list: list[str], orientation: str, settings: dict,
                 print(f"sbib compare: warning: {flaw}", file=sys.stderr, flush=True)
         if note:
             print(f"sbib compare: {label}: {note}", file=sys.stderr, flush=True)
-    return labels, units
+    return labels, units, steps
 
 
 _BUILDING_OVERRIDE: Any = None  # a caller's Building, installed in each worker by _init_worker
@@ -345,7 +347,7 @@ def _run_one(task) -> tuple:
 def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[str] = "both",
             controllers: str | Sequence[Any] = ("passive-off", "passive-on", "clipped-optimal"),
             isolation: str | None = None, records_dir: str | None = None, jobs: int | None = None,
-            control_step: float | None = 0.005, noise: Any = None, seed: int = 0, n_modes: int | None = None,
+            control_step: float | None = None, noise: Any = None, seed: int = 0, n_modes: int | None = None,
             synthetic: bool = False, building: Any = None, progress: bool = True, format: str = "auto",
             dt: float | None = None, units: str | None = None, baseline_correct: bool = False,
             warn: bool = True) -> ComparisonResult:
@@ -415,7 +417,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
                 "baseline_correct": bool(baseline_correct) or None,
                 "building": None if building is None else f"custom:{getattr(building, 'name', '?')}:{id(building)}"}
     settings_key = tuple(sorted(settings.items(), key=lambda kv: kv[0]))
-    labels_by_spec, record_units = _check_records(record_list, orientation_list[0], settings, warn)
+    labels_by_spec, record_units, control_steps = _check_records(record_list, orientation_list[0], settings, warn)
     tasks = [(rec, ori, spec, settings_key, labels_by_spec[rec])
              for rec in record_list for ori in orientation_list for spec in specs]
     n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
@@ -456,5 +458,6 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     public_settings["controllers"] = labels
     public_settings["jobs"] = n_jobs
     public_settings["record_units"] = record_units  # units each record's values were read in
+    public_settings["control_step_by_record"] = control_steps  # [s], chosen or given
     return ComparisonResult(runs=runs, references=references, reference_histories=ref_hist,
                             settings=public_settings)

@@ -282,3 +282,46 @@ def test_records_show_honours_the_orientation_of_a_file(capsys, tmp_path, kobe_f
     assert shown["FN-x"]["pga_g"] == pytest.approx(shown["FP-x"]["pga_g"][::-1])
     assert shown["FP-x"]["labels"] == shown["FN-x"]["labels"][::-1]
     assert shown["FP-y"]["pga_g"] == shown["FN-x"]["pga_g"] and shown["FP-x"]["orientation"] == "FP-x"
+
+
+def test_seed_orientation_names_in_ensembles_identify_and_generate(tmp_path, capsys):
+    from benchmark.ensemble import EnsembleConfig
+    from damper.cli_identify import _orientation_list
+    from records import benchmark_like, load_record
+
+    config = EnsembleConfig.from_dict({"controllers": ["passive-on"], "records": ["kobe"],
+                                       "orientations": ["FP-y", "FN-y"]})
+    assert config.orientations == ("FN-x", "FP-x")
+    assert _orientation_list("FP-y, FN-y") == "FN-x,FP-x"
+    status, out, err = _run(capsys, ["records", "generate", "kobe", "--orientation", "FN-y",
+                                     "--out", str(tmp_path / "k.csv")])
+    assert status == 0, err
+    assert np.allclose(load_record(tmp_path / "k.csv").acceleration,
+                       benchmark_like("kobe", "FP-x").acceleration, atol=1e-8)
+
+
+def test_fig11_title_gives_the_seed_orientation_name(tmp_path, monkeypatch):
+    from types import SimpleNamespace
+
+    import damper.identification.plots as plots
+
+    titles = []
+    monkeypatch.setattr(plots, "_save", lambda fig, path: titles.append(fig._suptitle.get_text()) or path)
+    t = np.linspace(0, 1, 50)
+    force = np.column_stack([np.sin(6 * t), np.cos(6 * t)]) * 1e5
+    errors = {"rel_rms_error": 0.1, "peak_error": 0.2, "energy_error": 0.05}
+    for orientation, seed_name in (("FN-x", "FP-y"), ("FP-x", "FN-y")):
+        run = SimpleNamespace(t=t, force=force, predicted={"extended": 0.9 * force, "normalized": 1.1 * force},
+                              errors={"extended": errors, "normalized": errors}, voltage=np.zeros((50, 2)),
+                              record="kobe", orientation=orientation)
+        plots.plot_force_errors(run, tmp_path / "f.png")
+        assert f"kobe {orientation} (seed: {seed_name})" in titles[-1]
+
+
+def test_compare_api_picks_the_control_step_per_record(kobe_files):
+    from controllers.comparison import compare
+
+    result = compare(records=[str(kobe_files["at2"])], orientations="FN-x", controllers="passive-on",
+                     isolation="linear", n_modes=3, jobs=1, progress=False, warn=False)
+    assert result.settings["control_step_by_record"] == {"KJM000": pytest.approx(0.01)}
+    assert result.settings["record_units"]["KJM000"].startswith("g")
