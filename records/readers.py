@@ -255,7 +255,7 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
     elif found_units is not None:
         units, units_from = found_units, "header"
     else:
-        units, units_from = "cm/s2", "benchmark default cm/s2 (not in the header)"
+        units, units_from = "cm/s2", "benchmark default, not in the header"
     factor = unit_factor(units, where)
 
     values, _ = _parse_table(lines, path, 1, 2, ("%", "#"), "two columns of acceleration")
@@ -375,7 +375,7 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str | N
     if dt is None:
         raise InputError(f"{where}: a single-column file holds no time step; give dt (option --dt)")
     dt = _check_dt(dt, f"{where}: dt")
-    units_from = "argument" if units is not None else "default g for single-column files (give --units)"
+    units_from = "argument" if units is not None else "default for single-column files, give --units"
     units = "g" if units is None else units
     factor = unit_factor(units, f"{where}: units")
     path, lines = _read_lines(path)
@@ -524,7 +524,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
     elif file_units is not None:
         units, units_from = file_units, "file"
     else:
-        units, units_from = "m/s2", "default m/s2 (no units in the file)"
+        units, units_from = "m/s2", "default, no units in the file"
     factor = unit_factor(units, where)
 
     time_scale = 1.0
