@@ -261,7 +261,8 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     n = ag.shape[0]
     # no controller, no devices: the control step does not matter (a PEER record at 0.01 s runs
     # with the default 0.005 s)
-    ratio = _control_ratio(control_step, dt, strict=controller is not None)
+    no_controller = controller is None or (isinstance(controller, str) and controller.strip().lower() == "none")
+    ratio = _control_ratio(control_step, dt, strict=not no_controller)
     if n - 1 < ratio:
         raise InputError(f"record {getattr(record, 'name', '?')!r}: {n} samples ({(n - 1) * dt:g} s) is shorter "
                          f"than one control step ({ratio * dt:g} s); expected at least {ratio + 1} samples")

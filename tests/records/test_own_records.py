@@ -71,7 +71,9 @@ def test_control_step_does_not_matter_without_controller(kobe_files):
     building = Building.default(isolation="linear", n_modes=3)
     a = simulate(building, rec, controller=None, control_step=0.005)  # not a multiple of 0.01 s
     b = simulate(building, rec, controller=None, control_step=0.01)
+    c = simulate(building, rec, controller="none", control_step=0.0073)
     assert np.array_equal(a.base_displacement, b.base_displacement)
+    assert np.array_equal(c.base_displacement, b.base_displacement)
 
 
 def test_with_a_controller_a_compatible_step_is_picked_and_said(capsys, kobe_files):
