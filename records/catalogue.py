@@ -335,7 +335,7 @@ def check_catalogue(records_dir: str | os.PathLike | None = None) -> dict[str, A
         ``records_dir`` (str or None), ``error`` (why the directory could not be used, or None),
         ``n_found``, and ``records``: one dict per catalogue entry with ``name``, ``file``,
         ``found``, ``path``, ``event``, ``station``, ``column_labels``, ``expected_pga_g``, and when
-        found ``pga_g``, ``pgv_m_s``, ``duration_s``, ``dt_s``, ``n_samples``, ``flaws`` (dicts with
+        found ``units_assumed``, ``pga_g``, ``pgv_m_s``, ``duration_s``, ``dt_s``, ``n_samples``, ``flaws`` (dicts with
         ``known`` telling whether the benchmark copy is known to have it), or ``error`` if the
         file could not be read.
     """
@@ -359,7 +359,10 @@ def check_catalogue(records_dir: str | os.PathLike | None = None) -> dict[str, A
             except InputError as exc:
                 item["error"] = str(exc)
             else:
-                item.update(pga_g=[float(x) for x in rec.pga_g], pgv_m_s=[float(x) for x in rec.pgv],
+                from records.resolve import units_assumed
+
+                item.update(units_assumed=units_assumed(rec),
+                            pga_g=[float(x) for x in rec.pga_g], pgv_m_s=[float(x) for x in rec.pgv],
                             duration_s=rec.duration, dt_s=rec.dt, n_samples=rec.n_samples,
                             flaws=_flaw_dicts(check_record(rec, entry.pga_g, entry.duration_s), entry))
                 report["n_found"] += 1

@@ -93,6 +93,9 @@ def _format_catalogue(report: dict[str, Any]) -> str:
                      f"{len(report['records'])} found)")
     lines.append(f"{'name':<9} {'file':<13} {'found':<7} {'PGA col 1 / col 2 [g]':<22} {'catalogue [g]':<15} "
                  f"{'duration':>9}  flaws")
+    units = sorted({item["units_assumed"] for item in report["records"] if item.get("units_assumed")})
+    if units:
+        lines.insert(1, f"values read as: {'; '.join(units)}")
     for item in report["records"]:
         expected = " / ".join(f"{x:.3f}" for x in item["expected_pga_g"])
         if not item["found"]:

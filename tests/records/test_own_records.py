@@ -205,6 +205,11 @@ def test_units_assumed_in_record_summaries(records_dir, kobe_files):
     assert load_record(kobe_files["at2"]).summary()["units_assumed"].startswith("g")
 
 
+def test_records_list_shows_the_units(capsys, records_dir):
+    status, out, err = _run(capsys, ["records", "list", "--records-dir", str(records_dir)])
+    assert status == 0 and "values read as: cm/s2" in out
+
+
 # --------------------------------------------------------------------------- item 5: synthetic records
 def test_compare_synthetic_rows_are_labelled(capsys):
     status, out, err = _run(capsys, ["compare", "--synthetic", "--records", "kobe", "--orientations", "FN-x",
