@@ -181,7 +181,9 @@ def _format_summary(s: dict[str, Any]) -> str:
     head = ("SYNTHETIC " if s["synthetic"] else "") + s["name"]
     extra = [str(s[k]) for k in ("event", "station") if s.get(k)]
     if s.get("orientation"):
-        extra.append(f"orientation {s['orientation']} (x = file column {s.get('x_file_column', 1)})")
+        column = s.get("x_file_column", 1)
+        where = f"x = file column {column}" if column is not None else "its one component on y"
+        extra.append(f"orientation {s['orientation']} ({where})")
     lines = [head + (" — " + "; ".join(extra) if extra else ""), f"source: {s['source']}"]
     lines.append(f"dt {s['dt_s']:g} s, {s['n_samples']} samples, duration {s['duration_s']:.3f} s"
                  + (f"; {s['baseline_correction']}" if s.get("baseline_correction") else ""))
