@@ -23,6 +23,7 @@ converts mm to m.
 from __future__ import annotations
 
 import csv
+import io
 import math
 import re
 from dataclasses import dataclass, field
@@ -33,6 +34,7 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.paths import shared_dir as _shared
+from benchmark.foundation.textfile import read_text
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files"]
@@ -221,7 +223,8 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     header_line = 0
     rows: list[list[float]] = []
     row_lines: list[int] = []
-    with open(path, newline="", encoding="utf-8") as fh:
+    text = read_text(path, "damper test file")  # binary or not UTF-8: one-line InputError
+    with io.StringIO(text, newline="") as fh:
         for line_no, row in enumerate(csv.reader(fh), start=1):
             if not row or all(not c.strip() for c in row):
                 continue
@@ -340,7 +343,8 @@ def read_utfsm(path) -> DamperTest:
         raise DataNotFoundError(f"{path}: UTFSM file not found")
     info = parse_utfsm_name(path)
     rows = []
-    with open(path, encoding="utf-8", errors="replace") as fh:
+    text = read_text(path, "UTFSM file")  # binary or not UTF-8: one-line InputError
+    with io.StringIO(text) as fh:
         for line_no, line in enumerate(fh, start=1):
             cells = line.split()
             if not cells:

@@ -37,12 +37,17 @@ from records.checks import Flaw, check_record
 from records.readers import BENCHMARK_DT, read_benchmark
 from records.record import Record
 from records.baseline import baseline_correct as _correct
+from records.record import units_assumed
 
 __all__ = [
     "CatalogueEntry",
     "CATALOGUE",
     "BENCHMARK_RECORDS",
     "ORIENTATIONS",
+    "ORIENTATION_ALIASES",
+    "SEED_ORIENTATION_NAMES",
+    "ORIENTATION_HELP",
+    "canonical_orientation",
     "ALIASES",
     "canonical_name",
     "get_entry",
@@ -74,6 +79,9 @@ class CatalogueEntry:
         D5–95 [s] and mean period [s] of each column, measured on the file.
     pulse_period_s : tuple[float | None, float | None]
         Velocity-pulse period [s] of each column, or None (not pulse-like).
+    pgd_m : tuple[float, float]
+        PGD of the file's columns [m] after :func:`records.baseline.baseline_correct` (cubic
+        displacement baseline; without it the drifting columns of jiji and rinaldi reach metres).
     known_flaws : tuple[str, ...]
         Flaw kinds (:class:`records.checks.Flaw`) the benchmark copy is known to have.
     notes : str
@@ -97,6 +105,7 @@ class CatalogueEntry:
     pulse_period_s: tuple[float | None, float | None]
     known_flaws: tuple[str, ...] = ()
     notes: str = ""
+    pgd_m: tuple[float, float] = (float("nan"), float("nan"))
     dt: float = BENCHMARK_DT
     metadata: dict[str, Any] = field(default_factory=dict)
 
@@ -110,7 +119,7 @@ class CatalogueEntry:
         return {
             "name": self.name, "file": self.file, "event": self.event, "station": self.station,
             "column_labels": list(self.column_labels), "pga_g": list(self.pga_g), "pgv_m_s": list(self.pgv_m_s),
-            "duration_s": self.duration_s, "dt_s": self.dt,
+            "pgd_m": list(self.pgd_m), "duration_s": self.duration_s, "dt_s": self.dt,
             "significant_duration_s": list(self.significant_duration_s),
             "mean_period_s": list(self.mean_period_s), "pulse_period_s": list(self.pulse_period_s),
             "known_flaws": list(self.known_flaws), "notes": self.notes,
@@ -121,45 +130,45 @@ _ENTRIES = (
     CatalogueEntry(
         name="newhall", file="newhall.txt", event="1994 Northridge (Mw 6.7)",
         station="Newhall, LA County Fire Station", column_labels=("FN (N32E)", "FP (N122E)"),
-        pga_g=(0.736, 0.656), pgv_m_s=(1.171, 0.490), duration_s=30.0,
+        pga_g=(0.736, 0.656), pgv_m_s=(1.171, 0.490), pgd_m=(0.390, 0.185), duration_s=30.0,
         significant_duration_s=(5.53, 6.16), mean_period_s=(0.712, 0.462), pulse_period_s=(0.90, None),
         notes="truly rotated to fault-normal N32E / fault-parallel"),
     CatalogueEntry(
         name="sylmar", file="sylmar.txt", event="1994 Northridge (Mw 6.7)",
         station="Sylmar, Olive View County Hospital", column_labels=("360 (FN)", "090 (FP)"),
-        pga_g=(0.875, 0.605), pgv_m_s=(1.290, 0.761), duration_s=30.0,
+        pga_g=(0.875, 0.605), pgv_m_s=(1.290, 0.761), pgd_m=(0.300, 0.202), duration_s=30.0,
         significant_duration_s=(5.31, 6.75), mean_period_s=(0.765, 0.796), pulse_period_s=(1.95, None),
         notes="as recorded 360 / 090, labelled FN / FP; PGA about 4 % above NGA's"),
     CatalogueEntry(
         name="elcentro", file="elcentro.txt", event="1940 Imperial Valley (Mw 7.0)",
         station="El Centro Array #9", column_labels=("180 (FN)", "270 (FP)"),
-        pga_g=(0.313, 0.215), pgv_m_s=(0.298, 0.297), duration_s=30.0,
+        pga_g=(0.313, 0.215), pgv_m_s=(0.298, 0.297), pgd_m=(0.131, 0.217), duration_s=30.0,
         significant_duration_s=(23.84, 23.64), mean_period_s=(0.538, 0.611), pulse_period_s=(None, None),
         notes="the 1940 record (the header's '1979' is wrong); as recorded 180 / 270"),
     CatalogueEntry(
         name="rinaldi", file="rinaldi.txt", event="1994 Northridge (Mw 6.7)",
         station="Rinaldi Receiving Station", column_labels=("228 (FN)", "318 (FP)"),
-        pga_g=(0.840, 0.476), pgv_m_s=(1.596, 0.766), duration_s=30.0,
+        pga_g=(0.840, 0.476), pgv_m_s=(1.596, 0.766), pgd_m=(0.450, 0.543), duration_s=30.0,
         significant_duration_s=(7.05, 8.49), mean_period_s=(0.767, 0.643), pulse_period_s=(1.22, None),
         known_flaws=("baseline_drift",),
         notes="column 2 not baseline-corrected (mean -0.67 cm/s², displacement drifts about 4.8 m)"),
     CatalogueEntry(
         name="kobe", file="kobe.txt", event="1995 Hyogo-ken Nanbu (Kobe, Mw 6.9)",
         station="Kobe JMA", column_labels=("N-S (FN)", "E-W (FP)"),
-        pga_g=(0.841, 0.631), pgv_m_s=(0.918, 0.766), duration_s=30.0,
+        pga_g=(0.841, 0.631), pgv_m_s=(0.918, 0.766), pgd_m=(0.224, 0.192), duration_s=30.0,
         significant_duration_s=(8.07, 9.51), mean_period_s=(0.646, 0.656), pulse_period_s=(0.95, None),
         notes="JMA N-S / E-W, about 3.2 s more lead-in than NGA's"),
     CatalogueEntry(
         name="jiji", file="jiji.txt", event="1999 Chi-Chi (Mw 7.6)",
         station="TCU068", column_labels=("'N-S' (matches E-W)", "'E-W' (matches N-S)"),
-        pga_g=(0.512, 0.369), pgv_m_s=(2.803, 3.059), duration_s=90.0,
+        pga_g=(0.512, 0.369), pgv_m_s=(2.803, 3.059), pgd_m=(4.512, 3.912), duration_s=90.0,
         significant_duration_s=(12.45, 13.26), mean_period_s=(1.504, 1.284), pulse_period_s=(13.4, None),
         known_flaws=("baseline_drift",),
         notes="column labels look swapped; not baseline-corrected (displacement drifts tens of metres)"),
     CatalogueEntry(
         name="erzikan", file="erzikan.txt", event="1992 Erzincan (Mw 6.7)",
         station="Erzincan", column_labels=("N-S", "E-W"),
-        pga_g=(0.515, 0.496), pgv_m_s=(0.840, 0.643), duration_s=21.3,
+        pga_g=(0.515, 0.496), pgv_m_s=(0.840, 0.643), pgd_m=(0.277, 0.227), duration_s=21.3,
         significant_duration_s=(7.47, 7.36), mean_period_s=(1.385, 0.839), pulse_period_s=(2.19, None),
         known_flaws=("identical_components",),
         notes="in the last 105 samples column 2 equals column 1 (copying error); no second source"),
@@ -171,6 +180,15 @@ CATALOGUE: dict[str, CatalogueEntry] = {e.name: e for e in _ENTRIES}
 BENCHMARK_RECORDS: tuple[str, ...] = tuple(CATALOGUE)
 #: ``"FN-x"``: file column 1 on x, column 2 on y; ``"FP-x"``: swapped.
 ORIENTATIONS: tuple[str, ...] = ("FN-x", "FP-x")
+#: The seed paper's names for the same two runs (its Fig. 11 is "Kobe ground motion (FP-y)"):
+#: naming the component on y instead of the one on x. Column 2 (FP) on y means column 1 (FN)
+#: on x, so ``FP-y`` is ``FN-x``; ``FN-y`` is ``FP-x``.
+ORIENTATION_ALIASES: dict[str, str] = {"FP-y": "FN-x", "FN-y": "FP-x"}
+#: The seed paper's name of each orientation (inverse of :data:`ORIENTATION_ALIASES`).
+SEED_ORIENTATION_NAMES: dict[str, str] = {v: k for k, v in ORIENTATION_ALIASES.items()}
+#: One line for ``--help`` texts: the accepted orientation names.
+ORIENTATION_HELP = ("FN-x: file column 1 (FN) on x, column 2 on y; FP-x: swapped. The seed paper's "
+                    "names are accepted: FP-y = FN-x, FN-y = FP-x")
 #: Other accepted spellings.
 ALIASES: dict[str, str] = {"erzincan": "erzikan", "el_centro": "elcentro", "el-centro": "elcentro",
                            "chichi": "jiji", "chi-chi": "jiji"}
@@ -204,12 +222,29 @@ def get_entry(name: str) -> CatalogueEntry:
     return CATALOGUE[canonical_name(name)]
 
 
-def _check_orientation(orientation: str) -> str:
+def canonical_orientation(orientation: str) -> str:
+    """Return ``"FN-x"`` or ``"FP-x"`` for an orientation name (case-insensitive).
+
+    The seed paper's names are aliases (:data:`ORIENTATION_ALIASES`): ``FP-y`` (fault-parallel
+    component on y) is ``FN-x``, ``FN-y`` is ``FP-x``.
+
+    Raises
+    ------
+    InputError
+        If the name is none of FN-x, FP-x, FP-y, FN-y.
+    """
     key = str(orientation).strip().upper()
     for o in ORIENTATIONS:
         if key == o.upper():
             return o
-    raise InputError(f"orientation {orientation!r}; expected one of {', '.join(ORIENTATIONS)}")
+    for alias, o in ORIENTATION_ALIASES.items():
+        if key == alias.upper():
+            return o
+    raise InputError(f"orientation {orientation!r}; expected one of {', '.join(ORIENTATIONS)} "
+                     f"(or the seed paper's {', '.join(f'{a} = {o}' for a, o in ORIENTATION_ALIASES.items())})")
+
+
+_check_orientation = canonical_orientation  # the old private name, kept for callers
 
 
 def record_path(name: str, records_dir: str | os.PathLike | None = None) -> Path:
@@ -244,8 +279,9 @@ def load_benchmark_record(name: str, orientation: str = "FN-x", records_dir: str
     ----------
     name : str
         One of :data:`BENCHMARK_RECORDS` (``erzincan`` accepted).
-    orientation : {"FN-x", "FP-x"}
-        ``"FN-x"``: file column 1 on x, column 2 on y; ``"FP-x"``: swapped.
+    orientation : {"FN-x", "FP-x", "FP-y", "FN-y"}
+        ``"FN-x"``: file column 1 on x, column 2 on y; ``"FP-x"``: swapped; the seed paper's
+        ``"FP-y"`` / ``"FN-y"`` are the same as ``"FN-x"`` / ``"FP-x"`` (:func:`canonical_orientation`).
     records_dir : path-like, optional
         Directory of the files (see the module docstring for the lookup order).
     baseline_correct : bool
@@ -300,7 +336,7 @@ def check_catalogue(records_dir: str | os.PathLike | None = None) -> dict[str, A
         ``records_dir`` (str or None), ``error`` (why the directory could not be used, or None),
         ``n_found``, and ``records``: one dict per catalogue entry with ``name``, ``file``,
         ``found``, ``path``, ``event``, ``station``, ``column_labels``, ``expected_pga_g``, and when
-        found ``pga_g``, ``pgv_m_s``, ``duration_s``, ``dt_s``, ``n_samples``, ``flaws`` (dicts with
+        found ``units_assumed``, ``pga_g``, ``pgv_m_s``, ``duration_s``, ``dt_s``, ``n_samples``, ``flaws`` (dicts with
         ``known`` telling whether the benchmark copy is known to have it), or ``error`` if the
         file could not be read.
     """
@@ -324,7 +360,8 @@ def check_catalogue(records_dir: str | os.PathLike | None = None) -> dict[str, A
             except InputError as exc:
                 item["error"] = str(exc)
             else:
-                item.update(pga_g=[float(x) for x in rec.pga_g], pgv_m_s=[float(x) for x in rec.pgv],
+                item.update(units_assumed=units_assumed(rec),
+                            pga_g=[float(x) for x in rec.pga_g], pgv_m_s=[float(x) for x in rec.pgv],
                             duration_s=rec.duration, dt_s=rec.dt, n_samples=rec.n_samples,
                             flaws=_flaw_dicts(check_record(rec, entry.pga_g, entry.duration_s), entry))
                 report["n_found"] += 1

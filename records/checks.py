@@ -11,19 +11,23 @@
 * **PGA far from the catalogue**: measured PGA differs from the expected one by more than a
   relative tolerance (default 5 %).
 * **length far from the catalogue**: duration differs by more than one second.
+* **physically implausible**: a PGA, PGV, displacement, time step or length that no recorded
+  earthquake has had, the sign of wrong units or a wrong dt (:mod:`records.plausibility`).
 
 Each check returns a list of :class:`Flaw` (empty when the record passes).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any, Sequence
+
+from typing import Sequence
 
 import numpy as np
 
 from benchmark.foundation.errors import InputError
 from records.record import STANDARD_GRAVITY, Record
+from records.flaws import Flaw
+from records.plausibility import check_plausibility
 
 __all__ = [
     "Flaw",
@@ -34,32 +38,6 @@ __all__ = [
     "check_duration",
     "check_record",
 ]
-
-
-@dataclass(frozen=True)
-class Flaw:
-    """One detected flaw.
-
-    Attributes
-    ----------
-    kind : str
-        ``"identical_components"``, ``"baseline_drift"``, ``"pga_mismatch"`` or ``"duration_mismatch"``.
-    message : str
-        One line for people.
-    component : int or None
-        Component index (0-based) it concerns, if one.
-    details : dict
-        Numbers behind the message (plain JSON types).
-    """
-
-    kind: str
-    message: str
-    component: int | None = None
-    details: dict[str, Any] = field(default_factory=dict)
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain-JSON form."""
-        return {"kind": self.kind, "message": self.message, "component": self.component, "details": self.details}
 
 
 def identical_spans(acceleration: np.ndarray, min_length: int = 20) -> list[tuple[int, int]]:
@@ -207,7 +185,8 @@ def check_record(record: Record, expected_pga_g: Sequence[float] | None = None,
     pga_rtol : float
         Relative tolerance of the PGA check.
     """
-    flaws = check_identical_components(record) + check_baseline_drift(record)
+
+    flaws = check_identical_components(record) + check_baseline_drift(record) + check_plausibility(record)
     if expected_pga_g is not None:
         flaws += check_pga(record, expected_pga_g, pga_rtol)
     if expected_duration is not None:

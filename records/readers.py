@@ -21,7 +21,10 @@ Formats
     is not in the file and must be given (``dt=``, ``--dt``).
 ``csv``
     A time column then one or more acceleration columns (``time, ax[, ay]``), separated by
-    commas, semicolons or whitespace. Lines starting with ``#`` are comments. An optional
+    commas, semicolons or whitespace. Lines starting with ``#`` are comments; the first line
+    :func:`write_csv` writes, ``# SYNTHETIC ground motion: <name>; source: <source>; written by
+    sbib``, marks a generated motion, which stays ``synthetic`` (with its name and source) when
+    read back. An optional
     header row names the columns and may carry units in brackets (``ax [g]``); a comment
     ``# units: g`` works too. Time must increase with a uniform step (relative tolerance
     ``1e-3``); the record's time origin is moved to zero and the first time kept in metadata.
@@ -43,6 +46,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.textfile import decode_text
 from records.record import STANDARD_GRAVITY, Record
 
 __all__ = [
@@ -112,12 +116,8 @@ def _read_lines(path: str | os.PathLike) -> tuple[Path, list[str]]:
     raw = path.read_bytes()
     if not raw.strip():
         raise InputError(f"{path}: file is empty; expected acceleration values")
-    if b"\x00" in raw[:4096]:
-        raise InputError(f"{path}: looks like a binary file; expected a text record")
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        text = raw.decode("latin-1")  # old headers carry degree signs and the like
+    # binary or not UTF-8: one line naming the file and the line (benchmark.foundation.textfile)
+    text = decode_text(raw, str(path))
     return path, text.splitlines()
 
 
@@ -255,7 +255,7 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
     elif found_units is not None:
         units, units_from = found_units, "header"
     else:
-        units, units_from = "cm/s2", "benchmark default cm/s2 (not in the header)"
+        units, units_from = "cm/s2", "benchmark default, not in the header"
     factor = unit_factor(units, where)
 
     values, _ = _parse_table(lines, path, 1, 2, ("%", "#"), "two columns of acceleration")
@@ -322,10 +322,11 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
         factor = unit_factor(units, f"{where}: units argument")
         if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
             raise InputError(f"{where}:3: units {units!r} given but the header says {found_units!r}")
+        units_from = "argument"
     elif found_units is None:
         raise InputError(f"{where}:3: units not recognised in {lines[2].strip()!r}; give units (e.g. units='g')")
     else:
-        units = found_units
+        units, units_from = found_units, "header"
     factor = unit_factor(units, where)
 
     values: list[float] = []
@@ -342,13 +343,14 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
         acceleration=_to_si(values, factor),
         labels=(component or "component 1",),
         source=str(path),
-        metadata={"format": "at2", "units_in_file": _canonical(units), "title": lines[0].strip(),
+        metadata={"format": "at2", "units_in_file": _canonical(units), "units_from": units_from,
+                  "title": lines[0].strip(),
                   "event": lines[1].strip()},
     )
 
 
 # --------------------------------------------------------------------------- single column
-def read_single_column(path: str | os.PathLike, dt: float | None, units: str = "g",
+def read_single_column(path: str | os.PathLike, dt: float | None, units: str | None = None,
                        name: str | None = None, label: str | None = None) -> Record:
     """Read a one-value-per-line acceleration file (e.g. the USGS SLAMMER library).
 
@@ -359,8 +361,8 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str = "
     dt : float
         Time step [s]; the file does not hold it, so it must be given (SLAMMER lists it in its
         ``eq.sql`` table).
-    units : str
-        Units of the values (default g, as in SLAMMER).
+    units : str, optional
+        Units of the values (default g, as in SLAMMER; ``metadata["units_from"]`` says which).
     name, label : str, optional
         Record name (default: the file stem) and component label (default: the file name).
 
@@ -373,6 +375,8 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str = "
     if dt is None:
         raise InputError(f"{where}: a single-column file holds no time step; give dt (option --dt)")
     dt = _check_dt(dt, f"{where}: dt")
+    units_from = "argument" if units is not None else "default for single-column files, give --units"
+    units = "g" if units is None else units
     factor = unit_factor(units, f"{where}: units")
     path, lines = _read_lines(path)
     values, _ = _parse_table(lines, path, 1, 1, ("#", "%"), "one acceleration value per line")
@@ -383,7 +387,7 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str = "
         acceleration=_to_si(values, factor),
         labels=(label or path.name,),
         source=str(path),
-        metadata={"format": "single", "units_in_file": _canonical(units)},
+        metadata={"format": "single", "units_in_file": _canonical(units), "units_from": units_from},
     )
 
 
@@ -413,6 +417,8 @@ def _split_header_unit(token: str, where: str) -> tuple[str, str | None]:
             return token.strip(), None
     return name, unit
 _UNITS_COMMENT = re.compile(r"^#\s*units?\s*[:=]\s*(\S+)", re.IGNORECASE)
+#: write_csv's first line: "# [SYNTHETIC ]ground motion: <name>; source: <source>; written by sbib"
+_WRITTEN_BY_SBIB = re.compile(r"^#\s*(SYNTHETIC\s+)?ground motion:\s*(.*?);\s*source:\s*(.*);\s*written by sbib\s*$")
 _TIME_NAMES = {"t", "time", "times", "time_s", "t_s", "time(s)", "time[s]", "seconds", "sec", "s"}
 
 
@@ -456,6 +462,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
     path, lines = _read_lines(path)
     where = str(path)
     comment_units = None
+    comment_keys: dict[str, str] = {}
     data_lines: list[tuple[int, str]] = []
     for lineno, line in enumerate(lines, start=1):
         stripped = line.strip()
@@ -465,6 +472,10 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
             m = _UNITS_COMMENT.match(stripped)
             if m:
                 comment_units = m.group(1)
+            m = _WRITTEN_BY_SBIB.match(stripped)
+            if m and not comment_keys:
+                comment_keys = {"synthetic": "true" if m.group(1) else "false", "name": m.group(2),
+                                "source": m.group(3)}
             continue
         data_lines.append((lineno, stripped))
     if not data_lines:
@@ -513,7 +524,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
     elif file_units is not None:
         units, units_from = file_units, "file"
     else:
-        units, units_from = "m/s2", "default m/s2 (no units in the file)"
+        units, units_from = "m/s2", "default, no units in the file"
     factor = unit_factor(units, where)
 
     time_scale = 1.0
@@ -553,15 +564,20 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
 
     labels = tuple(header_names[1:]) if header_names else tuple(
         ("ax", "ay", "az")[i] if i < 3 else f"component {i + 1}" for i in range(n_columns - 1))
+    synthetic = comment_keys.get("synthetic") == "true"
+    meta = {"format": "csv", "units_in_file": _canonical(units), "units_from": units_from,
+            "time_start_s": float(time[0])}
+    if synthetic:  # a generated motion stays labelled as one (write_csv's comments)
+        meta["file"] = str(path)
     return _record(
         path,
-        name=name or path.stem,
+        name=name or (comment_keys.get("name") if synthetic else None) or path.stem,
         dt=step,
         acceleration=_to_si(rows[:, 1:], factor),
         labels=labels,
-        source=str(path),
-        metadata={"format": "csv", "units_in_file": _canonical(units), "units_from": units_from,
-                  "time_start_s": float(time[0])},
+        source=(comment_keys.get("source") or f"synthetic: read from {path}") if synthetic else str(path),
+        synthetic=synthetic,
+        metadata=meta,
     )
 
 
@@ -580,13 +596,15 @@ def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2") -> P
     Returns
     -------
     Path
-        The file written. A comment line states the source and, for generated motions, that
-        the record is synthetic.
+        The file written. A comment line states the name, the source and, for generated
+        motions, that the record is synthetic; :func:`read_csv` reads them back.
     """
     factor = unit_factor(units, "units")
     path = Path(path)
     kind = "SYNTHETIC ground motion" if record.synthetic else "ground motion"
-    lines = [f"# {kind}: {record.name}; source: {record.source}; written by sbib",
+    first = f"# {kind}: {record.name}; source: {record.source}; written by sbib"
+    # read back by read_csv (_WRITTEN_BY_SBIB): a synthetic record stays synthetic, with its name and source
+    lines = [" ".join(first.splitlines()),
              ",".join(["time [s]"] + [f"{label.replace(',', ';')} [{_canonical(units)}]" for label in record.labels])]
     data = np.column_stack([record.time, record.acceleration / factor])
     lines.extend(",".join(f"{v:.10g}" for v in row) for row in data)
@@ -688,6 +706,6 @@ def load_record(path: str | os.PathLike, format: str = "auto", dt: float | None 
             raise InputError(f"{path}: dt = {dt} s given but the .AT2 header says DT = {record.dt} s")
         return record
     if fmt == "single":
-        return read_single_column(path, dt=dt, units=units or "g", name=name)
+        return read_single_column(path, dt=dt, units=units, name=name)
     return read_csv(path, units=units, dt=dt, name=name)
 

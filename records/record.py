@@ -186,7 +186,9 @@ class Record:
         return self.replace(acceleration=self.acceleration[:, idx], labels=tuple(self.labels[i] for i in idx))
 
     def summary(self) -> dict[str, Any]:
-        """Plain-JSON summary: name, dt, samples, duration, PGA [m/s² and g], PGV [m/s], PGD [m]."""
+        """Plain-JSON summary: name, dt, samples, duration, PGA [m/s² and g], PGV [m/s], PGD [m], and
+        ``units_assumed``: the units the file's values were read in and why
+        (:func:`units_assumed`)."""
         return {
             "name": self.name,
             "synthetic": self.synthetic,
@@ -199,9 +201,32 @@ class Record:
             "pga_g": [float(x) for x in self.pga_g],
             "pgv_m_s": [float(x) for x in self.pgv],
             "pgd_m": [float(x) for x in self.pgd],
+            "units_assumed": _units_assumed(self),
         }
 
     def __repr__(self) -> str:  # arrays are long; keep the repr short
         kind = "synthetic " if self.synthetic else ""
         return (f"Record({kind}{self.name!r}, dt={self.dt:g} s, n={self.n_samples}, "
                 f"components={self.labels}, pga_g={np.round(self.pga_g, 3).tolist()})")
+
+
+def _units_assumed(record: Record) -> str:
+    return units_assumed(record)
+
+
+def units_assumed(record: Record) -> str:
+    """The units the record's values were read in and where that came from, one short phrase.
+
+    ``"cm/s2 (benchmark default cm/s2 (not in the header))"``, ``"g (file header)"``,
+    ``"m/s2 (generated)"``; records built in Python without a reader give ``"m/s2 (given in SI)"``.
+    """
+    meta = record.metadata
+    if "units_assumed" in meta:
+        return str(meta["units_assumed"])
+    units = meta.get("units_in_file")
+    if units is None:
+        return "m/s2 (generated)" if record.synthetic else "m/s2 (given in SI)"
+    origin = meta.get("units_from")
+    if origin is None:
+        origin = {"at2": "file header", "single": "--units / default g"}.get(meta.get("format"), "file")
+    return f"{units} ({origin})"

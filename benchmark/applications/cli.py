@@ -85,6 +85,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (InputError, SbibError) as exc:
         print(f"sbib: error: {exc}", file=sys.stderr)
         return EXIT_INPUT_ERROR
+    except UnicodeDecodeError as exc:  # a reader that missed benchmark.foundation.textfile: still one line
+        print(f"sbib: error: an input file is not UTF-8 text (byte 0x{exc.object[exc.start]:02x} at offset "
+              f"{exc.start}); expected a UTF-8 text file", file=sys.stderr)
+        return EXIT_INPUT_ERROR
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         _silence_stdout()
         return 0

@@ -8,6 +8,7 @@ import sys
 from controllers.registry import controller_names
 from benchmark.foundation.errors import InputError
 from benchmark.applications.comparison import compare
+from records.options import add_record_options
 
 __all__ = ["register"]
 
@@ -19,14 +20,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "compare", help="compare controllers over the benchmark records (J1-J9)",
         description="Run every record x orientation x controller against the uncontrolled building, "
                     "print J1-J9 per run and the mean/max over records.")
-    p.add_argument("--records", default="all", help="'all' or a comma list of record names")
-    p.add_argument("--orientations", default="both", help="'both', FN-x or FP-x")
+    p.add_argument("--records", default="all",
+                   help="'all' or a comma list of benchmark record names and/or record files "
+                        "(read as sbib run --record reads them; see --format, --dt, --units)")
+    p.add_argument("--orientations", default="both",
+                   help="'both', or a comma list of FN-x, FP-x; the seed paper's FP-y (= FN-x) and "
+                        "FN-y (= FP-x) are accepted")
     p.add_argument("--controllers", default="passive-off,passive-on,clipped-optimal",
                    help="comma list of: " + ", ".join(controller_names()))
     p.add_argument("--isolation", default=None, help="isolation configuration name (default: the building's)")
-    p.add_argument("--records-dir", default=None, help="directory of the benchmark record files")
-    p.add_argument("--synthetic", action="store_true", help="use the synthetic benchmark-like records")
-    p.add_argument("--control-step", type=float, default=0.005, help="control step [s] (default 0.005)")
+    p.add_argument("--synthetic", action="store_true",
+                   help="use the synthetic benchmark-like records (rows say 'kobe (synthetic)')")
+    add_record_options(p, orientation=False, several=True)  # --records-dir, --format, --dt, --units, ...
+    p.add_argument("--control-step", type=float, default=None,
+                   help="control step [s], a whole multiple of each record's step (default: the benchmark's "
+                        "0.005 s when it is one, else the multiple nearest to it, said on stderr)")
     p.add_argument("--n-modes", type=int, default=None, help="reduced superstructure (default: all modes)")
     p.add_argument("--jobs", type=int, default=None, help="worker processes (default: all cores)")
     p.add_argument("--json", action="store_true", help="print {\"runs\": [...]} as JSON instead of the table")
@@ -42,7 +50,8 @@ def _run(args: argparse.Namespace) -> int:
     result = compare(records=args.records, orientations=args.orientations, controllers=args.controllers,
                      isolation=args.isolation, records_dir=args.records_dir, jobs=args.jobs,
                      control_step=args.control_step, n_modes=args.n_modes, synthetic=args.synthetic,
-                     progress=not args.no_progress and sys.stderr.isatty())
+                     progress=not args.no_progress and sys.stderr.isatty(), format=args.format, dt=args.dt,
+                     units=args.units, baseline_correct=args.baseline_correct)
     if args.out:
         path = result.write_hdf5(args.out)
         print(f"wrote {path}", file=sys.stderr)
@@ -53,4 +62,7 @@ def _run(args: argparse.Namespace) -> int:
         print(json.dumps(result.to_json(), indent=2))
     else:
         print(result.table())
+        units = result.settings.get("record_units") or {}
+        if units:
+            print("record values read as: " + "; ".join(f"{k}: {v}" for k, v in units.items()))
     return 0

@@ -15,6 +15,7 @@ import json
 import sys
 from benchmark.applications.identification_study import run_identify_study
 from damper.identification.measured import identify_files
+from records.options import orientation_name
 
 __all__ = ["register"]
 
@@ -37,7 +38,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="with --data: cycle-bootstrap refits per file (default 10)")
     p.add_argument("--records", default=None,
                    help="comma list of benchmark records for the validation (default: all seven)")
-    p.add_argument("--orientations", default=None, help="comma list of FN-x, FP-x (default: both)")
+    p.add_argument("--orientations", default=None, type=_orientation_list,
+                   help="comma list of FN-x, FP-x (default: both); the seed paper's FP-y (= FN-x) and "
+                        "FN-y (= FP-x) are accepted")
     p.add_argument("--controller", default="clipped-optimal",
                    help="semi-active controller of the validation runs (default: clipped-optimal)")
     p.add_argument("--records-dir", default=None, help="directory of the benchmark record files")
@@ -56,6 +59,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--jobs", type=int, default=None,
                    help="worker processes (default: all cores; 1: no pool)")
     p.set_defaults(func=_run)
+
+
+def _orientation_list(value: str) -> str:
+    """``argparse`` type: a comma list of orientations, made canonical (``FP-y`` → ``FN-x``)."""
+
+    return ",".join(orientation_name(o.strip()) for o in value.split(",") if o.strip())
 
 
 def _split(value: str | None) -> list[str] | None:

@@ -1,7 +1,7 @@
 """``sbib records``: list the benchmark catalogue, show one record, write a synthetic one.
 
     sbib records list [--records-dir DIR] [--json]
-    sbib records show NAME|FILE [--orientation FN-x|FP-x] [--plot FILE.png] [--json]
+    sbib records show NAME|FILE [--orientation FN-x|FP-x|FP-y|FN-y] [--plot FILE.png] [--json]
                       [--synthetic --seed N] [--baseline-correct]
                       [--format auto|benchmark|at2|single|csv --dt S --units U]
     sbib records generate NAME --out FILE.csv [--orientation] [--seed N] [--plot FILE.png]
@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 from pathlib import Path
 from typing import Any
 from records.catalogue import check_catalogue
@@ -26,12 +27,18 @@ from records.spectra import response_spectrum
 from records.readers import write_csv
 from records.baseline import baseline_correct
 from records.plots import plot_record
+from records.catalogue import ORIENTATION_HELP
+from records.options import add_record_options, orientation_name
+from records.options import record_kwargs
+from records.resolve import resolve_record
+from benchmark.foundation.errors import DataNotFoundError
 
 __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``records`` command and its sub-commands to the ``sbib`` parser."""
+
     parser = subparsers.add_parser(
         "records", help="ground-motion records: catalogue, show, synthetic",
         description="The benchmark's seven records (newhall, sylmar, elcentro, rinaldi, kobe, jiji, erzikan), "
@@ -51,15 +58,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                    "(--synthetic), or any record file (PEER .AT2, benchmark two-column, "
                                    "single-column with --dt, CSV).")
     p.add_argument("name", metavar="NAME|FILE", help="benchmark record name (erzincan accepted) or a file path")
-    p.add_argument("--orientation", default="FN-x", help="FN-x (file column 1 on x, default) or FP-x (swapped)")
-    p.add_argument("--records-dir", default=None, help="directory of the benchmark files")
+    add_record_options(p)  # the same record options as sbib run and sbib compare
     p.add_argument("--synthetic", action="store_true", help="show the synthetic benchmark-like record instead")
     p.add_argument("--seed", type=int, default=0, help="seed of the synthetic record (default 0)")
-    p.add_argument("--baseline-correct", action="store_true", help="apply the polynomial baseline correction")
-    p.add_argument("--format", default="auto", choices=("auto", "benchmark", "at2", "single", "csv"),
-                   help="file format when FILE is given (default: auto)")
-    p.add_argument("--dt", type=float, default=None, help="time step [s] (required for single-column files)")
-    p.add_argument("--units", default=None, help="units of the file's values: g, m/s2, cm/s2 (gal), mm/s2")
     p.add_argument("--damping", type=float, default=0.05, help="damping ratio of the spectra (default 0.05)")
     p.add_argument("--plot", default=None, metavar="FILE.png",
                    help="write time histories (acc, vel, disp) and response spectra to this file")
@@ -71,7 +72,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                                    "D5-95, mean period, pulse period) and write it as CSV in m/s2.")
     p.add_argument("name", help="benchmark record to imitate")
     p.add_argument("--out", required=True, help="output CSV file")
-    p.add_argument("--orientation", default="FN-x", help="FN-x (default) or FP-x")
+    p.add_argument("--orientation", default="FN-x", type=orientation_name, help=ORIENTATION_HELP + " (default FN-x)")
     p.add_argument("--seed", type=int, default=0, help="seed (default 0)")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="also plot it")
     p.set_defaults(func=_generate)
@@ -87,6 +88,8 @@ def _list(args: argparse.Namespace) -> int:
     if args.records_dir and report["error"]:  # the table says what is missing; stderr says why (exit 2)
 
         raise InputError(f"--records-dir {args.records_dir}: {report['error']}")
+    if report["error"] and (os.environ.get("SBIB_RECORDS_DIR") or os.environ.get("SBIB_SHARED")):
+        raise DataNotFoundError(report["error"])  # a directory the user set is missing: say which
     return 0
 
 
@@ -99,6 +102,9 @@ def _format_catalogue(report: dict[str, Any]) -> str:
                      f"{len(report['records'])} found)")
     lines.append(f"{'name':<9} {'file':<13} {'found':<7} {'PGA col 1 / col 2 [g]':<22} {'catalogue [g]':<15} "
                  f"{'duration':>9}  flaws")
+    units = sorted({item["units_assumed"] for item in report["records"] if item.get("units_assumed")})
+    if units:
+        lines.insert(1, f"values read as: {'; '.join(units)}")
     for item in report["records"]:
         expected = " / ".join(f"{x:.3f}" for x in item["expected_pga_g"])
         if not item["found"]:
@@ -120,29 +126,11 @@ def _format_catalogue(report: dict[str, Any]) -> str:
 
 # --------------------------------------------------------------------------- show
 def _load(args: argparse.Namespace):
-    path = Path(args.name)
-    name = None
-    try:
-        name = canonical_name(args.name)
-    except InputError:
-        pass
-    if name is not None and not path.is_file():
-        if args.synthetic:
-            record = benchmark_like(name, args.orientation, seed=args.seed)
-            if args.baseline_correct:
-                record = baseline_correct(record)
-            return record
-        return load_benchmark_record(name, args.orientation, records_dir=args.records_dir,
-                                     baseline_correct=args.baseline_correct)
-    if args.synthetic:
-        raise InputError(f"--synthetic needs a benchmark record name, got {args.name!r}")
-    if not path.exists():
-        raise InputError(f"{args.name!r} is neither a benchmark record (newhall, sylmar, elcentro, rinaldi, kobe, "
-                         "jiji, erzikan) nor an existing file")
-    record = load_record(path, format=args.format, dt=args.dt, units=args.units)
-    if args.baseline_correct:
-        record = baseline_correct(record)
-    return record
+    """The record to show: :func:`records.resolve.resolve_record`, as for ``sbib run``, so a
+    file honours ``--orientation`` too (column 1 on x for FN-x, swapped for FP-x)."""
+
+    return resolve_record(args.name, args.orientation, synthetic=args.synthetic, seed=args.seed,
+                          **record_kwargs(args))
 
 
 def _show(args: argparse.Namespace) -> int:
@@ -161,7 +149,8 @@ def _show(args: argparse.Namespace) -> int:
     if flaws is None:
         flaws = [f.message for f in check_record(record)]
     summary["flaws"] = list(flaws)
-    for key in ("event", "station", "orientation", "x_file_column", "baseline_correction", "units_in_file"):
+    for key in ("event", "station", "orientation", "x_file_column", "baseline_correction", "units_in_file",
+                "recorded_comparison"):
         if key in record.metadata:
             summary[key] = record.metadata[key]
     if args.plot:
@@ -190,10 +179,13 @@ def _format_summary(s: dict[str, Any]) -> str:
     head = ("SYNTHETIC " if s["synthetic"] else "") + s["name"]
     extra = [str(s[k]) for k in ("event", "station") if s.get(k)]
     if s.get("orientation"):
-        extra.append(f"orientation {s['orientation']} (x = file column {s.get('x_file_column', 1)})")
+        column = s.get("x_file_column", 1)
+        where = f"x = file column {column}" if column is not None else "its one component on y"
+        extra.append(f"orientation {s['orientation']} ({where})")
     lines = [head + (" — " + "; ".join(extra) if extra else ""), f"source: {s['source']}"]
     lines.append(f"dt {s['dt_s']:g} s, {s['n_samples']} samples, duration {s['duration_s']:.3f} s"
                  + (f"; {s['baseline_correction']}" if s.get("baseline_correction") else ""))
+    lines.append(f"units: values read as {s['units_assumed']}; shown below in g, m/s², cm/s and cm")
     axis = ["x: ", "y: "] if s["n_samples"] and len(s["labels"]) == 2 else [""] * len(s["labels"])
     lines.append(f"{'component':<28} {'PGA [g]':>8} {'PGA [m/s²]':>11} {'PGV [cm/s]':>11} {'PGD [cm]':>9} "
                  f"{'D5-95 [s]':>10} {'Tm [s]':>7} {'PSA peak [g] at T [s]':>22}")
@@ -203,6 +195,8 @@ def _format_summary(s: dict[str, Any]) -> str:
                      f"{100 * s['pgv_m_s'][c]:>11.1f} {100 * s['pgd_m'][c]:>9.1f} "
                      f"{s['significant_duration_s'][c]:>10.2f} {_or_dash(s['mean_period_s'][c], 7, 3)} "
                      f"{s['peak_psa_g'][c]:>13.3f} at {s['spectral_peak_period_s'][c]:.2f}")
+    if s.get("recorded_comparison"):
+        lines.append(_format_recorded_comparison(s["recorded_comparison"]))
     if s["flaws"]:
         lines.extend(f"flaw: {f}" for f in s["flaws"])
     else:
@@ -212,11 +206,21 @@ def _format_summary(s: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def _format_recorded_comparison(c: dict[str, Any]) -> str:
+    """One line: the synthetic record's PGV and PGD against the recorded motion it imitates."""
+    def pair(values, scale, digits=0):
+        return " / ".join(f"{scale * v:.{digits}f}" for v in values)
+    return (f"against the recorded {c['like']} (x / y): PGA matched; PGV {pair(c['pgv_m_s'], 100)} cm/s vs "
+            f"{pair(c['recorded_pgv_m_s'], 100)} cm/s, PGD {pair(c['pgd_m'], 100)} cm vs "
+            f"{pair(c['recorded_pgd_m'], 100)} cm (recorded PGD after baseline correction); {c['note']}")
+
+
 # --------------------------------------------------------------------------- generate
 def _generate(args: argparse.Namespace) -> int:
     record = benchmark_like(args.name, args.orientation, seed=args.seed)
     path = write_csv(record, args.out)
     print(f"SYNTHETIC record {record.name} ({record.source}) written to {path}")
+    print(_format_recorded_comparison(record.metadata["recorded_comparison"]))
     if args.plot:
         print(f"plot written: {plot_record(record, args.plot)}")
     return 0

@@ -2,20 +2,27 @@
 
 ::
 
-    sbib run --record NAME|PATH --orientation FN-x|FP-x --isolation NAME --controller NAME
-             [--records-dir DIR] [--out FILE.h5] [--plot DIR] [--json]
-             [--n-modes N] [--control-step S] [--substep-tolerance TOL] [--baseline-correct]
+    sbib run --record NAME|PATH --orientation FN-x|FP-x|FP-y|FN-y --isolation NAME --controller NAME
+             [--records-dir DIR] [--format F] [--dt S] [--units U] [--baseline-correct]
+             [--out FILE.h5] [--plot DIR] [--json]
+             [--n-modes N] [--control-step S] [--substep-tolerance TOL]
 
 The evaluation criteria need the uncontrolled run (same building and isolation, no devices,
 same record and orientation), so every call computes it too (``--controller none`` *is* that
 run, and is computed once). ``--record`` takes a benchmark record name (``kobe``, ...) or a
 record file (any format :func:`records.readers.load_record` reads); for a file with two
 components ``FN-x`` puts column 1 on x and ``FP-x`` swaps them; a one-component file goes on x
-(``FN-x``) or y (``FP-x``).
+(``FN-x``) or y (``FP-x``); the seed paper's ``FP-y`` / ``FN-y`` are ``FN-x`` / ``FP-x``. The record
+options are those of every command that takes a record (:mod:`records.options`). The record's
+implausibility flaws (:mod:`records.plausibility`: wrong units, wrong dt) are warned about on
+stderr. Without a controller the control step does not matter; with one, the default is the
+benchmark's 0.005 s when it is a whole multiple of the record step, else the nearest whole
+multiple, said on stderr (:func:`choose_control_step`).
 
 ``--json`` prints exactly one JSON object on stdout::
 
-    {"record", "orientation", "isolation", "controller",
+    {"record", "orientation" (FN-x or FP-x), "isolation", "controller",
+     "control_step_s" (null without a controller), "units_assumed", "record_flaws": [messages],
      "peaks": {peak_base_shear [N], peak_structure_shear [N], peak_base_displacement [m],
                peak_drift_ratio [-], peak_floor_acceleration [m/s²], rms_base_displacement [m],
                rms_floor_acceleration [m/s², largest floor], peak_device_force [N]},
@@ -50,59 +57,76 @@ from benchmark.simulator.isolation.configurations import ISOLATION_NAMES
 from records.baseline import baseline_correct as _correct
 from benchmark.simulator.results import write_result
 from benchmark.simulator.plots import plot_run
+from records.resolve import resolve_record as _resolve
+from records.options import add_record_options
 
-__all__ = ["register", "run_case", "resolve_record", "main_run"]
-
-_RECORD_SUFFIXES = {".txt", ".at2", ".csv", ".dat", ".acc", ".tsv"}
-
+__all__ = ["register", "run_case", "resolve_record", "choose_control_step", "main_run", "DEFAULT_CONTROL_STEP"]
 
 def resolve_record(spec: str, orientation: str = "FN-x", records_dir: str | None = None,
-                   baseline_correct: bool = False):
+                   baseline_correct: bool = False, format: str = "auto", dt: float | None = None,
+                   units: str | None = None):
     """Load a record by benchmark name or file path, oriented as asked (x, y components).
 
-    Parameters
-    ----------
-    spec : str
-        A benchmark record name (``records.BENCHMARK_RECORDS``) or a file path.
-    orientation : {"FN-x", "FP-x"}
-    records_dir : str, optional
-        Directory of the benchmark's files (names only).
-    baseline_correct : bool
-        Apply the records module's baseline correction.
+    The one resolver every command uses, :func:`records.resolve.resolve_record` (see there for
+    the orientation of files, the seed paper's ``FP-y`` / ``FN-y`` and the options).
 
     Returns
     -------
     records.Record
-        Two components [m/s²], column 0 on x, column 1 on y.
+        Two components [m/s²], column 0 on x, column 1 on y; ``metadata`` holds the canonical
+        orientation, ``units_assumed`` and ``flaws``.
     """
-    orientations = ORIENTATIONS
-    if orientation not in orientations:
-        raise InputError(f"--orientation {orientation!r}; expected one of {', '.join(orientations)}")
-    path = Path(spec).expanduser()
-    looks_like_path = path.exists() or "/" in spec or "\\" in spec or path.suffix.lower() in _RECORD_SUFFIXES
-    if not looks_like_path:
-        return load_benchmark_record(spec, orientation=orientation, records_dir=records_dir,
-                                     baseline_correct=baseline_correct)
-    if not path.is_file():
-        raise DataNotFoundError(f"--record {spec}: file not found")
-    record = load_record(path)
-    acc = np.asarray(record.acceleration, dtype=float)
-    if acc.ndim == 1:
-        acc = acc[:, None]
-    if acc.shape[1] == 1:
-        zeros = np.zeros_like(acc)
-        both = np.hstack([acc, zeros]) if orientation == "FN-x" else np.hstack([zeros, acc])
-        label = tuple(record.labels)[0] if record.labels else "component"
-        labels = (label, "zero") if orientation == "FN-x" else ("zero", label)
-        record = record.replace(acceleration=both, labels=labels)
-    elif acc.shape[1] >= 2:
-        record = record.select([0, 1] if orientation == "FN-x" else [1, 0])
-    meta = dict(record.metadata)
-    meta["orientation"] = orientation
-    record = record.replace(metadata=meta)
-    if baseline_correct:
-        record = _correct(record)
-    return record
+
+    return _resolve(spec, orientation, records_dir=records_dir, baseline_correct=baseline_correct,
+                    format=format, dt=dt, units=units)
+
+
+#: The benchmark's control sample time [s] (Narasimhan et al. 2006), used when it fits the record.
+DEFAULT_CONTROL_STEP = 0.005
+
+
+def choose_control_step(record_dt: float, requested: float | None = None) -> tuple[float, str]:
+    """Return the control step [s] for a record step and why it was chosen.
+
+    Parameters
+    ----------
+    record_dt : float
+        The record's time step [s]; the structure steps at it, so the control step must be a
+        whole multiple of it.
+    requested : float, optional
+        ``--control-step`` as given; ``None`` picks one.
+
+    Returns
+    -------
+    (float, str)
+        The control step and a note ("" when it is the benchmark's 0.005 s or the requested one).
+        Without a request: 0.005 s when it is a whole multiple of the record step, else the
+        whole multiple of the record step nearest to 0.005 s (at least one step), e.g. 0.01 s for
+        a PEER record at dt = 0.01 s.
+
+    Raises
+    ------
+    InputError
+        A requested step that is not positive or not a whole multiple of ``record_dt``; the
+        message names ``--control-step`` and a step that would work.
+    """
+    if requested is not None:
+        if not (math.isfinite(requested) and requested > 0):
+            raise InputError(f"--control-step {requested!r}: expected a positive number of seconds")
+        ratio = requested / record_dt
+        if abs(ratio - round(ratio)) > 1e-6 * max(1.0, ratio) or round(ratio) < 1:
+            k = max(1, round(ratio))
+            raise InputError(f"--control-step {requested:g} s is not a whole multiple of the record step "
+                             f"{record_dt:g} s; give --control-step {k * record_dt:g} (or another multiple of "
+                             f"{record_dt:g} s), or leave it out to pick one")
+        return float(requested), ""
+    ratio = DEFAULT_CONTROL_STEP / record_dt
+    k = max(1, round(ratio))
+    if abs(ratio - k) <= 1e-6 * max(1.0, ratio):
+        return DEFAULT_CONTROL_STEP, ""
+    step = k * record_dt
+    return step, (f"control step {step:g} s: the benchmark's {DEFAULT_CONTROL_STEP:g} s is not a whole multiple "
+                  f"of the record step {record_dt:g} s (give --control-step to choose another multiple)")
 
 
 def _clean(d: dict[str, Any]) -> dict[str, Any]:
@@ -121,9 +145,10 @@ def _clean(d: dict[str, Any]) -> dict[str, Any]:
 
 def run_case(record: str, orientation: str = "FN-x", isolation: str | None = None,
              controller: str = "none", records_dir: str | None = None, out: str | None = None,
-             plot_dir: str | None = None, n_modes: int | None = None, control_step: float = 0.005,
+             plot_dir: str | None = None, n_modes: int | None = None, control_step: float | None = None,
              substep_tolerance: float | None = None, baseline_correct: bool = False,
-             progress: bool = False) -> dict[str, Any]:
+             progress: bool = False, format: str = "auto", dt: float | None = None,
+             units: str | None = None, warn: bool = True) -> dict[str, Any]:
     """Run one case and its uncontrolled reference; evaluate, and optionally save and plot.
 
     Parameters
@@ -142,13 +167,18 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         Directory for the figures (:func:`benchmark.simulator.plots.plot_run`).
     n_modes : int, optional
         Reduced superstructure (first ``n_modes`` modes); default all 24.
-    control_step : float
-        Controller sample time [s].
+    control_step : float, optional
+        Controller sample time [s]; ``None`` picks one (:func:`choose_control_step`: the
+        benchmark's 0.005 s when it fits the record step). Without a controller it does not matter.
     substep_tolerance : float, optional
         Sub-step tolerance of every nonlinear bearing.
     baseline_correct : bool
     progress : bool
         Print progress lines on stderr.
+    format, dt, units : optional
+        How to read a record file (:func:`records.resolve.resolve_record`).
+    warn : bool
+        Print the record's implausibility flaws and a chosen control step on stderr.
 
     Returns
     -------
@@ -158,11 +188,22 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
     """
 
     start = time.perf_counter()
-    if control_step is None or not (math.isfinite(control_step) and control_step > 0):
+    if control_step is not None and not (math.isfinite(control_step) and control_step > 0):
         raise InputError(f"--control-step {control_step!r}: expected a positive number of seconds")
-    rec = resolve_record(record, orientation, records_dir, baseline_correct)
+    rec = resolve_record(record, orientation, records_dir, baseline_correct, format=format, dt=dt, units=units)
+    orientation = rec.metadata.get("orientation", orientation)
     layer = get_isolation(isolation or DEFAULT_NONLINEAR, substep_tolerance=substep_tolerance)
     ctrl = get_controller(controller)
+    implausible = [f for f in rec.metadata.get("flaws", []) if "implausible" in f]
+    if warn:
+        for flaw in implausible:
+            print(f"sbib run: warning: {flaw}", file=sys.stderr, flush=True)
+    if ctrl is None:  # no devices, no controller: the control step does not matter
+        control_step = control_step if control_step is not None else rec.dt
+    else:
+        control_step, note = choose_control_step(rec.dt, control_step)
+        if note and warn:
+            print(f"sbib run: {note}", file=sys.stderr, flush=True)
     devices = None if ctrl is None else "default"
     building = Building.default(isolation=layer, devices=devices, n_modes=n_modes)
 
@@ -187,6 +228,9 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         "orientation": orientation,
         "isolation": layer.name,
         "controller": controller,
+        "control_step_s": float(control_step) if ctrl is not None else None,
+        "units_assumed": rec.metadata.get("units_assumed", ""),
+        "record_flaws": list(rec.metadata.get("flaws", [])),
         "peaks": _clean(peaks(result)),
         "J": {k: v for k, v in _clean(J).items()},
         "reference_peaks": _clean(peaks(reference)),
@@ -218,6 +262,10 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
 def _print_table(summary: dict[str, Any]) -> None:
     print(f"{summary['record']} ({summary['orientation']}), isolation {summary['isolation']}, "
           f"controller {summary['controller']}: {summary['elapsed_s']:.1f} s")
+    print(f"  record values read as {summary['units_assumed']}"
+          + (f"; control step {summary['control_step_s']:g} s" if summary.get("control_step_s") else ""))
+    for flaw in summary.get("record_flaws", []):
+        print(f"  record flaw: {flaw}")
     print(f"  {'response':<26s} {'run':>12s} {'uncontrolled':>13s}  units")
     for key, value in summary["peaks"].items():
         ref = summary["reference_peaks"].get(key)
@@ -238,7 +286,8 @@ def main_run(args: argparse.Namespace) -> int:
                        controller=args.controller, records_dir=args.records_dir, out=args.out,
                        plot_dir=args.plot, n_modes=args.n_modes, control_step=args.control_step,
                        substep_tolerance=args.substep_tolerance,
-                       baseline_correct=args.baseline_correct, progress=not args.json)
+                       baseline_correct=args.baseline_correct, progress=not args.json,
+                       format=args.format, dt=args.dt, units=args.units)
     summary.pop("result", None)
     summary.pop("reference", None)
     if args.json:
@@ -257,23 +306,21 @@ def register(subparsers: Any) -> None:
                     "run, and report peaks and the evaluation criteria J1-J9.")
     p.add_argument("--record", required=True, metavar="NAME|PATH",
                    help="benchmark record name (e.g. kobe) or a record file")
-    p.add_argument("--orientation", default="FN-x", choices=("FN-x", "FP-x"),
-                   help="FN-x: first component on x; FP-x: swapped (default FN-x)")
     p.add_argument("--isolation", default=DEFAULT_NONLINEAR, metavar="NAME|FILE.json",
                    help=f"isolation layer: {', '.join(ISOLATION_NAMES)} or a JSON file "
                         f"(default {DEFAULT_NONLINEAR})")
     p.add_argument("--controller", default="none", metavar="NAME",
                    help="controller name; 'none' = no devices (default none)")
-    p.add_argument("--records-dir", default=None, metavar="DIR", help="directory of the benchmark records")
+    add_record_options(p)  # --orientation, --records-dir, --format, --dt, --units, --baseline-correct
     p.add_argument("--out", default=None, metavar="FILE.h5", help="write the time histories (HDF5)")
     p.add_argument("--plot", default=None, metavar="DIR", help="write figures (PNG) into DIR")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--n-modes", type=int, default=None, metavar="N",
                    help="keep the first N superstructure modes (default all 24)")
-    p.add_argument("--control-step", type=float, default=0.005, metavar="S",
-                   help="controller sample time [s] (default 0.005)")
+    p.add_argument("--control-step", type=float, default=None, metavar="S",
+                   help="controller sample time [s], a whole multiple of the record step (default: the "
+                        "benchmark's 0.005 s when it is one, else the multiple nearest to it, said on stderr; "
+                        "without a controller it does not matter)")
     p.add_argument("--substep-tolerance", type=float, default=None, metavar="TOL",
                    help="sub-step tolerance of the nonlinear bearings (default 0.75)")
-    p.add_argument("--baseline-correct", action="store_true",
-                   help="baseline-correct the record (off by default, as the benchmark distributes it)")
     p.set_defaults(func=main_run)

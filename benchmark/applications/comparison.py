@@ -35,6 +35,10 @@ from benchmark.foundation.provenance import provenance
 from benchmark.applications import comparison_plots
 from records.synthetic import benchmark_like
 from controllers.registry import get_controller
+from records.resolve import resolve_record
+from records.resolve import looks_like_file
+from records.catalogue import ORIENTATION_ALIASES
+from benchmark.applications.cli_run import choose_control_step
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -55,9 +59,14 @@ class ComparisonRun:
     elapsed_s: float = 0.0
     synthetic: bool = False
 
+    @property
+    def label(self) -> str:
+        """The record as tables show it: ``"kobe (synthetic)"`` for a generated motion."""
+        return f"{self.record} (synthetic)" if self.synthetic else self.record
+
     def to_json(self) -> dict:
-        return {"record": self.record, "orientation": self.orientation, "controller": self.controller,
-                "J": self.J, "peaks": self.peaks}
+        return {"record": self.record, "label": self.label, "synthetic": self.synthetic,
+                "orientation": self.orientation, "controller": self.controller, "J": self.J, "peaks": self.peaks}
 
 
 @dataclass
@@ -99,15 +108,16 @@ class ComparisonResult:
         """Fixed-width text table: J1–J9 per run, then mean and max per controller."""
         def fmt(v):
             return "   -  " if v is None else f"{v:6.3f}"
-        head = f"{'record':<10} {'orient':<6} {'controller':<16}" + "".join(f"{j:>7}" for j in J_NAMES)
+        width = max([10] + [len(r.label) for r in self.runs])  # "kobe (synthetic)", file names
+        head = f"{'record':<{width}} {'orient':<6} {'controller':<16}" + "".join(f"{j:>7}" for j in J_NAMES)
         lines = [head, "-" * len(head)]
         for r in self.runs:
-            lines.append(f"{r.record:<10} {r.orientation:<6} {r.controller:<16}"
+            lines.append(f"{r.label:<{width}} {r.orientation:<6} {r.controller:<16}"
                          + "".join(" " + fmt(r.J.get(j)) for j in J_NAMES))
         lines.append("-" * len(head))
         for name, entry in self.summary().items():
             for stat in ("mean", "max"):
-                lines.append(f"{stat:<10} {'all':<6} {name:<16}" + "".join(" " + fmt(entry[j][stat]) for j in J_NAMES))
+                lines.append(f"{stat:<{width}} {'all':<6} {name:<16}" + "".join(" " + fmt(entry[j][stat]) for j in J_NAMES))
         return "\n".join(lines)
 
     def write_hdf5(self, path: str | os.PathLike) -> Path:
@@ -175,10 +185,77 @@ def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: 
 
 
 # --------------------------------------------------------------------------- workers
-def _load_record(name: str, orientation: str, records_dir: str | None, synthetic: bool):
-    if synthetic:
-        return benchmark_like(name, orientation)
-    return load_benchmark_record(name, orientation, records_dir=records_dir)
+def _load_record(name: str, orientation: str, records_dir: str | None, synthetic: bool, **options):
+    """A benchmark record by name (recorded or synthetic) or a record file, through the resolver
+    every command uses (:func:`records.resolve.resolve_record`; ``options``: format, dt, units,
+    baseline_correct)."""
+
+    return resolve_record(name, orientation, records_dir=records_dir, synthetic=synthetic, **options)
+
+
+def _record_options(settings: dict) -> dict:
+    return {k: settings.get(k) for k in ("format", "dt", "units", "baseline_correct") if settings.get(k) is not None}
+
+
+def _parse_records(records: str | Sequence[str], names: Sequence[str]) -> list[str]:
+    """Benchmark names (checked, canonical) and record files (kept as given), in order."""
+
+    items = [r.strip() for r in records.split(",")] if isinstance(records, str) else [str(r) for r in records]
+    items = [r for r in items if r]
+    out: list[str] = []
+    for item in items:
+        if looks_like_file(item):
+            out.append(item)
+        else:
+            out.extend(parse_list(item, names, "records"))
+    if not out:
+        raise InputError("--records: no record given")
+    return list(dict.fromkeys(out))
+
+
+def _canonical_orientations(orientations: str | Sequence[str]) -> Any:
+    """Map the seed paper's FP-y / FN-y to FN-x / FP-x; leave anything else to :func:`parse_list`."""
+
+    aliases = {k.lower(): v for k, v in ORIENTATION_ALIASES.items()}
+    items = orientations.split(",") if isinstance(orientations, str) else list(orientations)
+    mapped = [aliases.get(str(o).strip().lower(), str(o).strip()) for o in items]
+    return ",".join(mapped) if isinstance(orientations, str) else mapped
+
+
+def _check_records(record_list: list[str], orientation: str, settings: dict,
+                   warn: bool) -> tuple[dict[str, str], dict[str, str], dict[str, float]]:
+    """Load each record once here: bad files and control steps that do not fit fail before any
+    run, implausible records are warned about, and each gets its row label (the catalogue name,
+    or the file's record name, made unique). Returns the labels by spec, and by label the units
+    each record's values were read in and its control step [s]."""
+    import sys
+
+
+    labels: dict[str, str] = {}
+    units: dict[str, str] = {}
+    steps: dict[str, float] = {}
+    seen: set[str] = set()
+    for spec in record_list:
+        record = _load_record(spec, orientation, settings.get("records_dir"), settings.get("synthetic", False),
+                              **_record_options(settings))
+        # a synthetic row keeps the catalogue name and says "(synthetic)" through ComparisonRun.label
+        base = record.name if looks_like_file(spec) else spec
+        label, k = base, 2
+        while label in seen:
+            label, k = f"{base}-{k}", k + 1
+        seen.add(label)
+        labels[spec] = label
+        units[label] = record.metadata.get("units_assumed", "")
+        step, note = choose_control_step(record.dt, settings.get("control_step"))  # names --control-step
+        steps[label] = step
+        if not warn:
+            continue
+        for flaw in record.metadata.get("flaws", []):
+            if "implausible" in flaw:
+                print(f"sbib compare: warning: {flaw}", file=sys.stderr, flush=True)
+        if note:
+            print(f"sbib compare: {label}: {note}", file=sys.stderr, flush=True)
+    return labels, units, steps
 
 
 _BUILDING_OVERRIDE: Any = None  # a caller's Building, installed in each worker by _init_worker
@@ -203,6 +280,9 @@ def _building(isolation: str | None, n_modes: int | None):
 
 def _simulate(building, record, controller, settings: dict):
     kwargs = {"control_step": settings["control_step"]}
+    if kwargs["control_step"] is None:  # pick one that fits the record (sbib run's rule)
+
+        kwargs["control_step"] = choose_control_step(record.dt)[0]
     if settings.get("noise") is not None:
         kwargs["noise"] = settings["noise"]
         kwargs["seed"] = settings.get("seed", 0)
@@ -212,7 +292,8 @@ def _simulate(building, record, controller, settings: dict):
 @lru_cache(maxsize=2)
 def _reference(record_name: str, orientation: str, settings_key: tuple):
     settings = dict(settings_key)
-    record = _load_record(record_name, orientation, settings.get("records_dir"), settings.get("synthetic", False))
+    record = _load_record(record_name, orientation, settings.get("records_dir"), settings.get("synthetic", False),
+                          **_record_options(settings))
     building = _building(settings.get("isolation"), settings.get("n_modes"))
     result = _simulate(building, record, None, settings)  # controller=None: no devices
     return record, result
@@ -242,7 +323,7 @@ def _controller_label(spec) -> str:
 
 def _run_one(task) -> tuple:
     """Worker: one controlled run (and, cached per worker, its reference)."""
-    record_name, orientation, spec, settings_key = task
+    record_name, orientation, spec, settings_key, *label = task
 
     t0 = time.perf_counter()
     record, reference = _reference(record_name, orientation, settings_key)
@@ -253,7 +334,8 @@ def _run_one(task) -> tuple:
         result = reference
     else:
         result = _simulate(building, record, controller, settings)
-    run = ComparisonRun(record=record_name, orientation=orientation, controller=_controller_label(spec),
+    run = ComparisonRun(record=label[0] if label else record_name, orientation=orientation,
+                        controller=_controller_label(spec),
                         J=evaluate(result, reference), peaks=peaks(result),
                         histories=_histories(result, _HISTORY_STEP), elapsed_s=time.perf_counter() - t0,
                         synthetic=bool(getattr(record, "synthetic", False)))
@@ -263,16 +345,19 @@ def _run_one(task) -> tuple:
 def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[str] = "both",
             controllers: str | Sequence[Any] = ("passive-off", "passive-on", "clipped-optimal"),
             isolation: str | None = None, records_dir: str | None = None, jobs: int | None = None,
-            control_step: float = 0.005, noise: Any = None, seed: int = 0, n_modes: int | None = None,
-            synthetic: bool = False, building: Any = None, progress: bool = True) -> ComparisonResult:
+            control_step: float | None = None, noise: Any = None, seed: int = 0, n_modes: int | None = None,
+            synthetic: bool = False, building: Any = None, progress: bool = True, format: str = "auto",
+            dt: float | None = None, units: str | None = None, baseline_correct: bool = False,
+            warn: bool = True) -> ComparisonResult:
     """Run every record × orientation × controller and evaluate each against the uncontrolled run.
 
     Parameters
     ----------
     records : "all", comma list or sequence
-        Benchmark record names (:data:`records.BENCHMARK_RECORDS`).
+        Benchmark record names (:data:`records.BENCHMARK_RECORDS`) and/or record files (any
+        format :func:`records.load_record` reads; rows are labelled with the file's stem).
     orientations : "both", comma list or sequence
-        ``FN-x`` and/or ``FP-x``.
+        ``FN-x`` and/or ``FP-x`` (the seed paper's ``FP-y`` = FN-x and ``FN-y`` = FP-x accepted).
     controllers : comma list or sequence
         Registered names (:mod:`controllers.registry`) or controller objects (picklable when
         ``jobs > 1``; each run gets a deep copy).
@@ -282,8 +367,9 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         Directory of the record files.
     jobs : int, optional
         Worker processes (default: all cores; 1 runs in this process).
-    control_step : float
-        [s]
+    control_step : float or None
+        [s]; ``None`` picks, per record, the benchmark's 0.005 s when it is a whole multiple of
+        the record step, else the nearest multiple (:func:`benchmark.applications.cli_run.choose_control_step`).
     noise : optional
         Measurement noise (e.g. :class:`controllers.noise.MeasurementNoise`), seeded by ``seed``.
     n_modes : int, optional
@@ -295,9 +381,15 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         ``isolation`` and ``n_modes`` are ignored).
     progress : bool
         Show a tqdm progress bar (on stderr).
+    format, dt, units, baseline_correct : optional
+        How to read record files (:func:`records.resolve.resolve_record`).
+    warn : bool
+        Print each record's implausibility flaws (:mod:`records.plausibility`) and any chosen
+        control step on stderr before the runs.
     """
-    record_list = parse_list(records, BENCHMARK_RECORDS, "records")
-    orientation_list = parse_list(orientations, ORIENTATIONS, "orientations", ("both", "all"))
+    record_list = _parse_records(records, BENCHMARK_RECORDS)
+    orientation_list = parse_list(_canonical_orientations(orientations), ORIENTATIONS, "orientations",
+                                  ("both", "all"))
     if isinstance(controllers, str):
         specs: list = parse_list(controllers, controller_names(), "controllers")
     else:
@@ -308,14 +400,18 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     labels = [_controller_label(s) for s in specs]
     if len(set(labels)) != len(labels):
         raise InputError(f"--controllers: duplicate names {labels}")
-    if not (math.isfinite(control_step) and control_step > 0):
+    if control_step is not None and not (math.isfinite(control_step) and control_step > 0):
         raise InputError(f"--control-step: expected a positive number of seconds, got {control_step}")
-    settings = {"control_step": float(control_step), "isolation": isolation, "records_dir":
-                None if records_dir is None else str(records_dir), "n_modes": n_modes,
+    settings = {"control_step": None if control_step is None else float(control_step), "isolation": isolation,
+                "records_dir": None if records_dir is None else str(records_dir), "n_modes": n_modes,
                 "synthetic": bool(synthetic), "seed": int(seed), "noise": noise,
+                "format": None if format in (None, "auto") else format, "dt": dt, "units": units,
+                "baseline_correct": bool(baseline_correct) or None,
                 "building": None if building is None else f"custom:{getattr(building, 'name', '?')}:{id(building)}"}
     settings_key = tuple(sorted(settings.items(), key=lambda kv: kv[0]))
-    tasks = [(rec, ori, spec, settings_key) for rec in record_list for ori in orientation_list for spec in specs]
+    labels_by_spec, record_units, control_steps = _check_records(record_list, orientation_list[0], settings, warn)
+    tasks = [(rec, ori, spec, settings_key, labels_by_spec[rec])
+             for rec in record_list for ori in orientation_list for spec in specs]
     n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
 
     from tqdm import tqdm
@@ -353,5 +449,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     public_settings["noise"] = None if noise is None else repr(noise)
     public_settings["controllers"] = labels
     public_settings["jobs"] = n_jobs
+    public_settings["record_units"] = record_units  # units each record's values were read in
+    public_settings["control_step_by_record"] = control_steps  # [s], chosen or given
     return ComparisonResult(runs=runs, references=references, reference_histories=ref_hist,
                             settings=public_settings)

@@ -65,6 +65,8 @@ from benchmark.applications.ensemble_simulation import run_case
 from benchmark.foundation.provenance import provenance
 from benchmark.foundation.errors import DataNotFoundError
 from records import BENCHMARK_RECORDS, ORIENTATIONS
+from records.catalogue import ORIENTATION_ALIASES
+from benchmark.foundation.textfile import read_text
 
 __all__ = [
     "Case",
@@ -278,7 +280,7 @@ class EnsembleConfig:
         path = Path(path)
         if not path.is_file():
             raise DataNotFoundError(f"ensemble config {path} not found")
-        text = path.read_text(encoding="utf-8")
+        text = read_text(path, "ensemble config")  # binary or not UTF-8: one-line InputError
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
@@ -301,7 +303,7 @@ class EnsembleConfig:
             if value == "all":
                 value = list(BENCHMARK_RECORDS)
             records = _check_str_list(value, f"{source}: field 'records'")
-        orientations = _check_str_list(data.get("orientations", list(orientations_allowed)),
+        orientations = _check_str_list(_seed_orientation_names(data.get("orientations", list(orientations_allowed))),
                                        f"{source}: field 'orientations'", allowed=orientations_allowed)
         templates: tuple[str, ...] = ()
         realisations = 0
@@ -385,6 +387,14 @@ class EnsembleConfig:
     def parameter_names(self) -> tuple[str, ...]:
         """Names of the grid parameters, in order."""
         return tuple(name for name, _ in self.grid)
+
+
+def _seed_orientation_names(value: Any) -> Any:
+    """Map the seed paper's ``FP-y`` / ``FN-y`` in a list to ``FN-x`` / ``FP-x`` (other values untouched)."""
+    aliases = {k.lower(): v for k, v in ORIENTATION_ALIASES.items()}
+    if not isinstance(value, list):
+        return value
+    return [aliases.get(v.strip().lower(), v) if isinstance(v, str) else v for v in value]
 
 
 def _orientations() -> tuple[str, ...]:

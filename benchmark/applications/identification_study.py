@@ -74,6 +74,7 @@ from benchmark.simulator.building import Building
 from benchmark.applications.identification_validation import measure_run
 from benchmark.applications.identification_validation import validate_in_building
 from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
+from records.catalogue import canonical_orientation
 
 __all__ = ["run_identify_study", "write_parameters_csv", "FIG6_PROTOCOL", "LARGE_LOOP_PROTOCOL",
            "FREE_KX", "FREE_KX_PCHIP"]
@@ -223,8 +224,9 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     timings: dict[str, float] = {}
     t_all = time.perf_counter()
     model = resolve_device(device)
-    pairs = [(r, o) for r in (records or BENCHMARK_RECORDS) for o in (orientations or ORIENTATIONS)] \
-        if validate else []
+
+    pairs = [(r, canonical_orientation(o)) for r in (records or BENCHMARK_RECORDS)
+             for o in (orientations or ORIENTATIONS)] if validate else []
     with_free = compare_free_kappa_x and kappa_x != "per-voltage"
     bar = None
     if progress:

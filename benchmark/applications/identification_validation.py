@@ -47,6 +47,7 @@ from damper.identification.parallel import make_executor, run_tasks, worker_coun
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from records.synthetic import benchmark_like
 from damper.identification.plots import plot_force_errors
+from records.catalogue import canonical_orientation
 
 #: Suffix of the model names replayed through the identified field filter.
 LAG_SUFFIX = "+lag"
@@ -400,7 +401,8 @@ def validate_in_building(building, identified: dict, lags: dict | None = None,
             raise InputError(f"rerun: {m!r} is not among the identified models {sorted(identified)}")
     if measured is None:
         records = tuple(records or BENCHMARK_RECORDS)
-        orientations = tuple(orientations or ORIENTATIONS)
+
+        orientations = tuple(canonical_orientation(o) for o in (orientations or ORIENTATIONS))
         pairs = [(r, o) for r in records for o in orientations]
     else:
         pairs = [(mr.record_name, mr.orientation) for mr in measured]

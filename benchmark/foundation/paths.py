@@ -3,7 +3,8 @@
 The project never copies the benchmark's data into the repository. They are read
 from a *shared* directory (the ``shared/`` folder beside the checkout), found in
 this order: an explicit argument, the ``SBIB_SHARED`` environment variable, then
-``../shared`` relative to the repository root. Records are looked up in
+``../shared`` relative to the repository root. A directory the user names (argument or
+``SBIB_SHARED``) that does not exist is an error naming it, not a silent fallback. Records are looked up in
 ``--records-dir``, ``SBIB_RECORDS_DIR``, then ``<shared>/records/raw/FDZ``.
 """
 
@@ -30,21 +31,27 @@ def shared_dir(explicit: str | os.PathLike | None = None) -> Path:
     Raises
     ------
     DataNotFoundError
-        If no candidate directory exists; the message lists what was tried.
+        If the directory named by ``explicit`` or ``SBIB_SHARED`` does not exist (the message
+        names it; there is no fallback then), or if neither is given and ``../shared`` is absent.
     """
-    tried = []
-    for candidate, origin in ((explicit, "argument"),
-                              (os.environ.get("SBIB_SHARED"), "SBIB_SHARED"),
-                              (_REPO_ROOT.parent / "shared", "default ../shared")):
+    # A directory the user named (argument or SBIB_SHARED) is used or refused, never skipped:
+    # falling back to ../shared behind the user's back would run on data they did not choose.
+    for candidate, origin in ((explicit, "argument"), (os.environ.get("SBIB_SHARED"), "SBIB_SHARED")):
         if candidate in (None, ""):
             continue
         path = Path(candidate).expanduser()
-        tried.append(f"{path} ({origin})")
-        if path.is_dir():
-            return path.resolve()
+        if not path.is_dir():
+            what = "does not exist" if not path.exists() else "is not a directory"
+            setting = f"SBIB_SHARED={candidate}" if origin == "SBIB_SHARED" else f"{path} (given as argument)"
+            raise DataNotFoundError(f"shared data directory {setting} {what}; set SBIB_SHARED to the folder "
+                                    "holding benchmark/structure.json and records/, or unset it")
+        return path.resolve()
+    path = _REPO_ROOT.parent / "shared"
+    if path.is_dir():
+        return path.resolve()
     raise DataNotFoundError(
-        "shared data directory not found; tried " + (", ".join(tried) or "nothing")
-        + ". Set SBIB_SHARED to the folder holding benchmark/structure.json and records/.")
+        f"shared data directory not found (SBIB_SHARED is not set and the default {path} does not exist); "
+        "set SBIB_SHARED to the folder holding benchmark/structure.json and records/")
 
 
 def records_dir(explicit: str | os.PathLike | None = None) -> Path:
@@ -62,7 +69,9 @@ def records_dir(explicit: str | os.PathLike | None = None) -> Path:
         if candidate not in (None, ""):
             path = Path(candidate).expanduser()
             if not path.is_dir():
-                raise DataNotFoundError(f"records directory {path} (from {origin}) does not exist")
+                setting = f"SBIB_RECORDS_DIR={candidate}" if origin == "SBIB_RECORDS_DIR" else f"{path} (from {origin})"
+                raise DataNotFoundError(f"records directory {setting} does not exist; give an existing "
+                                        "--records-dir or set SBIB_RECORDS_DIR to one")
             return path.resolve()
     path = shared_dir() / "records" / "raw" / "FDZ"
     if not path.is_dir():

@@ -147,14 +147,19 @@ def _ground_acceleration(record: Any) -> np.ndarray:
     return np.ascontiguousarray(ag)
 
 
-def _control_ratio(control_step: float, dt: float) -> int:
+def _control_ratio(control_step: float, dt: float, strict: bool = True) -> int:
+    """Record steps per control step. Without a controller (``strict=False``) the control step
+    does not matter: one that is not a whole multiple of ``dt`` is replaced by ``dt``."""
     if not (np.isfinite(control_step) and control_step > 0):
         raise InputError(f"control_step: expected a positive time in s, got {control_step!r}")
     ratio = control_step / dt
     r = int(round(ratio))
     if r < 1 or abs(ratio - r) > 1e-6 * max(1.0, ratio):
+        if not strict:
+            return 1
         raise InputError(f"control_step = {control_step:g} s must be a whole multiple of the record step "
-                         f"{dt:g} s (the structure steps at the record step)")
+                         f"{dt:g} s (the structure steps at the record step); give --control-step "
+                         f"{max(1, r) * dt:g} or another multiple of {dt:g} s")
     return r
 
 
@@ -215,6 +220,7 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         (``reset(context)`` and ``compiled()`` optional, see :mod:`controllers.base`).
     control_step : float
         Control sample time [s], a whole multiple of ``record.dt``; voltages are held between.
+        Without a controller it does not matter (one that does not fit is replaced by ``record.dt``).
     substep_tolerance : float, optional
         Replace the sub-step tolerance of every nonlinear bearing and device (smaller = more
         sub-steps, more accurate); ``None`` keeps each model's own value.
@@ -253,7 +259,10 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     if not (np.isfinite(dt) and dt > 0):
         raise InputError(f"record {getattr(record, 'name', '?')!r}: dt = {dt!r}; expected a positive step in s")
     n = ag.shape[0]
-    ratio = _control_ratio(control_step, dt)
+    # no controller, no devices: the control step does not matter (a PEER record at 0.01 s runs
+    # with the default 0.005 s)
+    no_controller = controller is None or (isinstance(controller, str) and controller.strip().lower() == "none")
+    ratio = _control_ratio(control_step, dt, strict=not no_controller)
     if n - 1 < ratio:
         raise InputError(f"record {getattr(record, 'name', '?')!r}: {n} samples ({(n - 1) * dt:g} s) is shorter "
                          f"than one control step ({ratio * dt:g} s); expected at least {ratio + 1} samples")

@@ -61,6 +61,7 @@ import scipy.linalg
 
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.paths import structure_file
+from benchmark.foundation.textfile import read_text
 
 __all__ = ["Superstructure", "load_superstructure", "transformation", "location_matrix",
            "N_FLOORS", "DOF_NAMES"]
@@ -297,7 +298,7 @@ def _field(data: dict, name: str, path: Path, shape: tuple | None = None) -> np.
 def _load_cached(path_str: str, mtime: float) -> Superstructure:
     path = Path(path_str)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(read_text(path, "benchmark structure file"))
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}: not valid JSON (line {exc.lineno}: {exc.msg})") from None
     n = 3 * N_FLOORS

@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Sequence
 
 import matplotlib
+from records.catalogue import SEED_ORIENTATION_NAMES
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -208,7 +209,10 @@ def plot_force_errors(run, path, device: int | None = None) -> Path:
     ax.set_ylabel("Device force (kN)")
     ax.set_xlabel("Time (s)")
     ax.grid(alpha=0.3)
-    fig.suptitle(f"Damper force errors, {run.record} {run.orientation}, damper {device + 1} "
+
+    seed_name = SEED_ORIENTATION_NAMES.get(run.orientation)  # the seed's Fig. 11 is "Kobe (FP-y)"
+    orientation = f"{run.orientation} (seed: {seed_name})" if seed_name else run.orientation
+    fig.suptitle(f"Damper force errors, {run.record} {orientation}, damper {device + 1} "
                  "(cf. seed Fig. 11)")
     fig.tight_layout()
     return _save(fig, path)

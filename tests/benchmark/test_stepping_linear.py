@@ -161,8 +161,8 @@ def test_bad_inputs_raise_clear_errors(building):
         simulate(building, SimpleNamespace(name="nan", dt=0.005, acceleration=acc))
     with pytest.raises(InputError, match="acceleration"):
         simulate(building, object())
-    with pytest.raises(InputError, match="whole multiple"):
-        simulate(building, _record(np.zeros((100, 2))), control_step=0.0075)
+    with pytest.raises(InputError, match="whole multiple"):  # without a controller it would not matter
+        simulate(building, _record(np.zeros((100, 2))), control_step=0.0075, controller="passive-off")
     with pytest.raises(InputError, match="shape"):
         simulate(building, SimpleNamespace(name="3c", dt=0.005, acceleration=np.zeros((100, 3))))
     with pytest.raises(InputError, match="no devices"):

@@ -104,6 +104,9 @@ def test_catalogue_measures_were_measured_on_the_files(records_dir):
             assert significant_duration(a, rec.dt) == pytest.approx(entry.significant_duration_s[c], abs=0.006)
             assert mean_period(a, rec.dt) == pytest.approx(entry.mean_period_s[c], abs=6e-4)
         assert np.allclose(rec.pgv, entry.pgv_m_s, atol=6e-4)
+        from records.baseline import baseline_correct
+
+        assert np.allclose(baseline_correct(rec).pgd, entry.pgd_m, atol=6e-4)
         assert rec.n_samples == entry.n_samples
 
 

@@ -65,6 +65,7 @@ from benchmark.simulator.isolation.friction_pendulum import FrictionPendulumBear
 from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing
 from benchmark.simulator.isolation.linear import LinearBearing
 from benchmark.simulator.isolation.registry import MAX_PARAMS, MAX_STATES, bearing_type
+from benchmark.foundation.textfile import read_text
 
 __all__ = [
     "BearingGroup", "IsolationLayer", "PackedIsolation", "get_isolation", "load_isolation",
@@ -369,7 +370,7 @@ def load_isolation(path: str | os.PathLike) -> IsolationLayer:
     if not path.is_file():
         raise DataNotFoundError(f"isolation configuration file {path} not found")
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(read_text(path, "isolation configuration file"))
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}:{exc.lineno}: invalid JSON ({exc.msg})") from None
     return isolation_from_dict(data, where=str(path))

@@ -1,0 +1,145 @@
+"""One resolver for "a benchmark record name or a record file, in an orientation".
+
+Every command that takes a record (``sbib run --record``, ``sbib compare --records``,
+``sbib records show``) and their Python functions go through :func:`resolve_record`, so that
+names, files, orientations (the seed paper's ``FP-y`` / ``FN-y`` included), ``dt``, units,
+format and baseline correction mean the same everywhere. The command-line options that feed
+it are added by :func:`records.options.add_record_options`.
+
+Orientation of a record file: a file with two or more components puts column 1 on x and
+column 2 on y for ``FN-x`` and swaps them for ``FP-x``; a one-component file goes on x for
+``FN-x`` and on y for ``FP-x`` (the other direction is zero). Benchmark records by name follow
+:func:`records.catalogue.load_benchmark_record` (the same rule on the file's two columns).
+
+Every record returned carries ``metadata["orientation"]``, ``metadata["units_assumed"]``
+(the units its file's values were read in and why, e.g. ``"cm/s2 (benchmark default ...)"``)
+and ``metadata["flaws"]`` (:func:`records.checks.check_record`, plausibility included).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from benchmark.foundation.errors import DataNotFoundError, InputError
+from records.record import Record, units_assumed
+from records.catalogue import canonical_name, canonical_orientation, load_benchmark_record
+from records.checks import check_record
+from records.readers import load_record
+from records.baseline import baseline_correct as _correct
+from records.synthetic import benchmark_like
+from records.catalogue import BENCHMARK_RECORDS
+
+__all__ = ["resolve_record", "looks_like_file", "units_assumed", "RECORD_SUFFIXES"]
+
+#: File suffixes that make a ``--record`` value a path even when the file does not exist.
+RECORD_SUFFIXES = frozenset({".txt", ".at2", ".csv", ".dat", ".acc", ".tsv"})
+
+
+def looks_like_file(spec: str | os.PathLike) -> bool:
+    """True when ``spec`` names a file rather than a benchmark record (it exists, has a
+    directory part or a record suffix such as ``.AT2``)."""
+    text = str(spec)
+    path = Path(text).expanduser()
+    return path.exists() or "/" in text or "\\" in text or path.suffix.lower() in RECORD_SUFFIXES
+
+
+def _orient_file_record(record: Record, orientation: str) -> Record:
+    acc = np.asarray(record.acceleration, dtype=float)
+    if acc.shape[1] == 1:
+        zeros = np.zeros_like(acc)
+        both = np.hstack([acc, zeros]) if orientation == "FN-x" else np.hstack([zeros, acc])
+        label = tuple(record.labels)[0] if record.labels else "component"
+        labels = (label, "zero") if orientation == "FN-x" else ("zero", label)
+        record = record.replace(acceleration=both, labels=labels)
+        meta = dict(record.metadata, x_file_column=1 if orientation == "FN-x" else None,
+                    y_file_column=None if orientation == "FN-x" else 1)
+    else:
+        order = [0, 1] if orientation == "FN-x" else [1, 0]
+        record = record.select(order)
+        meta = dict(record.metadata, x_file_column=order[0] + 1, y_file_column=order[1] + 1)
+    meta["orientation"] = orientation
+    return record.replace(metadata=meta)
+
+
+def resolve_record(spec: str | os.PathLike, orientation: str = "FN-x", records_dir: str | os.PathLike | None = None,
+                   baseline_correct: bool = False, format: str = "auto", dt: float | None = None,
+                   units: str | None = None, synthetic: bool = False, seed: int = 0) -> Record:
+    """Load a record by benchmark name or file path, oriented as asked (component 0 on x, 1 on y).
+
+    Parameters
+    ----------
+    spec : str or path-like
+        A benchmark record name (:data:`records.BENCHMARK_RECORDS`, ``erzincan`` accepted) or a
+        record file in any format :func:`records.readers.load_record` reads.
+    orientation : str
+        ``FN-x``, ``FP-x`` or the seed paper's ``FP-y`` (= FN-x), ``FN-y`` (= FP-x).
+    records_dir : path-like, optional
+        Directory of the benchmark's files (names only).
+    baseline_correct : bool
+        Apply :func:`records.baseline.baseline_correct`.
+    format : {"auto", "benchmark", "at2", "single", "csv"}
+        File format (files only).
+    dt : float, optional
+        Time step [s] (files only): required for single-column files, checked against the others.
+    units : str, optional
+        Units of the file's values (files only), e.g. ``"g"``, ``"cm/s2"``; see
+        :func:`records.readers.unit_factor`.
+    synthetic : bool
+        Return the synthetic benchmark-like record (:func:`records.synthetic.benchmark_like`)
+        of the named benchmark record instead of the recorded one.
+    seed : int
+        Seed of the synthetic record.
+
+    Returns
+    -------
+    Record
+        Two components [m/s²] (x, y), with ``metadata["orientation"]`` (canonical FN-x or FP-x),
+        ``metadata["units_assumed"]`` and ``metadata["flaws"]`` (messages).
+
+    Raises
+    ------
+    InputError
+        Unknown name or orientation, malformed file, options that do not apply.
+    DataNotFoundError
+        The file, or the benchmark records directory, does not exist.
+    """
+
+    orientation = canonical_orientation(orientation)
+    text = str(spec)
+    if not looks_like_file(text):
+        try:
+            canonical_name(text)
+        except InputError:
+            raise InputError(f"record {text!r} is neither a benchmark record ({', '.join(BENCHMARK_RECORDS)}; "
+                             "erzincan accepted) nor an existing file") from None
+        if dt is not None or units is not None or format not in (None, "auto"):
+            raise InputError(f"record {text!r}: --dt, --units and --format apply to record files; the "
+                             "benchmark records' step and units are known")
+        if synthetic:
+            record = benchmark_like(canonical_name(text), orientation, seed=seed)
+            meta = dict(record.metadata)
+            meta.setdefault("flaws", [f.message for f in check_record(record)])
+        else:
+            record = load_benchmark_record(text, orientation=orientation, records_dir=records_dir)
+            meta = dict(record.metadata)
+    else:
+        if synthetic:
+            raise InputError(f"--synthetic needs a benchmark record name, got the file {text!r}")
+
+        path = Path(text).expanduser()
+        if not path.is_file():
+            raise DataNotFoundError(f"record {text}: file not found" if not path.exists()
+                                    else f"record {text}: not a regular file")
+        record = load_record(path, format=format or "auto", dt=dt, units=units)
+        meta = dict(record.metadata)
+        meta["flaws"] = [f.message for f in check_record(record)]
+        record = _orient_file_record(record.replace(metadata=meta), orientation)
+        meta = dict(record.metadata)
+    meta["units_assumed"] = units_assumed(record)
+    record = record.replace(metadata=meta)
+    if baseline_correct:
+        record = _correct(record)
+    return record
