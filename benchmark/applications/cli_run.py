@@ -17,7 +17,7 @@ options are those of every command that takes a record (:mod:`records.options`).
 implausibility flaws (:mod:`records.plausibility`: wrong units, wrong dt) are warned about on
 stderr. Without a controller the control step does not matter; with one, the default is the
 benchmark's 0.005 s when it is a whole multiple of the record step, else the nearest whole
-multiple, said on stderr (:func:`choose_control_step`).
+multiple, said on stderr (:func:`benchmark.simulator.case.choose_control_step`).
 
 ``--json`` prints exactly one JSON object on stdout::
 
@@ -30,7 +30,8 @@ multiple, said on stderr (:func:`choose_control_step`).
      "reference_peaks": {same keys, uncontrolled run}, "corners": {...}, "out": path or null,
      "plots": [paths]}
 
-The Python equivalent of the command is :func:`run_case`.
+The Python equivalent of the command is :func:`benchmark.simulator.case.run_case`
+(:func:`run_command` adds the saving, plotting and printing).
 """
 
 from __future__ import annotations
@@ -40,94 +41,20 @@ import json
 import math
 import sys
 import time
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.simulator.building import Building
-from benchmark.simulator.evaluation import corner_responses, evaluate, peaks, plan_corners
-from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
-from benchmark.simulator.simulation import simulate
-from controllers.registry import get_controller
-from records import ORIENTATIONS, load_benchmark_record, load_record
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.evaluation import corner_responses, peaks, plan_corners
 from benchmark.simulator.evaluation import J_DESCRIPTIONS, PEAK_UNITS
-from benchmark.simulator.isolation.configurations import ISOLATION_NAMES
-from records.baseline import baseline_correct as _correct
+from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, ISOLATION_NAMES
 from benchmark.simulator.results import write_result
 from benchmark.simulator.plots import plot_run
-from records.resolve import resolve_record as _resolve
 from records.options import add_record_options
+from benchmark.simulator.case import Case, run_case
 
-__all__ = ["register", "run_case", "resolve_record", "choose_control_step", "main_run", "DEFAULT_CONTROL_STEP"]
-
-def resolve_record(spec: str, orientation: str = "FN-x", records_dir: str | None = None,
-                   baseline_correct: bool = False, format: str = "auto", dt: float | None = None,
-                   units: str | None = None):
-    """Load a record by benchmark name or file path, oriented as asked (x, y components).
-
-    The one resolver every command uses, :func:`records.resolve.resolve_record` (see there for
-    the orientation of files, the seed paper's ``FP-y`` / ``FN-y`` and the options).
-
-    Returns
-    -------
-    records.Record
-        Two components [m/s²], column 0 on x, column 1 on y; ``metadata`` holds the canonical
-        orientation, ``units_assumed`` and ``flaws``.
-    """
-
-    return _resolve(spec, orientation, records_dir=records_dir, baseline_correct=baseline_correct,
-                    format=format, dt=dt, units=units)
-
-
-#: The benchmark's control sample time [s] (Narasimhan et al. 2006), used when it fits the record.
-DEFAULT_CONTROL_STEP = 0.005
-
-
-def choose_control_step(record_dt: float, requested: float | None = None) -> tuple[float, str]:
-    """Return the control step [s] for a record step and why it was chosen.
-
-    Parameters
-    ----------
-    record_dt : float
-        The record's time step [s]; the structure steps at it, so the control step must be a
-        whole multiple of it.
-    requested : float, optional
-        ``--control-step`` as given; ``None`` picks one.
-
-    Returns
-    -------
-    (float, str)
-        The control step and a note ("" when it is the benchmark's 0.005 s or the requested one).
-        Without a request: 0.005 s when it is a whole multiple of the record step, else the
-        whole multiple of the record step nearest to 0.005 s (at least one step), e.g. 0.01 s for
-        a PEER record at dt = 0.01 s.
-
-    Raises
-    ------
-    InputError
-        A requested step that is not positive or not a whole multiple of ``record_dt``; the
-        message names ``--control-step`` and a step that would work.
-    """
-    if requested is not None:
-        if not (math.isfinite(requested) and requested > 0):
-            raise InputError(f"--control-step {requested!r}: expected a positive number of seconds")
-        ratio = requested / record_dt
-        if abs(ratio - round(ratio)) > 1e-6 * max(1.0, ratio) or round(ratio) < 1:
-            k = max(1, round(ratio))
-            raise InputError(f"--control-step {requested:g} s is not a whole multiple of the record step "
-                             f"{record_dt:g} s; give --control-step {k * record_dt:g} (or another multiple of "
-                             f"{record_dt:g} s), or leave it out to pick one")
-        return float(requested), ""
-    ratio = DEFAULT_CONTROL_STEP / record_dt
-    k = max(1, round(ratio))
-    if abs(ratio - k) <= 1e-6 * max(1.0, ratio):
-        return DEFAULT_CONTROL_STEP, ""
-    step = k * record_dt
-    return step, (f"control step {step:g} s: the benchmark's {DEFAULT_CONTROL_STEP:g} s is not a whole multiple "
-                  f"of the record step {record_dt:g} s (give --control-step to choose another multiple)")
-
+__all__ = ["register", "run_command", "main_run"]
 
 def _clean(d: dict[str, Any]) -> dict[str, Any]:
     out = {}
@@ -143,18 +70,19 @@ def _clean(d: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def run_case(record: str, orientation: str = "FN-x", isolation: str | None = None,
+def run_command(record: str, orientation: str = "FN-x", isolation: str | None = None,
              controller: str = "none", records_dir: str | None = None, out: str | None = None,
              plot_dir: str | None = None, n_modes: int | None = None, control_step: float | None = None,
              substep_tolerance: float | None = None, baseline_correct: bool = False,
              progress: bool = False, format: str = "auto", dt: float | None = None,
              units: str | None = None, warn: bool = True) -> dict[str, Any]:
-    """Run one case and its uncontrolled reference; evaluate, and optionally save and plot.
+    """``sbib run``: run one case and its reference (:func:`benchmark.simulator.case.run_case`),
+    evaluate, and optionally save and plot.
 
     Parameters
     ----------
     record : str
-        Benchmark record name or record file path (see :func:`resolve_record`).
+        Benchmark record name or record file path (see :func:`records.resolve.resolve_record`).
     orientation : {"FN-x", "FP-x"}
     isolation : str, optional
         Named isolation layer or JSON file (default: the default nonlinear one, ``friction-lrb``).
@@ -188,39 +116,29 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
     """
 
     start = time.perf_counter()
-    if control_step is not None and not (math.isfinite(control_step) and control_step > 0):
-        raise InputError(f"--control-step {control_step!r}: expected a positive number of seconds")
-    rec = resolve_record(record, orientation, records_dir, baseline_correct, format=format, dt=dt, units=units)
-    orientation = rec.metadata.get("orientation", orientation)
-    layer = get_isolation(isolation or DEFAULT_NONLINEAR, substep_tolerance=substep_tolerance)
-    ctrl = get_controller(controller)
-    implausible = [f for f in rec.metadata.get("flaws", []) if "implausible" in f]
-    if warn:
-        for flaw in implausible:
-            print(f"sbib run: warning: {flaw}", file=sys.stderr, flush=True)
-    if ctrl is None:  # no devices, no controller: the control step does not matter
-        control_step = control_step if control_step is not None else rec.dt
-    else:
-        control_step, note = choose_control_step(rec.dt, control_step)
-        if note and warn:
-            print(f"sbib run: {note}", file=sys.stderr, flush=True)
-    devices = None if ctrl is None else "default"
-    building = Building.default(isolation=layer, devices=devices, n_modes=n_modes)
 
     def say(msg: str) -> None:
         if progress:
             print(f"sbib run: {msg}", file=sys.stderr, flush=True)
 
-    say(f"reference run (no devices): {rec.name}, {orientation}, {layer.name}")
-    info = {"record": rec.name, "orientation": orientation, "isolation": layer.name}
-    reference = simulate(building.without_devices(), rec, controller=None, control_step=control_step,
-                         info=info)
-    if ctrl is None:
-        result = reference
-    else:
-        say(f"controlled run: {controller}")
-        result = simulate(building, rec, controller=ctrl, control_step=control_step, info=info)
-    J = evaluate(result, reference)
+    if control_step is not None and not (math.isfinite(control_step) and control_step > 0):
+        raise InputError(f"--control-step {control_step!r}: expected a positive number of seconds")
+    record_options = {"records_dir": records_dir, "baseline_correct": baseline_correct, "format": format,
+                      "dt": dt, "units": units}
+    case = Case(record=record, orientation=orientation, controller=controller, isolation=isolation,
+                n_modes=n_modes, control_step=control_step, record_options=record_options,
+                options={} if substep_tolerance is None else {"substep_tolerance": substep_tolerance})
+    run = run_case(case)  # the one way to run a case (benchmark.simulator.case)
+    say(f"ran {run.record.name} ({orientation}) and its uncontrolled reference in "
+        f"{time.perf_counter() - start:.1f} s")
+    if warn:
+        for note in run.notes:
+            print(f"sbib run: {'warning: ' if 'implausible' in note else ''}{note}", file=sys.stderr, flush=True)
+    rec, building, result, reference, J = run.record, run.building, run.result, run.reference, run.J
+    orientation = rec.metadata.get("orientation", orientation)
+    layer = building.isolation
+    ctrl_used = result is not reference
+    control_step = run.control_step
     sup = building.superstructure
     corners = corner_responses(result, plan_corners(sup.bearing_xy), sup.storey_heights)
     summary: dict[str, Any] = {
@@ -228,10 +146,10 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         "orientation": orientation,
         "isolation": layer.name,
         "controller": controller,
-        "control_step_s": float(control_step) if ctrl is not None else None,
+        "control_step_s": float(control_step) if ctrl_used else None,
         "units_assumed": rec.metadata.get("units_assumed", ""),
         "record_flaws": list(rec.metadata.get("flaws", [])),
-        "peaks": _clean(peaks(result)),
+        "peaks": _clean(run.peaks),
         "J": {k: v for k, v in _clean(J).items()},
         "reference_peaks": _clean(peaks(reference)),
         "corners": {"corners_m": corners["corners"].tolist(),
@@ -281,8 +199,8 @@ def _print_table(summary: dict[str, Any]) -> None:
 
 
 def main_run(args: argparse.Namespace) -> int:
-    """Entry point of ``sbib run``: run :func:`run_case` with the parsed ``args``; return the exit status."""
-    summary = run_case(args.record, orientation=args.orientation, isolation=args.isolation,
+    """Entry point of ``sbib run``: run :func:`run_command` with the parsed ``args``; return the exit status."""
+    summary = run_command(args.record, orientation=args.orientation, isolation=args.isolation,
                        controller=args.controller, records_dir=args.records_dir, out=args.out,
                        plot_dir=args.plot, n_modes=args.n_modes, control_step=args.control_step,
                        substep_tolerance=args.substep_tolerance,

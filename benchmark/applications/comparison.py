@@ -38,7 +38,7 @@ from controllers.registry import get_controller
 from records.resolve import resolve_record
 from records.resolve import looks_like_file
 from records.catalogue import ORIENTATION_ALIASES
-from benchmark.applications.cli_run import choose_control_step
+from benchmark.simulator.case import choose_control_step
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -369,7 +369,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         Worker processes (default: all cores; 1 runs in this process).
     control_step : float or None
         [s]; ``None`` picks, per record, the benchmark's 0.005 s when it is a whole multiple of
-        the record step, else the nearest multiple (:func:`benchmark.applications.cli_run.choose_control_step`).
+        the record step, else the nearest multiple (:func:`benchmark.simulator.case.choose_control_step`).
     noise : optional
         Measurement noise (e.g. :class:`controllers.noise.MeasurementNoise`), seeded by ``seed``.
     n_modes : int, optional

@@ -97,9 +97,9 @@ def test_bad_input_is_one_line_and_exit_2(capsys, records_dir, args, message):
 
 
 def test_python_api_returns_results(records_dir, short_record_files):
-    from benchmark.applications.cli_run import run_case
+    from benchmark.applications.cli_run import run_command
     two, _ = short_record_files
-    s = run_case(str(two), "FN-x", "linear", "none")
+    s = run_command(str(two), "FN-x", "linear", "none")
     assert s["result"] is s["reference"]
     assert np.max(np.hypot(*s["result"].base_displacement[:, :2].T)) == pytest.approx(
         s["peaks"]["peak_base_displacement"])

@@ -1,0 +1,296 @@
+"""One way to run a case: a record on a building with a controller, and its uncontrolled reference.
+
+A :class:`Case` names everything a run needs: the record (a benchmark name, a file, or a
+:class:`records.Record`) and its orientation, the building (given, or the default one with an
+isolation layer, a number of modes and a damper model), the controller and the options of
+:func:`benchmark.simulator.simulation.simulate`. :func:`run_case` resolves the record through the
+one resolver (:func:`records.resolve.resolve_record`), picks the control step, runs the
+controlled building and, once per building and record, the same building without devices (the
+reference of J1-J9, Narasimhan et al. 2006), and evaluates both. ``sbib run``, ``sbib compare``,
+ensembles, the identification study's runs in the building and the main job all go through it.
+
+The reference runs are kept in a small cache (:class:`ReferenceCache`): a comparison of five
+controllers on one record runs the uncontrolled building once.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.building import Building
+from benchmark.simulator.evaluation import evaluate, peaks
+from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
+from benchmark.simulator.simulation import SimulationResult, simulate
+from controllers.registry import get_controller
+from damper.base import DamperModel
+from records.record import Record
+from records.resolve import resolve_record
+
+__all__ = ["Case", "CaseResult", "ReferenceCache", "REFERENCES", "run_case", "choose_control_step",
+           "DEFAULT_CONTROL_STEP", "resolve_case_record"]
+
+#: The benchmark's control sample time [s] (Narasimhan et al. 2006), used when it fits the record.
+DEFAULT_CONTROL_STEP = 0.005
+
+
+def choose_control_step(record_dt: float, requested: float | None = None) -> tuple[float, str]:
+    """Return the control step [s] for a record step and why it was chosen.
+
+    Parameters
+    ----------
+    record_dt : float
+        The record's time step [s]; the structure steps at it, so the control step must be a
+        whole multiple of it.
+    requested : float, optional
+        ``--control-step`` as given; ``None`` picks one.
+
+    Returns
+    -------
+    step : float
+        The requested step when it fits; otherwise the benchmark's 0.005 s when it is a whole
+        multiple of the record step, else the whole multiple of the record step nearest to
+        0.005 s (at least one step), e.g. 0.01 s for a PEER record at dt = 0.01 s.
+    note : str
+        Empty, or one line saying which step was picked and why.
+
+    Raises
+    ------
+    InputError
+        A requested step that is not positive or not a whole multiple of ``record_dt``; the
+        message names ``--control-step`` and a step that would work.
+    """
+    if requested is not None:
+        if not (math.isfinite(requested) and requested > 0):
+            raise InputError(f"--control-step {requested!r}: expected a positive number of seconds")
+        ratio = requested / record_dt
+        if abs(ratio - round(ratio)) > 1e-6 * max(1.0, ratio) or round(ratio) < 1:
+            k = max(1, round(ratio))
+            raise InputError(f"--control-step {requested:g} s is not a whole multiple of the record step "
+                             f"{record_dt:g} s; give --control-step {k * record_dt:g} (or another multiple of "
+                             f"{record_dt:g} s), or leave it out to pick one")
+        return float(requested), ""
+    ratio = DEFAULT_CONTROL_STEP / record_dt
+    k = max(1, round(ratio))
+    if abs(ratio - k) <= 1e-6 * max(1.0, ratio):
+        return DEFAULT_CONTROL_STEP, ""
+    step = k * record_dt
+    return step, (f"control step {step:g} s: the benchmark's {DEFAULT_CONTROL_STEP:g} s is not a whole multiple "
+                  f"of the record step {record_dt:g} s (give --control-step to choose another)")
+
+
+@dataclass(frozen=True)
+class Case:
+    """Everything one run needs (SI units).
+
+    Parameters
+    ----------
+    record : str or records.Record
+        A benchmark record name, a record file, or a record already loaded (then ``orientation``
+        and ``record_options`` are not used).
+    orientation : str
+        ``FN-x``, ``FP-x`` or the seed paper's ``FP-y`` (= FN-x), ``FN-y`` (= FP-x).
+    controller : str, controller object or None
+        A name of :mod:`controllers.registry` (``"none"``: no devices), or an object with
+        ``step(measurements) -> voltages``.
+    building : Building, optional
+        The building; default :meth:`Building.default` with ``isolation``, ``n_modes`` and
+        ``damper_model``.
+    isolation : str, optional
+        Named isolation layer or JSON file (default: ``friction-lrb``).
+    n_modes : int, optional
+        Reduced superstructure (default all 24 modes).
+    damper_model : DamperModel or str, optional
+        Model of every device of the default layout (default: the virtual benchmark damper).
+    control_step : float, optional
+        Control sample time [s]; ``None`` picks one that fits the record
+        (:func:`choose_control_step`).
+    record_options : dict
+        Keyword arguments of :func:`records.resolve.resolve_record` (``records_dir``,
+        ``baseline_correct``, ``format``, ``dt``, ``units``, ``synthetic``, ``seed``).
+    options : dict
+        Keyword arguments of :func:`benchmark.simulator.simulation.simulate` for both runs
+        (``substep_tolerance``, ``noise``, ``seed``, ``record_states``, ...).
+    label : str
+        Free text carried into the results' ``info``.
+    """
+
+    record: str | Record
+    orientation: str = "FN-x"
+    controller: Any = "none"
+    building: Building | None = None
+    isolation: str | None = None
+    n_modes: int | None = None
+    damper_model: DamperModel | str | None = None
+    control_step: float | None = None
+    record_options: dict = field(default_factory=dict)
+    options: dict = field(default_factory=dict)
+    label: str = ""
+
+
+@dataclass
+class CaseResult:
+    """A run, its reference and their evaluation.
+
+    Attributes
+    ----------
+    case : Case
+    record : records.Record
+        The record as run (oriented, corrected, scaled).
+    building : Building
+        The building with devices (without devices when the case has no controller).
+    result, reference : SimulationResult
+        The controlled run and the same building without devices (the same object when the case
+        has no controller).
+    control_step : float
+        The control step used [s].
+    notes : list of str
+        Lines for the user (the control step picked, implausible-record flags).
+    J : dict
+        J1-J9 of :func:`benchmark.simulator.evaluation.evaluate` (``None`` where undefined).
+    peaks : dict
+        Peak responses of :func:`benchmark.simulator.evaluation.peaks` (SI).
+    """
+
+    case: Case
+    record: Record
+    building: Building
+    result: SimulationResult
+    reference: SimulationResult
+    control_step: float
+    notes: list[str] = field(default_factory=list)
+    J: dict = field(default_factory=dict)
+    peaks: dict = field(default_factory=dict)
+
+
+def _record_key(record: Record) -> tuple:
+    acc = np.ascontiguousarray(record.acceleration)
+    return (record.name, float(record.dt), acc.shape, hashlib.sha1(acc.tobytes()).hexdigest())
+
+
+def _options_key(options: dict) -> tuple:
+    out = []
+    for k in sorted(options):
+        v = options[k]
+        if isinstance(v, np.ndarray):
+            v = ("array", v.shape, hashlib.sha1(np.ascontiguousarray(v).tobytes()).hexdigest())
+        elif not isinstance(v, (int, float, str, bool, type(None), tuple)):
+            v = ("object", id(v))
+        out.append((k, v))
+    return tuple(out)
+
+
+class ReferenceCache:
+    """The last few uncontrolled runs, by building, record, control step and options.
+
+    A building is keyed by identity and kept alive by the cache while its entry lives, so a
+    caller that reuses one building (a comparison, an ensemble, a study) runs each reference once.
+    """
+
+    def __init__(self, size: int = 8) -> None:
+        self.size = int(size)
+        self._entries: OrderedDict[tuple, tuple[Building, SimulationResult]] = OrderedDict()
+
+    def get(self, building: Building, record: Record, control_step: float, options: dict) -> SimulationResult:
+        """The run of ``building`` without devices under ``record`` (computed on a miss)."""
+        key = (id(building), _record_key(record), float(control_step), _options_key(options))
+        hit = self._entries.get(key)
+        if hit is not None and hit[0] is building:
+            self._entries.move_to_end(key)
+            return hit[1]
+        info = {"record": record.name, "orientation": record.metadata.get("orientation", ""),
+                "isolation": building.isolation.name}
+        reference = simulate(building.without_devices(), record, controller=None, control_step=control_step,
+                             info=info, **options)
+        self._entries[key] = (building, reference)
+        while len(self._entries) > self.size:
+            self._entries.popitem(last=False)
+        return reference
+
+    def clear(self) -> None:
+        """Forget every entry."""
+        self._entries.clear()
+
+
+#: The process-wide cache :func:`run_case` uses by default.
+REFERENCES = ReferenceCache()
+
+
+def resolve_case_record(case: Case) -> Record:
+    """The case's record: given, or through :func:`records.resolve.resolve_record` (the one
+    resolver of a benchmark name or a file with an orientation)."""
+    if isinstance(case.record, Record):
+        return case.record
+    if not isinstance(case.record, str) or not case.record:
+        raise InputError(f"case record: expected a benchmark record name, a file or a Record, got {case.record!r}")
+    return resolve_record(case.record, case.orientation, **case.record_options)
+
+
+def _case_building(case: Case, with_devices: bool) -> Building:
+    if case.building is not None:
+        return case.building if with_devices else case.building.without_devices()
+    tolerance = case.options.get("substep_tolerance")
+    layer = get_isolation(case.isolation or DEFAULT_NONLINEAR, substep_tolerance=tolerance)
+    return Building.default(isolation=layer, devices="default" if with_devices else None, n_modes=case.n_modes,
+                            damper_model=case.damper_model)
+
+
+def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = REFERENCES) -> CaseResult:
+    """Run ``case`` and (``reference=True``) its uncontrolled reference, and evaluate them.
+
+    Parameters
+    ----------
+    case : Case
+    reference : bool
+        Also run the building without devices and compute J1-J9 (cached in ``cache``).
+    cache : ReferenceCache or None
+        Where the references are kept (``None``: not kept).
+
+    Returns
+    -------
+    CaseResult
+
+    Raises
+    ------
+    InputError
+        An unknown record, controller or option, or a control step that does not fit the record.
+    NumericalError
+        A run failed (its time and state are in the error).
+    """
+    record = resolve_case_record(case)
+    controller = get_controller(case.controller) if isinstance(case.controller, str) else case.controller
+    notes = [f for f in record.metadata.get("flaws", []) if "implausible" in str(f)]
+    if controller is None:  # no devices, no controller: the control step does not matter
+        control_step = case.control_step if case.control_step is not None else record.dt
+    else:
+        control_step, note = choose_control_step(record.dt, case.control_step)
+        if note:
+            notes.append(note)
+    building = _case_building(case, with_devices=controller is not None)
+    options = dict(case.options)
+    info = {"record": record.name, "orientation": record.metadata.get("orientation", case.orientation),
+            "isolation": building.isolation.name, **({"label": case.label} if case.label else {})}
+    ref: SimulationResult | None = None
+    if reference or controller is None:
+        if cache is None:
+            ref = simulate(building.without_devices(), record, controller=None, control_step=control_step,
+                           info=info, **options)
+        else:
+            ref = cache.get(building, record, control_step, options)
+    if controller is None:
+        assert ref is not None
+        result = ref
+    else:
+        result = simulate(building, record, controller=controller, control_step=control_step, info=info, **options)
+    out = CaseResult(case=case, record=record, building=building, result=result,
+                     reference=ref if ref is not None else result, control_step=float(control_step), notes=notes)
+    out.peaks = peaks(result)
+    if ref is not None:
+        out.J = evaluate(result, ref)
+    return out
