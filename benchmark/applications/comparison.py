@@ -20,25 +20,23 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
-from benchmark.foundation.errors import InputError, SbibError
+from benchmark.foundation.errors import InputError
 from benchmark.simulator.building import Building
-from benchmark.simulator.simulation import simulate
-from benchmark.simulator.evaluation import evaluate, peaks
+from benchmark.simulator.evaluation import peaks
 from controllers.registry import controller_names
-from records import BENCHMARK_RECORDS, ORIENTATIONS, load_benchmark_record
+from records import BENCHMARK_RECORDS, ORIENTATIONS
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.provenance import provenance
 from benchmark.applications import comparison_plots
-from records.synthetic import benchmark_like
 from controllers.registry import get_controller
 from records.resolve import resolve_record
 from records.resolve import looks_like_file
 from records.catalogue import ORIENTATION_ALIASES
-from benchmark.simulator.case import choose_control_step
+from benchmark.simulator.case import REFERENCES, Case, choose_control_step, run_case
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -264,7 +262,7 @@ _BUILDING_OVERRIDE: Any = None  # a caller's Building, installed in each worker 
 def _init_worker(building: Any) -> None:
     global _BUILDING_OVERRIDE
     _BUILDING_OVERRIDE = building
-    _reference.cache_clear()
+    REFERENCES.clear()
 
 
 @lru_cache(maxsize=4)
@@ -278,25 +276,11 @@ def _building(isolation: str | None, n_modes: int | None):
     return _default_building(isolation, n_modes)
 
 
-def _simulate(building, record, controller, settings: dict):
-    kwargs = {"control_step": settings["control_step"]}
-    if kwargs["control_step"] is None:  # pick one that fits the record (sbib run's rule)
-
-        kwargs["control_step"] = choose_control_step(record.dt)[0]
-    if settings.get("noise") is not None:
-        kwargs["noise"] = settings["noise"]
-        kwargs["seed"] = settings.get("seed", 0)
-    return simulate(building, record, controller=controller, **kwargs)
-
-
 @lru_cache(maxsize=2)
-def _reference(record_name: str, orientation: str, settings_key: tuple):
+def _record(record_name: str, orientation: str, settings_key: tuple):
     settings = dict(settings_key)
-    record = _load_record(record_name, orientation, settings.get("records_dir"), settings.get("synthetic", False),
-                          **_record_options(settings))
-    building = _building(settings.get("isolation"), settings.get("n_modes"))
-    result = _simulate(building, record, None, settings)  # controller=None: no devices
-    return record, result
+    return _load_record(record_name, orientation, settings.get("records_dir"), settings.get("synthetic", False),
+                        **_record_options(settings))
 
 
 def _histories(result, step: float) -> dict:
@@ -322,21 +306,21 @@ def _controller_label(spec) -> str:
 
 
 def _run_one(task) -> tuple:
-    """Worker: one controlled run (and, cached per worker, its reference)."""
+    """Worker: one controlled run and its reference (cached per worker), through the one way to
+    run a case (:func:`benchmark.simulator.case.run_case`)."""
     record_name, orientation, spec, settings_key, *label = task
-
     t0 = time.perf_counter()
-    record, reference = _reference(record_name, orientation, settings_key)
     settings = dict(settings_key)
-    building = _building(settings.get("isolation"), settings.get("n_modes"))
-    controller = _make_controller(spec)
-    if controller is None:
-        result = reference
-    else:
-        result = _simulate(building, record, controller, settings)
+    record = _record(record_name, orientation, settings_key)
+    options = {} if settings.get("noise") is None else {"noise": settings["noise"], "seed": settings.get("seed", 0)}
+    case = Case(record=record, controller=_make_controller(spec),
+                building=_building(settings.get("isolation"), settings.get("n_modes")),
+                control_step=settings["control_step"], options=options)
+    out = run_case(case)
+    result, reference = out.result, out.reference
     run = ComparisonRun(record=label[0] if label else record_name, orientation=orientation,
                         controller=_controller_label(spec),
-                        J=evaluate(result, reference), peaks=peaks(result),
+                        J=out.J, peaks=out.peaks,
                         histories=_histories(result, _HISTORY_STEP), elapsed_s=time.perf_counter() - t0,
                         synthetic=bool(getattr(record, "synthetic", False)))
     return run, peaks(reference), _histories(reference, _HISTORY_STEP)

@@ -61,7 +61,7 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_path
 from benchmark.applications.ensemble_journal import Journal, JournalEntry
 from benchmark.foundation.errors import InputError, NumericalError
-from benchmark.applications.ensemble_simulation import run_case
+from benchmark.applications.ensemble_simulation import run_ensemble_case
 from benchmark.foundation.provenance import provenance
 from benchmark.foundation.errors import DataNotFoundError
 from records import BENCHMARK_RECORDS, ORIENTATIONS
@@ -489,7 +489,7 @@ def simulate_case(case: Case) -> dict[str, Any]:
     The motion is the benchmark record ``case.record`` (or a synthetic benchmark-like
     realisation seeded by ``case.motion_seed``) in ``case.orientation``, scaled to ``case.pga``
     when given; the controller is ``case.controller``; grid parameters override the building
-    and controller settings (see :func:`benchmark.applications.ensemble_simulation.run_case`).
+    and controller settings (see :func:`benchmark.applications.ensemble_simulation.run_ensemble_case`).
 
     Returns
     -------
@@ -497,7 +497,7 @@ def simulate_case(case: Case) -> dict[str, Any]:
         The peaks of :func:`benchmark.simulator.evaluation.peaks` and the criteria J1–J9.
     """
 
-    return run_case(case)
+    return run_ensemble_case(case)
 
 
 def simulate_peaks_case(case: Case) -> dict[str, Any]:
@@ -509,7 +509,7 @@ def simulate_peaks_case(case: Case) -> dict[str, Any]:
         The peaks of :func:`benchmark.simulator.evaluation.peaks` (SI).
     """
 
-    return run_case(case, evaluate_criteria=False)
+    return run_ensemble_case(case, evaluate_criteria=False)
 
 
 # ---------------------------------------------------------------------------------------------

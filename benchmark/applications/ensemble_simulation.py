@@ -37,8 +37,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.building import Building
-from benchmark.simulator.simulation import simulate
-from benchmark.simulator.evaluation import evaluate, peaks
+from benchmark.simulator.case import Case, run_case
 from controllers.registry import get_controller
 from records.synthetic import benchmark_like
 from records import load_benchmark_record
@@ -126,13 +125,7 @@ def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any
     return building
 
 
-@lru_cache(maxsize=4)
-def _reference(motion_args: tuple, building_args: tuple, substep_tolerance: float | None) -> Any:
-    return simulate(build_building(*building_args), load_motion(*motion_args), controller=None,
-                    substep_tolerance=substep_tolerance, record_states=False)
-
-
-def run_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
+def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
     """Simulate one ensemble case and evaluate it (see the module docstring).
 
     Parameters
@@ -171,13 +164,13 @@ def run_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
     motion_args = (case.record, case.orientation, bool(case.synthetic), int(case.motion_seed), float(case.pga))
     motion = load_motion(*motion_args)
     controller = get_controller(case.controller)
-    if controller is None:
-        result = _reference(motion_args, (n_modes, isolation, ()), substep)
-    else:
-        result = simulate(build_building(n_modes, isolation, devices), motion, controller=controller, **kwargs)
-    out = {name: float(value) for name, value in peaks(result).items()}
+    building = build_building(n_modes, isolation, devices if controller is not None else ())
+    control_step = kwargs.pop("control_step", None)
+    # the one way to run a case; the reference of a motion is run once per building (cached)
+    run = run_case(Case(record=motion, controller=controller, building=building, control_step=control_step,
+                        options=kwargs), reference=evaluate_criteria or controller is None)
+    out = {name: float(value) for name, value in run.peaks.items()}
     if evaluate_criteria:
-        reference = _reference(motion_args, (n_modes, isolation, ()), substep)
-        for name, value in evaluate(result, reference).items():
+        for name, value in run.J.items():
             out[name] = math.nan if value is None else float(value)
     return out

@@ -42,7 +42,7 @@ from damper.effects import first_order_filter
 from damper.simulate import simulate as simulate_damper
 from records import load_benchmark_record
 from benchmark.simulator.evaluation import evaluate
-from benchmark.simulator.simulation import simulate
+from benchmark.simulator.case import Case, run_case
 from damper.identification.parallel import make_executor, run_tasks, worker_count
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from records.synthetic import benchmark_like
@@ -290,9 +290,9 @@ def measure_run(building, record_name: str, orientation: str, controller: str = 
     """
 
     record = _load_record(record_name, orientation, records_dir, synthetic)
-    info = {"orientation": orientation}
-    reference = simulate(building.without_devices(), record, None, info=info, record_states=False)
-    measured = simulate(building, record, controller, info=info, record_states=False)
+    run = run_case(Case(record=record, orientation=orientation, controller=controller, building=building,
+                        options={"record_states": False}), cache=None)
+    reference, measured = run.reference, run.result
     ref = SimpleNamespace(info=dict(getattr(reference, "info", {}) or {}), device_force=None,
                           **{k: np.asarray(getattr(reference, k)) for k in _REFERENCE_FIELDS})
     return MeasuredRun(record_name, orientation, record, np.asarray(measured.t),
@@ -338,11 +338,11 @@ def compare_run(building, measured: MeasuredRun, identified: dict, lags: dict | 
             errors[m + LAG_SUFFIX] = run_errors(f, predicted[m + LAG_SUFFIX], x)
             regimes[m + LAG_SUFFIX] = regime_errors(f, predicted[m + LAG_SUFFIX], masks)
     J = {"device": measured.J_device}
-    info = {"orientation": measured.orientation}
     for m in rerun:
         swapped = building.with_devices(building.devices.with_model(identified[m]))
-        J[m] = evaluate(simulate(swapped, measured.record, controller, info=info, record_states=False),
-                        measured.reference)
+        rerun_case = Case(record=measured.record, orientation=measured.orientation, controller=controller,
+                          building=swapped, options={"record_states": False})
+        J[m] = evaluate(run_case(rerun_case, reference=False).result, measured.reference)
     run = RunValidation(measured.record_name, measured.orientation, t, x, xd, v, f, predicted, errors, J,
                         regimes)
     if figure is not None:

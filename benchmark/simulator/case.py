@@ -174,6 +174,11 @@ def _record_key(record: Record) -> tuple:
     return (record.name, float(record.dt), acc.shape, hashlib.sha1(acc.tobytes()).hexdigest())
 
 
+def _reference_options(options: dict) -> dict:
+    """The options of the uncontrolled run: no sensors, so no noise and no noise seed."""
+    return {k: v for k, v in options.items() if k not in ("noise", "seed", "slew_rate")}
+
+
 def _options_key(options: dict) -> tuple:
     out = []
     for k in sorted(options):
@@ -198,10 +203,16 @@ class ReferenceCache:
         self._entries: OrderedDict[tuple, tuple[Building, SimulationResult]] = OrderedDict()
 
     def get(self, building: Building, record: Record, control_step: float, options: dict) -> SimulationResult:
-        """The run of ``building`` without devices under ``record`` (computed on a miss)."""
-        key = (id(building), _record_key(record), float(control_step), _options_key(options))
+        """The run of ``building`` without devices under ``record`` (computed on a miss).
+
+        Buildings that differ only in their devices share the entry (the reference has none),
+        and so do options that only concern sensors (``noise``, ``seed``)."""
+        options = _reference_options(options)
+        key = (id(building.superstructure), id(building.isolation), _record_key(record), float(control_step),
+               _options_key(options))
         hit = self._entries.get(key)
-        if hit is not None and hit[0] is building:
+        if hit is not None and hit[0].superstructure is building.superstructure \
+                and hit[0].isolation is building.isolation:
             self._entries.move_to_end(key)
             return hit[1]
         info = {"record": record.name, "orientation": record.metadata.get("orientation", ""),
@@ -280,7 +291,7 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
     if reference or controller is None:
         if cache is None:
             ref = simulate(building.without_devices(), record, controller=None, control_step=control_step,
-                           info=info, **options)
+                           info=info, **_reference_options(options))
         else:
             ref = cache.get(building, record, control_step, options)
     if controller is None:

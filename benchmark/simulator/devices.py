@@ -41,7 +41,7 @@ from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import transformation
 from damper.virtual import VirtualBenchmarkDamper
 from damper.base import DamperModel
-from damper.registry import get_model_class, kernel_id_of, model_id_of
+from damper.registry import MODELS, get_model_class, kernel_id_of, model_id_of
 
 __all__ = ["DeviceSlot", "DeviceLayout", "default_damper_model", "DEFAULT_X_POSITIONS",
            "DEFAULT_Y_POSITIONS", "DIRECTION_NAMES"]
@@ -93,6 +93,9 @@ class DeviceSlot:
 
     def __post_init__(self) -> None:
         if isinstance(self.model, str):  # a registered model's name, with its default parameters
+            if self.model not in MODELS:
+                raise InputError(f"device {self.label}: {self.model!r} is not a damper model or a registered "
+                                 f"model name; expected one of {', '.join(sorted(MODELS))}")
             try:
                 object.__setattr__(self, "model", get_model_class(self.model)())
             except TypeError:
