@@ -13,6 +13,7 @@ histories).
 from __future__ import annotations
 
 import copy
+import sys
 import math
 import os
 import time
@@ -186,8 +187,10 @@ def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: 
 def _load_record(name: str, orientation: str, records_dir: str | None, synthetic: bool, **options):
     """A benchmark record by name (recorded or synthetic) or a record file, through the resolver
     every command uses (:func:`records.resolve.resolve_record`; ``options``: format, dt, units,
-    baseline_correct)."""
-
+    baseline_correct; format, dt and units are for files and ignored for names, so that
+    ``--records kobe,ELC-180 --dt 0.01 --units g`` mixes both)."""
+    if not looks_like_file(name):
+        options = {k: v for k, v in options.items() if k not in ("format", "dt", "units")}
     return resolve_record(name, orientation, records_dir=records_dir, synthetic=synthetic, **options)
 
 
@@ -221,14 +224,12 @@ def _canonical_orientations(orientations: str | Sequence[str]) -> Any:
 
 
 def _check_records(record_list: list[str], orientation: str, settings: dict,
-                   warn: bool) -> tuple[dict[str, str], dict[str, str], dict[str, float]]:
+                   warn: bool) -> tuple[dict[str, str], dict[str, str], dict[str, float], list[str]]:
     """Load each record once here: bad files and control steps that do not fit fail before any
-    run, implausible records are warned about, and each gets its row label (the catalogue name,
-    or the file's record name, made unique). Returns the labels by spec, and by label the units
-    each record's values were read in and its control step [s]."""
-    import sys
-
-
+    run, and each gets its row label (the catalogue name, or the file's record name, made unique).
+    Returns the labels by spec, by label the units each record's values were read in and its
+    control step [s], and the lines to print after the runs (implausible records, chosen steps)."""
+    messages: list[str] = []
     labels: dict[str, str] = {}
     units: dict[str, str] = {}
     steps: dict[str, float] = {}
@@ -246,14 +247,12 @@ def _check_records(record_list: list[str], orientation: str, settings: dict,
         units[label] = record.metadata.get("units_assumed", "")
         step, note = choose_control_step(record.dt, settings.get("control_step"))  # names --control-step
         steps[label] = step
-        if not warn:
-            continue
         for flaw in record.metadata.get("flaws", []):
             if "implausible" in flaw:
-                print(f"sbib compare: warning: {flaw}", file=sys.stderr, flush=True)
+                messages.append(f"sbib compare: warning: {flaw}")
         if note:
-            print(f"sbib compare: {label}: {note}", file=sys.stderr, flush=True)
-    return labels, units, steps
+            messages.append(f"sbib compare: {label}: {note}")
+    return labels, units, steps, messages
 
 
 _BUILDING_OVERRIDE: Any = None  # a caller's Building, installed in each worker by _init_worker
@@ -393,7 +392,8 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
                 "baseline_correct": bool(baseline_correct) or None,
                 "building": None if building is None else f"custom:{getattr(building, 'name', '?')}:{id(building)}"}
     settings_key = tuple(sorted(settings.items(), key=lambda kv: kv[0]))
-    labels_by_spec, record_units, control_steps = _check_records(record_list, orientation_list[0], settings, warn)
+    labels_by_spec, record_units, control_steps, messages = _check_records(record_list, orientation_list[0],
+                                                                            settings, warn)
     tasks = [(rec, ori, spec, settings_key, labels_by_spec[rec])
              for rec in record_list for ori in orientation_list for spec in specs]
     n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
@@ -424,6 +424,9 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         bar.close()
         if n_jobs == 1:
             _init_worker(None)
+    if warn:  # after the runs: a run that fails says so in one line (with the record's flag)
+        for message in messages:
+            print(message, file=sys.stderr, flush=True)
     runs, references, ref_hist = [], {}, {}
     for run, ref_peaks, ref_histories in outcomes:
         runs.append(run)

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmark.foundation.errors import InputError
+from benchmark.foundation.errors import InputError, NumericalError
 from benchmark.simulator.building import Building
 from benchmark.simulator.evaluation import evaluate, peaks
 from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
@@ -34,7 +34,7 @@ from records.record import Record
 from records.resolve import resolve_record
 
 __all__ = ["Case", "CaseResult", "ReferenceCache", "REFERENCES", "run_case", "choose_control_step",
-           "DEFAULT_CONTROL_STEP", "resolve_case_record"]
+           "DEFAULT_CONTROL_STEP", "resolve_case_record", "with_record_note"]
 
 #: The benchmark's control sample time [s] (Narasimhan et al. 2006), used when it fits the record.
 DEFAULT_CONTROL_STEP = 0.005
@@ -252,6 +252,17 @@ def _case_building(case: Case, with_devices: bool) -> Building:
                             damper_model=case.damper_model)
 
 
+def with_record_note(exc: NumericalError, implausible: list[str]) -> NumericalError:
+    """``exc`` with the record's first implausibility flag appended (one line), or ``exc`` itself:
+    a run that blows up on a record read in the wrong units says so in its one error line."""
+    if not implausible:
+        return exc
+    extra = f" ({len(implausible) - 1} more)" if len(implausible) > 1 else ""
+    noted = NumericalError(f"{exc}; the record is implausible: {implausible[0]}{extra}")
+    noted.time, noted.state, noted.hint = exc.time, exc.state, exc.hint
+    return noted
+
+
 def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = REFERENCES) -> CaseResult:
     """Run ``case`` and (``reference=True``) its uncontrolled reference, and evaluate them.
 
@@ -287,6 +298,19 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
     options = dict(case.options)
     info = {"record": record.name, "orientation": record.metadata.get("orientation", case.orientation),
             "isolation": building.isolation.name, **({"label": case.label} if case.label else {})}
+    try:
+        ref, result = _runs(case, record, building, controller, control_step, options, info, reference, cache)
+    except NumericalError as exc:
+        raise with_record_note(exc, [n for n in notes if "implausible" in n]) from None
+    out = CaseResult(case=case, record=record, building=building, result=result,
+                     reference=ref if ref is not None else result, control_step=float(control_step), notes=notes)
+    out.peaks = peaks(result)
+    if ref is not None:
+        out.J = evaluate(result, ref)
+    return out
+
+
+def _runs(case, record, building, controller, control_step, options, info, reference, cache):
     ref: SimulationResult | None = None
     if reference or controller is None:
         if cache is None:
@@ -299,9 +323,4 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
         result = ref
     else:
         result = simulate(building, record, controller=controller, control_step=control_step, info=info, **options)
-    out = CaseResult(case=case, record=record, building=building, result=result,
-                     reference=ref if ref is not None else result, control_step=float(control_step), notes=notes)
-    out.peaks = peaks(result)
-    if ref is not None:
-        out.J = evaluate(result, ref)
-    return out
+    return ref, result

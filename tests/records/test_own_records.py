@@ -135,13 +135,13 @@ def test_single_column_without_dt_names_the_option(capsys, kobe_files):
 
 
 def test_compare_takes_record_files(capsys, kobe_files):
-    status, out, err = _run(capsys, ["compare", "--records", f"{kobe_files['single']},{kobe_files['at2']}",
+    status, out, err = _run(capsys, ["compare", "--records", f"{kobe_files['single']},{kobe_files['at2']},kobe",
                                      "--dt", "0.01", "--units", "g", "--orientations", "FN-x",
                                      "--controllers", "passive-on", "--jobs", "1", "--no-progress", "--json",
                                      *FAST])
     assert status == 0, err
     runs = json.loads(out)["runs"]
-    assert [r["record"] for r in runs] == ["kobe_g", "KJM000"]
+    assert [r["record"] for r in runs] == ["kobe_g", "KJM000", "kobe"]  # --dt/--units apply to files only
     assert runs[0]["J"] == pytest.approx(runs[1]["J"], rel=1e-6)
 
 
@@ -332,3 +332,14 @@ def test_compare_api_picks_the_control_step_per_record(kobe_files):
                      isolation="linear", n_modes=3, jobs=1, progress=False, warn=False)
     assert result.settings["control_step_by_record"] == {"KJM000": pytest.approx(0.01)}
     assert result.settings["record_units"]["KJM000"].startswith("g")
+
+
+def test_a_blow_up_on_an_implausible_record_says_so_in_one_line(capsys, tmp_path, kobe_files):
+    from records import Record, write_csv
+
+    absurd = write_csv(Record("absurd", 0.01, kobe_files["acc"] * 1e4), tmp_path / "absurd.csv")
+    status, out, err = _run(capsys, ["run", "--record", str(absurd), "--json", *FAST])
+    assert status == 3 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("sbib: numerical failure: ")
+    assert "implausible" in lines[0] and "PGA" in lines[0]
