@@ -30,6 +30,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "damper.cli",
     "damper.cli_diagnose",
     "damper.cli_identify",
+    "damper.cli_hysteresis",
 )
 
 EXIT_INPUT_ERROR = 2
