@@ -58,6 +58,7 @@ MIN_SAMPLES = 256
 SEARCH_NAMES = ("mass", "damping", "stiffness", "alpha", "theta_gamma", "theta_delta", "nu")
 _NU_MAX = 10.0
 _SEARCH_UPSAMPLE = 5
+_START_SAMPLES = 16384
 # Shape grid of step 2: rho times the displacement RMS, sigma, n, branch.
 _RHO_GRID = (0.03, 0.1, 0.3, 1.0, 3.0, 10.0)
 _SIGMA_GRID = (-4.0, -2.0, -1.0, 0.0, 0.5, 1.0, 2.0)
@@ -233,7 +234,7 @@ def _w_path(y, rho, sigma, n, branch, out):
             continue
         d = 1.0 if dy > 0 else -1.0
         growth = rho * abs(dy) * (1.0 + n * (abs(sigma) + abs(1.0 - sigma)) * max(1.0, abs(w)) ** n)
-        m = int(min(max(1.0, math.ceil(growth / 0.2)), 200.0))
+        m = int(min(max(1.0, math.ceil(growth / 0.3)), 100.0))
         step = dy / m
         for _ in range(m):
             k1 = _dw(w, d, rho, sigma, n, branch)
@@ -357,8 +358,9 @@ class _ShapeProblem:
 
     def __init__(self, problem: _EquationError, rho0: float, sigma0: float, n0: float, branch: int):
         self.problem, self.rho0, self.branch = problem, rho0, branch
-        self.lower = np.array([-5.0, -50.0, 1.0])
-        self.upper = np.array([5.0, 50.0, _NU_MAX])
+        # A start only: the shape is kept in a plausible box (the output-error search is not).
+        self.lower = np.array([-5.0, -10.0, 1.0])
+        self.upper = np.array([5.0, 10.0, 6.0])
         self.q0 = np.array([0.0, sigma0, n0])
         self.size = problem.r[problem.window].size
         self.scale = float(np.sqrt(np.mean(problem.r[problem.window] ** 2))) or 1.0
@@ -489,7 +491,9 @@ def identify_hysteretic(force: np.ndarray, displacement: np.ndarray, fs: float,
     if upsample < 1:
         raise InputError(f"upsample: expected >= 1, got {upsample}")
     linear = linear_start(u, y, fs)
-    start = hysteresis_start(u, y, fs, linear)
+    # The start needs no more than a few thousand samples (it is refined by the output error).
+    n_start = min(u.size, _START_SAMPLES)
+    start = hysteresis_start(u[:n_start], y[:n_start], fs, linear)
     n_skip = _settling_samples(linear, fs) if skip is None else int(round(float(skip) * fs))
     if skip is not None and not (float(skip) >= 0):
         raise InputError(f"skip: expected >= 0 s, got {skip}")
