@@ -170,9 +170,9 @@ class HystereticOscillator:
         if total == 0.0 or not math.isfinite(total):
             raise ParameterError("beta*(gamma + delta): expected a nonzero value (the normalized "
                                  "form needs it), got 0")
-        kappa_w = (alpha / abs(total)) ** (1.0 / nu) if nu >= 1 else float("nan")
         if not nu >= 1:
             raise ParameterError(f"nu: expected >= 1, got {nu}")
+        kappa_w = (alpha / abs(total)) ** (1.0 / nu)
         return cls(mass, damping, stiffness, kappa_w, alpha / kappa_w, bg / total, nu,
                    1 if total > 0 else -1)
 
@@ -275,7 +275,7 @@ class HystereticOscillator:
             period is repeated from ``initial`` until two consecutive periods differ by less than
             1e-10 of the response RMS, at most ``max_periods`` times).
         initial : (y0, ydot0, z0)
-            Initial state [m, m/s, N] (ignored... only the start of the repetitions when periodic).
+            Initial state [m, m/s, N] (with ``periodic``: the state the repetitions start from).
         max_periods : int
             Cap on the repetitions of a periodic force.
         states : bool

@@ -1,4 +1,4 @@
-"""Identification of a hysteretic oscillator (:mod:`damper.hysteretic_oscillator`) from force and displacement.
+"""Identification of a hysteretic oscillator (:mod:`damper.hysteretic_oscillator`) from u and y.
 
 Output-error least squares on the simulated displacement, in three steps, each physically reasoned:
 
@@ -19,7 +19,8 @@ Output-error least squares on the simulated displacement, in three steps, each p
    the compiled Newmark kernel at ``upsample`` steps per sample, with the same engine as the
    damper identification (:func:`damper.identification.refine.fit_scaled`). The search runs on
    :math:`(m, c, k, \\alpha, \\theta_\\gamma, \\theta_\\delta, \\nu)` with
-   :math:`\\theta_\\gamma = \\beta\\gamma Z^\\nu/\\alpha`, :math:`\\theta_\\delta = \\beta\\delta Z^\\nu/\\alpha` and
+   :math:`\\theta_\\gamma = \\beta\\gamma Z^\\nu/\\alpha`,
+   :math:`\\theta_\\delta = \\beta\\delta Z^\\nu/\\alpha` and
    :math:`Z` the start's RMS hysteretic force: dimensionless, continuous through
    :math:`\\gamma + \\delta = 0` (where the normalized form changes branch) and well conditioned
    in :math:`\\nu`.
@@ -46,7 +47,8 @@ import numpy as np
 from scipy import signal
 
 from benchmark.errors import InputError, NumericalError, ParameterError
-from damper.hysteretic_oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
+from damper.hysteretic_oscillator import DEFAULT_UPSAMPLE, HystereticOscillator, upsample_force
+from damper.hysteretic_oscillator_kernel import newmark_bouc_wen
 from damper.identification.refine import fit_scaled, jacobian_covariance
 
 __all__ = ["HystereticFit", "identify_hysteretic", "linear_start", "hysteresis_start",
@@ -421,7 +423,6 @@ class _OutputError:
         return HystereticOscillator.from_kernel(*self.kernel(q))
 
     def simulate(self, q) -> np.ndarray:
-        from damper.hysteretic_oscillator_kernel import newmark_bouc_wen
         self.nsim += 1
         m, c, k, alpha, bg, bd, nu = self.kernel(q)
         if not (m > 0 and c >= 0 and alpha > 0 and nu >= 1):
@@ -482,8 +483,6 @@ def identify_hysteretic(force: np.ndarray, displacement: np.ndarray, fs: float,
     NumericalError
         No start could be found, or the output-error search did not converge.
     """
-    from damper.hysteretic_oscillator import upsample_force
-
     t0 = time.perf_counter()
     c0 = time.process_time()
     u, y, fs = _check(force, displacement, fs)
@@ -494,9 +493,9 @@ def identify_hysteretic(force: np.ndarray, displacement: np.ndarray, fs: float,
     # The start needs no more than a few thousand samples (it is refined by the output error).
     n_start = min(u.size, _START_SAMPLES)
     start = hysteresis_start(u[:n_start], y[:n_start], fs, linear)
+    if skip is not None and not (float(skip) >= 0 and math.isfinite(float(skip))):
+        raise InputError(f"skip: expected a finite number >= 0 s, got {skip}")
     n_skip = _settling_samples(linear, fs) if skip is None else int(round(float(skip) * fs))
-    if skip is not None and not (float(skip) >= 0):
-        raise InputError(f"skip: expected >= 0 s, got {skip}")
     n_skip = min(n_skip, u.size // 4)
     window = slice(n_skip, u.size)
     # Reference force of the theta coordinates: RMS of the start's hysteretic force.
