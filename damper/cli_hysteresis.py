@@ -60,12 +60,20 @@ def _nonnegative(text: str) -> float:
     return v
 
 
+def _check_out(path) -> None:
+    """Fail before the work when the output file's directory does not exist."""
+    parent = Path(path).resolve().parent
+    if not parent.is_dir():
+        raise InputError(f"--out {path}: directory {parent} does not exist")
+
+
 def run_fit(args: argparse.Namespace) -> int:
     """Identify the model from ``args.data``; write ``args.out``; print a summary."""
     from damper.hysteresis_benchmark import rms_error
     from damper.hysteresis_io import read_data, save_model
     from damper.identification.hysteretic import MIN_SAMPLES, identify_hysteretic
 
+    _check_out(args.out)
     data = read_data(args.data, need_displacement=True, group=args.group)
     n = data.force.size
     n_fit = n - int(round(args.holdout * n))
@@ -131,6 +139,7 @@ def run_predict(args: argparse.Namespace) -> int:
     from damper.hysteresis_benchmark import rms_error
     from damper.hysteresis_io import load_model, read_data, write_displacement_csv
 
+    _check_out(args.out)
     model, doc = load_model(args.model)
     data = read_data(args.input, need_displacement=False)
     upsample = args.upsample or int(doc.get("upsample", 20))

@@ -134,6 +134,9 @@ def test_predict_errors(tmp_path, capsys):
     assert main(["hysteresis", "predict", "--model", str(broken), "--input", str(inp),
                  "--out", str(tmp_path / "y.csv")]) == 2
     assert "mass" in capsys.readouterr().err
+    assert main(["hysteresis", "predict", "--model", str(bad_model), "--input", str(inp),
+                 "--out", str(tmp_path / "no" / "dir" / "y.csv")]) == 2
+    assert "does not exist" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:
         main(["hysteresis", "fit", "--data", str(inp), "--out", "x.json", "--holdout", "1.5"])
     assert exc.value.code == 2
