@@ -25,7 +25,12 @@ from pathlib import Path
 
 import numpy as np
 
+from benchmark.atomic import atomic_write_text
 from benchmark.errors import InputError
+from damper import hysteresis_benchmark
+from damper.hysteresis_benchmark import FS, rms_error
+from damper.hysteresis_io import load_model, read_data, save_model, write_displacement_csv
+from damper.identification.hysteretic import MIN_SAMPLES, identify_hysteretic
 
 __all__ = ["register", "run_fit", "run_predict", "run_test_signals"]
 
@@ -69,10 +74,6 @@ def _check_out(path) -> None:
 
 def run_fit(args: argparse.Namespace) -> int:
     """Identify the model from ``args.data``; write ``args.out``; print a summary."""
-    from damper.hysteresis_benchmark import rms_error
-    from damper.hysteresis_io import read_data, save_model
-    from damper.identification.hysteretic import MIN_SAMPLES, identify_hysteretic
-
     _check_out(args.out)
     data = read_data(args.data, need_displacement=True, group=args.group)
     n = data.force.size
@@ -136,9 +137,6 @@ def _text_summary(fit, summary: dict, out) -> str:
 
 def run_predict(args: argparse.Namespace) -> int:
     """Simulate the model of ``args.model`` under the force of ``args.input``; write ``args.out``."""
-    from damper.hysteresis_benchmark import rms_error
-    from damper.hysteresis_io import load_model, read_data, write_displacement_csv
-
     _check_out(args.out)
     model, doc = load_model(args.model)
     data = read_data(args.input, need_displacement=False)
@@ -155,12 +153,9 @@ def run_predict(args: argparse.Namespace) -> int:
 
 def run_test_signals(args: argparse.Namespace) -> int:
     """Write the regenerated benchmark test sets as CSV files in ``args.out``."""
-    from benchmark.atomic import atomic_write_text
-    from damper.hysteresis_benchmark import FS, test_sets
-
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    for name, (u, y) in test_sets(seed=args.seed).items():
+    for name, (u, y) in hysteresis_benchmark.test_sets(seed=args.seed).items():
         t = np.arange(u.size) / FS
         text = "time [s],force [N],displacement [m]\n" + "".join(
             f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(t, u, y))

@@ -47,7 +47,8 @@ import numpy as np
 from scipy import signal
 
 from benchmark.errors import InputError, NumericalError, ParameterError
-from damper.hysteretic_oscillator import DEFAULT_UPSAMPLE, HystereticOscillator, upsample_force
+from damper.hysteretic_oscillator import (DEFAULT_UPSAMPLE, PARAMETER_UNITS, HystereticOscillator,
+                                          upsample_force)
 from damper.hysteretic_oscillator_kernel import newmark_bouc_wen
 from damper.identification.refine import fit_scaled, jacobian_covariance
 
@@ -126,7 +127,6 @@ class HystereticFit:
 
     def to_dict(self) -> dict:
         """JSON-ready summary (SI units, named in ``units``)."""
-        from damper.hysteretic_oscillator import PARAMETER_UNITS
         std = self.model.to_standard(beta=1.0)
         return {
             "model": "hysteretic_oscillator",
