@@ -30,6 +30,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "benchmark.applications.cli_damper",
     "benchmark.applications.cli_diagnose",
     "benchmark.applications.cli_identify",
+    "benchmark.applications.cli_hysteresis",
 )
 
 EXIT_INPUT_ERROR = 2

@@ -38,7 +38,7 @@ from damper.identification.cycles import Cycle
 from damper.simulate import simulate
 
 __all__ = ["RefinedFit", "refine", "SharedFit", "refine_shared", "make_model",
-           "free_parameters"]
+           "free_parameters", "fit_scaled", "jacobian_covariance"]
 
 _UPPER = {"sigma": 50.0, "n": 20.0}
 _LOWER = {"kappa_x": 0.0, "sigma": 0.5, "n": 1.0}
@@ -164,6 +164,43 @@ def _fit(problem: _Problem, q0: np.ndarray, max_nfev: int | None):
                          gtol=1e-10, max_nfev=max_nfev)
 
 
+def fit_scaled(problem, q0: np.ndarray, max_nfev: int | None):
+    """The fitting engine of :func:`refine`, for any problem on scaled parameters.
+
+    Bounded trust-region least squares (:func:`scipy.optimize.least_squares`, ``trf``, 2-point
+    finite-difference Jacobian with relative step 1e-5, tolerances 1e-10) of
+    ``problem.residuals(q)`` within ``problem.lower <= q <= problem.upper``, where ``q`` is the
+    parameter vector scaled to order one. Used by :mod:`damper.identification.hysteretic` as well.
+    """
+    return _fit(problem, q0, max_nfev)
+
+
+def jacobian_covariance(jac: np.ndarray, fun: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """Covariance :math:`s^2 (J^T J)^{-1}` of the parameters ``p = scale * q`` at a least-squares optimum.
+
+    Parameters
+    ----------
+    jac : ndarray, shape (m, p)
+        Jacobian of the residuals with respect to the scaled parameters ``q``.
+    fun : ndarray, shape (m,)
+        Residuals at the optimum; :math:`s^2 = \\mathrm{RSS}/(m - p)`.
+    scale : ndarray, shape (p,)
+        ``p = scale * q``.
+
+    Returns
+    -------
+    ndarray, shape (p, p)
+        In the units of ``p`` (NaN where the pseudo-inverse fails).
+    """
+    jac = np.asarray(jac) / np.asarray(scale, dtype=float)[None, :]
+    m, p = jac.shape
+    s2 = float(np.sum(np.asarray(fun) ** 2)) / max(m - p, 1)
+    try:
+        return np.linalg.pinv(jac.T @ jac) * s2
+    except np.linalg.LinAlgError:
+        return np.full((p, p), np.nan)
+
+
 def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
            cycles: list[Cycle], start: dict[str, float], model: str = "extended",
            n_bootstrap: int = 0, seed: int = 0, max_nfev: int = 200,
@@ -239,14 +276,7 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
     f_fit = simulate(fitted, t, x, xdot, 0.0).force
 
     # Jacobian-based covariance in physical units.
-    m, p = window.size, q.size
-    jac = sol.jac / problem.p0[None, :]           # d r / d p  (r already divided by scale)
-    rss = float(np.sum(sol.fun ** 2))
-    s2 = rss / max(m - p, 1)
-    try:
-        cov = np.linalg.pinv(jac.T @ jac) * s2 * 1.0
-    except np.linalg.LinAlgError:
-        cov = np.full((p, p), np.nan)
+    cov = jacobian_covariance(sol.jac, sol.fun, problem.p0)  # r already divided by scale
     std = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     with np.errstate(invalid="ignore", divide="ignore"):
         corr = cov / np.outer(std, std)

@@ -1,0 +1,271 @@
+"""Files of the hysteretic oscillator: force/displacement data (CSV, HDF5) and model JSON.
+
+CSV data (SI units; ``#`` lines are comments; a header line names the columns, optionally with
+their units in brackets)::
+
+    time [s], force [N], displacement [m]
+    0.0, -27.35, 7.7e-06
+    ...
+
+``time`` must be uniformly spaced (to 1 % of its step); ``displacement`` is needed for fitting,
+not for prediction. HDF5 data: a group (default ``multisine``, the benchmark's training file
+layout) with datasets ``u`` (force [N]), ``y`` (displacement [m]) and ``fs`` (sampling rate [Hz]).
+Every malformed file raises :class:`~benchmark.foundation.errors.InputError` naming the file, line or field.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from benchmark.foundation.atomic import atomic_write_text
+from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
+from damper.hysteretic_oscillator import DEFAULT_UPSAMPLE, PARAMETER_NAMES, HystereticOscillator
+
+__all__ = ["ForceData", "read_data", "read_csv", "read_hdf5", "write_displacement_csv",
+           "save_model", "load_model", "MODEL_KIND"]
+
+MODEL_KIND = "hysteretic_oscillator"
+_UNITS = {"time": "s", "force": "N", "displacement": "m"}
+
+
+@dataclass(frozen=True)
+class ForceData:
+    """Uniformly sampled force (and displacement) of a test.
+
+    Attributes
+    ----------
+    force : ndarray
+        Force [N].
+    displacement : ndarray or None
+        Displacement [m].
+    fs : float
+        Sampling rate [Hz].
+    t0 : float
+        Time of the first sample [s].
+    source : str
+    """
+
+    force: np.ndarray
+    displacement: np.ndarray | None
+    fs: float
+    t0: float
+    source: str
+
+    @property
+    def time(self) -> np.ndarray:
+        """Sample instants [s]."""
+        return self.t0 + np.arange(self.force.size) / self.fs
+
+
+def read_data(path, need_displacement: bool = True, group: str | None = None) -> ForceData:
+    """Read a CSV or HDF5 data file (chosen by content, not by name)."""
+    path = Path(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"{path}: data file not found")
+    with open(path, "rb") as fh:
+        head = fh.read(8)
+    if head == b"\x89HDF\r\n\x1a\n":
+        return read_hdf5(path, group, need_displacement)
+    return read_csv(path, need_displacement)
+
+
+def _column(cell: str, path: Path, line: int) -> str:
+    m = re.fullmatch(r"\s*([A-Za-z_]+)\s*(?:\[\s*([^\]]*?)\s*\])?\s*", cell)
+    if not m or m.group(1).lower() not in _UNITS:
+        raise InputError(f"{path}:{line}: header: unknown column {cell.strip()!r}; expected "
+                         "time, force[, displacement]")
+    name, unit = m.group(1).lower(), m.group(2)
+    if unit is not None and unit != _UNITS[name]:
+        raise InputError(f"{path}:{line}: header: column {name!r} in {unit!r}; expected SI unit "
+                         f"[{_UNITS[name]}]")
+    return name
+
+
+def read_csv(path, need_displacement: bool = True) -> ForceData:
+    """Read a ``time, force[, displacement]`` CSV file (module docstring).
+
+    Raises
+    ------
+    DataNotFoundError
+        No such file.
+    InputError
+        Binary or non-UTF-8 content, a missing or unknown column, a non-number, NaN or inf,
+        time not strictly increasing or not uniform, fewer than 2 samples.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"{path}: data file not found")
+    header: list[str] | None = None
+    rows: list[list[float]] = []
+    lines: list[int] = []
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            for line_no, row in enumerate(csv.reader(fh), start=1):
+                if any("\x00" in c for c in row):
+                    raise InputError(f"{path}: binary content; expected a CSV text file")
+                if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
+                    continue
+                if header is None:
+                    header = [_column(c, path, line_no) for c in row]
+                    need = ["time", "force"] + (["displacement"] if need_displacement else [])
+                    missing = [c for c in need if c not in header]
+                    if missing:
+                        raise InputError(f"{path}:{line_no}: header: missing column(s) "
+                                         f"{', '.join(missing)}; expected {', '.join(need)}")
+                    if len(set(header)) != len(header):
+                        raise InputError(f"{path}:{line_no}: header: repeated column name")
+                    continue
+                if len(row) != len(header):
+                    raise InputError(f"{path}:{line_no}: expected {len(header)} values "
+                                     f"({', '.join(header)}), got {len(row)}")
+                values = []
+                for name, cell in zip(header, row):
+                    try:
+                        v = float(cell)
+                    except ValueError:
+                        raise InputError(f"{path}:{line_no}: column {name!r}: expected a number, "
+                                         f"got {cell.strip()!r}") from None
+                    if not math.isfinite(v):
+                        raise InputError(f"{path}:{line_no}: column {name!r}: expected a finite "
+                                         f"number, got {cell.strip()!r}")
+                    values.append(v)
+                rows.append(values)
+                lines.append(line_no)
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a UTF-8 text file; expected a CSV with columns "
+                         "time, force[, displacement] (or the benchmark's HDF5)") from None
+    except csv.Error as exc:
+        raise InputError(f"{path}: unreadable CSV ({exc})") from None
+    if header is None:
+        raise InputError(f"{path}: empty file; expected a header line time, force[, displacement]")
+    if len(rows) < 2:
+        raise InputError(f"{path}: expected at least 2 data lines, got {len(rows)}")
+    data = np.array(rows)
+    col = {c: data[:, i] for i, c in enumerate(header)}
+    fs, t0 = _uniform_rate(col["time"], path, lines)
+    return ForceData(force=col["force"], displacement=col.get("displacement"), fs=fs, t0=t0,
+                     source=str(path))
+
+
+def _uniform_rate(t: np.ndarray, path: Path, lines: list[int]) -> tuple[float, float]:
+    dt = np.diff(t)
+    bad = np.flatnonzero(dt <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise InputError(f"{path}:{lines[i]}: column 'time': expected strictly increasing values, "
+                         f"got {t[i]:g} s after {t[i - 1]:g} s")
+    step = (t[-1] - t[0]) / (t.size - 1)
+    dev = np.abs(t - (t[0] + step * np.arange(t.size)))
+    worst = int(np.argmax(dev))
+    if dev[worst] > 1e-2 * step:
+        raise InputError(f"{path}:{lines[worst]}: column 'time': expected uniform sampling "
+                         f"(step {step:.6g} s), sample {worst} is off by {dev[worst]:.3g} s")
+    return 1.0 / step, float(t[0])
+
+
+def read_hdf5(path, group: str | None = None, need_displacement: bool = True) -> ForceData:
+    """Read ``u``, ``y`` and ``fs`` from a group of an HDF5 file (the benchmark's layout).
+
+    Parameters
+    ----------
+    path : path-like
+    group : str, optional
+        Group name (default: ``multisine`` if present, else the only group with ``u``).
+    need_displacement : bool
+        Require ``y``.
+    """
+    import h5py
+
+    path = Path(path)
+    try:
+        fh = h5py.File(path, "r")
+    except OSError as exc:
+        raise InputError(f"{path}: unreadable HDF5 file ({exc})") from None
+    with fh:
+        if group is None:
+            candidates = [k for k in fh if isinstance(fh[k], h5py.Group) and "u" in fh[k]]
+            if "multisine" in candidates:
+                group = "multisine"
+            elif len(candidates) == 1:
+                group = candidates[0]
+            else:
+                raise InputError(f"{path}: expected one group with datasets u, y, fs (or "
+                                 f"'multisine'), found {candidates or 'none'}")
+        if group not in fh or not isinstance(fh[group], h5py.Group):
+            raise InputError(f"{path}: no group {group!r}")
+        g = fh[group]
+        need = ["u", "fs"] + (["y"] if need_displacement else [])
+        missing = [k for k in need if k not in g]
+        if missing:
+            raise InputError(f"{path}: group {group!r}: missing dataset(s) {', '.join(missing)}; "
+                             "expected u [N], y [m], fs [Hz]")
+        try:
+            u = np.asarray(g["u"][()], dtype=float).ravel()
+            y = np.asarray(g["y"][()], dtype=float).ravel() if "y" in g else None
+            fs_arr = np.asarray(g["fs"][()], dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise InputError(f"{path}: group {group!r}: u, y and fs must be numeric") from None
+    if fs_arr.size != 1 or not (fs_arr[0] > 0 and math.isfinite(fs_arr[0])):
+        raise InputError(f"{path}: fs: expected one positive sampling rate [Hz]")
+    if y is not None and y.size != u.size:
+        raise InputError(f"{path}: u and y: expected equal lengths, got {u.size} and {y.size}")
+    for name, a in (("u", u), ("y", y)):
+        if a is not None and not np.all(np.isfinite(a)):
+            i = int(np.argmax(~np.isfinite(a)))
+            raise InputError(f"{path}: {group}/{name}: expected finite values, sample {i} is {a[i]}")
+    if u.size < 2:
+        raise InputError(f"{path}: expected at least 2 samples, got {u.size}")
+    return ForceData(force=u, displacement=y, fs=float(fs_arr[0]), t0=0.0, source=str(path))
+
+
+def write_displacement_csv(path, time: np.ndarray, displacement: np.ndarray) -> Path:
+    """Write ``time [s], displacement [m]`` atomically (full double precision)."""
+    lines = ["time [s],displacement [m]"]
+    lines += [f"{t:.17g},{y:.17g}" for t, y in zip(time, displacement)]
+    return atomic_write_text(path, "\n".join(lines) + "\n")
+
+
+def save_model(path, model: HystereticOscillator, fs: float, upsample: int = DEFAULT_UPSAMPLE,
+               extra: dict | None = None) -> Path:
+    """Write the model as JSON (parameters in SI, the integration settings, ``extra`` fields)."""
+    doc = {"kind": MODEL_KIND, "parameters": model.parameters(),
+           "standard_form": model.to_standard(beta=1.0), "sampling_rate_hz": float(fs),
+           "upsample": int(upsample)}
+    doc.update(extra or {})
+    return atomic_write_text(path, json.dumps(doc, indent=2, default=_jsonable) + "\n")
+
+
+def _jsonable(x):
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    raise TypeError(f"not JSON serializable: {type(x).__name__}")
+
+
+def load_model(path) -> tuple[HystereticOscillator, dict]:
+    """Read a model JSON written by :func:`save_model`; returns the model and the whole document."""
+    path = Path(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"{path}: model file not found")
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"{path}: not a model JSON file ({exc.__class__.__name__})") from None
+    if not isinstance(doc, dict) or doc.get("kind") != MODEL_KIND:
+        raise InputError(f"{path}: expected a model JSON with kind {MODEL_KIND!r}")
+    params = doc.get("parameters")
+    if not isinstance(params, dict) or sorted(params) != sorted(PARAMETER_NAMES):
+        raise InputError(f"{path}: parameters: expected {', '.join(PARAMETER_NAMES)}")
+    try:
+        model = HystereticOscillator(**params)
+    except ParameterError as exc:
+        raise InputError(f"{path}: {exc}") from None
+    return model, doc

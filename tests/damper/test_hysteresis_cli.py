@@ -1,0 +1,173 @@
+"""``sbib hysteresis fit|predict|test-signals``: round trip on small data, malformed files, shared data."""
+
+from __future__ import annotations
+
+import json
+
+import h5py
+import numpy as np
+import pytest
+
+from benchmark.applications.cli import main
+from damper import hysteresis_benchmark as hb
+from damper.hysteresis_io import load_model
+
+
+def _write_csv(path, u, y=None, fs=hb.FS, t0=0.0):
+    t = t0 + np.arange(u.size) / fs
+    with open(path, "w") as fh:
+        fh.write("# test data\n")
+        fh.write("time [s],force [N]" + (",displacement [m]\n" if y is not None else "\n"))
+        for j in range(u.size):
+            fh.write(f"{t[j]:.17g},{u[j]:.17g}" + (f",{y[j]:.17g}\n" if y is not None else "\n"))
+    return path
+
+
+@pytest.fixture(scope="module")
+def small_fit(tmp_path_factory):
+    """Fit on three periods of a 2048-sample multisine of the benchmark system (1 % noise)."""
+    d = tmp_path_factory.mktemp("hyst")
+    system = hb.true_system()
+    u, y = hb.synthesize(system, np.tile(hb.multisine(n=2048, seed=4), 3), decimate=False)
+    y = y + 0.01 * np.std(y) * np.random.default_rng(2).standard_normal(y.size)
+    data = _write_csv(d / "train.csv", u, y)
+    model = d / "model.json"
+    return d, data, model, main(["hysteresis", "fit", "--data", str(data), "--out", str(model),
+                                 "--holdout", "0.25", "--json"])
+
+
+def test_fit_then_predict_round_trip(small_fit, capsys):
+    d, data, model, status = small_fit
+    assert status == 0
+    doc = json.loads(model.read_text())
+    assert doc["kind"] == "hysteretic_oscillator"
+    fitted, _ = load_model(model)
+    assert fitted.mass == pytest.approx(2.0, rel=5e-3)
+    summary = doc["fit"]
+    assert summary["data"]["holdout_samples"] == 1536
+    # The held-out error is the noise (1 % of the response RMS).
+    assert summary["holdout"]["rms_error"] < 0.0125 * summary["holdout"]["rms_displacement"]
+    # Predict a new input (another multisine, from rest) and compare with the true system.
+    u_new, y_new = hb.synthesize(hb.true_system(), hb.multisine(n=1024, rms=40, seed=9),
+                                 decimate=False)
+    inp = _write_csv(d / "new.csv", u_new, fs=hb.FS, t0=5.0)
+    out = d / "y.csv"
+    capsys.readouterr()
+    assert main(["hysteresis", "predict", "--model", str(model), "--input", str(inp),
+                 "--out", str(out)]) == 0
+    pred = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert pred.shape == (1024, 2)
+    assert pred[0, 0] == pytest.approx(5.0)
+    assert np.sqrt(np.mean((pred[:, 1] - y_new) ** 2)) < 0.01 * np.std(y_new)
+    # With a displacement column the error is printed.
+    inp2 = _write_csv(d / "new2.csv", u_new, y_new)
+    assert main(["hysteresis", "predict", "--model", str(model), "--input", str(inp2),
+                 "--out", str(d / "y2.csv")]) == 0
+    assert "RMS error" in capsys.readouterr().out
+
+
+def test_fit_reads_the_benchmark_hdf5_layout(tmp_path, capsys):
+    u, y = hb.synthesize(hb.true_system(), np.tile(hb.multisine(n=1024, seed=4), 3), decimate=False)
+    path = tmp_path / "train.h5"
+    with h5py.File(path, "w") as fh:
+        g = fh.create_group("multisine")
+        g["u"] = u[:, None]
+        g["y"] = y[:, None]
+        g["fs"] = np.array([[hb.FS]])
+    out = tmp_path / "m.json"
+    assert main(["hysteresis", "fit", "--data", str(path), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "hold-out" in text and "mass" in text
+    fitted, _ = load_model(out)
+    assert fitted.branch == -1
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"\x00\x01\x02binary\xff\xfe", "text"),
+    ("time,force,velocity\n0,1,2\n", "unknown column"),
+    ("time,force\n0,1\n0.1,2\n", "missing column"),
+    ("time [s],force [kN],displacement [m]\n0,1,0\n", "SI unit"),
+    ("time,force,displacement\n0,1,0\n0.1,nan,0\n", "finite"),
+    ("time,force,displacement\n0,1,0\n0.1,x,0\n", "expected a number"),
+    ("time,force,displacement\n0,1,0\n0.1,1,0\n0.3,1,0\n0.4,1,0\n", "uniform"),
+    ("time,force,displacement\n0,1,0\n0.1,1,0\n0.05,1,0\n", "increasing"),
+    ("", "empty"),
+])
+def test_malformed_data_files_give_one_line_errors(tmp_path, capsys, content, message):
+    path = tmp_path / "bad.csv"
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        path.write_text(content)
+    assert main(["hysteresis", "fit", "--data", str(path), "--out", str(tmp_path / "m.json")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("sbib: error:") and message in err and "\n" not in err
+    assert not (tmp_path / "m.json").exists()
+
+
+def test_too_short_and_not_an_oscillator(tmp_path, capsys):
+    rng = np.random.default_rng(0)
+    short = _write_csv(tmp_path / "short.csv", rng.standard_normal(100), rng.standard_normal(100))
+    assert main(["hysteresis", "fit", "--data", str(short), "--out", str(tmp_path / "m.json")]) == 2
+    assert "at least" in capsys.readouterr().err
+    noise = _write_csv(tmp_path / "noise.csv", rng.standard_normal(4096),
+                       1e-3 * rng.standard_normal(4096))
+    assert main(["hysteresis", "fit", "--data", str(noise), "--out", str(tmp_path / "m.json")]) == 3
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("sbib: numerical failure:") and "\n" not in err
+    assert not (tmp_path / "m.json").exists()
+
+
+def test_predict_errors(tmp_path, capsys):
+    inp = _write_csv(tmp_path / "in.csv", np.ones(10))
+    assert main(["hysteresis", "predict", "--model", str(tmp_path / "none.json"), "--input",
+                 str(inp), "--out", str(tmp_path / "y.csv")]) == 2
+    assert "not found" in capsys.readouterr().err
+    bad_model = tmp_path / "bad.json"
+    bad_model.write_text('{"kind": "something else"}')
+    assert main(["hysteresis", "predict", "--model", str(bad_model), "--input", str(inp),
+                 "--out", str(tmp_path / "y.csv")]) == 2
+    assert "kind" in capsys.readouterr().err
+    broken = tmp_path / "broken.json"
+    doc = {"kind": "hysteretic_oscillator", "parameters": dict(hb.true_system().parameters(), mass=-1)}
+    broken.write_text(json.dumps(doc))
+    assert main(["hysteresis", "predict", "--model", str(broken), "--input", str(inp),
+                 "--out", str(tmp_path / "y.csv")]) == 2
+    assert "mass" in capsys.readouterr().err
+    assert main(["hysteresis", "predict", "--model", str(bad_model), "--input", str(inp),
+                 "--out", str(tmp_path / "no" / "dir" / "y.csv")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as exc:
+        main(["hysteresis", "fit", "--data", str(inp), "--out", "x.json", "--holdout", "1.5"])
+    assert exc.value.code == 2
+    assert "--holdout" in capsys.readouterr().err
+
+
+def test_test_signals_command(tmp_path, capsys, monkeypatch):
+    # Short sweep for speed: the definitions are those of damper.hysteresis_benchmark.
+    import damper.hysteresis_benchmark as module
+    original = module.test_sets
+    monkeypatch.setattr(module, "test_sets", lambda seed: original(seed=seed, sweep_duration=4.0))
+    assert main(["hysteresis", "test-signals", "--out", str(tmp_path)]) == 0
+    ms = np.loadtxt(tmp_path / "multisine.csv", delimiter=",", skiprows=1)
+    sw = np.loadtxt(tmp_path / "sweep.csv", delimiter=",", skiprows=1)
+    assert ms.shape == (hb.PERIOD, 3) and sw.shape == (3000, 3)
+    assert np.std(ms[:, 1]) == pytest.approx(50.0, rel=1e-3)
+
+
+@pytest.mark.slow
+def test_benchmark_training_file_meets_the_targets(shared_dir, tmp_path, capsys):
+    """The whole chain on the shared training file: fit with the last 20 % held out, then the
+    regenerated test sets (targets: 2e-6 m multisine, 1e-5 m sweep)."""
+    data = shared_dir / "hysteresis_data" / "boucwen_benchmark" / "dynonet_h5" / "train.h5"
+    if not data.is_file():
+        pytest.skip(f"{data} not found; set SBIB_SHARED to the shared data directory")
+    model = tmp_path / "model.json"
+    assert main(["hysteresis", "fit", "--data", str(data), "--out", str(model), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    # Held out: the noise of the training data (8e-6 m RMS by construction) dominates.
+    assert summary["holdout"]["rms_error"] < 8e-6
+    fitted, _ = load_model(model)
+    for name, (u, y) in hb.test_sets().items():
+        err = hb.rms_error(fitted.simulate(u, hb.FS, periodic=name == "multisine"), y)
+        assert err < (2e-6 if name == "multisine" else 1e-5), (name, err)
