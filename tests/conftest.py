@@ -30,3 +30,28 @@ def records_dir(shared_dir: Path) -> Path:
     if not path.is_dir():
         pytest.skip(f"benchmark records not found at {path}; set SBIB_RECORDS_DIR")
     return path
+
+
+def _default_sigint_in_child() -> None:
+    """``preexec_fn`` of a child that is sent Ctrl-C: SIGINT back to its default action."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.fixture
+def sigint_default():
+    """For tests that send SIGINT: Ctrl-C works even if the suite runs with SIGINT ignored.
+
+    A background job of a shell (``nohup make test &``) starts with SIGINT ignored; children
+    inherit the ignore and Python then installs no ``KeyboardInterrupt`` handler. This fixture
+    restores Python's handler in the test process for the test's duration and returns a
+    ``preexec_fn`` that gives a child the default action (so that Python installs its handler).
+    """
+    import signal
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield _default_sigint_in_child
+    finally:
+        signal.signal(signal.SIGINT, previous)
