@@ -645,7 +645,8 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
         Run function; defaults to ``config.run``. A callable must be importable by the
         workers (a module-level function).
     progress : bool
-        Show a tqdm progress bar on stderr.
+        Show progress on stderr (:func:`benchmark.progress.progress_bar`: a bar on a terminal,
+        one line per run otherwise).
     checkpoint_seconds : float
         Rebuild the HDF5 file from the journal at most this often during the run.
     mp_context : str, optional
@@ -684,8 +685,8 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
     n_run = 0
     bar = None
     if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=len(cases), initial=n_resumed, unit="run", desc=config.name, dynamic_ncols=True)
+        from benchmark.progress import progress_bar
+        bar = progress_bar(len(cases), desc=config.name, unit="run", initial=n_resumed)
     if scheduler or client is not None:
         stream = _dask_results(run_spec, todo, scheduler, client)
     else:

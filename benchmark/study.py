@@ -101,17 +101,20 @@ def _identification(folder: Path, records_dir: str | None, synthetic: bool, quic
 
 
 def _diagnosis(folder: Path, quick: bool) -> dict:
+    from benchmark.progress import progress_lines
     from damper.diagnosis import diagnose
     from damper.diagnosis.report import write_report
     from damper.laboratory import periodic_test
 
     result: dict = {"output": str(folder)}
+    say = progress_lines("diagnosis")
     # The seed paper's finding, systematically: the normalized model lacks a stiffness term.
     tests = [periodic_test("virtual", amplitude=0.4, frequency=0.8, voltage=0.0, cycles=4,
                            sample_rate=200.0, noise=0.01, seed=1),
              periodic_test("virtual", amplitude=0.1, frequency=1.5, voltage=0.0, cycles=4,
                            sample_rate=200.0, noise=0.01, seed=2)]
-    virtual = diagnose(tests, model="normalized")
+    say("virtual damper: residual loop on 2 tests (normalized Bouc-Wen base)")
+    virtual = diagnose(tests, model="normalized", progress=say)
     write_report(virtual, folder / "virtual")
     result["virtual"] = virtual.to_json()
     if quick:
@@ -125,7 +128,8 @@ def _diagnosis(folder: Path, quick: bool) -> dict:
         result["utfsm"] = f"skipped: {exc}"
         return result
     if files:
-        measured = diagnose([read_utfsm(f) for f in files], model="normalized")
+        say(f"measured UTFSM tests at 1 A: residual loop on {len(files)} tests")
+        measured = diagnose([read_utfsm(f) for f in files], model="normalized", progress=say)
         write_report(measured, folder / "utfsm_1A")
         result["utfsm_1A"] = measured.to_json()
     return result

@@ -4,7 +4,7 @@ For each record and orientation the uncontrolled building (no devices) is the re
 controller's run is evaluated against it (:func:`benchmark.evaluation.evaluate`, J1–J9) and its
 peaks kept (:func:`benchmark.evaluation.peaks`). Runs are independent and go to a process pool
 (one task per run; the tasks of one record go to the same worker so that its reference run is
-computed once); a tqdm bar shows progress. The result prints as a table (J's per run, mean and
+computed once); :func:`benchmark.progress.progress_bar` shows progress. The result prints as a table (J's per run, mean and
 max over records per controller), converts to JSON, writes one HDF5 file (atomically) and
 draws PNG figures (J's per controller and record; base-displacement, device-force and voltage
 histories).
@@ -300,7 +300,8 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         The building to use instead of ``Building.default(isolation, n_modes)`` (then
         ``isolation`` and ``n_modes`` are ignored).
     progress : bool
-        Show a tqdm progress bar (on stderr).
+        Show progress on stderr (:func:`benchmark.progress.progress_bar`: a bar on a terminal,
+        one line per run otherwise).
     """
     try:
         from records.catalogue import BENCHMARK_RECORDS, ORIENTATIONS
@@ -330,9 +331,9 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     tasks = [(rec, ori, spec, settings_key) for rec in record_list for ori in orientation_list for spec in specs]
     n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
 
-    from tqdm import tqdm
+    from benchmark.progress import progress_bar
 
-    bar = tqdm(total=len(tasks), desc="compare", unit="run", disable=not progress)
+    bar = progress_bar(len(tasks), desc="compare", unit="run", enabled=progress)
     outcomes = []
     try:
         if n_jobs == 1:
