@@ -17,6 +17,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from benchmark.display_units import parameter_kind, si_unit
 from benchmark.errors import InputError
 from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
@@ -86,7 +87,8 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     -------
     dict
         ``{"tests": [summary per file and model], "held_out": {...}, "failed": {...},
-        "figures": [...]}``; parameters in SI under ``kappa_x`` … ``n``.
+        "figures": [...]}``; parameters in SI under ``kappa_x`` … ``n``, their SI units under
+        each test's ``units`` (:mod:`benchmark.display_units`).
     """
     if not files:
         raise InputError("--data: expected at least one file")
@@ -109,6 +111,7 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     for ident in idents:
         s = ident.summary()
         s["file"] = ident.name
+        s["units"] = {k: si_unit(parameter_kind(k)) for k in s["parameters"]}
         s["held_out"] = per_model[ident.model_name].get(ident.name, {})
         tests.append(s)
     figures: list[str] = []
