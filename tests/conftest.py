@@ -55,3 +55,54 @@ def sigint_default():
         yield _default_sigint_in_child
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+class _FigureTexts:
+    """Axis labels and titles of every figure saved during a test (see ``figures``)."""
+
+    #: a unit at the end of a label: "force [kN]", "Force (kN)"
+    _UNIT = r"[\[(]([^\[\]()]*)[\])]\s*$"
+
+    def __init__(self) -> None:
+        self.seen: list[list[tuple[str, str]]] = []
+
+    def record(self, fig) -> None:
+        texts = []
+        for ax in fig.axes:
+            for where, text in (("xlabel", ax.get_xlabel()), ("ylabel", ax.get_ylabel()),
+                                ("title", ax.get_title())):
+                if text:
+                    texts.append((where, text))
+        self.seen.append(texts)
+
+    def check(self) -> None:
+        """Every unit shown is a display unit of ``benchmark.display_units`` (or %, V/s, A/s)."""
+        import re
+
+        from benchmark.display_units import DISPLAY_UNITS
+
+        allowed = {u for u, _ in DISPLAY_UNITS.values()} | {"V/s", "A/s", "%"}
+        assert self.seen, "no figure was saved"
+        for texts in self.seen:
+            for where, text in texts:
+                m = re.search(self._UNIT, text)
+                if m is None or not re.fullmatch(r"[-\w./·²$\\{}^]*", m.group(1).strip()):
+                    continue   # no unit, or words in parentheses ("cf. seed Fig. 2")
+                unit = m.group(1).strip()
+                assert unit in allowed, f"{where} {text!r}: unit {unit!r} is not a display unit"
+
+
+@pytest.fixture
+def figures(monkeypatch):
+    """Records the axis labels and titles of every figure saved during the test (units check)."""
+    from matplotlib.figure import Figure
+
+    recorder = _FigureTexts()
+    original = Figure.savefig
+
+    def savefig(self, *args, **kwargs):
+        recorder.record(self)
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    return recorder
