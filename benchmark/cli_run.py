@@ -189,6 +189,7 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         say(f"controlled run: {controller}")
         result = simulate(building, rec, controller=ctrl, control_step=control_step, info=info)
     J = evaluate(result, reference)
+    from benchmark.criteria import key_json
     sup = building.superstructure
     corners = corner_responses(result, plan_corners(sup.bearing_xy), sup.storey_heights)
     summary: dict[str, Any] = {
@@ -198,6 +199,7 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         "controller": controller,
         "peaks": _clean(peaks(result)),
         "J": {k: v for k, v in _clean(J).items()},
+        "criteria": key_json(),
         "reference_peaks": _clean(peaks(reference)),
         "corners": {"corners_m": corners["corners"].tolist(),
                     "peak_corner_base_displacement": corners["peak_corner_base_displacement"].tolist(),
@@ -241,6 +243,8 @@ def _print_table(summary: dict[str, Any]) -> None:
     for key, desc in J_DESCRIPTIONS.items():
         value = summary["J"].get(key)
         print(f"  {key:<3s} {'—' if value is None else f'{value:.4f}':>8s}  {desc}")
+    from benchmark.criteria import SOURCE
+    print(f"  J's: {SOURCE}; formulas and the project's own choices in docs/criteria.md")
     if summary["out"]:
         print(f"  results: {summary['out']}")
     for p in summary["plots"]:

@@ -60,6 +60,7 @@ import numpy as np
 
 from benchmark.atomic import atomic_path
 from benchmark.ensemble_journal import Journal, JournalEntry
+from benchmark.criteria import CRITERIA
 from benchmark.errors import InputError, NumericalError
 
 __all__ = [
@@ -811,6 +812,10 @@ def write_hdf5(config: EnsembleConfig, cases: list[Case], entries: Mapping[str, 
             r = f.create_group("results")
             for metric, values in results.items():
                 r[metric] = values
+                if metric in CRITERIA:   # the J's carry their key (benchmark.criteria)
+                    c = CRITERIA[metric]
+                    r[metric].attrs.update(name=c.name, formula=c.formula, normalised_by=c.normalised_by,
+                                           source=c.source, choice=c.choice)
     return complete
 
 

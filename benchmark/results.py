@@ -13,7 +13,7 @@ Layout of a file written by :func:`write_result` (format ``sbib-result``, versio
     /run/peaks                    attrs: the peaks of :func:`benchmark.evaluation.peaks` (SI),
                                   each with ``<name>_units``
     /reference/...                the uncontrolled reference run, same layout (optional)
-    /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``
+    /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``, ``<Jk>_formula``, ``<Jk>_source``
                                   (optional)
 
 All quantities are SI (m, m/s, m/s², rad, N, N·m, V, J, s). The file is written to a
@@ -217,6 +217,7 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
     """
     import h5py
 
+    from benchmark.criteria import CRITERIA
     from benchmark.evaluation import J_DESCRIPTIONS
     from benchmark.provenance import provenance
 
@@ -244,6 +245,8 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
                     eg.attrs[key] = np.nan if value is None else float(value)
                     if key in J_DESCRIPTIONS:
                         eg.attrs[f"{key}_description"] = J_DESCRIPTIONS[key]
+                        eg.attrs[f"{key}_formula"] = CRITERIA[key].formula
+                        eg.attrs[f"{key}_source"] = CRITERIA[key].source
     return path
 
 
@@ -314,7 +317,7 @@ def read_evaluation(path: str | os.PathLike) -> dict[str, float | None]:
             return {}
         out: dict[str, float | None] = {}
         for key, value in f["evaluation"].attrs.items():
-            if key.endswith("_description"):
+            if key.endswith(("_description", "_formula", "_source")):
                 continue
             v = float(value)
             out[key] = None if np.isnan(v) else v

@@ -89,7 +89,7 @@ def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) 
     atomic_write_text(folder / "table.txt", result.table() + "\n")
     print(result.table())
     return {"output": str(folder), "hdf5": str(h5), "plots": len(plots), "runs": len(result.runs),
-            "synthetic_records": synthetic, "summary": result.summary()}
+            "synthetic_records": synthetic, "summary": result.summary(), "criteria": result.to_json()["criteria"]}
 
 
 def _identification(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> dict:

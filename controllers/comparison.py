@@ -24,11 +24,11 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from benchmark.criteria import J_NAMES  # the single definition table of the J's
 from benchmark.errors import InputError, SbibError
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
-J_NAMES = tuple(f"J{i}" for i in range(1, 10))
 _HISTORY_STEP = 0.02  # [s] sampling of the stored histories
 
 
@@ -81,12 +81,17 @@ class ComparisonResult:
         return out
 
     def to_json(self) -> dict:
-        """``{"runs": [...], "summary": {...}, "settings": {...}}``."""
+        """``{"runs": [...], "summary": {...}, "settings": {...}, "criteria": {J1: {...}, ...}}``
+        (``criteria``: the key of :func:`benchmark.criteria.key_json`)."""
+        from benchmark.criteria import key_json
+
         return {"runs": [r.to_json() for r in self.runs], "summary": self.summary(),
-                "settings": self.settings}
+                "settings": self.settings, "criteria": key_json()}
 
     def table(self) -> str:
-        """Fixed-width text table: J1–J9 per run, then mean and max per controller."""
+        """Fixed-width text table: J1–J9 per run, mean and max per controller, then the key."""
+        from benchmark.criteria import key_lines
+
         def fmt(v):
             return "   -  " if v is None else f"{v:6.3f}"
         head = f"{'record':<10} {'orient':<6} {'controller':<16}" + "".join(f"{j:>7}" for j in J_NAMES)
@@ -98,6 +103,8 @@ class ComparisonResult:
         for name, entry in self.summary().items():
             for stat in ("mean", "max"):
                 lines.append(f"{stat:<10} {'all':<6} {name:<16}" + "".join(" " + fmt(entry[j][stat]) for j in J_NAMES))
+        lines.append("-" * len(head))
+        lines.extend(key_lines())
         return "\n".join(lines)
 
     def write_hdf5(self, path: str | os.PathLike) -> Path:
@@ -116,6 +123,8 @@ class ComparisonResult:
                 h5.attrs["settings"] = json.dumps(self.settings, default=str)
                 h5.attrs["summary"] = json.dumps(self.summary())
                 h5.attrs["units"] = "SI: m, N, V, s; J's dimensionless"
+                from benchmark.criteria import key_json
+                h5.attrs["criteria"] = json.dumps(key_json())
                 for (rec, ori), p in self.references.items():
                     g = h5.require_group(f"reference/{rec}/{ori}")
                     for k, v in p.items():

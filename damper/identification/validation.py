@@ -191,8 +191,10 @@ class ValidationResult:
             criteria.setdefault(run.record, {})[run.orientation] = run.J
             if run.regimes:
                 regimes.setdefault(run.record, {})[run.orientation] = run.regimes
+        from benchmark.criteria import key_json
+
         out = {"controller": self.controller, "models": list(self.models), "errors": errors,
-               "J": criteria, "summary": self.summary()}
+               "J": criteria, "summary": self.summary(), "criteria": key_json()}
         if regimes:
             out["regimes"] = regimes
         return out
