@@ -8,7 +8,9 @@ Both carry the key of the J's (name, normalisation, formula, source) from
 and marked (dotted line at 1) as such: J6 and J9 are fractions of the controlled run's own base
 shear and input energy.
 * ``histories_<record>_<orientation>.png``: base-displacement resultant (uncontrolled and
-  every controller), total device-force resultant and mean device voltage over time.
+  every controller), total device-force resultant and the device voltage over time, as a 1 s
+  moving mean over the devices (a bang-bang law switches tens of times per second: the moving
+  mean is the maximum voltage times the fraction of time on, the duty cycle).
 """
 
 from __future__ import annotations
@@ -32,6 +34,23 @@ def _pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+#: window [s] of the voltage panel's moving mean (duty-cycle view of bang-bang voltages)
+VOLTAGE_WINDOW = 1.0
+
+
+def moving_mean(t: np.ndarray, values: np.ndarray, window: float) -> np.ndarray:
+    """Centred moving mean of ``values`` over ``window`` seconds (``t`` uniformly sampled);
+    the ends use the samples there are."""
+    values = np.asarray(values, dtype=float)
+    if values.size < 2:
+        return values.copy()
+    n = max(1, int(round(window / float(t[1] - t[0]))))
+    kernel = np.ones(n)
+    total = np.convolve(values, kernel, mode="same")
+    count = np.convolve(np.ones_like(values), kernel, mode="same")
+    return total / count
 
 
 def _key(fig, fontsize: float = 7.5) -> None:
@@ -122,10 +141,13 @@ def plot_histories(result: Any, record: str, orientation: str, path: Path) -> Pa
             axes[1].plot(h["t"], to_display(np.hypot(*h["device_force_total"].T), "force"), lw=0.8,
                          label=run.controller)
         if "voltage" in h:
-            axes[2].plot(h["t"], h["voltage"].mean(axis=1), lw=0.8, label=run.controller)
+            axes[2].plot(h["t"], moving_mean(h["t"], h["voltage"].mean(axis=1), VOLTAGE_WINDOW), lw=1.0,
+                         label=run.controller)
     axes[0].set_ylabel(unit_label("base displacement |u_b|", "displacement"))
     axes[1].set_ylabel(unit_label("total device force |F|", "force"))
-    axes[2].set_ylabel("mean device voltage [V]")
+    axes[2].set_ylabel(f"device voltage, {VOLTAGE_WINDOW:g} s moving mean [V]")
+    axes[2].set_title("bang-bang laws switch tens of times per second: the moving mean is "
+                      "V_max × the fraction of time on (duty cycle), mean over devices", fontsize=8)
     axes[2].set_xlabel("time [s]")
     for ax in axes:
         ax.grid(alpha=0.3)
