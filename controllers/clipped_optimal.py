@@ -320,7 +320,7 @@ class ClippedOptimal(CompiledBackedController):
     dead_band : float
         Dead band on the desired force as a fraction of the design's force scale :math:`f_0`
         (the device's capacity): a device is switched on only while
-        :math:`|f_{c,i}| > \text{dead\_band}\, f_0` (default :data:`DEFAULT_DEAD_BAND`; 0 gives
+        :math:`|f_{c,i}|` > ``dead_band`` :math:`f_0` (default :data:`DEFAULT_DEAD_BAND`; 0 gives
         Dyke's law unchanged). See the module docstring, "Switching before the earthquake".
     """
 
