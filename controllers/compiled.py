@@ -20,7 +20,7 @@ controller (passive, clipped-optimal, modulated, skyhook, Lyapunov) is reduced t
    ======  ==========================  ================================================
    0       constant                    :math:`v_i = p_i` (``law_params[i]``)
    1       clipped-optimal             :math:`v_i = V_{max,i} H((f_{c,i} - f_i) f_i)
-           (Dyke et al. 1996)          H(|f_{c,i}| - p_i)`, :math:`p_i \ge 0` a dead band on
+           (Dyke et al. 1996)          H(|f_{c,i}| - p_i)`, :math:`p_i \\ge 0` a dead band on
                                        the desired force [N] (0: Dyke's law unchanged)
    2       modulated clipped-optimal   :math:`v_i = V_{max,i} \\min(1, |f_{c,i}| / p_i)
            (Yoshida & Dyke 2004)       H((f_{c,i} - f_i) f_i)`, :math:`p_i` the device's
