@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from benchmark.criteria import SOURCE, key_json
 from benchmark.errors import DataNotFoundError, InputError
 
 __all__ = ["register", "run_case", "resolve_record", "main_run"]
@@ -189,7 +190,6 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         say(f"controlled run: {controller}")
         result = simulate(building, rec, controller=ctrl, control_step=control_step, info=info)
     J = evaluate(result, reference)
-    from benchmark.criteria import key_json
     sup = building.superstructure
     corners = corner_responses(result, plan_corners(sup.bearing_xy), sup.storey_heights)
     summary: dict[str, Any] = {
@@ -243,7 +243,6 @@ def _print_table(summary: dict[str, Any]) -> None:
     for key, desc in J_DESCRIPTIONS.items():
         value = summary["J"].get(key)
         print(f"  {key:<3s} {'—' if value is None else f'{value:.4f}':>8s}  {desc}")
-    from benchmark.criteria import SOURCE
     print(f"  J's: {SOURCE}; formulas and the project's own choices in docs/criteria.md")
     if summary["out"]:
         print(f"  results: {summary['out']}")

@@ -59,9 +59,10 @@ from typing import Any, Callable, Iterable, Mapping, Sequence
 import numpy as np
 
 from benchmark.atomic import atomic_path
-from benchmark.ensemble_journal import Journal, JournalEntry
 from benchmark.criteria import CRITERIA
+from benchmark.ensemble_journal import Journal, JournalEntry
 from benchmark.errors import InputError, NumericalError
+from benchmark.progress import progress_bar
 
 __all__ = [
     "Case",
@@ -686,7 +687,6 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
     n_run = 0
     bar = None
     if progress:
-        from benchmark.progress import progress_bar
         bar = progress_bar(len(cases), desc=config.name, unit="run", initial=n_resumed)
     if scheduler or client is not None:
         stream = _dask_results(run_spec, todo, scheduler, client)

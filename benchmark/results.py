@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from benchmark.atomic import atomic_path
+from benchmark.criteria import CRITERIA
 from benchmark.errors import DataNotFoundError, InputError
 
 __all__ = ["write_result", "read_result", "read_evaluation", "StoredResult", "FIELD_UNITS",
@@ -217,7 +218,6 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
     """
     import h5py
 
-    from benchmark.criteria import CRITERIA
     from benchmark.evaluation import J_DESCRIPTIONS
     from benchmark.provenance import provenance
 

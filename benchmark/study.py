@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 from benchmark.atomic import atomic_write_text
+from benchmark.progress import progress_lines
 
 __all__ = ["run_study"]
 
@@ -101,7 +102,6 @@ def _identification(folder: Path, records_dir: str | None, synthetic: bool, quic
 
 
 def _diagnosis(folder: Path, quick: bool) -> dict:
-    from benchmark.progress import progress_lines
     from damper.diagnosis import diagnose
     from damper.diagnosis.report import write_report
     from damper.laboratory import periodic_test

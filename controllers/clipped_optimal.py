@@ -52,16 +52,13 @@ import numpy as np
 
 from benchmark.errors import ParameterError
 from controllers.base import CompiledBackedController, ControlContext, measurement_slices, n_measurements
-from controllers.compiled import LAW_CLIPPED_OPTIMAL, CompiledController
+from controllers.compiled import DEFAULT_DEAD_BAND, LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.lqg import (LinearPlant, ReducedPlant, estimator_fit, kalman_design, lqr_design,
                              modal_reduction, observer_controller, simulate_linear)
 from controllers.plant import building_plant, device_force_capacity, device_models
 
 __all__ = ["LQGWeights", "LQGDesign", "design_lqg", "regulated_outputs", "ClippedOptimal", "DEFAULT_DEAD_BAND"]
 
-#: Default dead band of the bang-bang law, as a fraction of the device's force capacity
-#: (module docstring, "Switching before the earthquake").
-DEFAULT_DEAD_BAND = 0.02
 
 
 #: LQG designs per building (weakly keyed: an entry goes when its building does).

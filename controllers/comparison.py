@@ -24,8 +24,9 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
-from benchmark.criteria import J_NAMES  # the single definition table of the J's
+from benchmark.criteria import J_NAMES, key_json, key_lines  # the single definition table of the J's
 from benchmark.errors import InputError, SbibError
+from benchmark.progress import progress_bar
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -83,14 +84,11 @@ class ComparisonResult:
     def to_json(self) -> dict:
         """``{"runs": [...], "summary": {...}, "settings": {...}, "criteria": {J1: {...}, ...}}``
         (``criteria``: the key of :func:`benchmark.criteria.key_json`)."""
-        from benchmark.criteria import key_json
-
         return {"runs": [r.to_json() for r in self.runs], "summary": self.summary(),
                 "settings": self.settings, "criteria": key_json()}
 
     def table(self) -> str:
         """Fixed-width text table: J1–J9 per run, mean and max per controller, then the key."""
-        from benchmark.criteria import key_lines
 
         def fmt(v):
             return "   -  " if v is None else f"{v:6.3f}"
@@ -123,7 +121,6 @@ class ComparisonResult:
                 h5.attrs["settings"] = json.dumps(self.settings, default=str)
                 h5.attrs["summary"] = json.dumps(self.summary())
                 h5.attrs["units"] = "SI: m, N, V, s; J's dimensionless"
-                from benchmark.criteria import key_json
                 h5.attrs["criteria"] = json.dumps(key_json())
                 for (rec, ori), p in self.references.items():
                     g = h5.require_group(f"reference/{rec}/{ori}")
@@ -339,8 +336,6 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     settings_key = tuple(sorted(settings.items(), key=lambda kv: kv[0]))
     tasks = [(rec, ori, spec, settings_key) for rec in record_list for ori in orientation_list for spec in specs]
     n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
-
-    from benchmark.progress import progress_bar
 
     bar = progress_bar(len(tasks), desc="compare", unit="run", enabled=progress)
     outcomes = []

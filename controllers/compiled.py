@@ -65,6 +65,7 @@ __all__ = [
     "LAW_MODULATED",
     "LAW_LYAPUNOV",
     "LAW_NAMES",
+    "DEFAULT_DEAD_BAND",
     "STATUS_OK",
     "STATUS_NONFINITE",
     "CompiledController",
@@ -77,6 +78,9 @@ LAW_CONSTANT = 0
 LAW_CLIPPED_OPTIMAL = 1
 LAW_MODULATED = 2
 LAW_LYAPUNOV = 3
+#: Default dead band of law 1 on the desired force, as a fraction of a device's force capacity
+#: (docs/switching.md: the project's choice, 2 %; controllers pass it in ``law_params`` [N]).
+DEFAULT_DEAD_BAND = 0.02
 LAW_NAMES = {LAW_CONSTANT: "constant", LAW_CLIPPED_OPTIMAL: "clipped-optimal",
              LAW_MODULATED: "modulated clipped-optimal", LAW_LYAPUNOV: "Lyapunov"}
 

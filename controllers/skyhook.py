@@ -32,7 +32,7 @@ import numpy as np
 
 from benchmark.errors import ParameterError
 from controllers.base import CompiledBackedController, ControlContext, measurement_slices
-from controllers.compiled import LAW_CLIPPED_OPTIMAL, CompiledController
+from controllers.compiled import DEFAULT_DEAD_BAND, LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.plant import device_force_capacity, device_geometry, device_models
 
 __all__ = ["Skyhook"]
@@ -58,7 +58,7 @@ class Skyhook(CompiledBackedController):
     dead_band : float, optional
         Dead band on the desired force as a fraction of ``damping * velocity_scale`` (the
         device's capacity by default): as for :class:`controllers.clipped_optimal.ClippedOptimal`
-        (default :data:`controllers.clipped_optimal.DEFAULT_DEAD_BAND`; 0: none).
+        (default :data:`controllers.compiled.DEFAULT_DEAD_BAND`; 0: none).
     """
 
     name = "skyhook"
@@ -67,8 +67,6 @@ class Skyhook(CompiledBackedController):
                  highpass_frequency: float = 0.05, positions=None, directions=None,
                  dead_band: float | None = None) -> None:
         super().__init__()
-        from controllers.clipped_optimal import DEFAULT_DEAD_BAND
-
         self.dead_band = DEFAULT_DEAD_BAND if dead_band is None else float(dead_band)
         if not (np.isfinite(self.dead_band) and 0.0 <= self.dead_band < 1.0):
             raise ParameterError(f"skyhook: dead_band must be a fraction in [0, 1), got {dead_band!r}")

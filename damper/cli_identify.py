@@ -14,6 +14,9 @@ import argparse
 import json
 import sys
 
+from benchmark.display_units import format_si
+from benchmark.progress import progress_bar
+
 __all__ = ["register"]
 
 
@@ -82,8 +85,6 @@ def _print_tree(obj, indent: str = "") -> None:
 
 def _run_data(args: argparse.Namespace) -> int:
     """``sbib identify --data``: progress on stderr; a table with units, or JSON with ``--json``."""
-    from benchmark.display_units import format_si
-    from benchmark.progress import progress_bar
     from damper.identification.measured import identify_files
 
     models = (args.model,) if args.model else ("normalized", "extended")

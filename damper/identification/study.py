@@ -57,6 +57,7 @@ from typing import Sequence
 import numpy as np
 
 from benchmark.atomic import atomic_path, atomic_write_text
+from benchmark.progress import progress_bar
 from damper.identification.ceiling import DEFAULT_CEILING_VOLTAGES
 from damper.identification.closed_form import PARAMETER_NAMES
 from damper.identification.identify import identify
@@ -223,7 +224,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     with_free = compare_free_kappa_x and kappa_x != "per-voltage"
     bar = None
     if progress:
-        from benchmark.progress import progress_bar
         bar = progress_bar((3 if with_free else 2) * len(voltages) + (2 if ceiling else 1) * len(pairs),
                            desc="sbib identify", unit="step", leave=False)
 

@@ -36,6 +36,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from benchmark.criteria import key_json
 from benchmark.errors import InputError
 from damper.identification.metrics import dissipated_energy
 from damper.effects import first_order_filter
@@ -191,8 +192,6 @@ class ValidationResult:
             criteria.setdefault(run.record, {})[run.orientation] = run.J
             if run.regimes:
                 regimes.setdefault(run.record, {})[run.orientation] = run.regimes
-        from benchmark.criteria import key_json
-
         out = {"controller": self.controller, "models": list(self.models), "errors": errors,
                "J": criteria, "summary": self.summary(), "criteria": key_json()}
         if regimes:
