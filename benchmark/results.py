@@ -13,8 +13,8 @@ Layout of a file written by :func:`write_result` (format ``sbib-result``, versio
     /run/peaks                    attrs: the peaks of :func:`benchmark.evaluation.peaks` (SI),
                                   each with ``<name>_units``
     /reference/...                the uncontrolled reference run, same layout (optional)
-    /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``, ``<Jk>_formula``, ``<Jk>_source``
-                                  (optional)
+    /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``,
+                                  ``<Jk>_formula``, ``<Jk>_source`` (optional)
 
 All quantities are SI (m, m/s, m/s², rad, N, N·m, V, J, s). The file is written to a
 temporary file in the destination directory and renamed when complete

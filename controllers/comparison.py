@@ -4,8 +4,8 @@ For each record and orientation the uncontrolled building (no devices) is the re
 controller's run is evaluated against it (:func:`benchmark.evaluation.evaluate`, J1–J9) and its
 peaks kept (:func:`benchmark.evaluation.peaks`). Runs are independent and go to a process pool
 (one task per run; the tasks of one record go to the same worker so that its reference run is
-computed once); :func:`benchmark.progress.progress_bar` shows progress. The result prints as a table (J's per run, mean and
-max over records per controller), converts to JSON, writes one HDF5 file (atomically) and
+computed once); :func:`benchmark.progress.progress_bar` shows progress. The result prints as
+a table (J's per run, mean and max over records per controller, the key of the J's), converts to JSON, writes one HDF5 file (atomically) and
 draws PNG figures (J's per controller and record; base-displacement, device-force and voltage
 histories).
 """
