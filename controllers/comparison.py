@@ -5,9 +5,9 @@ controller's run is evaluated against it (:func:`benchmark.evaluation.evaluate`,
 peaks kept (:func:`benchmark.evaluation.peaks`). Runs are independent and go to a process pool
 (one task per run; the tasks of one record go to the same worker so that its reference run is
 computed once); :func:`benchmark.progress.progress_bar` shows progress. The result prints as
-a table (J's per run, mean and max over records per controller, the key of the J's), converts to JSON, writes one HDF5 file (atomically) and
-draws PNG figures (J's per controller and record; base-displacement, device-force and voltage
-histories).
+a table (J's per run, mean and max over records per controller, the key of the J's), converts
+to JSON, writes one HDF5 file (atomically) and draws PNG figures (J's per controller and record;
+base-displacement, device-force and voltage histories).
 """
 
 from __future__ import annotations
