@@ -85,10 +85,14 @@ def _print_tree(obj, indent: str = "") -> None:
 
 def _run_data(args: argparse.Namespace) -> int:
     """``sbib identify --data``: progress on stderr; a table with units, or JSON with ``--json``."""
-    from damper.identification.measured import identify_files
+    from damper.identification.measured import identify_files, read_test
 
     models = (args.model,) if args.model else ("normalized", "extended")
     out = args.out or "results/identify-data"
+    # check every file first (cheap text parsing): a bad one stops the command with its one-line
+    # error before any progress line is written
+    for path in args.data:
+        read_test(path)
     bar = progress_bar(len(args.data) * len(models), desc="identify", unit="fit")
     bar.write(f"identify: {len(args.data)} file(s) x {len(models)} model(s), "
               f"{args.bootstrap} bootstrap refits each")

@@ -72,7 +72,9 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
 
     Parameters
     ----------
-    files : sequence of path-like
+    files : sequence of path-like or DamperTest
+        Test files (all read before the first identification, so that a bad file stops the
+        call at once), or tests already read (:func:`read_test`).
     models : sequence of {"normalized", "extended"}
     n_bootstrap : int
         Cycle-bootstrap refits per identification.
@@ -94,17 +96,18 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
         raise InputError("--data: expected at least one file")
     idents: list[Identification] = []
     failed: dict[str, str] = {}
-    for path in files:
-        test = read_test(path)
+    tests = [(str(item.name), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
+             for item in files]
+    for label, test in tests:
         for m in models:
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
                     idents.append(identify(test, model=m, n_bootstrap=n_bootstrap, strict=strict))
             except InputError as exc:
-                failed[f"{Path(path).name} [{m}]"] = str(exc)
+                failed[f"{label} [{m}]"] = str(exc)
             if progress is not None:
-                progress(f"{Path(path).name} {m}")
+                progress(f"{label} {m}")
     # Held-out check per model (files at the same level predict each other).
     per_model = {m: held_out_errors([i for i in idents if i.model_name == m]) for m in models}
     tests = []
