@@ -125,7 +125,8 @@ def progress_bar(total: int | None, desc: str = "", unit: str = "step", enabled:
     Returns
     -------
     tqdm.tqdm or LineProgress
-        Both have ``update(n)``, ``set_postfix_str(text)``, ``write(msg)`` and ``close()``.
+        Both have ``update(n)``, ``set_postfix_str(text)`` and ``close()`` (tqdm's ``write``
+        goes to stdout unless given ``file=``: print messages to stderr yourself).
     """
     if not enabled:
         return _Disabled(total, desc, unit, initial, stream)

@@ -93,9 +93,10 @@ def _run_data(args: argparse.Namespace) -> int:
     # error before any progress line is written
     for path in args.data:
         read_test(path)
+    # on stderr (tqdm's own write() would go to stdout, where --json puts the JSON)
+    print(f"identify: {len(args.data)} file(s) x {len(models)} model(s), {args.bootstrap} bootstrap "
+          "refits each", file=sys.stderr, flush=True)
     bar = progress_bar(len(args.data) * len(models), desc="identify", unit="fit")
-    bar.write(f"identify: {len(args.data)} file(s) x {len(models)} model(s), "
-              f"{args.bootstrap} bootstrap refits each")
 
     def tick(label: str) -> None:
         bar.set_postfix_str(label)
