@@ -19,8 +19,9 @@ controller (passive, clipped-optimal, modulated, skyhook, Lyapunov) is reduced t
    id      law                         voltage of device *i*
    ======  ==========================  ================================================
    0       constant                    :math:`v_i = p_i` (``law_params[i]``)
-   1       clipped-optimal             :math:`v_i = V_{max,i} H((f_{c,i} - f_i) f_i)`
-           (Dyke et al. 1996)
+   1       clipped-optimal             :math:`v_i = V_{max,i} H((f_{c,i} - f_i) f_i)
+           (Dyke et al. 1996)          H(|f_{c,i}| - p_i)`, :math:`p_i \\ge 0` a dead band on
+                                       the desired force [N] (0: Dyke's law unchanged)
    2       modulated clipped-optimal   :math:`v_i = V_{max,i} \\min(1, |f_{c,i}| / p_i)
            (Yoshida & Dyke 2004)       H((f_{c,i} - f_i) f_i)`, :math:`p_i` the device's
                                        force capacity at :math:`V_{max,i}` [N]
@@ -29,7 +30,9 @@ controller (passive, clipped-optimal, modulated, skyhook, Lyapunov) is reduced t
                                        :math:`x^T P B_i` (built by :mod:`controllers.lyapunov`)
    ======  ==========================  ================================================
 
-   with :math:`H` the Heaviside step (:math:`H(0) = 0`);
+   with :math:`H` the Heaviside step (:math:`H(0) = 0`). The dead band of law 1 exists because
+   the bang-bang rule only looks at signs: it switches as often under a ground acceleration of
+   1e-3 m/s² as under a strong motion (see :mod:`controllers.clipped_optimal`);
 3. actuator limits: saturation to :math:`[0, V_{max,i}]` and a slew limit
    :math:`|v_i[k] - v_i[k-1]| \\le r_i \\Delta t` (``slew_rate`` [V/s], ``inf`` for none).
 
@@ -63,6 +66,7 @@ __all__ = [
     "LAW_MODULATED",
     "LAW_LYAPUNOV",
     "LAW_NAMES",
+    "DEFAULT_DEAD_BAND",
     "STATUS_OK",
     "STATUS_NONFINITE",
     "CompiledController",
@@ -75,6 +79,9 @@ LAW_CONSTANT = 0
 LAW_CLIPPED_OPTIMAL = 1
 LAW_MODULATED = 2
 LAW_LYAPUNOV = 3
+#: Default dead band of law 1 on the desired force, as a fraction of a device's force capacity
+#: (docs/switching.md: the project's choice, 2 %; controllers pass it in ``law_params`` [N]).
+DEFAULT_DEAD_BAND = 0.02
 LAW_NAMES = {LAW_CONSTANT: "constant", LAW_CLIPPED_OPTIMAL: "clipped-optimal",
              LAW_MODULATED: "modulated clipped-optimal", LAW_LYAPUNOV: "Lyapunov"}
 
@@ -103,8 +110,8 @@ def controller_update(Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, dt,
         Voltage law: 0 constant, 1 clipped-optimal, 2 modulated clipped-optimal,
         3 Lyapunov (see the module docstring).
     law_params : ndarray, shape (n_dev,)
-        Law 0: the constant voltages [V]; law 2: force capacity at ``v_max`` [N];
-        laws 1, 3: unused (any values).
+        Law 0: the constant voltages [V]; law 1: dead band on the desired force [N] (0 for
+        none); law 2: force capacity at ``v_max`` [N]; law 3: unused (any values).
     v_max : ndarray, shape (n_dev,)
         Upper voltage limit of each device [V] (the lower limit is 0 V).
     slew_rate : ndarray, shape (n_dev,)
@@ -168,7 +175,7 @@ def controller_update(Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, dt,
         if law_id == 0:
             v = law_params[i]
         elif law_id == 1:
-            v = vm if (fc - f) * f > 0.0 else 0.0
+            v = vm if (fc - f) * f > 0.0 and abs(fc) > law_params[i] else 0.0
         elif law_id == 2:
             if (fc - f) * f > 0.0:
                 ratio = abs(fc) / law_params[i]
@@ -229,7 +236,8 @@ class CompiledController:
     law_id : int
         Voltage law (0 constant, 1 clipped-optimal, 2 modulated, 3 Lyapunov).
     law_params : ndarray, shape (n_devices,)
-        Law parameters (constant voltages [V] for law 0, force capacities [N] for law 2).
+        Law parameters (constant voltages [V] for law 0, the desired-force dead band [N] for
+        law 1, force capacities [N] for law 2).
     v_max : ndarray or float
         Upper voltage limit per device [V].
     slew_rate : ndarray or float
@@ -311,6 +319,10 @@ class CompiledController:
                     or np.any(self.law_params > self.v_max):
                 raise ParameterError(f"controller {name!r}: constant voltages must lie in [0, v_max] = "
                                      f"[0, {self.v_max.max():g}] V, got {self.law_params}")
+        if self.law_id == LAW_CLIPPED_OPTIMAL and (np.any(~np.isfinite(self.law_params))
+                                                   or np.any(self.law_params < 0)):
+            raise ParameterError(f"controller {name!r}: the clipped-optimal law's dead band (law_params) "
+                                 f"must be finite and >= 0 N, got {self.law_params}")
         if self.law_id == LAW_MODULATED and (np.any(~np.isfinite(self.law_params))
                                              or np.any(self.law_params <= 0)):
             raise ParameterError(f"controller {name!r}: the modulated law needs a positive force capacity "

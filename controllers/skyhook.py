@@ -32,7 +32,7 @@ import numpy as np
 
 from benchmark.foundation.errors import ParameterError
 from controllers.base import CompiledBackedController, ControlContext, measurement_slices
-from controllers.compiled import LAW_CLIPPED_OPTIMAL, CompiledController
+from controllers.compiled import DEFAULT_DEAD_BAND, LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.plant import device_force_capacity, device_geometry, device_models
 
 __all__ = ["Skyhook"]
@@ -55,13 +55,21 @@ class Skyhook(CompiledBackedController):
     positions, directions : array-like, optional
         Device plan positions (n_dev, 2) [m] and directions (0 = x, 1 = y); default: the
         building's device layout.
+    dead_band : float, optional
+        Dead band on the desired force as a fraction of ``damping * velocity_scale`` (the
+        device's capacity by default): as for :class:`controllers.clipped_optimal.ClippedOptimal`
+        (default :data:`controllers.compiled.DEFAULT_DEAD_BAND`; 0: none).
     """
 
     name = "skyhook"
 
     def __init__(self, damping: float | None = None, velocity_scale: float = 0.3,
-                 highpass_frequency: float = 0.05, positions=None, directions=None) -> None:
+                 highpass_frequency: float = 0.05, positions=None, directions=None,
+                 dead_band: float | None = None) -> None:
         super().__init__()
+        self.dead_band = DEFAULT_DEAD_BAND if dead_band is None else float(dead_band)
+        if not (np.isfinite(self.dead_band) and 0.0 <= self.dead_band < 1.0):
+            raise ParameterError(f"skyhook: dead_band must be a fraction in [0, 1), got {dead_band!r}")
         for label, value in (("velocity_scale", velocity_scale), ("highpass_frequency", highpass_frequency)):
             if not (np.isfinite(value) and value > 0):
                 raise ParameterError(f"skyhook: {label} must be > 0, got {value!r}")
@@ -108,10 +116,11 @@ class Skyhook(CompiledBackedController):
         Cc = np.diag(c_sky * alpha)
         Dc = c_sky[:, None] * Bc
         return CompiledController(name=self.name, n_meas=context.n_measurements, n_devices=n_dev,
-                                  control_step=dt, law_id=LAW_CLIPPED_OPTIMAL, law_params=np.zeros(n_dev),
+                                  control_step=dt, law_id=LAW_CLIPPED_OPTIMAL,
+                                  law_params=self.dead_band * c_sky * self.velocity_scale,
                                   v_max=context.voltage_max, slew_rate=context.slew_rate,
                                   Ac=Ac, Bc=Bc, Cc=Cc, Dc=Dc)
 
     def describe(self) -> dict:
         return {"name": self.name, "damping": self.damping, "velocity_scale": self.velocity_scale,
-                "highpass_frequency": self.highpass_frequency}
+                "highpass_frequency": self.highpass_frequency, "dead_band": self.dead_band}

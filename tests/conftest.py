@@ -30,3 +30,79 @@ def records_dir(shared_dir: Path) -> Path:
     if not path.is_dir():
         pytest.skip(f"benchmark records not found at {path}; set SBIB_RECORDS_DIR")
     return path
+
+
+def _default_sigint_in_child() -> None:
+    """``preexec_fn`` of a child that is sent Ctrl-C: SIGINT back to its default action."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.fixture
+def sigint_default():
+    """For tests that send SIGINT: Ctrl-C works even if the suite runs with SIGINT ignored.
+
+    A background job of a shell (``nohup make test &``) starts with SIGINT ignored; children
+    inherit the ignore and Python then installs no ``KeyboardInterrupt`` handler. This fixture
+    restores Python's handler in the test process for the test's duration and returns a
+    ``preexec_fn`` that gives a child the default action (so that Python installs its handler).
+    """
+    import signal
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield _default_sigint_in_child
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+class _FigureTexts:
+    """Axis labels and titles of every figure saved during a test (see ``figures``)."""
+
+    #: a unit at the end of a label: "force [kN]", "Force (kN)"
+    _UNIT = r"[\[(]([^\[\]()]*)[\])]\s*$"
+
+    def __init__(self) -> None:
+        self.seen: list[list[tuple[str, str]]] = []
+
+    def record(self, fig) -> None:
+        texts = []
+        for ax in fig.axes:
+            for where, text in (("xlabel", ax.get_xlabel()), ("ylabel", ax.get_ylabel()),
+                                ("title", ax.get_title())):
+                if text:
+                    texts.append((where, text))
+        self.seen.append(texts)
+
+    def check(self) -> None:
+        """Every unit shown is a display unit of ``benchmark.foundation.display_units`` (or %, V/s, A/s)."""
+        import re
+
+        from benchmark.foundation.display_units import DISPLAY_UNITS
+
+        allowed = {u for u, _ in DISPLAY_UNITS.values()} | {"V/s", "A/s", "%"}
+        assert self.seen, "no figure was saved"
+        for texts in self.seen:
+            for where, text in texts:
+                m = re.search(self._UNIT, text)
+                if m is None or not re.fullmatch(r"[-\w./·²$\\{}^]*", m.group(1).strip()):
+                    continue   # no unit, or words in parentheses ("cf. seed Fig. 2")
+                unit = m.group(1).strip()
+                assert unit in allowed, f"{where} {text!r}: unit {unit!r} is not a display unit"
+
+
+@pytest.fixture
+def figures(monkeypatch):
+    """Records the axis labels and titles of every figure saved during the test (units check)."""
+    from matplotlib.figure import Figure
+
+    recorder = _FigureTexts()
+    original = Figure.savefig
+
+    def savefig(self, *args, **kwargs):
+        recorder.record(self)
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    return recorder

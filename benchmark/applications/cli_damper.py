@@ -9,6 +9,12 @@ Models: ``virtual`` (the virtual benchmark damper), ``spencer`` (the 1997 protot
 ``bingham`` (Spencer's 1997 fit), ``dahl`` and ``hyperbolic_tangent`` (calibrated to the virtual
 damper at 0 V), and ``normalized_bouc_wen`` / ``extended_bouc_wen`` (give every parameter with
 ``--param NAME=VALUE``, SI units). ``--param`` also overrides any default.
+
+``--voltage`` is required for a model whose force depends on the voltage and rejected (one-line
+error) for one whose does not: the defaults of ``bingham`` (one fit at 1.5 V), ``dahl`` and
+``hyperbolic_tangent`` (0 V calibrations) have constant parameters, so a voltage would be
+silently ignored. Give such a model voltage laws (:mod:`damper.voltage_laws`) through the Python
+API to make it respond (see :func:`check_voltage_effect`).
 """
 
 from __future__ import annotations
@@ -25,7 +31,7 @@ from damper.laboratory import periodic_test
 from damper.loops import last_cycles
 from damper.plots import plot_loops
 
-__all__ = ["register", "default_model", "run_test"]
+__all__ = ["register", "default_model", "run_test", "responds_to_voltage", "check_voltage_effect"]
 
 _DEFAULT_FACTORIES = {
     "virtual": ("damper.virtual", "VirtualBenchmarkDamper", None),
@@ -69,11 +75,44 @@ def _param(text: str) -> tuple[str, float]:
         raise argparse.ArgumentTypeError(f"{key}: expected a number, got {value!r}") from None
 
 
+def responds_to_voltage(model) -> bool:
+    """Whether the force of ``model`` changes with the voltage over its ``voltage_range``.
+
+    Measured, not read off the parameters, so that it holds for any model: one period of a
+    sine (10 mm, 1 Hz, 200 Hz sampling) at each end of the range; the forces must differ.
+    """
+
+    lo, hi = getattr(model, "voltage_range", (0.0, 1.0))
+    forces = [periodic_test(model, 0.01, 1.0, v, cycles=1.0).force for v in (lo, hi)]
+    return not np.array_equal(forces[0], forces[1])
+
+
+def check_voltage_effect(model, name: str, voltage: float | None) -> float:
+    """The voltage [V] to test ``model`` at, or :class:`InputError` when ``voltage`` would be ignored.
+
+    A model whose force does not depend on the voltage (:func:`responds_to_voltage`) runs at
+    the low end of its range; any other voltage is rejected (the low end itself is accepted, it
+    is what runs anyway). A model that does depend on the voltage needs one.
+    """
+    responds = responds_to_voltage(model)
+    low = float(getattr(model, "voltage_range", (0.0, 1.0))[0])
+    if voltage is None:
+        if responds:
+            raise InputError(f"--model {name}: its force depends on the voltage; give --voltage V")
+        return low
+    if not responds and float(voltage) != low:
+        raise InputError(f"--model {name}: its force does not depend on the voltage (constant "
+                         f"parameters), so --voltage {voltage:g} would be ignored; leave --voltage "
+                         "out, or give the model voltage laws (damper.voltage_laws) in Python")
+    return float(voltage)
+
+
 def run_test(args: argparse.Namespace) -> int:
     """Run the test described by the parsed arguments; write the CSV and the plot."""
 
     model = default_model(args.model, dict(args.param or []))
-    test = periodic_test(model, args.amplitude, args.frequency, args.voltage, cycles=args.cycles,
+    voltage = check_voltage_effect(model, args.model, args.voltage)
+    test = periodic_test(model, args.amplitude, args.frequency, voltage, cycles=args.cycles,
                          sample_rate=args.sample_rate, noise=args.noise, seed=args.seed,
                          waveform=args.waveform)
     write_csv(test, args.out)
@@ -96,7 +135,9 @@ def register(subparsers) -> None:
     p.add_argument("--model", required=True, help="registered model name (e.g. virtual)")
     p.add_argument("--amplitude", type=float, required=True, help="displacement amplitude [m]")
     p.add_argument("--frequency", type=float, required=True, help="frequency [Hz]")
-    p.add_argument("--voltage", type=float, required=True, help="constant voltage [V]")
+    p.add_argument("--voltage", type=float, default=None,
+                   help="constant voltage [V]; required for a model whose force depends on it, "
+                        "rejected for one whose does not (bingham, dahl, hyperbolic_tangent defaults)")
     p.add_argument("--cycles", type=float, default=5.0, help="number of periods (default 5)")
     p.add_argument("--sample-rate", type=float, default=200.0, help="samples per second [Hz] (default 200)")
     p.add_argument("--noise", type=float, default=0.0, help="relative RMS force noise (default 0)")

@@ -14,8 +14,11 @@ import argparse
 import json
 import sys
 from benchmark.applications.identification_study import run_identify_study
-from damper.identification.measured import identify_files
 from records.options import orientation_name
+
+from benchmark.foundation.display_units import format_si
+from benchmark.foundation.progress import progress_bar
+from damper.identification.measured import identify_files, read_test
 
 __all__ = ["register"]
 
@@ -71,24 +74,74 @@ def _split(value: str | None) -> list[str] | None:
     return [s.strip() for s in value.split(",") if s.strip()] if value else None
 
 
+def _print_tree(obj, indent: str = "") -> None:
+    """Nested dicts/lists as indented ``key: value`` lines (JSON is for ``--json`` only)."""
+    if isinstance(obj, dict):
+        for key, value in obj.items():
+            if isinstance(value, (dict, list)) and value:
+                print(f"{indent}{key}:")
+                _print_tree(value, indent + "  ")
+            else:
+                print(f"{indent}{key}: {value:.4g}" if isinstance(value, float) else f"{indent}{key}: {value}")
+    elif isinstance(obj, list):
+        for k, value in enumerate(obj):
+            if isinstance(value, (dict, list)):
+                print(f"{indent}- [{k}]")
+                _print_tree(value, indent + "  ")
+            else:
+                print(f"{indent}- {value}")
+    else:
+        print(f"{indent}{obj}")
+
+
+def _run_data(args: argparse.Namespace) -> int:
+    """``sbib identify --data``: progress on stderr; a table with units, or JSON with ``--json``."""
+
+    models = (args.model,) if args.model else ("normalized", "extended")
+    out = args.out or "results/identify-data"
+    # check every file first (cheap text parsing): a bad one stops the command with its one-line
+    # error before any progress line is written
+    for path in args.data:
+        read_test(path)
+    # on stderr (tqdm's own write() would go to stdout, where --json puts the JSON)
+    print(f"identify: {len(args.data)} file(s) x {len(models)} model(s), {args.bootstrap} bootstrap "
+          "refits each", file=sys.stderr, flush=True)
+    bar = progress_bar(len(args.data) * len(models), desc="identify", unit="fit")
+
+    def tick(label: str) -> None:
+        bar.set_postfix_str(label)
+        bar.update()
+
+    try:
+        result = identify_files(args.data, models=models, n_bootstrap=args.bootstrap,
+                                out=None if args.no_plots else out, progress=tick)
+    finally:
+        bar.close()
+    if args.json:
+        print(json.dumps(result, indent=2, default=float))
+        return 0 if result["tests"] else 2
+    for s in result["tests"]:
+        p = s["parameters"]
+        level = "" if s["level"] is None else f" at {s['level']:g} {s['level_unit']}"
+        print(f"{s['file']} [{s['model']}]{level}: fit error {100 * s['errors']['rel_rms_error']:.2f} %")
+        print("    " + ", ".join(format_si(k, p[k]) for k in p))
+        for other, e in s.get("held_out", {}).items():
+            print(f"    predicts {other}: error {100 * e['rel_rms_error']:.2f} %")
+    for name, reason in result["failed"].items():
+        print(f"{name}: not identified: {reason}")
+    for m, entry in result["summary"].items():
+        fit, ho = entry["mean_fit_rel_rms_error"], entry["mean_held_out_rel_rms_error"]
+        print(f"{m}: {entry['n_tests']} test(s), mean fit error "
+              + ("-" if fit is None else f"{100 * fit:.2f} %") + ", mean held-out error "
+              + ("-" if ho is None else f"{100 * ho:.2f} %"))
+    for f in result["figures"]:
+        print(f"figure: {f}")
+    return 0 if result["tests"] else 2
+
+
 def _run(args: argparse.Namespace) -> int:
     if args.data:
-        models = (args.model,) if args.model else ("normalized", "extended")
-        out = args.out or "results/identify-data"
-        result = identify_files(args.data, models=models, n_bootstrap=args.bootstrap,
-                                out=None if args.no_plots else out)
-        if args.json:
-            print(json.dumps(result, indent=2, default=float))
-        else:
-            for s in result["tests"]:
-                p = s["parameters"]
-                print(f"{s['file']:>22s} {s['model']:>10s} {s['level']!s:>5} {s['level_unit']}: "
-                      + ", ".join(f"{k}={p[k]:.4g}" for k in p)
-                      + f"; fit error {100 * s['errors']['rel_rms_error']:.2f} %")
-            for name, reason in result["failed"].items():
-                print(f"{name}: not identified: {reason}")
-            print(json.dumps(result["summary"], indent=2))
-        return 0 if result["tests"] else 2
+        return _run_data(args)
 
 
     if args.model:
@@ -118,9 +171,10 @@ def _run(args: argparse.Namespace) -> int:
         print(f"identified {summary['device']} at {len(summary['voltages'])} voltages; files in "
               f"{summary['files']['parameters'].rsplit('/', 1)[0]}")
         if val:
-            print(json.dumps(val["summary"], indent=2))
+            print("validation in the earthquake runs (relative errors as fractions):")
+            _print_tree(val["summary"], "  ")
         if summary.get("ceiling"):
             print("structural ceiling (constant voltage, each run's most-moving damper):")
-            print(json.dumps(summary["ceiling"], indent=2))
+            _print_tree(summary["ceiling"], "  ")
         print(f"total {summary['timings']['total_s']:.1f} s")
     return 0

@@ -53,6 +53,7 @@ from benchmark.simulator.results import write_result
 from benchmark.simulator.plots import plot_run
 from records.options import add_record_options
 from benchmark.simulator.case import Case, run_case
+from benchmark.simulator.criteria import SOURCE, key_json
 
 __all__ = ["register", "run_command", "main_run"]
 
@@ -151,6 +152,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         "record_flaws": list(rec.metadata.get("flaws", [])),
         "peaks": _clean(run.peaks),
         "J": {k: v for k, v in _clean(J).items()},
+        "criteria": key_json(),
         "reference_peaks": _clean(peaks(reference)),
         "corners": {"corners_m": corners["corners"].tolist(),
                     "peak_corner_base_displacement": corners["peak_corner_base_displacement"].tolist(),
@@ -192,6 +194,7 @@ def _print_table(summary: dict[str, Any]) -> None:
     for key, desc in J_DESCRIPTIONS.items():
         value = summary["J"].get(key)
         print(f"  {key:<3s} {'—' if value is None else f'{value:.4f}':>8s}  {desc}")
+    print(f"  J's: {SOURCE}; formulas and the project's own choices in docs/criteria.md")
     if summary["out"]:
         print(f"  results: {summary['out']}")
     for p in summary["plots"]:

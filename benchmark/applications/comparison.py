@@ -4,10 +4,10 @@ For each record and orientation the uncontrolled building (no devices) is the re
 controller's run is evaluated against it (:func:`benchmark.simulator.evaluation.evaluate`, J1–J9) and its
 peaks kept (:func:`benchmark.simulator.evaluation.peaks`). Runs are independent and go to a process pool
 (one task per run; the tasks of one record go to the same worker so that its reference run is
-computed once); a tqdm bar shows progress. The result prints as a table (J's per run, mean and
-max over records per controller), converts to JSON, writes one HDF5 file (atomically) and
-draws PNG figures (J's per controller and record; base-displacement, device-force and voltage
-histories).
+computed once); :func:`benchmark.foundation.progress.progress_bar` shows progress. The result prints as
+a table (J's per run, mean and max over records per controller, the key of the J's), converts
+to JSON, writes one HDF5 file (atomically) and draws PNG figures (J's per controller and record;
+base-displacement, device-force and voltage histories).
 """
 
 from __future__ import annotations
@@ -38,10 +38,11 @@ from records.resolve import resolve_record
 from records.resolve import looks_like_file
 from records.catalogue import ORIENTATION_ALIASES
 from benchmark.simulator.case import REFERENCES, Case, choose_control_step, run_case
+from benchmark.simulator.criteria import J_NAMES, key_json, key_lines  # the single definition table of the J's
+from benchmark.foundation.progress import progress_bar
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
-J_NAMES = tuple(f"J{i}" for i in range(1, 10))
 _HISTORY_STEP = 0.02  # [s] sampling of the stored histories
 
 
@@ -99,12 +100,14 @@ class ComparisonResult:
         return out
 
     def to_json(self) -> dict:
-        """``{"runs": [...], "summary": {...}, "settings": {...}}``."""
+        """``{"runs": [...], "summary": {...}, "settings": {...}, "criteria": {J1: {...}, ...}}``
+        (``criteria``: the key of :func:`benchmark.simulator.criteria.key_json`)."""
         return {"runs": [r.to_json() for r in self.runs], "summary": self.summary(),
-                "settings": self.settings}
+                "settings": self.settings, "criteria": key_json()}
 
     def table(self) -> str:
-        """Fixed-width text table: J1–J9 per run, then mean and max per controller."""
+        """Fixed-width text table: J1–J9 per run, mean and max per controller, then the key."""
+
         def fmt(v):
             return "   -  " if v is None else f"{v:6.3f}"
         width = max([10] + [len(r.label) for r in self.runs])  # "kobe (synthetic)", file names
@@ -117,6 +120,8 @@ class ComparisonResult:
         for name, entry in self.summary().items():
             for stat in ("mean", "max"):
                 lines.append(f"{stat:<{width}} {'all':<6} {name:<16}" + "".join(" " + fmt(entry[j][stat]) for j in J_NAMES))
+        lines.append("-" * len(head))
+        lines.extend(key_lines())
         return "\n".join(lines)
 
     def write_hdf5(self, path: str | os.PathLike) -> Path:
@@ -133,6 +138,7 @@ class ComparisonResult:
                 h5.attrs["settings"] = json.dumps(self.settings, default=str)
                 h5.attrs["summary"] = json.dumps(self.summary())
                 h5.attrs["units"] = "SI: m, N, V, s; J's dimensionless"
+                h5.attrs["criteria"] = json.dumps(key_json())
                 for (rec, ori), p in self.references.items():
                     g = h5.require_group(f"reference/{rec}/{ori}")
                     for k, v in p.items():
@@ -363,12 +369,13 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         The building to use instead of ``Building.default(isolation, n_modes)`` (then
         ``isolation`` and ``n_modes`` are ignored).
     progress : bool
-        Show a tqdm progress bar (on stderr).
+        Show progress on stderr (:func:`benchmark.foundation.progress.progress_bar`: a bar on a terminal,
+        one line per run otherwise).
     format, dt, units, baseline_correct : optional
         How to read record files (:func:`records.resolve.resolve_record`).
     warn : bool
         Print each record's implausibility flaws (:mod:`records.plausibility`) and any chosen
-        control step on stderr before the runs.
+        control step on stderr after the runs.
     """
     record_list = _parse_records(records, BENCHMARK_RECORDS)
     orientation_list = parse_list(_canonical_orientations(orientations), ORIENTATIONS, "orientations",
@@ -398,9 +405,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
              for rec in record_list for ori in orientation_list for spec in specs]
     n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
 
-    from tqdm import tqdm
-
-    bar = tqdm(total=len(tasks), desc="compare", unit="run", disable=not progress)
+    bar = progress_bar(len(tasks), desc="compare", unit="run", enabled=progress)
     outcomes = []
     try:
         if n_jobs == 1:

@@ -2,8 +2,15 @@
 
 * ``J_by_record.png``: J1–J9 per record and orientation, one marker series per controller;
 * ``J_summary.png``: mean (bar) and max (tick) of each J over records, per controller;
+
+Both carry the key of the J's (name, normalisation, formula, source) from
+:mod:`benchmark.simulator.criteria`; only the ratios to the uncontrolled run (J1–J5, J7, J8) are labelled
+and marked (dotted line at 1) as such: J6 and J9 are fractions of the controlled run's own base
+shear and input energy.
 * ``histories_<record>_<orientation>.png``: base-displacement resultant (uncontrolled and
-  every controller), total device-force resultant and mean device voltage over time.
+  every controller), total device-force resultant and the device voltage over time, as a 1 s
+  moving mean over the devices (a bang-bang law switches tens of times per second: the moving
+  mean is the maximum voltage times the fraction of time on, the duty cycle).
 """
 
 from __future__ import annotations
@@ -16,7 +23,9 @@ from benchmark.foundation.figures import save_figure
 
 __all__ = ["plot_all", "plot_J_by_record", "plot_J_summary", "plot_histories"]
 
-J_NAMES = tuple(f"J{i}" for i in range(1, 10))
+from benchmark.simulator.criteria import J_NAMES, axis_label, is_ratio, key_lines
+from benchmark.foundation.display_units import axis_label as unit_label
+from benchmark.foundation.display_units import to_display
 
 
 def _pyplot():
@@ -28,6 +37,29 @@ def _pyplot():
     return plt
 
 
+#: window [s] of the voltage panel's moving mean (duty-cycle view of bang-bang voltages)
+VOLTAGE_WINDOW = 1.0
+
+
+def moving_mean(t: np.ndarray, values: np.ndarray, window: float) -> np.ndarray:
+    """Centred moving mean of ``values`` over ``window`` seconds (``t`` uniformly sampled);
+    the ends use the samples there are."""
+    values = np.asarray(values, dtype=float)
+    if values.size < 2:
+        return values.copy()
+    n = max(1, int(round(window / float(t[1] - t[0]))))
+    kernel = np.ones(n)
+    total = np.convolve(values, kernel, mode="same")
+    count = np.convolve(np.ones_like(values), kernel, mode="same")
+    return total / count
+
+
+def _key(fig, fontsize: float = 7.5) -> None:
+    """The key of the J's under the axes (the caller leaves room at the bottom)."""
+    fig.text(0.01, 0.005, "\n".join(key_lines()), ha="left", va="bottom", fontsize=fontsize,
+             family="monospace")
+
+
 def _save(fig, path: Path) -> Path:
     return save_figure(fig, path, dpi=110)
 
@@ -36,7 +68,7 @@ def plot_J_by_record(result: Any, path: Path) -> Path:
     plt = _pyplot()
     cases = result.cases
     labels = [f"{r}\n{o}" for r, o in cases]
-    fig, axes = plt.subplots(3, 3, figsize=(15, 10), sharex=True)
+    fig, axes = plt.subplots(3, 3, figsize=(15, 12.5), sharex=True)
     for ax, j in zip(axes.ravel(), J_NAMES):
         for k, name in enumerate(result.controllers):
             values = []
@@ -46,15 +78,18 @@ def plot_J_by_record(result: Any, path: Path) -> Path:
                 values.append(np.nan if v is None else v)
             ax.plot(np.arange(len(cases)) + 0.06 * (k - len(result.controllers) / 2), values, "o-", ms=4,
                     lw=0.8, label=name)
-        ax.axhline(1.0, color="k", lw=0.6, ls=":")
+        if is_ratio(j):
+            ax.axhline(1.0, color="k", lw=0.6, ls=":")
         ax.set_title(j)
+        ax.set_ylabel(axis_label(j), fontsize=7.5)
         ax.grid(alpha=0.3)
     for ax in axes[-1]:
         ax.set_xticks(np.arange(len(cases)))
         ax.set_xticklabels(labels, rotation=90, fontsize=7)
     axes[0, 0].legend(fontsize=7)
-    fig.suptitle("Evaluation criteria per record (ratio to the uncontrolled building; 1 = no change)")
-    fig.tight_layout()
+    fig.suptitle("Evaluation criteria per record (key below)")
+    fig.tight_layout(rect=(0, 0.16, 1, 1))
+    _key(fig)
     return _save(fig, path)
 
 
@@ -62,22 +97,31 @@ def plot_J_summary(result: Any, path: Path) -> Path:
     plt = _pyplot()
     summary = result.summary()
     names = list(summary)
-    fig, ax = plt.subplots(figsize=(12, 5))
+    fig, ax = plt.subplots(figsize=(12, 7.5))
     width = 0.8 / max(1, len(names))
     x = np.arange(len(J_NAMES))
     for k, name in enumerate(names):
         mean = [np.nan if summary[name][j]["mean"] is None else summary[name][j]["mean"] for j in J_NAMES]
         mx = [np.nan if summary[name][j]["max"] is None else summary[name][j]["max"] for j in J_NAMES]
         pos = x + (k - (len(names) - 1) / 2) * width
-        ax.bar(pos, mean, width, label=name)
+        bars = ax.bar(pos, mean, width, label=name)
+        for bar, j in zip(bars, J_NAMES):
+            if not is_ratio(j):   # J6, J9: fractions of the controlled run itself
+                bar.set_hatch("//")
         ax.plot(pos, mx, "k_", ms=10)
-    ax.axhline(1.0, color="k", lw=0.6, ls=":")
+    # the dotted "no change" line belongs to the ratios only
+    ratio_x = [k for k, j in enumerate(J_NAMES) if is_ratio(j)]
+    for k in ratio_x:
+        ax.plot([k - 0.45, k + 0.45], [1.0, 1.0], color="k", lw=0.6, ls=":")
     ax.set_xticks(x)
     ax.set_xticklabels(J_NAMES)
-    ax.set_ylabel("ratio to uncontrolled (bar: mean, tick: max over records)")
+    ax.set_ylabel("value of the criterion (bar: mean, tick: max over records)")
+    ax.set_title("J1–J5, J7, J8: ratio to uncontrolled (dotted: 1 = no change); "
+                 "J6, J9 (hatched): fractions of the controlled run", fontsize=9)
     ax.legend(fontsize=8)
     ax.grid(axis="y", alpha=0.3)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.23, 1, 1))
+    _key(fig)
     return _save(fig, path)
 
 
@@ -93,12 +137,16 @@ def plot_histories(result: Any, record: str, orientation: str, path: Path) -> Pa
         h = run.histories
         axes[0].plot(h["t"], np.hypot(*h["base_displacement"].T), lw=0.8, label=run.controller)
         if "device_force_total" in h:
-            axes[1].plot(h["t"], np.hypot(*h["device_force_total"].T) / 1e3, lw=0.8, label=run.controller)
+            axes[1].plot(h["t"], to_display(np.hypot(*h["device_force_total"].T), "force"), lw=0.8,
+                         label=run.controller)
         if "voltage" in h:
-            axes[2].plot(h["t"], h["voltage"].mean(axis=1), lw=0.8, label=run.controller)
-    axes[0].set_ylabel("base displacement |u_b| [m]")
-    axes[1].set_ylabel("total device force |F| [kN]")
-    axes[2].set_ylabel("mean device voltage [V]")
+            axes[2].plot(h["t"], moving_mean(h["t"], h["voltage"].mean(axis=1), VOLTAGE_WINDOW), lw=1.0,
+                         label=run.controller)
+    axes[0].set_ylabel(unit_label("base displacement |u_b|", "displacement"))
+    axes[1].set_ylabel(unit_label("total device force |F|", "force"))
+    axes[2].set_ylabel(f"device voltage, {VOLTAGE_WINDOW:g} s moving mean [V]")
+    axes[2].set_title("bang-bang laws switch tens of times per second: the moving mean is "
+                      "V_max × the fraction of time on (duty cycle), mean over devices", fontsize=8)
     axes[2].set_xlabel("time [s]")
     for ax in axes:
         ax.grid(alpha=0.3)

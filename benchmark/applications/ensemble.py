@@ -67,6 +67,8 @@ from benchmark.foundation.errors import DataNotFoundError
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from records.catalogue import ORIENTATION_ALIASES
 from benchmark.foundation.textfile import read_text
+from benchmark.simulator.criteria import CRITERIA
+from benchmark.foundation.progress import progress_bar
 
 __all__ = [
     "Case",
@@ -651,7 +653,8 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
         Run function; defaults to ``config.run``. A callable must be importable by the
         workers (a module-level function).
     progress : bool
-        Show a tqdm progress bar on stderr.
+        Show progress on stderr (:func:`benchmark.foundation.progress.progress_bar`: a bar on a terminal,
+        one line per run otherwise).
     checkpoint_seconds : float
         Rebuild the HDF5 file from the journal at most this often during the run.
     mp_context : str, optional
@@ -690,8 +693,7 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
     n_run = 0
     bar = None
     if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=len(cases), initial=n_resumed, unit="run", desc=config.name, dynamic_ncols=True)
+        bar = progress_bar(len(cases), desc=config.name, unit="run", initial=n_resumed)
     if scheduler or client is not None:
         stream = _dask_results(run_spec, todo, scheduler, client)
     else:
@@ -815,6 +817,10 @@ def write_hdf5(config: EnsembleConfig, cases: list[Case], entries: Mapping[str, 
             r = f.create_group("results")
             for metric, values in results.items():
                 r[metric] = values
+                if metric in CRITERIA:   # the J's carry their key (benchmark.simulator.criteria)
+                    c = CRITERIA[metric]
+                    r[metric].attrs.update(name=c.name, formula=c.formula, normalised_by=c.normalised_by,
+                                           source=c.source, choice=c.choice)
     return complete
 
 

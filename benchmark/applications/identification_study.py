@@ -57,6 +57,7 @@ from typing import Sequence
 import numpy as np
 
 from benchmark.foundation.atomic import atomic_path, atomic_write_text
+from benchmark.foundation.progress import progress_bar
 from damper.identification.ceiling import DEFAULT_CEILING_VOLTAGES
 from damper.identification.closed_form import PARAMETER_NAMES
 from damper.identification.identify import identify
@@ -193,7 +194,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     synthetic : bool
         Use synthetic benchmark-like records.
     progress : bool
-        Show a progress bar (tqdm, on stderr).
+        Show progress on stderr (:func:`benchmark.foundation.progress.progress_bar`: a bar on a terminal,
+        one line per step otherwise).
     plots : bool
         Write the figures.
     kappa_x : {"large-loop", "joint", "per-voltage"} or float
@@ -230,10 +232,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     with_free = compare_free_kappa_x and kappa_x != "per-voltage"
     bar = None
     if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=(3 if with_free else 2) * len(voltages) + (2 if ceiling else 1) * len(pairs),
-                   desc="sbib identify",
-                   unit="step", leave=False)
+        bar = progress_bar((3 if with_free else 2) * len(voltages) + (2 if ceiling else 1) * len(pairs),
+                           desc="sbib identify", unit="step", leave=False)
 
     def tick(label: str) -> None:
         if bar is not None:

@@ -37,6 +37,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.simulator.criteria import key_json
 from damper.identification.metrics import dissipated_energy
 from damper.effects import first_order_filter
 from damper.simulate import simulate as simulate_damper
@@ -200,7 +201,7 @@ class ValidationResult:
             if run.regimes:
                 regimes.setdefault(run.record, {})[run.orientation] = run.regimes
         out = {"controller": self.controller, "models": list(self.models), "errors": errors,
-               "J": criteria, "summary": self.summary()}
+               "J": criteria, "summary": self.summary(), "criteria": key_json()}
         if regimes:
             out["regimes"] = regimes
         return out

@@ -22,6 +22,7 @@ from damper.laboratory import periodic_test
 from benchmark.foundation.paths import shared_dir
 from damper.data import read_utfsm, utfsm_files
 from benchmark.foundation.paths import records_dir as _records_dir
+from benchmark.foundation.progress import progress_lines
 
 __all__ = ["run_study"]
 
@@ -94,7 +95,7 @@ def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) 
     atomic_write_text(folder / "table.txt", result.table() + "\n")
     print(result.table())
     return {"output": str(folder), "hdf5": str(h5), "plots": len(plots), "runs": len(result.runs),
-            "synthetic_records": synthetic, "summary": result.summary()}
+            "synthetic_records": synthetic, "summary": result.summary(), "criteria": result.to_json()["criteria"]}
 
 
 def _identification(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> dict:
@@ -105,12 +106,14 @@ def _identification(folder: Path, records_dir: str | None, synthetic: bool, quic
 
 def _diagnosis(folder: Path, quick: bool) -> dict:
     result: dict = {"output": str(folder)}
+    say = progress_lines("diagnosis")
     # The seed paper's finding, systematically: the normalized model lacks a stiffness term.
     tests = [periodic_test("virtual", amplitude=0.4, frequency=0.8, voltage=0.0, cycles=4,
                            sample_rate=200.0, noise=0.01, seed=1),
              periodic_test("virtual", amplitude=0.1, frequency=1.5, voltage=0.0, cycles=4,
                            sample_rate=200.0, noise=0.01, seed=2)]
-    virtual = diagnose(tests, model="normalized")
+    say("virtual damper: residual loop on 2 tests (normalized Bouc-Wen base)")
+    virtual = diagnose(tests, model="normalized", progress=say)
     write_report(virtual, folder / "virtual")
     result["virtual"] = virtual.to_json()
     if quick:
@@ -121,7 +124,8 @@ def _diagnosis(folder: Path, quick: bool) -> dict:
         result["utfsm"] = f"skipped: {exc}"
         return result
     if files:
-        measured = diagnose([read_utfsm(f) for f in files], model="normalized")
+        say(f"measured UTFSM tests at 1 A: residual loop on {len(files)} tests")
+        measured = diagnose([read_utfsm(f) for f in files], model="normalized", progress=say)
         write_report(measured, folder / "utfsm_1A")
         result["utfsm_1A"] = measured.to_json()
     return result

@@ -24,7 +24,9 @@ J9        energy dissipated by the devices over the input energy at the end of t
           ``energy["input"]``)
 ========  ==========================================================================  ============
 
-This follows Narasimhan et al. (2006, Part I, section "Evaluation criteria"): J1–J5 peak
+The definitions (name, formula, source, the project's own choices) live in one table,
+:data:`benchmark.simulator.criteria.CRITERIA`, which every table, figure and JSON showing J's uses; the
+prose is docs/criteria.md. This follows Narasimhan et al. (2006, Part I, section "Evaluation criteria"): J1–J5 peak
 responses, J6 peak control force, J7–J8 RMS responses, J9 control energy. The project marks
 the numbering of J6 and J9 as unverified; the project **chooses** the assignment above and
 keeps it fixed. J6 and J9 are not ratios to the reference run (the reference has no devices);
@@ -49,6 +51,8 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import load_superstructure
+from benchmark.simulator.criteria import CRITERIA
+from benchmark.simulator.criteria import J_NAMES as _CRITERIA_NAMES
 
 __all__ = ["evaluate", "peaks", "corner_responses", "plan_corners", "PEAK_NAMES", "PEAK_UNITS",
            "J_NAMES", "J_DESCRIPTIONS"]
@@ -65,18 +69,9 @@ PEAK_UNITS: dict[str, str] = {
     "peak_drift_ratio": "1", "peak_floor_acceleration": "m/s^2", "rms_base_displacement": "m",
     "rms_floor_acceleration": "m/s^2", "peak_device_force": "N",
 }
-J_NAMES: tuple[str, ...] = tuple(f"J{i}" for i in range(1, 10))
-J_DESCRIPTIONS: dict[str, str] = {
-    "J1": "peak base shear / uncontrolled",
-    "J2": "peak first-storey (structure) shear / uncontrolled",
-    "J3": "peak base displacement / uncontrolled",
-    "J4": "peak inter-storey drift ratio / uncontrolled",
-    "J5": "peak absolute floor acceleration / uncontrolled",
-    "J6": "peak total device force / peak base shear (controlled run)",
-    "J7": "RMS base displacement / uncontrolled",
-    "J8": "RMS absolute floor acceleration (largest floor) / uncontrolled",
-    "J9": "energy dissipated by the devices / input energy (controlled run)",
-}
+#: J1..J9 and their one-line descriptions, from the single definition table benchmark.simulator.criteria
+J_NAMES: tuple[str, ...] = _CRITERIA_NAMES
+J_DESCRIPTIONS: dict[str, str] = {k: c.description for k, c in CRITERIA.items()}
 
 
 def _array(result: Any, name: str, ndim: int) -> np.ndarray:

@@ -19,6 +19,13 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.figures import save_figure
 from benchmark.simulator.structure import load_superstructure
+from benchmark.foundation.display_units import axis_label, to_display
+
+
+def _disp(a):
+    """Displacement in its display unit (benchmark.foundation.display_units)."""
+    return to_display(a, "displacement")
+
 
 __all__ = ["plot_base_orbit", "plot_floor_envelopes", "plot_bearing_hysteresis",
            "plot_device_hysteresis", "plot_run"]
@@ -85,19 +92,19 @@ def plot_base_orbit(result: Any, path: str | os.PathLike, reference: Any = None,
         [(result, dict(color=_RUN_COLOR, lw=0.9, label=_label(result)))]
     for run, style in runs:
         ub = _get(run, "base_displacement")
-        ax.plot(100 * ub[:, 0], 100 * ub[:, 1], **style)
+        ax.plot(_disp(ub[:, 0]), _disp(ub[:, 1]), **style)
         if corners is not None:
             c = np.asarray(corners, dtype=float).reshape(-1, 2)
             cx = ub[:, 0:1] - ub[:, 2:3] * c[:, 1]
             cy = ub[:, 1:2] + ub[:, 2:3] * c[:, 0]
             j = int(np.argmax(np.max(np.hypot(cx, cy), axis=0)))
-            ax.plot(100 * cx[:, j], 100 * cy[:, j], ls="--", lw=0.6, color=style["color"],
+            ax.plot(_disp(cx[:, j]), _disp(cy[:, j]), ls="--", lw=0.6, color=style["color"],
                     label=f"{style['label']}, corner ({c[j, 0]:.1f}, {c[j, 1]:.1f}) m")
     ax.set_aspect("equal", adjustable="datalim")
     ax.axhline(0, color="k", lw=0.4)
     ax.axvline(0, color="k", lw=0.4)
-    ax.set_xlabel("base displacement x [cm]")
-    ax.set_ylabel("base displacement y [cm]")
+    ax.set_xlabel(axis_label("base displacement x", "displacement"))
+    ax.set_ylabel(axis_label("base displacement y", "displacement"))
     ax.set_title("Base orbit (centre of mass)\n" + _title(result), fontsize=9)
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
@@ -143,11 +150,11 @@ def plot_floor_envelopes(result: Any, path: str | os.PathLike, reference: Any = 
     for run, style in runs:
         disp, drift, acc = _envelopes(run)
         levels = np.arange(disp.size)
-        axes[0].plot(100 * disp, levels, marker="o", ms=3, **style)
+        axes[0].plot(_disp(disp), levels, marker="o", ms=3, **style)
         # storey i spans levels i-1 .. i: draw each drift as a vertical segment over its storey
         axes[1].plot(np.repeat(100 * drift, 2), np.repeat(np.arange(drift.size + 1), 2)[1:-1], **style)
         axes[2].plot(acc, levels, marker="o", ms=3, **style)
-    axes[0].set_xlabel("peak displacement [cm]")
+    axes[0].set_xlabel(axis_label("peak displacement", "displacement"))
     axes[1].set_xlabel("peak inter-storey drift ratio [%]")
     axes[2].set_xlabel("peak absolute acceleration [m/s²]")
     axes[0].set_ylabel("level (0 = base)")
@@ -190,9 +197,9 @@ def plot_bearing_hysteresis(result: Any, path: str | os.PathLike, bearings: Sequ
     for j, b in enumerate(bearings):
         for d, name in enumerate("xy"):
             ax = axes[d, j]
-            ax.plot(100 * disp[:, b, d], force[:, b, d] / 1e3, lw=0.7, color=_RUN_COLOR)
-            ax.set_xlabel(f"bearing {b + 1} displacement {name} [cm]")
-            ax.set_ylabel(f"force {name} [kN]")
+            ax.plot(_disp(disp[:, b, d]), to_display(force[:, b, d], "force"), lw=0.7, color=_RUN_COLOR)
+            ax.set_xlabel(axis_label(f"bearing {b + 1} displacement {name}", "displacement"))
+            ax.set_ylabel(axis_label(f"force {name}", "force"))
             ax.grid(alpha=0.3)
     fig.suptitle("Bearing hysteresis — " + _title(result), fontsize=9)
     return _save(fig, path)
@@ -232,13 +239,13 @@ def plot_device_hysteresis(result: Any, path: str | os.PathLike,
     volt = getattr(result, "voltage", None)
     for j, d in enumerate(devices):
         vmax = f", max {np.max(volt[:, d]):.2f} V" if volt is not None and np.size(volt) else ""
-        axes[0, j].plot(100 * x[:, d], force[:, d] / 1e3, lw=0.7, color="C3")
-        axes[0, j].set_xlabel(f"device {d + 1} displacement [cm]")
+        axes[0, j].plot(_disp(x[:, d]), to_display(force[:, d], "force"), lw=0.7, color="C3")
+        axes[0, j].set_xlabel(axis_label(f"device {d + 1} displacement", "displacement"))
         axes[0, j].set_title(f"device {d + 1}{vmax}", fontsize=8)
-        axes[1, j].plot(v[:, d], force[:, d] / 1e3, lw=0.7, color="C3")
-        axes[1, j].set_xlabel(f"device {d + 1} velocity [m/s]")
+        axes[1, j].plot(to_display(v[:, d], "velocity"), to_display(force[:, d], "force"), lw=0.7, color="C3")
+        axes[1, j].set_xlabel(axis_label(f"device {d + 1} velocity", "velocity"))
         for ax in axes[:, j]:
-            ax.set_ylabel("force [kN]")
+            ax.set_ylabel(axis_label("force", "force"))
             ax.grid(alpha=0.3)
     fig.suptitle("Device hysteresis — " + _title(result), fontsize=9)
     return _save(fig, path)

@@ -13,8 +13,8 @@ Layout of a file written by :func:`write_result` (format ``sbib-result``, versio
     /run/peaks                    attrs: the peaks of :func:`benchmark.simulator.evaluation.peaks` (SI),
                                   each with ``<name>_units``
     /reference/...                the uncontrolled reference run, same layout (optional)
-    /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``
-                                  (optional)
+    /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``,
+                                  ``<Jk>_formula``, ``<Jk>_source`` (optional)
 
 All quantities are SI (m, m/s, m/s², rad, N, N·m, V, J, s). The file is written to a
 temporary file in the destination directory and renamed when complete
@@ -39,6 +39,7 @@ from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.simulator.evaluation import PEAK_UNITS, peaks
 from benchmark.simulator.evaluation import J_DESCRIPTIONS
 from benchmark.foundation.provenance import provenance
+from benchmark.simulator.criteria import CRITERIA
 
 __all__ = ["write_result", "read_result", "read_evaluation", "StoredResult", "FIELD_UNITS",
            "FORMAT_NAME", "FORMAT_VERSION"]
@@ -243,6 +244,8 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
                     eg.attrs[key] = np.nan if value is None else float(value)
                     if key in J_DESCRIPTIONS:
                         eg.attrs[f"{key}_description"] = J_DESCRIPTIONS[key]
+                        eg.attrs[f"{key}_formula"] = CRITERIA[key].formula
+                        eg.attrs[f"{key}_source"] = CRITERIA[key].source
     return path
 
 
@@ -313,7 +316,7 @@ def read_evaluation(path: str | os.PathLike) -> dict[str, float | None]:
             return {}
         out: dict[str, float | None] = {}
         for key, value in f["evaluation"].attrs.items():
-            if key.endswith("_description"):
+            if key.endswith(("_description", "_formula", "_source")):
                 continue
             v = float(value)
             out[key] = None if np.isnan(v) else v

@@ -24,17 +24,30 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.figures import save_figure
+from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
 
 __all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
            "plot_loops"]
 
-_LABELS = {"displacement": "displacement [mm]", "velocity": "velocity [mm/s]",
-           "acceleration": "acceleration [m/s²]", "voltage": "coil input", "voltage_rate":
-           "coil input rate [1/s]", "time": "time since test start [s]", "sign": "sign of velocity",
-           "loop": "displacement on each branch [mm]"}
-_SCALE = {"displacement": 1e3, "velocity": 1e3, "loop": 1e3}
+#: trace variable -> (axis text, quantity kind of benchmark.foundation.display_units); the coil input's
+#: kind ("voltage" or "current") is the tests' own
+_LABELS = {"displacement": ("displacement", "displacement"), "velocity": ("velocity", "velocity"),
+           "acceleration": ("acceleration", "acceleration"), "time": ("time since test start", "time"),
+           "sign": ("sign of velocity", None), "loop": ("displacement on each branch", "displacement")}
 _MAX_POINTS = 4000
+
+
+def _trace_axis(var: str, input_name: str) -> tuple[str, str, str | None]:
+    """(panel name, axis label, display kind) of trace variable ``var``; the coil input is named
+    for what the tests give (``voltage`` [V] or ``current`` [A])."""
+    if var == "voltage":
+        return input_name, axis_label(input_name, input_name), input_name
+    if var == "voltage_rate":
+        unit = axis_label("", input_name).strip()[1:-1]
+        return f"{input_name} rate", f"{input_name} rate [{unit}/s]", None
+    text, kind = _LABELS[var]
+    return var, (axis_label(text, kind) if kind else text), kind
 
 
 def _pyplot():
@@ -70,34 +83,34 @@ def plot_residual_trace(diagnosis, path, max_points: int = _MAX_POINTS, dpi: int
     n = r_before.size
     pick = np.arange(n) if n <= max_points else np.random.default_rng(0).choice(n, max_points, replace=False)
     fig, axes = plt.subplots(2, 4, figsize=(16, 7.5))
-    unit = data.input_unit
+    input_name = "current" if data.input_unit == "A" else "voltage"
+    r_before, r_after = to_display(r_before, "force"), to_display(r_after, "force")
     for ax, var in zip(axes.ravel(), TRACE_VARIABLES):
-        z = signals[var] * _SCALE.get(var, 1.0)
+        name, label, kind = _trace_axis(var, input_name)
+        z = to_display(signals[var], kind) if kind else signals[var]
         ax.plot(z[pick], r_before[pick], ".", color="0.6", ms=2, alpha=0.5, label="before")
         ax.plot(z[pick], r_after[pick], ".", color="tab:blue", ms=2, alpha=0.5, label="after")
         for trace, color in ((diagnosis.trace_before, "k"), (diagnosis.trace_after, "tab:red")):
             prof = trace.profiles[var]
             if prof.constant:
                 continue
-            c = prof.centers * _SCALE.get(var, 1.0)
+            c = to_display(prof.centers, kind) if kind else prof.centers
+            means = to_display(prof.means, "force")
             if var == "loop":
                 for b, ls in ((1.0, "-"), (-1.0, "--")):
                     sel = prof.branch == b
-                    ax.plot(c[sel], prof.means[sel], ls, color=color, lw=1.6)
+                    ax.plot(c[sel], means[sel], ls, color=color, lw=1.6)
             else:
                 style = {"sign": "-o", "time": "o"}.get(var, "-")  # time: one point per cycle
-                ax.plot(c, prof.means, style, color=color, lw=1.6, ms=4)
-        label = _LABELS[var].replace("coil input", f"coil input [{unit}]") if var == "voltage" else _LABELS[var]
-        if var == "voltage_rate":
-            label = f"coil input rate [{unit}/s]"
+                ax.plot(c, means, style, color=color, lw=1.6, ms=4)
         ax.set_xlabel(label)
-        ax.set_title(f"{var}: share {diagnosis.trace_before.shares[var]:.2f} → "
+        ax.set_title(f"{name}: share {diagnosis.trace_before.shares[var]:.2f} → "
                      f"{diagnosis.trace_after.shares[var]:.2f}", fontsize=10)
         if diagnosis.trace_before.profiles[var].constant:
             ax.text(0.5, 0.9, "constant in these tests", transform=ax.transAxes, ha="center")
         ax.grid(True, alpha=0.3)
-    axes[0, 0].set_ylabel("residual F − F̂ [N]")
-    axes[1, 0].set_ylabel("residual F − F̂ [N]")
+    axes[0, 0].set_ylabel(axis_label("residual F − F̂", "force"))
+    axes[1, 0].set_ylabel(axis_label("residual F − F̂", "force"))
     axes[0, 0].legend(loc="lower right", markerscale=4, fontsize=8)
     effects = ", ".join(diagnosis.effects) or "none"
     fig.suptitle(f"Held-out residual: {diagnosis.model_kind} model (grey, black line = binned mean) "
@@ -124,13 +137,13 @@ def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
         m, k = data.motions[i], data.heldout[i]
         sel = np.flatnonzero(k)
         t = m.t[sel]
-        ax.plot(t, data.forces[i][sel], color="k", lw=1.2, label="measured")
-        ax.plot(t, before[i][sel], color="0.55", lw=1.0, ls="--", label=diagnosis.model_kind)
-        ax.plot(t, after[i][sel], color="tab:red", lw=1.0, label=diagnosis.final_model.name)
+        ax.plot(t, to_display(data.forces[i][sel], "force"), color="k", lw=1.2, label="measured")
+        ax.plot(t, to_display(before[i][sel], "force"), color="0.55", lw=1.0, ls="--", label=diagnosis.model_kind)
+        ax.plot(t, to_display(after[i][sel], "force"), color="tab:red", lw=1.0, label=diagnosis.final_model.name)
         eb, ea = diagnosis.errors_by_test[m.name]
         ax.set_title(f"{m.name}: error {eb:.3f} → {ea:.3f}", fontsize=10)
-        ax.set_xlabel("time [s]")
-        ax.set_ylabel("force [N]")
+        ax.set_xlabel(axis_label("time", "time"))
+        ax.set_ylabel(axis_label("force", "force"))
         ax.grid(True, alpha=0.3)
     for ax in axes.ravel()[len(idx):]:
         ax.axis("off")
@@ -149,16 +162,16 @@ def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
     fig, axes = plt.subplots(2, len(idx), figsize=(3.6 * len(idx), 6.4), squeeze=False)
     for j, i in enumerate(idx):
         m, k = data.motions[i], data.heldout[i]
-        for row, (z, label) in enumerate(((m.x * 1e3, "displacement [mm]"),
-                                          (m.xdot * 1e3, "velocity [mm/s]"))):
+        for row, (z, label) in enumerate(((to_display(m.x, "displacement"), axis_label("displacement", "displacement")),
+                                          (to_display(m.xdot, "velocity"), axis_label("velocity", "velocity")))):
             ax = axes[row, j]
-            ax.plot(z[k], data.forces[i][k], color="k", lw=1.0, label="measured")
-            ax.plot(z[k], before[i][k], color="0.55", lw=0.9, ls="--", label=diagnosis.model_kind)
-            ax.plot(z[k], after[i][k], color="tab:red", lw=0.9, label="augmented")
+            ax.plot(z[k], to_display(data.forces[i][k], "force"), color="k", lw=1.0, label="measured")
+            ax.plot(z[k], to_display(before[i][k], "force"), color="0.55", lw=0.9, ls="--", label=diagnosis.model_kind)
+            ax.plot(z[k], to_display(after[i][k], "force"), color="tab:red", lw=0.9, label="augmented")
             ax.set_xlabel(label)
             ax.grid(True, alpha=0.3)
             if j == 0:
-                ax.set_ylabel("force [N]")
+                ax.set_ylabel(axis_label("force", "force"))
         axes[0, j].set_title(m.name, fontsize=10)
     axes[0, 0].legend(fontsize=8)
     fig.tight_layout()

@@ -18,6 +18,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.display_units import parameter_kind, si_unit
 from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
 from damper.simulate import simulate
@@ -72,7 +73,9 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
 
     Parameters
     ----------
-    files : sequence of path-like
+    files : sequence of path-like or DamperTest
+        Test files (all read before the first identification, so that a bad file stops the
+        call at once), or tests already read (:func:`read_test`).
     models : sequence of {"normalized", "extended"}
     n_bootstrap : int
         Cycle-bootstrap refits per identification.
@@ -87,29 +90,32 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     -------
     dict
         ``{"tests": [summary per file and model], "held_out": {...}, "failed": {...},
-        "figures": [...]}``; parameters in SI under ``kappa_x`` … ``n``.
+        "figures": [...]}``; parameters in SI under ``kappa_x`` … ``n``, their SI units under
+        each test's ``units`` (:mod:`benchmark.foundation.display_units`).
     """
     if not files:
         raise InputError("--data: expected at least one file")
     idents: list[Identification] = []
     failed: dict[str, str] = {}
-    for path in files:
-        test = read_test(path)
+    tests = [(str(item.name), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
+             for item in files]
+    for label, test in tests:
         for m in models:
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
                     idents.append(identify(test, model=m, n_bootstrap=n_bootstrap, strict=strict))
             except InputError as exc:
-                failed[f"{Path(path).name} [{m}]"] = str(exc)
+                failed[f"{label} [{m}]"] = str(exc)
             if progress is not None:
-                progress(f"{Path(path).name} {m}")
+                progress(f"{label} {m}")
     # Held-out check per model (files at the same level predict each other).
     per_model = {m: held_out_errors([i for i in idents if i.model_name == m]) for m in models}
     tests = []
     for ident in idents:
         s = ident.summary()
         s["file"] = ident.name
+        s["units"] = {k: si_unit(parameter_kind(k)) for k in s["parameters"]}
         s["held_out"] = per_model[ident.model_name].get(ident.name, {})
         tests.append(s)
     figures: list[str] = []

@@ -31,6 +31,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from benchmark.foundation.figures import save_figure  # noqa: E402
+from benchmark.foundation.display_units import display_unit, parameter_kind, to_display  # noqa: E402
 from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
 
 __all__ = ["plot_loops", "plot_inclination", "plot_elastic_removed", "plot_test_signals",
@@ -38,8 +39,9 @@ __all__ = ["plot_loops", "plot_inclination", "plot_elastic_removed", "plot_test_
            "plot_error_anatomy"]
 
 _COLORS = {"normalized": "tab:blue", "extended": "tab:red"}
-_UNITS = {"kappa_x": ("kN/m", 1e-3), "kappa_xdot": ("kN s/m", 1e-3), "kappa_w": ("kN", 1e-3),
-          "rho": ("1/m", 1.0), "sigma": ("-", 1.0), "n": ("-", 1.0)}
+#: parameter -> (display unit, factor from SI), from benchmark.foundation.display_units
+_UNITS = {name: (display_unit(parameter_kind(name)), float(to_display(1.0, parameter_kind(name))))
+          for name in PARAMETER_NAMES}
 _SYMBOLS = {"kappa_x": r"$\kappa_x$", "kappa_xdot": r"$\kappa_{\dot x}$", "kappa_w": r"$\kappa_w$",
             "rho": r"$\rho$", "sigma": r"$\sigma$", "n": r"$n$"}
 
@@ -225,34 +227,35 @@ def plot_fit(ident, path, held_out: Sequence = ()) -> Path:
     fig = plt.figure(figsize=(12, 3.4 * rows))
     a1 = fig.add_subplot(rows, 2, 1)
     a2 = fig.add_subplot(rows, 2, 2)
-    a1.plot(ident.x[w] * 1e3, ident.force[w], "k--", lw=1.0, label="measured")
-    a1.plot(ident.x[w] * 1e3, ident.fit.force[w], color=_COLORS.get(ident.model_name), lw=1.0,
+    kN = _UNITS["kappa_w"][1]   # force display factor (kN)
+    a1.plot(ident.x[w], ident.force[w] * kN, "k--", lw=1.0, label="measured")
+    a1.plot(ident.x[w], ident.fit.force[w] * kN, color=_COLORS.get(ident.model_name), lw=1.0,
             label=f"{ident.model_name} Bouc-Wen")
-    a2.plot(ident.xdot[w] * 1e3, ident.force[w], "k--", lw=1.0)
-    a2.plot(ident.xdot[w] * 1e3, ident.fit.force[w], color=_COLORS.get(ident.model_name), lw=1.0)
-    a1.set_xlabel("Displacement (mm)")
-    a2.set_xlabel("Velocity (mm/s)")
+    a2.plot(ident.xdot[w], ident.force[w] * kN, "k--", lw=1.0)
+    a2.plot(ident.xdot[w], ident.fit.force[w] * kN, color=_COLORS.get(ident.model_name), lw=1.0)
+    a1.set_xlabel(f"Displacement ({display_unit('displacement')})")
+    a2.set_xlabel(f"Velocity ({display_unit('velocity')})")
     for a in (a1, a2):
-        a.set_ylabel("Force (N)")
+        a.set_ylabel(f"Force ({display_unit('force')})")
         a.grid(alpha=0.3)
     a1.legend(fontsize=8)
     a3 = fig.add_subplot(rows, 1, 2)
-    a3.plot(ident.t, ident.force - ident.fit.force, "k-", lw=0.6)
+    a3.plot(ident.t, (ident.force - ident.fit.force) * kN, "k-", lw=0.6)
     a3.axvspan(ident.t[w.start], ident.t[w.stop - 1], color="tab:orange", alpha=0.1, label="fit window")
     e = ident.errors
     a3.set_title(f"force error: rel. RMS {100 * e['rel_rms_error']:.2f} %, peak {100 * e['peak_error']:.1f} %",
                  fontsize=9)
     a3.set_xlabel("Time (s)")
-    a3.set_ylabel("Error (N)")
+    a3.set_ylabel(f"Error ({display_unit('force')})")
     a3.grid(alpha=0.3)
     a3.legend(fontsize=8)
     if held_out:
         a4 = fig.add_subplot(rows, 1, 3)
         for name, t, f, g in held_out:
             rel = np.linalg.norm(f - g) / np.linalg.norm(f)
-            a4.plot(t, f - g, lw=0.6, label=f"{name} (held out, rel. RMS {100 * rel:.1f} %)")
+            a4.plot(t, (f - g) * kN, lw=0.6, label=f"{name} (held out, rel. RMS {100 * rel:.1f} %)")
         a4.set_xlabel("Time (s)")
-        a4.set_ylabel("Error (N)")
+        a4.set_ylabel(f"Error ({display_unit('force')})")
         a4.grid(alpha=0.3)
         a4.legend(fontsize=7)
     fig.suptitle(f"{ident.name}: {ident.model_name} model at {ident.level:g} {ident.level_unit}")
@@ -264,14 +267,16 @@ def plot_parameters_vs_level(summaries: Sequence[dict], path, unit: str = "A") -
     """Parameters of many tests against their current/voltage (``Identification.summary()`` dicts)."""
     fig, axes = plt.subplots(2, 3, figsize=(13, 7))
     for ax, name in zip(axes.ravel(), PARAMETER_NAMES):
+        unit, scale = _UNITS[name]
         for m in ("normalized", "extended"):
             pts = [(s["level"], s["parameters"][name], s["standard_error"][name]) for s in summaries
                    if s["model"] == m and s["level"] is not None]
             if not pts or (name == "kappa_x" and m == "normalized"):
                 continue
             lv, val, err = map(np.array, zip(*pts))
-            ax.errorbar(lv, val, yerr=err, fmt="o", color=_COLORS[m], ms=4, alpha=0.7, capsize=2, label=m)
-        ax.set_title(_SYMBOLS[name])
+            ax.errorbar(lv, val * scale, yerr=err * scale, fmt="o", color=_COLORS[m], ms=4, alpha=0.7,
+                        capsize=2, label=m)
+        ax.set_title(f"{_SYMBOLS[name]} [{unit}]")
         ax.set_xlabel(f"Current ({unit})" if unit == "A" else f"Voltage ({unit})")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)

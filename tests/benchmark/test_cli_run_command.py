@@ -79,6 +79,9 @@ def test_controlled_run_has_device_criteria(capsys, short_record_files):
     assert s["peaks"]["peak_device_force"] > 0
     assert 0 < s["J"]["J6"] < 1 and 0 < s["J"]["J9"] < 1
     assert s["J"]["J3"] < 1.0  # passive dampers at full voltage reduce the base displacement
+    # the key of the J's travels with them (issue #16 item 7)
+    assert s["criteria"]["J6"]["normalised_by"] == "controlled run"
+    assert s["criteria"]["J3"]["normalised_by"] == "uncontrolled run" and "Narasimhan" in s["criteria"]["J3"]["source"]
 
 
 @pytest.mark.parametrize("args, message", [

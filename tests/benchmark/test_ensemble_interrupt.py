@@ -25,14 +25,14 @@ records = ["kobe", "elcentro", "sylmar"]
 """
 
 
-def _start(tmp_path: Path, jobs: int) -> tuple[subprocess.Popen, Path, Path]:
+def _start(tmp_path: Path, jobs: int, preexec_fn=None) -> tuple[subprocess.Popen, Path, Path]:
     cfg = tmp_path / "int.toml"
     cfg.write_text(TOML)
     out = tmp_path / "int.h5"
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     proc = subprocess.Popen([sys.executable, "-m", "benchmark", "ensemble", "--config", str(cfg),
                              "--out", str(out), "--jobs", str(jobs), "--no-progress"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env, preexec_fn=preexec_fn)
     return proc, cfg, out
 
 
@@ -79,8 +79,8 @@ def test_kill_9_then_resume(tmp_path):
     _check_resume(tmp_path, cfg, out)
 
 
-def test_ctrl_c_writes_partial_results_then_resume(tmp_path):
-    proc, cfg, out = _start(tmp_path, jobs=2)
+def test_ctrl_c_writes_partial_results_then_resume(tmp_path, sigint_default):
+    proc, cfg, out = _start(tmp_path, jobs=2, preexec_fn=sigint_default)
     _wait_for_lines(journal_path(out), 4, proc)
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)

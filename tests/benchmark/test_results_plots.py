@@ -83,3 +83,13 @@ def test_individual_plots(tmp_path, runs):
     run, ref = runs
     assert plot_floor_envelopes(run, tmp_path / "e.pdf", ref).read_bytes()[:4] == b"%PDF"
     assert plot_base_orbit(run, tmp_path / "o.png").is_file()
+
+
+def test_run_figures_use_display_units(tmp_path, runs, figures):
+    """Issue #16 item 8: displacements in m, forces in kN, as in every other figure."""
+    run, ref = runs
+    plot_run(run, tmp_path / "fig", reference=ref, bearing_xy=XY, corners=XY[[0, 91]])
+    figures.check()
+    labels = [text for texts in figures.seen for _, text in texts]
+    assert any("displacement" in t and t.endswith("[m]") for t in labels)
+    assert not any("[cm]" in t for t in labels)

@@ -55,3 +55,37 @@ def test_plot_loops_with_elastic_part(tmp_path):
     path = plot_loops([test, test], tmp_path / "loops.png", labels=["a", "b"], kappa_x=2.07e5,
                       styles=["-", "--"])
     assert path.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("model", ["dahl", "hyperbolic_tangent", "bingham"])
+def test_voltage_is_rejected_for_a_model_that_does_not_depend_on_it(tmp_path, model, capsys):
+    """Issue #16 item 10: the force of these defaults is the same at every voltage, so a
+    --voltage must not be silently ignored; without --voltage the test runs."""
+    out = tmp_path / "m.csv"
+    base = ["damper", "test", "--model", model, "--amplitude", "0.01", "--frequency", "1",
+            "--cycles", "1", "--out", str(out)]
+    assert main(base + ["--voltage", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "does not depend on the voltage" in err and "--voltage" in err and model in err
+    assert len(err.strip().splitlines()) == 1 and not out.exists()
+    assert main(base) == 0 and out.exists()
+    assert main(base + ["--voltage", "0"]) == 0   # the voltage it runs at anyway
+
+
+def test_voltage_is_required_for_a_model_that_depends_on_it(tmp_path, capsys):
+    out = tmp_path / "v.csv"
+    assert main(["damper", "test", "--model", "virtual", "--amplitude", "0.01", "--frequency", "1",
+                 "--cycles", "1", "--out", str(out)]) == 2
+    assert "--voltage" in capsys.readouterr().err and not out.exists()
+
+
+def test_voltage_is_accepted_for_a_voltage_law(tmp_path):
+    """A model whose parameters are voltage laws responds to --voltage (API-built model)."""
+    from damper.bingham import Bingham
+    from benchmark.applications.cli_damper import check_voltage_effect
+    from damper.voltage_laws import Polynomial
+
+    model = Bingham(f_c=Polynomial((500.0, 300.0)), c0=5.0e3, f0=0.0)
+    check_voltage_effect(model, "bingham", 1.0)          # no error
+    with pytest.raises(Exception, match="does not depend on the voltage"):
+        check_voltage_effect(Bingham(f_c=500.0, c0=5.0e3, f0=0.0), "bingham", 1.0)

@@ -105,7 +105,8 @@ def _child(script: Path, kind: str, dest: Path, *extra: str) -> list[str]:
     return [sys.executable, str(script), kind, str(dest), str(SIZES[kind]), *extra]
 
 
-def _interrupt(tmp_path: Path, kind: str, sig: int, delay: float) -> tuple[int, list[Path]]:
+def _interrupt(tmp_path: Path, kind: str, sig: int, delay: float,
+               preexec_fn=None) -> tuple[int, list[Path]]:
     script = tmp_path / "writer.py"
     script.write_text(CHILD)
     dest = tmp_path / kind / NAMES[kind]
@@ -113,7 +114,7 @@ def _interrupt(tmp_path: Path, kind: str, sig: int, delay: float) -> tuple[int, 
     subprocess.run(_child(script, kind, dest, "0"), check=True, timeout=120)   # the previous file
     assert _generation(kind, dest) == 0
     proc = subprocess.Popen(_child(script, kind, dest), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            env=dict(os.environ, PYTHONUNBUFFERED="1"))
+                            env=dict(os.environ, PYTHONUNBUFFERED="1"), preexec_fn=preexec_fn)
     try:
         assert proc.stdout.readline().strip() == b"ready", proc.stderr.read().decode()
         time.sleep(delay)
@@ -135,8 +136,8 @@ SCHEDULE = [("h5", signal.SIGKILL, 0.171), ("h5", signal.SIGINT, 0.057), ("recor
 
 @pytest.mark.parametrize("kind, sig, delay", SCHEDULE,
                          ids=[f"{k}-{signal.Signals(s).name}-{d}" for k, s, d in SCHEDULE])
-def test_interrupted_write_leaves_a_complete_file(tmp_path, kind, sig, delay):
-    gen, leftovers = _interrupt(tmp_path, kind, sig, delay)
+def test_interrupted_write_leaves_a_complete_file(tmp_path, kind, sig, delay, sigint_default):
+    gen, leftovers = _interrupt(tmp_path, kind, sig, delay, preexec_fn=sigint_default)
     assert gen >= 1  # the child completed at least its warm-up write before the signal
     if sig == signal.SIGINT:
         assert leftovers == [], f"Ctrl-C left temporary files: {leftovers}"
@@ -146,11 +147,11 @@ def test_interrupted_write_leaves_a_complete_file(tmp_path, kind, sig, delay):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("trial", range(30))
-def test_interrupted_writes_many_times(tmp_path, trial):
+def test_interrupted_writes_many_times(tmp_path, trial, sigint_default):
     """The same with many kill times spread over a write, for every writer (slow)."""
     sig = signal.SIGKILL if trial % 3 else signal.SIGINT
     kind = ("h5", "record", "damper")[trial % 5 % 3]
-    gen, leftovers = _interrupt(tmp_path, kind, sig, 0.005 + 0.0137 * trial)
+    gen, leftovers = _interrupt(tmp_path, kind, sig, 0.005 + 0.0137 * trial, preexec_fn=sigint_default)
     assert gen >= 1
     if sig == signal.SIGINT:
         assert leftovers == []
@@ -169,7 +170,7 @@ def test_atomic_path_keeps_the_previous_file_on_error(tmp_path):
     assert dest.read_text() == "previous" and list(tmp_path.iterdir()) == [dest]
 
 
-def test_ctrl_c_during_a_write_is_honoured_after_it(tmp_path):
+def test_ctrl_c_during_a_write_is_honoured_after_it(tmp_path, sigint_default):
     """Ctrl-C inside the writer is held back (h5py would swallow it), then raised; old file kept."""
     from benchmark.foundation.atomic import atomic_path
 
