@@ -2,7 +2,8 @@
 
 It writes into one output directory: the record catalogue check, the benchmark suite
 under several controllers, the identification report and the diagnosis of measured
-data, each step calling the public Python API. Steps whose inputs are absent (e.g. no
+data, each step calling the public Python API, and ``report.html``, one page with the
+tables and key figures (:mod:`benchmark.report`). Steps whose inputs are absent (e.g. no
 record files) fall back to the synthetic benchmark-like records and say so.
 """
 
@@ -67,7 +68,12 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
     summary["steps"]["diagnosis"]["elapsed_s"] = time.perf_counter() - step
 
     summary["elapsed_s"] = time.perf_counter() - t0
+    # one page to open first: tables and key figures, each linking to its data (benchmark/report.py)
+    from benchmark.report import REPORT_NAME, write_report
+
+    summary["report"] = str(out / REPORT_NAME)
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=str))
+    write_report(out)
     return summary
 
 
