@@ -34,6 +34,7 @@ MODES = ("run", "slow", "parse", "skip")
 _TAG = re.compile(r"^\s*<!--\s*docs-test:\s*(?P<mode>[\w-]+)\s*(?P<reason>.*?)\s*-->\s*$")
 _FENCE = re.compile(r"^```(?P<lang>[\w+-]*)\s*$")
 _INLINE_SBIB = re.compile(r"`(sbib [^`]+)`")
+_INLINE_MODULE = re.compile(r"`(python -m [\w.]+[^`]*)`")
 
 
 @dataclass(frozen=True)
@@ -188,6 +189,31 @@ def inline_mentions(document: Path) -> list[str]:
     return _INLINE_SBIB.findall(text)
 
 
+def module_mentions(document: Path) -> list[str]:
+    """The inline code spans of a document that start with ``python -m ``."""
+    return _INLINE_MODULE.findall(document.read_text(encoding="utf-8"))
+
+
+_HELP: dict[str, str] = {}
+
+
+def check_module_mention(text: str) -> None:
+    """Check an inline ``python -m MODULE [--option ...]``: the module runs with ``--help`` and
+    lists every option the mention names."""
+    import subprocess
+    import sys
+
+    module = text.split()[2]
+    if module not in _HELP:
+        proc = subprocess.run([sys.executable, "-m", module, "--help"], capture_output=True, text=True,
+                              cwd=REPO, timeout=120)
+        assert proc.returncode == 0, f"`{text}`: python -m {module} --help failed: {proc.stderr[-500:]}"
+        _HELP[module] = proc.stdout
+    for option in re.findall(r"(?<![\w-])(--[a-z][a-z0-9-]*)", text):
+        assert re.search(rf"(?<![\w-]){re.escape(option)}(?![\w-])", _HELP[module]), \
+            f"`{text}`: python -m {module} has no option {option}"
+
+
 def makefile_targets() -> set[str]:
     text = (REPO / "Makefile").read_text(encoding="utf-8")
     return set(re.findall(r"^([A-Za-z][\w.-]*)\s*:(?!=)", text, flags=re.M))
@@ -268,6 +294,12 @@ def test_docs_block_parses(block):
 def test_docs_inline_sbib_mentions_exist(mention):
     """Every inline `sbib ...` names commands and options that exist (no `records plot`)."""
     check_mention(mention)
+
+
+@pytest.mark.parametrize("mention", sorted({m for d in DOCUMENTS for m in module_mentions(d)}))
+def test_docs_inline_module_mentions_exist(mention):
+    """Every inline `python -m MODULE --option` names a module and options that exist."""
+    check_module_mention(mention)
 
 
 @pytest.mark.parametrize("block", [_run_param(b) for b in _BLOCKS])
@@ -351,6 +383,12 @@ def test_parse_check_catches_commands_that_do_not_exist(command):
 def test_mention_check_catches_what_does_not_exist(mention):
     with pytest.raises(AssertionError):
         check_mention(mention)
+
+
+def test_module_mention_check_catches_unknown_options():
+    check_module_mention("python -m benchmark.fragility --out DIR --quick")
+    with pytest.raises(AssertionError, match="no option --fast"):
+        check_module_mention("python -m benchmark.fragility --out DIR --fast")
 
 
 def test_make_targets_are_checked():
