@@ -84,3 +84,32 @@ def test_simulation_result_has_named_peaks_and_js(shared_dir):
     assert reference.peaks.device_force == 0.0 and J["J6"] is not None
     assert isinstance(result.energy_balance_error(), float)
     assert 0.0 <= result.energy_balance_error() < 1e-2
+
+
+def test_readme_kobe_example_numbers_match_result_peaks(shared_dir, records_dir):
+    """The README's Kobe example (peak base displacement, J3, J5, J9) is what ``result.peaks`` and
+    ``evaluate`` give today, so the numbers a reader compares with cannot drift."""
+    import re
+    from pathlib import Path
+
+    from benchmark.building import Building
+    from benchmark.simulation import simulate
+    from records import load_benchmark_record
+
+    readme = " ".join((Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8").split())
+    m = re.search(r"Example \(Kobe FN-x, `friction-lrb`, clipped-optimal[^)]*\): peak base displacement "
+                  r"(?P<ub>[\d.]+) m \(J3 = (?P<J3>[\d.]+) of the uncontrolled (?P<ub0>[\d.]+) m\), peak floor "
+                  r"acceleration (?P<acc>[\d.]+) m/s² \(J5 = (?P<J5>[\d.]+)\), peak drift ratio "
+                  r"(?P<drift>[\d.]+) %, J9 = (?P<J9>[\d.]+)\.", readme)
+    assert m, "README's Kobe example sentence not found (update this test with the README)"
+    record = load_benchmark_record("kobe", "FN-x", records_dir=records_dir)
+    building = Building.default(structure_path=shared_dir / "benchmark" / "structure.json")
+    reference = simulate(building, record)
+    result = simulate(building, record, controller="clipped-optimal")
+    J = evaluate(result, reference)
+    assert result.peaks.base_displacement == pytest.approx(float(m["ub"]), abs=0.0005)
+    assert reference.peaks.base_displacement == pytest.approx(float(m["ub0"]), abs=0.0005)
+    assert result.peaks.floor_acceleration == pytest.approx(float(m["acc"]), abs=0.005)
+    assert 100 * result.peaks.drift_ratio == pytest.approx(float(m["drift"]), abs=0.005)
+    for j in ("J3", "J5", "J9"):
+        assert J[j] == pytest.approx(float(m[j]), abs=0.005), j
