@@ -302,6 +302,23 @@ def test_docs_inline_module_mentions_exist(mention):
     check_module_mention(mention)
 
 
+def _all_sbib_options(parser: argparse.ArgumentParser, found: set[str]) -> set[str]:
+    found.update(parser._option_string_actions)
+    for sub in _subcommands(parser).values():
+        _all_sbib_options(sub, found)
+    return found
+
+
+def test_docs_option_spans_name_real_options():
+    """A code span that starts with an option (`--dt 0.01`, `--baseline-correct`) names an option
+    that some sbib command has (the commands each belongs to are checked above)."""
+    known = _all_sbib_options(_sbib_parser(), set())
+    unknown = [f"{d.relative_to(REPO)}: {m}" for d in DOCUMENTS
+               for m in re.findall(r"`(--[a-z][a-z0-9-]*)[^`]*`", d.read_text(encoding="utf-8"))
+               if m not in known]
+    assert not unknown, f"options no sbib command has: {unknown}"
+
+
 @pytest.mark.parametrize("block", [_run_param(b) for b in _BLOCKS])
 def test_docs_block_runs(block, scratch, shared_dir):
     """Every example runs (exit status 0) in its document's scratch folder."""
