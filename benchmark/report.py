@@ -102,7 +102,7 @@ def _figure(root: Path, image: Path, caption: str, data: Sequence[Path]) -> str:
         return ""
     rel = image.relative_to(root).as_posix()
     links = _data_links(root, data)
-    return (f'<figure><a href="{_e(rel)}"><img src="{_e(rel)}" alt="{_e(caption)}" loading="lazy"></a>'
+    return (f'<figure><a href="{_e(rel)}"><img src="{_e(rel)}" alt="{_e(caption)}"></a>'
             f"<figcaption>{_e(caption)}{' — ' + links if links else ''}</figcaption></figure>")
 
 
