@@ -68,6 +68,14 @@ def _pct(value: Any) -> str:
     return f"{100.0 * v:.1f} %" if math.isfinite(v) else "–"
 
 
+def _kilo(value: Any) -> str:
+    """An SI value shown in kilo-units (N/m -> kN/m, N -> kN), one decimal."""
+    try:
+        return _num(float(value) / 1e3, 1)
+    except (TypeError, ValueError):
+        return "–"
+
+
 def _read_json(path: Path) -> Any:
     try:
         return json.loads(path.read_text(encoding="utf-8"))
@@ -107,7 +115,8 @@ def _figure(root: Path, image: Path, caption: str, data: Sequence[Path]) -> str:
 
 
 def _missing(what: str) -> str:
-    return f'<p class="missing">{_e(what)}: not in this results directory (step not run).</p>'
+    return (f'<p class="missing">{_e(what)}: not in this results directory '
+            "(step not run, or its file is unreadable).</p>")
 
 
 # --------------------------------------------------------------------------- sections
@@ -181,9 +190,7 @@ def _identification_section(root: Path) -> str:
             rows = []
             for r in shown:
                 rows.append([_e(_model_label(r)), _num(r.get("voltage"), 2),
-                             _num(float(r.get("kappa_x") or 0) / 1e3, 1),
-                             _num(float(r.get("kappa_xdot") or 0) / 1e3, 1),
-                             _num(float(r.get("kappa_w") or 0) / 1e3, 1),
+                             _kilo(r.get("kappa_x")), _kilo(r.get("kappa_xdot")), _kilo(r.get("kappa_w")),
                              _num(r.get("rho"), 1), _num(r.get("sigma"), 2), _num(r.get("n"), 2),
                              _pct(r.get("rel_rms_error"))])
             out.append(_table(["model", "v [V]", "κ_x [kN/m]", "κ_ẋ [kN·s/m]", "κ_w [kN]", "ρ [1/m]",
@@ -236,7 +243,7 @@ def _grid_ends_and_middle(rows: list[dict]) -> list[dict]:
             keep.extend(group)
             continue
         wanted = {volts[0], volts[len(volts) // 2], volts[-1]}
-        keep.extend(r for r in group if float(r.get("voltage")) in wanted)
+        keep.extend(r for r in group if float(r.get("voltage")) in wanted)  # all parsed above
     return keep
 
 

@@ -167,3 +167,14 @@ def test_report_renders_in_headless_chromium(small_results, tmp_path):
     assert pixels.shape == (2400, 1280)
     # a rendered page, not a blank one: text and figures make the image far from uniform
     assert pixels.std() > 20.0 and (pixels < 128).mean() > 0.01
+
+
+def test_report_tolerates_malformed_result_files(tmp_path):
+    (tmp_path / "suite").mkdir()
+    (tmp_path / "suite" / "comparison.json").write_bytes(b"\x89PNG not json")
+    (tmp_path / "identification").mkdir()
+    (tmp_path / "identification" / "parameters.csv").write_text(
+        "model,voltage,kappa_x,kappa_xdot,kappa_w,rho,sigma,n,rel_rms_error\nnormalized,0,abc,1e3,,1,1,1,0.1\n")
+    path = write_report(tmp_path)
+    text = path.read_text(encoding="utf-8")
+    assert "unreadable" in text and "normalized" in text and "–" in text
