@@ -22,6 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from benchmark.evaluation import peaks as _peaks
+
 __all__ = ["Peaks", "peaks_of", "PEAK_FIELD_UNITS"]
 
 #: SI unit and meaning of every :class:`Peaks` field
@@ -110,8 +112,6 @@ def peaks_of(result: Any) -> Peaks:
     InputError
         If ``result`` lacks a field or a field has the wrong shape.
     """
-    from benchmark.evaluation import peaks as _peaks
-
     p = _peaks(result)
     ub = np.asarray(result.base_displacement, dtype=float)
     device_force = getattr(result, "device_force", None)

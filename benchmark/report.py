@@ -24,6 +24,8 @@ from typing import Any, Iterable, Sequence
 
 from benchmark.atomic import atomic_write_text
 from benchmark.errors import InputError
+from benchmark.evaluation import J_DESCRIPTIONS, J_NAMES
+from benchmark.provenance import provenance
 
 __all__ = ["write_report", "build_report_html", "REPORT_NAME"]
 
@@ -122,8 +124,6 @@ def _missing(what: str) -> str:
 # --------------------------------------------------------------------------- sections
 
 def _j_key() -> str:
-    from benchmark.evaluation import J_DESCRIPTIONS
-
     items = "".join(f"<dt>{_e(j)}</dt><dd>{_e(d)}</dd>" for j, d in J_DESCRIPTIONS.items())
     return (f'<dl class="key">{items}</dl><p class="note">J1–J5, J7, J8: ratios to the uncontrolled run '
             "(below 1 = reduced). J6 and J9 are fractions of the controlled run itself, not ratios "
@@ -136,8 +136,6 @@ def _suite_section(root: Path) -> str:
     out = ['<h2 id="suite">Controllers: evaluation criteria J1–J9</h2>']
     if not isinstance(data, dict) or not isinstance(data.get("summary"), dict):
         return out[0] + _missing("the benchmark suite (suite/comparison.json)")
-    from benchmark.evaluation import J_NAMES
-
     runs = data.get("runs") or []
     cases = sorted({(r.get("record"), r.get("orientation")) for r in runs if isinstance(r, dict)})
     synthetic = (_read_json(root / "summary.json") or {}).get("steps", {}).get("suite", {}).get(
@@ -305,8 +303,6 @@ def build_report_html(results: str | Path) -> str:
     if isinstance(summary, dict) and summary.get("elapsed_s") is not None:
         meta.append(f"main job: {_num(summary['elapsed_s'], 1)} s")
     try:
-        from benchmark.provenance import provenance
-
         p = provenance()
         meta.append(f"sbib {_e(p.get('package_version', '?'))}, commit {_e(str(p.get('git_commit', '?'))[:12])}, "
                     f"written {_e(p.get('created_utc', '?'))}")

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from benchmark.errors import InputError, NumericalError
+from benchmark.peaks import Peaks, peaks_of
 
 __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES"]
 
@@ -106,12 +107,10 @@ class SimulationResult:
         return float(self.t[1] - self.t[0]) if self.t.size > 1 else float("nan")
 
     @property
-    def peaks(self) -> "Peaks":
+    def peaks(self) -> Peaks:
         """Named peak responses with units (:class:`benchmark.peaks.Peaks`): e.g.
         ``result.peaks.base_displacement`` is the peak x–y resultant base displacement [m],
         where ``base_displacement.max()`` would mix the x, y [m] and θ [rad] columns."""
-        from benchmark.peaks import peaks_of
-
         return peaks_of(self)
 
     def energy_balance_error(self) -> float:

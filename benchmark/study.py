@@ -14,6 +14,7 @@ import time
 from pathlib import Path
 
 from benchmark.atomic import atomic_write_text
+from benchmark.report import REPORT_NAME, write_report
 
 __all__ = ["run_study"]
 
@@ -69,8 +70,6 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
 
     summary["elapsed_s"] = time.perf_counter() - t0
     # one page to open first: tables and key figures, each linking to its data (benchmark/report.py)
-    from benchmark.report import REPORT_NAME, write_report
-
     summary["report"] = str(out / REPORT_NAME)
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=str))
     write_report(out)
