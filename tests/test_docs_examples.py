@@ -155,14 +155,14 @@ def check_sbib_command(argv: list[str]) -> None:
 
 def check_mention(text: str) -> None:
     """Check an inline mention such as ``sbib identify [--out DIR] [--json]`` or
-    ``sbib records list/show``: every sub-command word (and every ``/`` alternative) must exist
+    ``sbib records list/show``: every sub-command word (and every ``/`` or ``|`` alternative) must exist
     and every ``--option`` must belong to the command it follows."""
     parser, parent = _sbib_parser(), None
     chain = ["sbib"]
-    alternative = False
-    for token in re.findall(r"/|[^\s/]+", text)[1:]:
-        if token == "/":
-            alternative = True
+    alternative = last_was_command = False
+    for token in re.findall(r"[/|]|[^\s/|]+", text)[1:]:
+        if token in "/|":
+            alternative = last_was_command      # `records list / show` or `records show|generate`
             continue
         word = token.strip("[]()|,.;")
         if word.startswith("--"):
@@ -174,13 +174,17 @@ def check_mention(text: str) -> None:
                 raise AssertionError(f"`{text}`: {' '.join(chain[:-1])} has no sub-command {word!r}")
             parser = _subcommands(parent)[word]
             chain[-1] = word
+            alternative, last_was_command = False, True
+            continue
         elif _subcommands(parser) and word and not word.startswith("-"):
             if word in _subcommands(parser):
                 parent, parser = parser, _subcommands(parser)[word]
                 chain.append(word)
+                alternative, last_was_command = False, True
+                continue
             elif not (word.isupper() or word.startswith("<") or word == "..."):
                 raise AssertionError(f"`{text}`: {' '.join(chain)} has no sub-command {word!r}")
-        alternative = False
+        alternative = last_was_command = False
 
 
 def inline_mentions(document: Path) -> list[str]:
@@ -395,7 +399,7 @@ def test_parse_check_catches_commands_that_do_not_exist(command):
         parse_block(block)
 
 
-@pytest.mark.parametrize("mention", ["sbib records list/plot/report", "sbib records report",
+@pytest.mark.parametrize("mention", ["sbib records list/plot/report", "sbib records show|plot", "sbib records report",
                                      "sbib compare --out-dir DIR", "sbib identify [--outt DIR]"])
 def test_mention_check_catches_what_does_not_exist(mention):
     with pytest.raises(AssertionError):
