@@ -23,4 +23,5 @@ def _run(args: argparse.Namespace) -> int:
         took = step.get("elapsed_s") if isinstance(step, dict) else None
         print(f"  {name:<15} {'' if took is None else f'{took:7.1f} s'}  {where}")
     print(f"summary: {args.out}/summary.json")
+    print(f"report:  {summary['report']}  (open it in a browser; works offline)")
     return 0

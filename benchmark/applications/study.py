@@ -2,7 +2,8 @@
 
 It writes into one output directory: the record catalogue check, the benchmark suite
 under several controllers, the identification report and the diagnosis of measured
-data, each step calling the public Python API. Steps whose inputs are absent (e.g. no
+data, each step calling the public Python API, and ``report.html``, one page with the
+tables and key figures (:mod:`benchmark.applications.report`). Steps whose inputs are absent (e.g. no
 record files) fall back to the synthetic benchmark-like records and say so.
 """
 
@@ -17,12 +18,13 @@ from records.report import write_records_report
 from benchmark.applications.comparison import compare
 from benchmark.applications.identification_study import run_identify_study
 from damper.diagnosis import diagnose
-from damper.diagnosis.report import write_report
+from damper.diagnosis.report import write_report as write_diagnosis_report
 from damper.laboratory import periodic_test
 from benchmark.foundation.paths import shared_dir
 from damper.data import read_utfsm, utfsm_files
 from benchmark.foundation.paths import records_dir as _records_dir
 from benchmark.foundation.progress import progress_lines
+from benchmark.applications.report import REPORT_NAME, write_report
 
 __all__ = ["run_study"]
 
@@ -75,7 +77,10 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
     summary["steps"]["diagnosis"]["elapsed_s"] = time.perf_counter() - step
 
     summary["elapsed_s"] = time.perf_counter() - t0
+    # one page to open first: tables and key figures, each linking to its data (benchmark/applications/report.py)
+    summary["report"] = str(out / REPORT_NAME)
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=str))
+    write_report(out)
     return summary
 
 
@@ -114,7 +119,7 @@ def _diagnosis(folder: Path, quick: bool) -> dict:
                            sample_rate=200.0, noise=0.01, seed=2)]
     say("virtual damper: residual loop on 2 tests (normalized Bouc-Wen base)")
     virtual = diagnose(tests, model="normalized", progress=say)
-    write_report(virtual, folder / "virtual")
+    write_diagnosis_report(virtual, folder / "virtual")
     result["virtual"] = virtual.to_json()
     if quick:
         return result
@@ -126,6 +131,6 @@ def _diagnosis(folder: Path, quick: bool) -> dict:
     if files:
         say(f"measured UTFSM tests at 1 A: residual loop on {len(files)} tests")
         measured = diagnose([read_utfsm(f) for f in files], model="normalized", progress=say)
-        write_report(measured, folder / "utfsm_1A")
+        write_diagnosis_report(measured, folder / "utfsm_1A")
         result["utfsm_1A"] = measured.to_json()
     return result

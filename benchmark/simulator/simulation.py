@@ -30,6 +30,7 @@ from benchmark.simulator.stepping import total_bearing_forces
 from controllers.base import ControllerSession
 from controllers.registry import get_controller
 from benchmark.simulator.control import control_context
+from benchmark.simulator.peaks import Peaks, peaks_of
 
 __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES"]
 
@@ -114,9 +115,25 @@ class SimulationResult:
     def dt(self) -> float:
         return float(self.t[1] - self.t[0]) if self.t.size > 1 else float("nan")
 
+    @property
+    def peaks(self) -> Peaks:
+        """Named peak responses with units (:class:`benchmark.simulator.peaks.Peaks`): e.g.
+        ``result.peaks.base_displacement`` is the peak x–y resultant base displacement [m],
+        where ``base_displacement.max()`` would mix the x, y [m] and θ [rad] columns."""
+        return peaks_of(self)
+
     def energy_balance_error(self) -> float:
-        """Largest |input − (kinetic + strain + damping + hysteretic + device)| over the run,
-        relative to the largest input energy."""
+        """Relative closure error of the energy balance (a number, not the energies).
+
+        Returns
+        -------
+        float
+            :math:`\\max_t |E_{in} - (E_k + E_s + E_d + E_h + E_{dev})| / \\max_t |E_{in}|`:
+            the largest residual of input = kinetic + strain + damping + hysteretic + device
+            energy over the run, relative to the largest input energy (0 when no energy
+            entered). The energies themselves, in J, are ``result.energy`` (a dict of (n,)
+            arrays; see :mod:`benchmark.simulator.stepping`).
+        """
         e = self.energy
         residual = e["input"] - (e["kinetic"] + e["strain"] + e["damping"] + e["hysteretic"] + e["device"])
         scale = np.max(np.abs(e["input"]))

@@ -90,8 +90,8 @@ def test_study_diagnosis_step_reports_progress(tmp_path, monkeypatch, capsys):
         seen.append(model)
         return _Done()
 
-    monkeypatch.setattr(damper.diagnosis, "diagnose", fake_diagnose)
-    monkeypatch.setattr(damper.diagnosis.report, "write_report", lambda d, folder: {})
+    monkeypatch.setattr(study, "diagnose", fake_diagnose)
+    monkeypatch.setattr(study, "write_diagnosis_report", lambda d, folder: {})
     study._diagnosis(tmp_path / "diagnosis", quick=True)
     err = capsys.readouterr().err
     assert seen and "round 1: tried stiffness" in err and "diagnosis" in err

@@ -17,6 +17,8 @@ def test_quick_study_writes_every_step(tmp_path, shared_dir, capsys):
     assert set(summary["steps"]) == {"records", "suite", "identification", "diagnosis"}
     assert (out / "suite" / "comparison.h5").is_file()
     assert (out / "identification" / "parameters.csv").is_file()
+    report = (out / "report.html").read_text(encoding="utf-8")
+    assert "suite/comparison.json" in report and "identification/parameters.csv" in report
     virtual = summary["steps"]["diagnosis"]["virtual"]
     assert [e["name"] for e in virtual["effects"]] == ["stiffness"]
     assert virtual["error_after"] < virtual["error_before"]

@@ -1,0 +1,375 @@
+"""One HTML page for a results directory of ``sbib study`` (``make run``): ``report.html``.
+
+The main job writes dozens of files; the report gathers what a reader looks at first: the
+evaluation criteria J1–J9 per controller (with their key), the identification errors, the
+diagnosis of the damper models before and after the residual loop, and the key figures with
+captions. Every table and figure links to the data file it comes from. The page is
+self-contained and works offline: inline CSS, no script, no web font or CDN, figures referenced
+by paths relative to the page (so the results folder can be moved or zipped as a whole).
+
+Steps that are absent from the directory (e.g. a partial run) are listed as "not in this
+results directory" rather than failing, so the builder works on any subset of the study's
+outputs. Run it again on a finished directory with ``python -m benchmark.applications.report RESULTS_DIR``.
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+from benchmark.foundation.atomic import atomic_write_text
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.evaluation import J_DESCRIPTIONS, J_NAMES
+from benchmark.foundation.provenance import provenance
+
+__all__ = ["write_report", "build_report_html", "REPORT_NAME"]
+
+REPORT_NAME = "report.html"
+
+_CSS = """
+body { font-family: system-ui, -apple-system, "Segoe UI", Roboto, sans-serif; margin: 2rem auto;
+       max-width: 72rem; padding: 0 1rem; color: #1b1b1b; line-height: 1.45; }
+h1 { font-size: 1.7rem; margin-bottom: .2rem; } h2 { margin-top: 2.2rem; border-bottom: 1px solid #ccc; }
+table { border-collapse: collapse; margin: .6rem 0 1rem; font-size: .92rem; }
+th, td { border: 1px solid #c8c8c8; padding: .25rem .55rem; text-align: right; }
+th { background: #f0f0f0; } td.name, th.name { text-align: left; }
+figure { margin: 1rem 0 1.6rem; } figure img { max-width: min(100%, 56rem); border: 1px solid #ddd; }
+figcaption { font-size: .9rem; color: #333; max-width: 60rem; }
+.meta, .note { color: #555; font-size: .9rem; } .missing { color: #8a4b00; }
+dl.key { display: grid; grid-template-columns: max-content auto; gap: .1rem 1rem; font-size: .88rem; }
+dl.key dt { font-weight: 600; } dl.key dd { margin: 0; }
+"""
+
+
+def _e(value: Any) -> str:
+    return html.escape(str(value), quote=True)
+
+
+def _num(value: Any, digits: int = 3) -> str:
+    if value is None:
+        return "–"
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return _e(value)
+    if not math.isfinite(v):
+        return "–"
+    return f"{v:.{digits}f}"
+
+
+def _pct(value: Any) -> str:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return "–"
+    return f"{100.0 * v:.1f} %" if math.isfinite(v) else "–"
+
+
+def _kilo(value: Any) -> str:
+    """An SI value shown in kilo-units (N/m -> kN/m, N -> kN), one decimal."""
+    try:
+        return _num(float(value) / 1e3, 1)
+    except (TypeError, ValueError):
+        return "–"
+
+
+def _read_json(path: Path) -> Any:
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+
+
+def _link(root: Path, path: Path, text: str | None = None) -> str:
+    rel = path.relative_to(root).as_posix()
+    return f'<a href="{_e(rel)}">{_e(text or rel)}</a>'
+
+
+def _data_links(root: Path, paths: Iterable[Path]) -> str:
+    links = [_link(root, p) for p in paths if p.is_file()]
+    return ("data: " + ", ".join(links)) if links else ""
+
+
+def _table(header: Sequence[str], rows: Iterable[Sequence[str]], left: Sequence[int] = (0,)) -> str:
+    """An HTML table; ``rows`` hold HTML already escaped; columns ``left`` are text (left-aligned)."""
+    head = "".join(f'<th class="name">{_e(h)}</th>' if i in left else f"<th>{_e(h)}</th>"
+                   for i, h in enumerate(header))
+    body = []
+    for row in rows:
+        cells = "".join(f'<td class="name">{c}</td>' if i in left else f"<td>{c}</td>"
+                        for i, c in enumerate(row))
+        body.append(f"<tr>{cells}</tr>")
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+
+
+def _figure(root: Path, image: Path, caption: str, data: Sequence[Path]) -> str:
+    if not image.is_file():
+        return ""
+    rel = image.relative_to(root).as_posix()
+    links = _data_links(root, data)
+    return (f'<figure><a href="{_e(rel)}"><img src="{_e(rel)}" alt="{_e(caption)}"></a>'
+            f"<figcaption>{_e(caption)}{' — ' + links if links else ''}</figcaption></figure>")
+
+
+def _missing(what: str) -> str:
+    return (f'<p class="missing">{_e(what)}: not in this results directory '
+            "(step not run, or its file is unreadable).</p>")
+
+
+# --------------------------------------------------------------------------- sections
+
+def _j_key() -> str:
+    items = "".join(f"<dt>{_e(j)}</dt><dd>{_e(d)}</dd>" for j, d in J_DESCRIPTIONS.items())
+    return (f'<dl class="key">{items}</dl><p class="note">J1–J5, J7, J8: ratios to the uncontrolled run '
+            "(below 1 = reduced). J6 and J9 are fractions of the controlled run itself, not ratios "
+            "to the uncontrolled run (definitions and sources: <code>docs/criteria.md</code>, <code>benchmark/simulator/criteria.py</code>).</p>")
+
+
+def _suite_section(root: Path) -> str:
+    folder = root / "suite"
+    data = _read_json(folder / "comparison.json")
+    out = ['<h2 id="suite">Controllers: evaluation criteria J1–J9</h2>']
+    if not isinstance(data, dict) or not isinstance(data.get("summary"), dict):
+        return out[0] + _missing("the benchmark suite (suite/comparison.json)")
+    runs = data.get("runs") or []
+    cases = sorted({(r.get("record"), r.get("orientation")) for r in runs if isinstance(r, dict)})
+    synthetic = (_read_json(root / "summary.json") or {}).get("steps", {}).get("suite", {}).get(
+        "synthetic_records", False)
+    out.append(f'<p>Mean / max over {len(cases)} record–orientation case(s)'
+               f'{" (SYNTHETIC records)" if synthetic else ""}: '
+               + _e(", ".join(f"{r} {o}" for r, o in cases)) + ".</p>")
+    rows = []
+    for controller, entry in data["summary"].items():
+        cells = [_e(controller)]
+        for j in J_NAMES:
+            stat = entry.get(j) or {}
+            cells.append(f"{_num(stat.get('mean'), 2)} / {_num(stat.get('max'), 2)}")
+        rows.append(cells)
+    out.append(_table(["controller", *J_NAMES], rows))
+    out.append(f'<p class="note">{_data_links(root, [folder / "comparison.json", folder / "table.txt", folder / "comparison.h5"])}</p>')
+    out.append(_j_key())
+    plots = folder / "plots"
+    out.append(_figure(root, plots / "J_summary.png",
+                       "J1–J9 per controller, mean and max over the runs.", [folder / "comparison.json"]))
+    out.append(_figure(root, plots / "J_by_record.png",
+                       "Each J per record and orientation.", [folder / "comparison.json"]))
+    for image in sorted(plots.glob("histories_*.png"))[:1]:
+        case = image.stem.removeprefix("histories_").replace("_", " ")
+        out.append(_figure(root, image, f"Time histories, {case}: uncontrolled and every controller.",
+                           [folder / "comparison.h5"]))
+    return "".join(out)
+
+
+def _identification_section(root: Path) -> str:
+    folder = root / "identification"
+    out = ['<h2 id="identification">Identification of the virtual benchmark damper</h2>']
+    params = folder / "parameters.csv"
+    validation = _read_json(folder / "validation.json")
+    if not params.is_file() and not isinstance(validation, dict):
+        return out[0] + _missing("the identification study (identification/parameters.csv)")
+    if params.is_file():
+        try:
+            lines = [ln for ln in params.read_text(encoding="utf-8").splitlines() if not ln.startswith("#")]
+            records = list(csv.DictReader(lines))
+        except (OSError, UnicodeDecodeError, csv.Error):
+            records = []
+        shown = _grid_ends_and_middle(records)
+        if shown:
+            out.append("<p>Identification errors on the identification test (relative RMS force error "
+                       "over the steady cycles; κ_x in kN/m, κ_ẋ in kN·s/m, κ_w in kN)"
+                       + (f", at {len(shown) // max(1, len({_model_label(r) for r in shown}))} of the "
+                          f"{len(records) // max(1, len({_model_label(r) for r in records}))} voltages "
+                          "(all of them in parameters.csv)" if len(shown) < len(records) else "") + ".</p>")
+            rows = []
+            for r in shown:
+                rows.append([_e(_model_label(r)), _num(r.get("voltage"), 2),
+                             _kilo(r.get("kappa_x")), _kilo(r.get("kappa_xdot")), _kilo(r.get("kappa_w")),
+                             _num(r.get("rho"), 1), _num(r.get("sigma"), 2), _num(r.get("n"), 2),
+                             _pct(r.get("rel_rms_error"))])
+            out.append(_table(["model", "v [V]", "κ_x [kN/m]", "κ_ẋ [kN·s/m]", "κ_w [kN]", "ρ [1/m]",
+                               "σ", "n", "fit error"], rows))
+    if isinstance(validation, dict) and isinstance(validation.get("summary"), dict):
+        errors = validation.get("errors") or {}
+        n_runs = sum(len(v) for v in errors.values() if isinstance(v, dict))
+        out.append(f"<p>Validation inside {n_runs} earthquake run(s) under "
+                   f"{_e(validation.get('controller', '?'))}: force error of each identified model "
+                   "against the device (“+lag”: the commanded voltage through the identified field "
+                   "filter).</p>")
+        models = validation.get("models") or list(validation["summary"])
+        rows = [[_e(model), _pct(s.get("mean_rel_rms_error")), _pct(s.get("max_rel_rms_error")),
+                 _pct(s.get("mean_peak_error")), _pct(s.get("mean_energy_error"))]
+                for model, s in validation["summary"].items()
+                if isinstance(s, dict) and model in models and "mean_rel_rms_error" in s]
+        out.append(_table(["model", "relative RMS (mean)", "relative RMS (max)", "peak (mean)",
+                           "energy (mean)"], rows))
+    out.append(f'<p class="note">{_data_links(root, [params, folder / "validation.json", folder / "voltage_laws.json", folder / "ceiling.json", folder / "identification.h5"])}</p>')
+    figures = folder / "figures"
+    out.append(_figure(root, figures / "fig08_parameters_vs_voltage.png",
+                       "Identified parameters against voltage, with the fitted voltage laws (seed Fig. 8).",
+                       [params, folder / "voltage_laws.json"]))
+    out.append(_figure(root, figures / "fig01_loops_0V.png",
+                       "Force–displacement and force–velocity loops at 0 V: device and identified models (seed Fig. 1).",
+                       [params]))
+    out.append(_figure(root, figures / "fig11_error_anatomy.png",
+                       "Where the validation error comes from: errors by field regime and the structural ceiling.",
+                       [folder / "validation.json", folder / "ceiling.json"]))
+    return "".join(out)
+
+
+def _model_label(row: dict) -> str:
+    mode = row.get("kappa_x_mode") or ""
+    model = row.get("model", "")
+    return f"{model} (κ_x per voltage)" if mode == "per-voltage" else model
+
+
+def _grid_ends_and_middle(rows: list[dict]) -> list[dict]:
+    """The rows at the lowest, middle and highest voltage of each model (the whole grid is long)."""
+    keep = []
+    for label in dict.fromkeys(_model_label(r) for r in rows):
+        group = [r for r in rows if _model_label(r) == label]
+        if len(group) <= 3:
+            keep.extend(group)
+            continue
+        try:
+            volts = sorted({float(r.get("voltage")) for r in group})
+        except (TypeError, ValueError):
+            keep.extend(group)
+            continue
+        wanted = {volts[0], volts[len(volts) // 2], volts[-1]}
+        keep.extend(r for r in group if float(r.get("voltage")) in wanted)  # all parsed above
+    return keep
+
+
+def _diagnosis_section(root: Path) -> str:
+    folder = root / "diagnosis"
+    out = ['<h2 id="diagnosis">Diagnosis: what the damper models lack</h2>']
+    found = sorted(p.parent for p in folder.glob("*/diagnosis.json")) if folder.is_dir() else []
+    if not found:
+        return out[0] + _missing("the residual loop (diagnosis/*/diagnosis.json)")
+    out.append("<p>Held-out relative RMS force error of the base model before and after the "
+               "residual loop, the effects it added (in order) and the structure left unexplained.</p>")
+    rows, figures = [], []
+    for case in found:
+        d = _read_json(case / "diagnosis.json") or {}
+        effects = d.get("effects") or []
+        names = ", ".join(str(e.get("name")) for e in effects if isinstance(e, dict)) or "none"
+        unexplained = ", ".join(f"{u.get('variable')} ({_num(u.get('share'), 2)})"
+                                for u in d.get("unexplained_in") or [] if isinstance(u, dict)) or "none"
+        rows.append([_link(root, case / "diagnosis.json", case.name), _e(d.get("model", "?")),
+                     _pct(d.get("error_before")), _pct(d.get("error_after")), _e(names), _e(unexplained)])
+        data = [case / "diagnosis.json", case / "report.md"]
+        figures.append(_figure(root, case / "loops.png",
+                               f"{case.name}: held-out loops, measured, base model and augmented model.", data))
+        figures.append(_figure(root, case / "residual_trace.png",
+                               f"{case.name}: held-out residual against each variable, before and after.", data))
+    out.append(_table(["data", "base model", "error before", "error after", "effects added",
+                       "unexplained in (share)"], rows, left=(0, 1, 4, 5)))
+    out.extend(figures)
+    return "".join(out)
+
+
+def _records_section(root: Path) -> str:
+    folder = root / "records"
+    catalogue = _read_json(folder / "catalogue.json")
+    out = ['<h2 id="records">Records</h2>']
+    if not isinstance(catalogue, dict):
+        return out[0] + _missing("the record catalogue (records/catalogue.json)")
+    records = [r for r in catalogue.get("records") or [] if isinstance(r, dict)]
+    rows = [[_e(r.get("name")), "yes" if r.get("found") else "no",
+             " / ".join(_num(v, 3) for v in r.get("pga_g") or []) or "–",
+             _num(r.get("duration_s"), 1), _num(r.get("dt_s"), 3),
+             _e("; ".join(str(f.get("message", f)) if isinstance(f, dict) else str(f)
+                          for f in r.get("flaws") or []) or "none")] for r in records]
+    if rows:
+        out.append(_table(["record", "found", "PGA [g] (col. 1 / 2)", "duration [s]", "dt [s]", "flaws"], rows,
+                          left=(0, 5)))
+    out.append(f'<p class="note">{_data_links(root, [folder / "catalogue.json"])}</p>')
+    out.append(_figure(root, folder / "spectra.png", "5 %-damped response spectra of the records.",
+                       [folder / "catalogue.json"]))
+    return "".join(out)
+
+
+def build_report_html(results: str | Path) -> str:
+    """Return the HTML text of the report of the results directory ``results``."""
+    root = Path(results)
+    summary = _read_json(root / "summary.json")
+    steps = summary.get("steps", {}) if isinstance(summary, dict) else {}
+    meta = [f"results directory: <code>{_e(root.resolve().name)}</code>"]
+    if isinstance(summary, dict) and summary.get("elapsed_s") is not None:
+        meta.append(f"main job: {_num(summary['elapsed_s'], 1)} s")
+    try:
+        p = provenance()
+        meta.append(f"sbib {_e(p.get('package_version', '?'))}, commit {_e(str(p.get('git_commit', '?'))[:12])}, "
+                    f"written {_e(p.get('created_utc', '?'))}")
+    except Exception:  # noqa: BLE001 - provenance is informative only; never fail the report on it
+        pass
+    timings = [[_e(name), _num(step.get("elapsed_s"), 1)] for name, step in steps.items()
+               if isinstance(step, dict)]
+    parts = [
+        "<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
+        '<meta name="viewport" content="width=device-width, initial-scale=1">',
+        "<title>sbib results report</title>", f"<style>{_CSS}</style></head><body>",
+        "<h1>Smart base-isolated benchmark: results</h1>",
+        f'<p class="meta">{" · ".join(meta)}</p>',
+        '<p>Sections: <a href="#suite">controllers (J1–J9)</a> · <a href="#identification">identification</a>'
+        ' · <a href="#diagnosis">diagnosis</a> · <a href="#records">records</a>. SI units unless stated; '
+        "every table and figure links to its data file. "
+        + (_link(root, root / "summary.json", "summary.json") + " lists every step's outputs." if (root / "summary.json").is_file() else "")
+        + "</p>",
+        _suite_section(root), _identification_section(root), _diagnosis_section(root), _records_section(root),
+    ]
+    if timings:
+        parts.append('<h2 id="timings">Steps</h2>' + _table(["step", "time [s]"], timings))
+    parts.append("</body></html>\n")
+    return "\n".join(parts)
+
+
+def write_report(results: str | Path, out: str | Path | None = None) -> Path:
+    """Write ``report.html`` for the results directory ``results`` (atomically) and return its path.
+
+    Parameters
+    ----------
+    results : path-like
+        A directory written by ``sbib study`` (or part of one).
+    out : path-like, optional
+        The HTML file; default ``results/report.html``. Figures and data are linked by paths
+        relative to it, so it must lie inside ``results``.
+
+    Raises
+    ------
+    InputError
+        If ``results`` is not a directory, or ``out`` lies outside it.
+    """
+    root = Path(results)
+    if not root.is_dir():
+        raise InputError(f"results directory {root} does not exist; expected the --out folder of sbib study")
+    target = Path(out) if out is not None else root / REPORT_NAME
+    if target.resolve().parent != root.resolve():
+        raise InputError(f"report {target}: expected a file directly inside {root} (links are relative to it)")
+    return atomic_write_text(target, build_report_html(root))
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m benchmark.applications.report RESULTS_DIR``: (re)write RESULTS_DIR/report.html."""
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m benchmark.applications.report",
+                                     description="Write report.html for a results directory of sbib study.")
+    parser.add_argument("results", help="results directory (the --out of sbib study)")
+    args = parser.parse_args(argv)
+    try:
+        path = write_report(args.results)
+    except InputError as exc:
+        print(f"sbib: error: {exc}", file=sys.stderr)
+        return 2
+    print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
