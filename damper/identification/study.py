@@ -49,6 +49,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -157,7 +158,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                        records_dir: str | None = None, synthetic: bool = False,
                        progress: bool = True, plots: bool = True, kappa_x: str | float = "large-loop",
                        compare_free_kappa_x: bool = True, ceiling: bool = True,
-                       jobs: int | None = None) -> dict:
+                       jobs: int | None = None, close_loop: bool = True,
+                       campaign_scale: float = 0.5) -> dict:
     """Run the identification study and write its outputs to ``out``; return the summary.
 
     Parameters
@@ -198,6 +200,12 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         on each run's most-moving damper (:func:`~damper.identification.ceiling.structural_ceiling`).
     jobs : int, optional
         Worker processes (default all cores; 1: everything in this process).
+    close_loop : bool
+        Close the loop (:mod:`~damper.identification.closed_loop`): run the laboratory campaign
+        and the residual loop, validate the augmented models with the others, and measure the
+        seed's claim (the ``claim`` object of ``validation.json``, the seed's Fig. 11 pair).
+    campaign_scale : float
+        Duration factor of the closed loop's laboratory campaign.
 
     Returns
     -------
@@ -221,6 +229,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         if validate else []
     with_free = compare_free_kappa_x and kappa_x != "per-voltage"
     bar = None
+    say = (lambda msg: print(f"sbib identify: {msg}", file=sys.stderr, flush=True)) if progress else None
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=(3 if with_free else 2) * len(voltages) + (2 if ceiling else 1) * len(pairs),
@@ -234,6 +243,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
 
     pool = make_executor(n_jobs)
     validation = validation_json = None
+    closed = claim_names = None
     figure_folder = out / "figures"
     try:
         building = None
@@ -247,6 +257,12 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             if pool is not None:
                 measuring = [pool.submit(measure_run, building, r, o, controller, records_dir, synthetic)
                              for r, o in pairs]
+        loop_job = None
+        t_loop = time.perf_counter()
+        if close_loop:
+            # The campaign needs only the device: the loops start at once, beside the grid.
+            from damper.identification.closed_loop import start_loops
+            loop_job = start_loops(model, pool, campaign_scale=campaign_scale, progress=say)
         t0 = time.perf_counter()
         grid = identify_voltage_grid(model, voltages=voltages, protocol=protocol, progress=tick,
                                      kappa_x=kappa_x, executor=pool, jobs=1)
@@ -270,6 +286,21 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         large = dict(zip(grid.models, results[:len(grid.models)]))
         lag_fits = dict(zip(names, results[len(grid.models):]))
         timings["identification_s"] = time.perf_counter() - t0
+        closed = None
+        claim_names = None
+        if close_loop:
+            from damper.identification.closed_loop import (CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED,
+                                                           claim_object, closed_form_models, finish_loops)
+            closed = finish_loops(loop_job, pool)
+            timings["closed_loop_s"] = time.perf_counter() - t_loop
+            seed_notes: list = []
+            identified.update(closed_form_models(grid, model.voltage_range, seed_notes))
+            grid.notes.extend(seed_notes)
+            for name, bm in closed.building.items():
+                identified[name] = bm if not isinstance(bm, str) else closed.models[name]
+            claim_names = claim_object()
+            rerun = tuple(rerun) + tuple(m for m in (CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED)
+                                         if not isinstance(closed.building.get(m, ""), str))
 
         files = {"parameters": str(write_parameters_csv(
                      [row for g in grids.values() for row in g.rows()], out / "parameters.csv")),
@@ -298,8 +329,15 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                                               figures=figure_folder if plots else None)
             timings["validation_s"] = time.perf_counter() - t0
             validation_json = validation.to_json()
+            if claim_names is not None:
+                from damper.identification.closed_loop import claim_summary
+                validation_json["claim"] = claim_names
+                validation_json["claim_test"] = claim_summary(validation_json, claim_names)
             files["validation"] = str(atomic_write_text(out / "validation.json",
                                                         json.dumps(validation_json, indent=2)))
+            if closed is not None:
+                files["closed_loop"] = str(atomic_write_text(out / "closed_loop.json", json.dumps(
+                    closed.to_json(), indent=2, default=float)))
             if ceiling and validation.runs:
                 from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
 
@@ -332,6 +370,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             from damper.identification.plots import plot_error_anatomy
             files["figures"].append(str(plot_error_anatomy(validation_json, ceiling_entries,
                                                            figure_folder / "fig11_error_anatomy.png")))
+    if plots and validation is not None and claim_names is not None:
+        files["figures"] = files.get("figures", []) + _claim_figures(validation, validation_json, figure_folder)
     t0 = time.perf_counter()
     files["hdf5"] = str(_write_hdf5(out / "identification.h5", grids, fig6_test, validation, model.name))
     timings["hdf5_s"] = time.perf_counter() - t0
@@ -356,6 +396,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         "field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()},
         "validation": validation_json,
         "ceiling": ceiling_summary,
+        "closed_loop": None if closed is None else closed.to_json(),
+        "claim_test": None if validation_json is None else validation_json.get("claim_test"),
         "files": files,
         "timings": timings,
     }
@@ -367,6 +409,23 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                                                      for v, i in zip(g.voltages, g.identifications["extended"])}
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     return summary
+
+
+def _claim_figures(validation, validation_json: dict, folder: Path) -> list[str]:
+    """The seed's Fig. 11 pair on Kobe FP-y (= FN-x) when that run was validated (else the first
+    run), and the claim's per-run ratios."""
+    from damper.identification.claim_plots import plot_claim_ratios, plot_seed_fig11
+
+    claim = validation_json["claim"]
+    runs = [r for r in validation.runs if claim["original"] in r.predicted and claim["proposed"] in r.predicted]
+    written = []
+    if runs:
+        run = next((r for r in runs if (r.record, r.orientation) == ("kobe", "FN-x")), runs[0])
+        written.append(str(plot_seed_fig11(run, folder / f"fig11_seed_{run.record}_{run.orientation}.png",
+                                           claim["proposed"], claim["original"])))
+    if validation_json.get("claim_test"):
+        written.append(str(plot_claim_ratios(validation_json["claim_test"], folder / "fig11_claim_ratios.png")))
+    return written
 
 
 def _figures(folder: Path, grid, fig6_test, large: dict, comparison=None) -> list[str]:
