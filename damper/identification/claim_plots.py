@@ -92,7 +92,7 @@ def plot_claim_ratios(summary: dict, path) -> Path:
     ax.axhline(1.0 / 3.0, color="k", lw=0.8, ls="--", label="target mean 1/3")
     ax.set_ylabel("rel. RMS error ratio, extended / normalized")
     ax.set_title("The seed's claim per earthquake run (below 1: the extended form is better)")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="lower left", framealpha=0.95)
     ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
     return save_figure(fig, path, dpi=110)

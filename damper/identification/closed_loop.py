@@ -25,9 +25,11 @@ refinement) and "proposed" (the seed's step (a), then the same closed form on
 
 from __future__ import annotations
 
+import sys
 import time
 import warnings
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Callable, Sequence
 
 import numpy as np
@@ -182,11 +184,17 @@ class ClosedLoopResult:
                 "heldout_errors": self.heldout_errors, "timings": self.timings}
 
 
-def _diagnose_task(train, heldout, kind: str, max_nfev: int):
+def _say_stderr(kind: str, msg: str) -> None:
+    """The loop's progress line from a pool worker (stderr is shared with the study)."""
+    print(f"sbib identify: closed loop, {kind} base: {msg.strip()}", file=sys.stderr, flush=True)
+
+
+def _diagnose_task(train, heldout, kind: str, max_nfev: int, verbose: bool = False):
     from damper.diagnosis import diagnose
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return diagnose(list(train), model=kind, validate=list(heldout), max_nfev=max_nfev)
+        return diagnose(list(train), model=kind, validate=list(heldout), max_nfev=max_nfev,
+                        progress=partial(_say_stderr, kind) if verbose else None)
 
 
 def _counterpart_task(found, train, heldout, max_nfev: int):
@@ -235,7 +243,7 @@ def start_loops(device, executor=None, campaign=None, campaign_scale: float = 0.
     n = sum(t.time.size for t in campaign.train + campaign.heldout)
     say(f"closed loop: campaign of {len(campaign.train)} training and {len(campaign.heldout)} held-out "
         f"tests ({n} samples); residual loop from the normalized and the extended base started")
-    tasks = [(campaign.train, campaign.heldout, k, max_nfev) for k in _KINDS]
+    tasks = [(campaign.train, campaign.heldout, k, max_nfev, progress is not None) for k in _KINDS]
     futures = None if executor is None else [executor.submit(_diagnose_task, *t) for t in tasks]
     return {"campaign": campaign, "tasks": tasks, "futures": futures, "timings": timings,
             "max_nfev": max_nfev, "say": say, "t0": time.perf_counter()}

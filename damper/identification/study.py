@@ -219,6 +219,10 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     if isinstance(kappa_x, str) and kappa_x not in KAPPA_X_MODES:
         from benchmark.errors import InputError
         raise InputError(f"kappa_x: expected one of {KAPPA_X_MODES} or a number [N/m], got {kappa_x!r}")
+    if close_loop and not (isinstance(campaign_scale, (int, float)) and np.isfinite(campaign_scale)
+                           and campaign_scale > 0):
+        from benchmark.errors import InputError
+        raise InputError(f"campaign_scale: expected a number > 0, got {campaign_scale!r}")
     n_jobs = worker_count(jobs)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -246,6 +250,13 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     closed = claim_names = None
     figure_folder = out / "figures"
     try:
+        loop_job = None
+        t_loop = time.perf_counter()
+        if close_loop:
+            # The campaign needs only the device, and the loops are the longest tasks: they start
+            # first, and the building runs and the grid fill the other workers.
+            from damper.identification.closed_loop import start_loops
+            loop_job = start_loops(model, pool, campaign_scale=campaign_scale, progress=say)
         building = None
         measuring: list = []
         if validate:
@@ -257,12 +268,6 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             if pool is not None:
                 measuring = [pool.submit(measure_run, building, r, o, controller, records_dir, synthetic)
                              for r, o in pairs]
-        loop_job = None
-        t_loop = time.perf_counter()
-        if close_loop:
-            # The campaign needs only the device: the loops start at once, beside the grid.
-            from damper.identification.closed_loop import start_loops
-            loop_job = start_loops(model, pool, campaign_scale=campaign_scale, progress=say)
         t0 = time.perf_counter()
         grid = identify_voltage_grid(model, voltages=voltages, protocol=protocol, progress=tick,
                                      kappa_x=kappa_x, executor=pool, jobs=1)

@@ -195,3 +195,10 @@ def test_the_screen_sees_roll_off_on_a_base_with_voltage_laws():
     assert "cannot be evaluated" not in s.reason
     from damper.diagnosis.selection import MIN_SCORE
     assert s.score > 10 * MIN_SCORE and s.estimate > 0  # it is refitted (tried) by the loop
+
+
+def test_cli_identify_rejects_a_bad_campaign_scale(tmp_path, capsys):
+    from benchmark.cli import main
+    assert main(["identify", "--campaign-scale", "0", "--out", str(tmp_path / "out")]) == 2
+    assert "campaign_scale" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()  # nothing written
