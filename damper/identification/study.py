@@ -20,9 +20,16 @@ Steps (each through the public API):
 4. measure the structural ceiling on each run's most-moving damper at 0 V and 1 V
    (:mod:`~damper.identification.ceiling`): the identified models' error against the best
    each model form reaches fitted to that very motion;
-5. write ``parameters.csv``, ``voltage_laws.json``, ``validation.json``, ``ceiling.json``,
-   ``identification.h5`` (all histories, SI units, provenance) and the figures (seed
-   Fig. 1–3, 6, 8, 11, and the error anatomy).
+5. close the loop (:mod:`~damper.identification.closed_loop`, unless ``close_loop=False``):
+   a laboratory campaign with changing voltage (:mod:`~damper.identification.campaign`), the
+   residual loop from both bases, the augmented models validated in the same runs (replayed
+   with the commanded voltage and re-run in the building), and the seed's claim measured:
+   the Fig. 11 pair ("original", "proposed") and the closed loop's pair, named by the
+   ``claim`` object of ``validation.json`` with their per-run ratios in ``claim_test``;
+6. write ``parameters.csv``, ``voltage_laws.json``, ``validation.json``, ``ceiling.json``,
+   ``closed_loop.json``, ``identification.h5`` (all histories, SI units, provenance) and the
+   figures (seed Fig. 1–3, 6, 8, 11, the seed's Fig. 11 pair, the claim's ratios, and the
+   error anatomy).
 
 The device is injected (default ``"virtual"``, the registered name of the virtual benchmark
 damper): the identification sees it only through :mod:`damper.laboratory`, the validation only
@@ -312,6 +319,9 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                  "voltage_laws": str(atomic_write_text(out / "voltage_laws.json", json.dumps(
                      {name: g.laws_json() for name, g in grids.items()}
                      | {"field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()}}, indent=2)))}
+        if closed is not None:
+            files["closed_loop"] = str(atomic_write_text(out / "closed_loop.json", json.dumps(
+                closed.to_json(), indent=2, default=float)))
         figure_job = None
         ceiling_entries: list = []
         ceiling_summary = None
@@ -340,9 +350,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                 validation_json["claim_test"] = claim_summary(validation_json, claim_names)
             files["validation"] = str(atomic_write_text(out / "validation.json",
                                                         json.dumps(validation_json, indent=2)))
-            if closed is not None:
-                files["closed_loop"] = str(atomic_write_text(out / "closed_loop.json", json.dumps(
-                    closed.to_json(), indent=2, default=float)))
+
             if ceiling and validation.runs:
                 from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
 
