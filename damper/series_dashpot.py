@@ -28,8 +28,9 @@ force.
 
 Numerics: the compiled Spencer-type kernel (:func:`damper.spencer.spencer_type_step`: exact
 field update, RK4 sub-steps along the step's Hermite path, sub-step size from the stiffness
-estimate). The field follows the coil input without lag (a lag is the
-``voltage_lag`` effect of :mod:`damper.effects`, applied to the input).
+estimate). The field follows the coil input without lag unless ``field_lag``
+is set (in an augmented model a lag is the ``voltage_lag`` effect of :mod:`damper.effects`,
+applied to the input).
 
 References
 ----------
@@ -122,6 +123,12 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
     substep_tolerance : float
         RK4 sub-step size as ``lambda * h`` (default :data:`DEFAULT_SERIES_SUBSTEP_TOLERANCE`),
         widened by the branch margin of :meth:`kernel_tolerance`.
+    field_lag : float
+        Time constant :math:`\\tau` [s] of the field's first-order response to the coil input,
+        :math:`\\tau\\dot u = v - u` (Spencer et al.'s :math:`\\eta = 1/\\tau`), >= 0; 0 (default):
+        the field follows the input at once. The kernel updates the field exactly over each step,
+        so the model with a lag runs in the building as it does in :func:`damper.simulate` (the
+        ``voltage_lag`` effect of an augmented model, made part of the model).
 
     Examples
     --------
@@ -139,6 +146,7 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
     roll_off_velocity: float
     voltage_range: tuple[float, float] = (0.0, 1.0)
     substep_tolerance: float = DEFAULT_SERIES_SUBSTEP_TOLERANCE
+    field_lag: float = 0.0
 
     name: ClassVar[str] = "series_dashpot_bouc_wen"
     model_id: ClassVar[int] = SERIES_DASHPOT_ID
@@ -159,7 +167,8 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
         checks = (("kappa_x", self.kappa_x >= 0, ">= 0"), ("rho", self.rho > 0, "> 0"),
                   ("sigma", self.sigma >= 0.5, ">= 1/2"), ("n", self.n >= 1, ">= 1"),
                   ("roll_off_velocity", self.roll_off_velocity > 0, "> 0 m/s (0 is the extended model)"),
-                  ("substep_tolerance", 0 < self.substep_tolerance <= 1, "in (0, 1]"))
+                  ("substep_tolerance", 0 < self.substep_tolerance <= 1, "in (0, 1]"),
+                  ("field_lag", self.field_lag >= 0, ">= 0 s"))
         for name, ok, expected in checks:
             if not ok:
                 raise ParameterError(f"SeriesDashpotBoucWen.{name}: expected {expected}, "
@@ -172,7 +181,8 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
 
     @classmethod
     def from_bouc_wen(cls, base, roll_off_velocity: float,
-                      substep_tolerance: float = DEFAULT_SERIES_SUBSTEP_TOLERANCE) -> "SeriesDashpotBoucWen":
+                      substep_tolerance: float = DEFAULT_SERIES_SUBSTEP_TOLERANCE,
+                      field_lag: float = 0.0) -> "SeriesDashpotBoucWen":
         """The series-dashpot model built on a normalized or extended Bouc-Wen ``base``.
 
         ``base`` keeps its parameters (``kappa_x = 0`` for the normalized model) and its
@@ -182,7 +192,7 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
         return cls(kappa_x=getattr(base, "kappa_x", 0.0), kappa_xdot=base.kappa_xdot,
                    kappa_w=base.kappa_w, rho=base.rho, sigma=base.sigma, n=base.n,
                    roll_off_velocity=roll_off_velocity, voltage_range=base.voltage_range,
-                   substep_tolerance=substep_tolerance)
+                   substep_tolerance=substep_tolerance, field_lag=field_lag)
 
     def series_damping(self, v: float) -> float:
         """:math:`c_s(v) = \\kappa_w(v) / v_r` [N·s/m]."""
@@ -206,6 +216,7 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
 
     def _kernel_parameters(self) -> dict:
         kappa_w = as_law(self.kappa_w)
-        return dict(k0=0.0, k1=self.kappa_x, x0=0.0, eta=_NO_LAG_RATE, rho=self.rho,
+        eta = 1.0 / self.field_lag if self.field_lag > 1.0 / _NO_LAG_RATE else _NO_LAG_RATE
+        return dict(k0=0.0, k1=self.kappa_x, x0=0.0, eta=eta, rho=self.rho,
                     sigma=self.sigma, n=self.n, alpha_w=kappa_w, c0=as_law(self.kappa_xdot),
                     c1=scaled_law(kappa_w, 1.0 / self.roll_off_velocity))

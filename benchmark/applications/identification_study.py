@@ -20,9 +20,16 @@ Steps (each through the public API):
 4. measure the structural ceiling on each run's most-moving damper at 0 V and 1 V
    (:mod:`~damper.identification.ceiling`): the identified models' error against the best
    each model form reaches fitted to that very motion;
-5. write ``parameters.csv``, ``voltage_laws.json``, ``validation.json``, ``ceiling.json``,
-   ``identification.h5`` (all histories, SI units, provenance) and the figures (seed
-   Fig. 1–3, 6, 8, 11, and the error anatomy).
+5. close the loop (:mod:`~damper.identification.closed_loop`, unless ``close_loop=False``):
+   a laboratory campaign with changing voltage (:mod:`~damper.identification.campaign`), the
+   residual loop from both bases, the augmented models validated in the same runs (replayed
+   with the commanded voltage and re-run in the building), and the seed's claim measured:
+   the Fig. 11 pair ("original", "proposed") and the closed loop's pair, named by the
+   ``claim`` object of ``validation.json`` with their per-run ratios in ``claim_test``;
+6. write ``parameters.csv``, ``voltage_laws.json``, ``validation.json``, ``ceiling.json``,
+   ``closed_loop.json``, ``identification.h5`` (all histories, SI units, provenance) and the
+   figures (seed Fig. 1–3, 6, 8, 11, the seed's Fig. 11 pair, the claim's ratios, and the
+   error anatomy).
 
 The device is injected (default ``"virtual"``, the registered name of the virtual benchmark
 damper): the identification sees it only through :mod:`damper.laboratory`, the validation only
@@ -49,6 +56,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -76,6 +84,10 @@ from benchmark.applications.identification_validation import measure_run
 from benchmark.applications.identification_validation import validate_in_building
 from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
 from records.catalogue import canonical_orientation
+from damper.identification.claim_plots import plot_claim_ratios, plot_seed_fig11
+from damper.identification.closed_loop import start_loops
+from damper.identification.closed_loop import CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED, claim_object, closed_form_models, finish_loops
+from damper.identification.closed_loop import claim_summary
 
 __all__ = ["run_identify_study", "write_parameters_csv", "FIG6_PROTOCOL", "LARGE_LOOP_PROTOCOL",
            "FREE_KX", "FREE_KX_PCHIP"]
@@ -168,7 +180,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                        records_dir: str | None = None, synthetic: bool = False,
                        progress: bool = True, plots: bool = True, kappa_x: str | float = "large-loop",
                        compare_free_kappa_x: bool = True, ceiling: bool = True,
-                       jobs: int | None = None) -> dict:
+                       jobs: int | None = None, close_loop: bool = True,
+                       campaign_scale: float = 0.5) -> dict:
     """Run the identification study and write its outputs to ``out``; return the summary.
 
     Parameters
@@ -210,6 +223,12 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         on each run's most-moving damper (:func:`~damper.identification.ceiling.structural_ceiling`).
     jobs : int, optional
         Worker processes (default all cores; 1: everything in this process).
+    close_loop : bool
+        Close the loop (:mod:`~damper.identification.closed_loop`): run the laboratory campaign
+        and the residual loop, validate the augmented models with the others, and measure the
+        seed's claim (the ``claim`` object of ``validation.json``, the seed's Fig. 11 pair).
+    campaign_scale : float
+        Duration factor of the closed loop's laboratory campaign.
 
     Returns
     -------
@@ -220,6 +239,9 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
 
     if isinstance(kappa_x, str) and kappa_x not in KAPPA_X_MODES:
         raise InputError(f"kappa_x: expected one of {KAPPA_X_MODES} or a number [N/m], got {kappa_x!r}")
+    if close_loop and not (isinstance(campaign_scale, (int, float)) and np.isfinite(campaign_scale)
+                           and campaign_scale > 0):
+        raise InputError(f"campaign_scale: expected a number > 0, got {campaign_scale!r}")
     n_jobs = worker_count(jobs)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -231,6 +253,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
              for o in (orientations or ORIENTATIONS)] if validate else []
     with_free = compare_free_kappa_x and kappa_x != "per-voltage"
     bar = None
+    say = (lambda msg: print(f"sbib identify: {msg}", file=sys.stderr, flush=True)) if progress else None
     if progress:
         bar = progress_bar((3 if with_free else 2) * len(voltages) + (2 if ceiling else 1) * len(pairs),
                            desc="sbib identify", unit="step", leave=False)
@@ -242,8 +265,15 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
 
     pool = make_executor(n_jobs)
     validation = validation_json = None
+    closed = claim_names = None
     figure_folder = out / "figures"
     try:
+        loop_job = None
+        t_loop = time.perf_counter()
+        if close_loop:
+            # The campaign needs only the device, and the loops are the longest tasks: they start
+            # first, and the building runs and the grid fill the other workers.
+            loop_job = start_loops(model, pool, campaign_scale=campaign_scale, progress=say)
         building = None
         measuring: list = []
         if validate:
@@ -275,12 +305,28 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         large = dict(zip(grid.models, results[:len(grid.models)]))
         lag_fits = dict(zip(names, results[len(grid.models):]))
         timings["identification_s"] = time.perf_counter() - t0
+        closed = None
+        claim_names = None
+        if close_loop:
+            closed = finish_loops(loop_job, pool)
+            timings["closed_loop_s"] = time.perf_counter() - t_loop
+            seed_notes: list = []
+            identified.update(closed_form_models(grid, model.voltage_range, seed_notes))
+            grid.notes.extend(seed_notes)
+            for name, bm in closed.building.items():
+                identified[name] = bm if not isinstance(bm, str) else closed.models[name]
+            claim_names = claim_object()
+            rerun = tuple(rerun) + tuple(m for m in (CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED)
+                                         if not isinstance(closed.building.get(m, ""), str))
 
         files = {"parameters": str(write_parameters_csv(
                      [row for g in grids.values() for row in g.rows()], out / "parameters.csv")),
                  "voltage_laws": str(atomic_write_text(out / "voltage_laws.json", json.dumps(
                      {name: g.laws_json() for name, g in grids.items()}
                      | {"field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()}}, indent=2)))}
+        if closed is not None:
+            files["closed_loop"] = str(atomic_write_text(out / "closed_loop.json", json.dumps(
+                closed.to_json(), indent=2, default=float)))
         figure_job = None
         ceiling_entries: list = []
         ceiling_summary = None
@@ -301,8 +347,12 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                                               figures=figure_folder if plots else None)
             timings["validation_s"] = time.perf_counter() - t0
             validation_json = validation.to_json()
+            if claim_names is not None:
+                validation_json["claim"] = claim_names
+                validation_json["claim_test"] = claim_summary(validation_json, claim_names)
             files["validation"] = str(atomic_write_text(out / "validation.json",
                                                         json.dumps(validation_json, indent=2)))
+
             if ceiling and validation.runs:
                 t0 = time.perf_counter()
                 forms = {m: identified[m] for m in ("normalized", "extended") if m in identified}
@@ -332,6 +382,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         if any(r.regimes for r in validation.runs):
             files["figures"].append(str(plot_error_anatomy(validation_json, ceiling_entries,
                                                            figure_folder / "fig11_error_anatomy.png")))
+    if plots and validation is not None and claim_names is not None:
+        files["figures"] = files.get("figures", []) + _claim_figures(validation, validation_json, figure_folder)
     t0 = time.perf_counter()
     files["hdf5"] = str(_write_hdf5(out / "identification.h5", grids, fig6_test, validation, model.name))
     timings["hdf5_s"] = time.perf_counter() - t0
@@ -356,6 +408,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         "field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()},
         "validation": validation_json,
         "ceiling": ceiling_summary,
+        "closed_loop": None if closed is None else closed.to_json(),
+        "claim_test": None if validation_json is None else validation_json.get("claim_test"),
         "files": files,
         "timings": timings,
     }
@@ -367,6 +421,22 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                                                      for v, i in zip(g.voltages, g.identifications["extended"])}
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     return summary
+
+
+def _claim_figures(validation, validation_json: dict, folder: Path) -> list[str]:
+    """The seed's Fig. 11 pair on Kobe FP-y (= FN-x) when that run was validated (else the first
+    run), and the claim's per-run ratios."""
+
+    claim = validation_json["claim"]
+    runs = [r for r in validation.runs if claim["original"] in r.predicted and claim["proposed"] in r.predicted]
+    written = []
+    if runs:
+        run = next((r for r in runs if (r.record, r.orientation) == ("kobe", "FN-x")), runs[0])
+        written.append(str(plot_seed_fig11(run, folder / f"fig11_seed_{run.record}_{run.orientation}.png",
+                                           claim["proposed"], claim["original"])))
+    if validation_json.get("claim_test"):
+        written.append(str(plot_claim_ratios(validation_json["claim_test"], folder / "fig11_claim_ratios.png")))
+    return written
 
 
 def _figures(folder: Path, grid, fig6_test, large: dict, comparison=None) -> list[str]:

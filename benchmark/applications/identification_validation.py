@@ -89,10 +89,20 @@ def replay(model, t: np.ndarray, displacement: np.ndarray, velocity: np.ndarray,
     """Force of ``model`` for each damper's recorded inputs (arrays (n_samples, n_devices)) [N].
 
     With ``tau > 0`` the commanded voltage first passes the identified field filter
-    :math:`\\tau\\dot u = v - u` (:mod:`~damper.identification.voltage_lag`).
+    :math:`\\tau\\dot u = v - u` (:mod:`~damper.identification.voltage_lag`). ``model`` may be a
+    registered damper model or an augmented model (:class:`damper.augmented.AugmentedModel`).
     """
     x = np.asarray(displacement, dtype=float)
     out = np.empty_like(x)
+    if not hasattr(model, "model_id") and hasattr(model, "effects"):
+        # An augmented model (damper.augmented) without a registered counterpart: its own simulate.
+        lo, hi = model.base.voltage_range
+        for d in range(x.shape[1]):
+            v = np.asarray(voltage[:, d], dtype=float)
+            if tau > 0.0:
+                v = first_order_filter(t, v, tau)
+            out[:, d] = model.simulate(t, x[:, d], velocity[:, d], v=np.clip(v, lo, hi)).force
+        return out
     lo, hi = model.voltage_range
     for d in range(x.shape[1]):
         v = np.asarray(voltage[:, d], dtype=float)

@@ -198,8 +198,9 @@ def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Seque
             continue
         step = 1e-2 * scales[name]
         try:
-            trial = model.with_effect(cls(cls.neutral + step))
-            columns[name] = (_train_forces(trial, data) - f0) / step
+            reference, trial = _screen_pair(model, cls, step, nodes)
+            columns[name] = (_train_forces(trial, data)
+                             - (f0 if reference is model else _train_forces(reference, data))) / step
         except (ParameterError, NumericalError, InputError) as exc:
             out[name] = ScreenScore(name, 0.0, 0.0, f"cannot be evaluated: {exc}")
             continue
@@ -211,6 +212,29 @@ def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Seque
         if s.score > 0:  # estimate is a change from neutral
             out[name] = ScreenScore(name, s.score, get_effect(name).neutral + s.estimate, s.reason)
     return {name: out[name] for name in candidates}
+
+
+def _screen_pair(model: AugmentedModel, cls: type[Effect], step: float, nodes=None):
+    """The models whose force difference over ``step`` is the candidate's sensitivity.
+
+    Normally ``model`` itself and ``model`` with the effect at ``neutral + step``. A ``series``
+    effect needs base shape parameters independent of the coil input, which a base with voltage
+    laws on the ``nodes`` does not have: then both models are taken where the joint refit starts
+    (:class:`~damper.augmented.Parametrization`: those parameters at their mean over the nodes),
+    so the column is the effect's sensitivity there.
+    """
+    trial = model.with_effect(cls(cls.neutral + step))
+    if cls.role != "series" or nodes is None:
+        return model, trial
+    try:
+        cls(cls.neutral + step).series_base(model.base)  # shape independent of the input: plain pair
+        return model, trial
+    except ParameterError:
+        par = Parametrization(trial, nodes=nodes)
+        vector = par.vector(trial)
+        shared = par.model(vector)
+        vector[par.n_base + list(par.effect_classes).index(cls)] = cls.neutral
+        return par.model(vector), shared
 
 
 @dataclass(frozen=True)
