@@ -63,6 +63,7 @@ from functools import lru_cache
 import numpy as np
 
 from benchmark.errors import InputError
+from benchmark.measurement_layout import measurement_layout
 
 __all__ = ["LinearModel", "linear_model", "state_space_matrices", "equivalent_linear_bearing",
            "state_names"]
@@ -312,15 +313,17 @@ def linear_model(building, isolation: str = "equivalent", amplitude: float = 0.1
     n_dev = G.shape[0]
     B = mats["B_g"] @ G.T
     E = mats["B_ag"].copy()
-    C = np.zeros((30 + 2 * n_dev, nz))
-    D = np.zeros((30 + 2 * n_dev, n_dev))
-    D_g = np.zeros((30 + 2 * n_dev, 2))
-    C[:27] = mats["C_acc"]
-    D[:27] = mats["D_acc_g"] @ G.T
-    D_g[:27] = mats["D_acc_ag"]
-    C[27:30, nq:nv] = np.eye(3)
-    C[30:30 + n_dev, nq:nv] = G
-    D[30 + n_dev:, :] = np.eye(n_dev)
+    lay = measurement_layout(n_dev)
+    s = lay.slices()
+    C = np.zeros((lay.n_measurements, nz))
+    D = np.zeros((lay.n_measurements, n_dev))
+    D_g = np.zeros((lay.n_measurements, 2))
+    C[:lay.n_accelerations] = mats["C_acc"]
+    D[:lay.n_accelerations] = mats["D_acc_g"] @ G.T
+    D_g[:lay.n_accelerations] = mats["D_acc_ag"]
+    C[s["base_displacement"], nq:nv] = np.eye(3)
+    C[s["device_displacement"], nq:nv] = G
+    D[s["device_force"], :] = np.eye(n_dev)
     return LinearModel(A=mats["A"], B=B, E=E, C=C, D=D, D_g=D_g,
                        state_names=state_names(nq, sup.is_reduced), output_names=measurement_names(n_dev),
                        n_q=nq, bearing_stiffness=k, bearing_damping=c, device_influence=G, matrices=mats,

@@ -30,24 +30,20 @@ from typing import Any
 import numpy as np
 
 from benchmark.errors import InputError
+from benchmark.measurement_layout import N_ACCELERATIONS, measurement_layout
 
 __all__ = ["measurement_names", "measurement_slices", "n_measurements", "noise_samples",
            "N_ACCELERATIONS"]
 
-N_ACCELERATIONS = 27
-
 
 def n_measurements(n_devices: int) -> int:
-    """Length of the measurement vector: ``30 + 2 n_devices``."""
-    return 30 + 2 * int(n_devices)
+    """Length of the measurement vector: ``30 + 2 n_devices`` (:mod:`benchmark.measurement_layout`)."""
+    return measurement_layout(n_devices).n_measurements
 
 
 def measurement_slices(n_devices: int) -> dict[str, slice]:
-    """Slices of the measurement vector by quantity."""
-    n = int(n_devices)
-    return {"base_acceleration": slice(0, 3), "floor_acceleration": slice(3, 27),
-            "base_displacement": slice(27, 30), "device_displacement": slice(30, 30 + n),
-            "device_force": slice(30 + n, 30 + 2 * n)}
+    """Slices of the measurement vector by quantity (:mod:`benchmark.measurement_layout`)."""
+    return measurement_layout(n_devices).slices()
 
 
 def measurement_names(n_devices: int) -> list[str]:

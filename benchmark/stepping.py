@@ -38,7 +38,8 @@ sensor ranges and, for a compiled controller, calls
 :func:`controllers.compiled.controller_update`; a pure-Python controller is called by
 :mod:`benchmark.simulation` between kernel calls of one control step each.
 
-Energy (relative formulation), accumulated in the kernel, per unit of the state:
+Energy (relative formulation), computed from the histories the kernel writes
+(:func:`energy_histories`, dense products over the whole run rather than inside the loop):
 
 * input :math:`E_{in} = -\\int \\ddot u_g^T p\\, dt`, :math:`p` the x, y momentum of
   superstructure and base relative to the ground;
@@ -74,6 +75,7 @@ from controllers.compiled import controller_update  # noqa: E402
 from damper.registry import MEMO_LENGTH, device_step, device_step_memo  # noqa: E402
 
 __all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_bearing_forces",
+           "energy_histories",
            "STATUS_MESSAGES",
            "STATUS_OK", "STATUS_NONFINITE", "STATUS_NOT_CONVERGED", "STATUS_BLOWUP",
            "STATUS_CONTROLLER", "ROTATION_RADIUS"]
@@ -120,14 +122,22 @@ def discretize_foh(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, 
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
-def measure(k, nq, z, g, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd, noise_row, meas_range, y):
-    """Write the measurement vector at step ``k`` (noise added, clipped to ranges) into ``y``.
+def measure(nq, z, g, ag, fd, devices, sensors, noise_row, y):
+    """Write the measurement vector (noise added, clipped to the ranges) into ``y``.
 
-    ``z`` (n_z,), ``g`` (3,) total generalised nonlinear force, ``ag`` (2,), ``fd`` (n_dev,) at
-    step k.
+    ``z`` (n_z,) state, ``g`` (3,) total generalised nonlinear force, ``ag`` (2,) ground
+    acceleration and ``fd`` (n_dev,) device forces, all at one sample; ``devices`` and
+    ``sensors`` the :class:`benchmark.kernel_args.Devices` and
+    :class:`benchmark.kernel_args.Sensors` of the run (the sensors' ``layout`` places the
+    blocks); ``noise_row`` the noise of this control step.
     """
     nz = z.shape[0]
-    for r in range(27):
+    lay = sensors.layout
+    C_acc = sensors.C_acc
+    D_acc_g = sensors.D_acc_g
+    D_acc_ag = sensors.D_acc_ag
+    d_infl = devices.influence
+    for r in range(lay.n_accelerations):
         s = 0.0
         for c in range(nz):
             s += C_acc[r, c] * z[c]
@@ -136,14 +146,14 @@ def measure(k, nq, z, g, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd, noise_row, me
         s += D_acc_ag[r, 0] * ag[0] + D_acc_ag[r, 1] * ag[1]
         y[r] = s
     for c in range(3):
-        y[27 + c] = z[nq + c]
-    nd = d_infl.shape[0]
-    for j in range(nd):
-        y[30 + j] = d_infl[j, 0] * z[nq] + d_infl[j, 1] * z[nq + 1] + d_infl[j, 2] * z[nq + 2]
-        y[30 + nd + j] = fd[j]
+        y[lay.base_displacement + c] = z[nq + c]
+    for j in range(lay.n_devices):
+        y[lay.device_displacement + j] = d_infl[j, 0] * z[nq] + d_infl[j, 1] * z[nq + 1] + d_infl[j, 2] * z[nq + 2]
+        y[lay.device_force + j] = fd[j]
+    ranges = sensors.ranges
     for r in range(y.shape[0]):
         v = y[r] + noise_row[r]
-        lim = meas_range[r]
+        lim = ranges[r]
         if v > lim:
             v = lim
         elif v < -lim:
@@ -152,26 +162,29 @@ def measure(k, nq, z, g, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd, noise_row, me
 
 
 @numba.njit(cache=True)
-def initial_forces(dt, b_xy, b_type, b_params, b_state, d_infl, d_model, d_params, d_state, voltage,
-                   fb, fd, gb, gd):
+def initial_forces(dt, bearings, devices, voltage, fb, fd, gb, gd):
     """Hysteretic bearing forces and device forces of the initial states at rest.
 
     Evaluated by one zero-motion step on copies of the states (the states are not changed).
+    ``bearings``, ``devices``: :class:`benchmark.kernel_args.Bearings`, ``Devices``.
     """
     out = np.zeros(2)
     gb[:] = 0.0
     gd[:] = 0.0
+    b_xy = bearings.xy
     for i in range(b_xy.shape[0]):
-        st = b_state[i].copy()
-        bearing_step(b_type[i], b_params[i], st, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, dt, out)
+        st = bearings.state[i].copy()
+        bearing_step(bearings.type_id[i], bearings.params[i], st, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                     dt, out)
         fb[i, 0] = out[0]
         fb[i, 1] = out[1]
         gb[0] += out[0]
         gb[1] += out[1]
         gb[2] += -b_xy[i, 1] * out[0] + b_xy[i, 0] * out[1]
+    d_infl = devices.influence
     for j in range(d_infl.shape[0]):
-        st = d_state[j].copy()
-        f = device_step(d_model[j], d_params[j], st, 0.0, 0.0, 0.0, 0.0, voltage[j], dt)
+        st = devices.state[j].copy()
+        f = device_step(devices.model_id[j], devices.params[j], st, 0.0, 0.0, 0.0, 0.0, voltage[j], dt)
         fd[j] = f
         for c in range(3):
             gd[c] += d_infl[j, c] * f
@@ -202,83 +215,65 @@ def total_bearing_forces(z, nq, b_xy, k_lin, c_lin, fb):
     return fb
 
 
-@numba.njit(cache=True, fastmath=_FASTMATH)
-def _powers(nq, z, gb, gd, ag, Mg, Kq, Cq, Kb, Cb, momentum):
-    """Return (kinetic, strain, damping power, hysteretic power, device power, input power)."""
+def energy_histories(z: np.ndarray, gb: np.ndarray, gd: np.ndarray, ag: np.ndarray, dt: float, nq: int,
+                     Mg: np.ndarray, Kq: np.ndarray, Cq: np.ndarray, Kb: np.ndarray, Cb: np.ndarray,
+                     momentum: np.ndarray) -> np.ndarray:
+    """Energy terms of a run from its histories (module docstring), shape ``(n, 6)`` [J].
+
+    Columns ``input, kinetic, strain, damping, hysteretic, device``; the powers at every sample
+    are dense products over the whole history (one BLAS call each) and the integrals the
+    trapezoid rule on consecutive samples, starting from zero at rest.
+    """
     nv = nq + 3
-    kin = 0.0
-    for r in range(nv):
-        s = 0.0
-        for c in range(nv):
-            s += Mg[r, c] * z[nv + c]
-        kin += z[nv + r] * s
-    strain = 0.0
-    dpow = 0.0
-    for r in range(nq):
-        s = 0.0
-        sd = 0.0
-        for c in range(nq):
-            s += Kq[r, c] * z[c]
-            sd += Cq[r, c] * z[nv + c]
-        strain += z[r] * s
-        dpow += z[nv + r] * sd
-    for r in range(3):
-        s = 0.0
-        sd = 0.0
-        for c in range(3):
-            s += Kb[r, c] * z[nq + c]
-            sd += Cb[r, c] * z[nv + nq + c]
-        strain += z[nq + r] * s
-        dpow += z[nv + nq + r] * sd
-    hpow = 0.0
-    devpow = 0.0
-    for c in range(3):
-        hpow += gb[c] * z[nv + nq + c]
-        devpow += gd[c] * z[nv + nq + c]
-    inpow = 0.0
-    for a in range(2):
-        p = 0.0
-        for c in range(nv):
-            p += momentum[a, c] * z[nv + c]
-        inpow -= ag[a] * p
-    return 0.5 * kin, 0.5 * strain, dpow, hpow, devpow, inpow
+    q = z[:, :nq]
+    ub = z[:, nq:nv]
+    v = z[:, nv:]
+    qd = v[:, :nq]
+    ubd = v[:, nq:]
+    out = np.empty((z.shape[0], 6))
+    out[:, 1] = 0.5 * np.einsum("ij,ij->i", v @ Mg.T, v)
+    out[:, 2] = 0.5 * (np.einsum("ij,ij->i", q @ Kq.T, q) + np.einsum("ij,ij->i", ub @ Kb.T, ub))
+    powers = np.empty((z.shape[0], 4))
+    powers[:, 0] = -np.einsum("ij,ij->i", ag, v @ momentum.T)
+    powers[:, 1] = np.einsum("ij,ij->i", qd @ Cq.T, qd) + np.einsum("ij,ij->i", ubd @ Cb.T, ubd)
+    powers[:, 2] = np.einsum("ij,ij->i", gb, ubd)
+    powers[:, 3] = np.einsum("ij,ij->i", gd, ubd)
+    steps = 0.5 * dt * (powers[1:] + powers[:-1])
+    for col, p in zip((0, 3, 4, 5), range(4)):
+        out[0, col] = 0.0
+        np.cumsum(steps[:, p], out=out[1:, col])
+    return out
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
-def _compiled_control(k, ratio, nq, z, gb_out, gd_out, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd_out,
-                      noise, meas_range, Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt,
-                      xc, voltage, y, g_tot, fc, meas_out, desired_out):
+def _compiled_control(k, plant, ag, devices, sensors, control, out, y, g_tot, fc):
     """Measure at step k, store the measurement, and update the compiled controller's voltages."""
-    kc = k // ratio
-    nd = d_infl.shape[0]
+    kc = k // control.ratio
+    lay = sensors.layout
     for c in range(3):
-        g_tot[c] = gb_out[k, c] + gd_out[k, c]
-    measure(k, nq, z, g_tot, ag[k], C_acc, D_acc_g, D_acc_ag, d_infl, fd_out[k], noise[kc], meas_range, y)
+        g_tot[c] = out.gb[k, c] + out.gd[k, c]
+    measure(plant.nq, out.z[k], g_tot, ag[k], out.fd[k], devices, sensors, sensors.noise[kc], y)
     for r in range(y.shape[0]):
-        meas_out[kc, r] = y[r]
-    for j in range(nd):
-        fc[j] = y[30 + nd + j]
-    return controller_update(Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt,
-                             y, fc, xc, voltage, desired_out[kc])
+        out.meas[kc, r] = y[r]
+    for j in range(lay.n_devices):
+        fc[j] = y[lay.device_force + j]
+    return controller_update(control.Ac, control.Bc, control.Cc, control.Dc, control.law_id,
+                             control.law_params, control.v_max, control.slew_rate, control.dt,
+                             y, fc, control.xc, control.voltage, out.desired[kc])
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
-def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
-              b_xy, b_type, b_params, b_state,
-              d_infl, d_model, d_params, d_state,
-              Mg, Kq, Cq, Kb, Cb, momentum,
-              C_acc, D_acc_g, D_acc_ag, noise, meas_range,
-              ctrl_mode, Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt, xc, voltage,
-              fp_tol, max_iter, blowup_limit, record_states,
-              z_out, gb_out, gd_out, fb_out, bstate_out, fd_out, v_out, energy_out, meas_out,
-              desired_out, iter_out):
+def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, settings, out):
     """Advance the building from step ``k_start`` to ``k_stop`` (record samples, k_stop ≤ n − 1).
 
-    On entry ``z_out[k_start]``, ``gb_out[k_start]``, ``gd_out[k_start]``, ``fb_out[k_start]``,
-    ``fd_out[k_start]`` and ``energy_out[k_start]`` hold the state at ``k_start``, and
-    ``b_state``/``d_state`` the internal states there (advanced in place). ``ctrl_mode``: 0 no
-    controller or voltages held as given, 1 compiled controller (``controller_update`` at every
-    ``ratio``-th step), 2 voltages given by the caller for this chunk.
+    Arguments are the objects of :mod:`benchmark.kernel_args`: ``plant`` (:class:`Plant`),
+    ``ag`` the ground acceleration ``(n, 2)`` [m/s²], ``bearings``, ``devices`` (states
+    advanced in place), ``sensors``, ``control`` (controller state and voltages updated in
+    place; ``control.mode`` 0 no controller or voltages held as given, 1 compiled controller,
+    ``controller_update`` at every ``control.ratio``-th step, 2 voltages given by the caller
+    for this chunk), ``settings`` and ``out`` (:class:`Outputs`). On entry ``out.z[k_start]``,
+    ``out.gb[k_start]``, ``out.gd[k_start]``, ``out.fd[k_start]`` hold the state at
+    ``k_start``.
 
     Returns
     -------
@@ -286,11 +281,33 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
         ``status`` 0 when all steps were taken, else a code of :data:`STATUS_MESSAGES` with ``k``
         the step whose end failed.
     """
+    Phi = plant.Phi
+    G0 = plant.G0
+    G1 = plant.G1
+    Gb = plant.Gb
+    dt = plant.dt
+    nq = plant.nq
     nz = Phi.shape[0]
     nv = nq + 3
+    b_xy = bearings.xy
+    b_type = bearings.type_id
+    b_params = bearings.params
+    b_state = bearings.state
+    d_infl = devices.influence
+    d_model = devices.model_id
+    d_params = devices.params
+    d_state = devices.state
+    voltage = control.voltage
+    ratio = control.ratio
+    ctrl_mode = control.mode
+    fp_tol = settings.fp_tol
+    blowup_limit = settings.blowup_limit
+    z_out = out.z
+    gb_out = out.gb
+    gd_out = out.gd
     nb = b_xy.shape[0]
     nd = d_infl.shape[0]
-    n_meas = noise.shape[1]
+    n_meas = sensors.layout.n_measurements
     sb = b_state.shape[1]
     sd = d_state.shape[1]
 
@@ -301,14 +318,13 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
     gb_new = np.empty(3)
     gd_new = np.empty(3)
     zb_lin = np.empty(6)
-    Gb = np.empty((6, 3))
     ub1 = np.empty(3)
     vb1 = np.empty(3)
     b_start = np.empty((nb, sb))
     d_start = np.empty((nd, sd))
     fb_tmp = np.empty((nb, 2))
     fd_tmp = np.empty(nd)
-    out = np.empty(2)
+    force = np.empty(2)
     y = np.empty(n_meas)
     g_tot = np.empty(3)
     fc = np.empty(nd)
@@ -316,27 +332,15 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
     # iterations below advance each device several times from the same state)
     d_memo = np.full((nd, MEMO_LENGTH), np.nan)
 
-    for r in range(3):
-        for c in range(3):
-            Gb[r, c] = G1[nq + r, 2 + c]
-            Gb[3 + r, c] = G1[nv + nq + r, 2 + c]
-
-    # Powers at the start of the chunk (trapezoid rule carries them from step to step).
-    z0 = z_out[k_start]
-    kin, strain, dpow0, hpow0, devpow0, inpow0 = _powers(nq, z0, gb_out[k_start], gd_out[k_start],
-                                                         ag[k_start], Mg, Kq, Cq, Kb, Cb, momentum)
-
     for k in range(k_start, k_stop):
         z0 = z_out[k]
         # ---- control step: measurement, compiled controller
         if ctrl_mode == 1 and k % ratio == 0:
-            st = _compiled_control(k, ratio, nq, z0, gb_out, gd_out, ag, C_acc, D_acc_g, D_acc_ag, d_infl,
-                                   fd_out, noise, meas_range, Ac, Bc, Cc, Dc, law_id, law_params, v_max,
-                                   slew_rate, ctrl_dt, xc, voltage, y, g_tot, fc, meas_out, desired_out)
+            st = _compiled_control(k, plant, ag, devices, sensors, control, out, y, g_tot, fc)
             if st != 0:
                 return STATUS_CONTROLLER, k
         for j in range(nd):
-            v_out[k, j] = voltage[j]
+            out.v[k, j] = voltage[j]
 
         # ---- linear part with the known inputs
         w0[0] = ag[k, 0]
@@ -385,7 +389,7 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
         converged = False
         iters = 0
         err_prev = -1.0
-        for it in range(max_iter):
+        for it in range(settings.max_iter):
             iters = it + 1
             for r in range(3):
                 su = zb_lin[r]
@@ -417,12 +421,12 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
                 vx1 = vb1[0] - by * vb1[2]
                 vy1 = vb1[1] + bx * vb1[2]
                 bearing_step(b_type[i], b_params[i], b_state[i], ux0, uy0, ux1, uy1,
-                             vx0, vy0, vx1, vy1, dt, out)
-                fb_tmp[i, 0] = out[0]
-                fb_tmp[i, 1] = out[1]
-                gb_new[0] += out[0]
-                gb_new[1] += out[1]
-                gb_new[2] += -by * out[0] + bx * out[1]
+                             vx0, vy0, vx1, vy1, dt, force)
+                fb_tmp[i, 0] = force[0]
+                fb_tmp[i, 1] = force[1]
+                gb_new[0] += force[0]
+                gb_new[1] += force[1]
+                gb_new[2] += -by * force[0] + bx * force[1]
             for j in range(nd):
                 x0 = d_infl[j, 0] * ux0b + d_infl[j, 1] * uy0b + d_infl[j, 2] * th0
                 x1 = d_infl[j, 0] * ub1[0] + d_infl[j, 1] * ub1[1] + d_infl[j, 2] * ub1[2]
@@ -467,7 +471,7 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
                     converged = True
                     break
             err_prev = err
-        iter_out[k + 1] = iters
+        out.iters[k + 1] = iters
         if not converged:
             return STATUS_NOT_CONVERGED, k
 
@@ -484,38 +488,21 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
         for c in range(3):
             gb_out[k + 1, c] = gb_new[c]
             gd_out[k + 1, c] = gd_new[c]
-        for i in range(nb):
-            fb_out[k + 1, i, 0] = fb_tmp[i, 0]
-            fb_out[k + 1, i, 1] = fb_tmp[i, 1]
+        if settings.record_bearings:
+            for i in range(nb):
+                out.fb[k + 1, i, 0] = fb_tmp[i, 0]
+                out.fb[k + 1, i, 1] = fb_tmp[i, 1]
         for j in range(nd):
-            fd_out[k + 1, j] = fd_tmp[j]
-        if record_states:
+            out.fd[k + 1, j] = fd_tmp[j]
+        if settings.record_states:
             for i in range(nb):
                 for c in range(sb):
-                    bstate_out[k + 1, i, c] = b_state[i, c]
-
-        # ---- energy (trapezoid on the powers)
-        kin, strain, dpow1, hpow1, devpow1, inpow1 = _powers(nq, z1, gb_new, gd_new, ag[k + 1],
-                                                             Mg, Kq, Cq, Kb, Cb, momentum)
-        half = 0.5 * dt
-        energy_out[k + 1, 0] = energy_out[k, 0] + half * (inpow0 + inpow1)
-        energy_out[k + 1, 1] = kin
-        energy_out[k + 1, 2] = strain
-        energy_out[k + 1, 3] = energy_out[k, 3] + half * (dpow0 + dpow1)
-        energy_out[k + 1, 4] = energy_out[k, 4] + half * (hpow0 + hpow1)
-        energy_out[k + 1, 5] = energy_out[k, 5] + half * (devpow0 + devpow1)
-        inpow0 = inpow1
-        dpow0 = dpow1
-        hpow0 = hpow1
-        devpow0 = devpow1
+                    out.bstate[k + 1, i, c] = b_state[i, c]
     # The last sample of the record is a control step too: measure it (the voltage it yields
     # is recorded for that sample only), as the pure-Python path does.
     n = z_out.shape[0]
     if ctrl_mode == 1 and k_stop == n - 1 and k_stop % ratio == 0:
-        st = _compiled_control(k_stop, ratio, nq, z_out[k_stop], gb_out, gd_out, ag, C_acc, D_acc_g,
-                               D_acc_ag, d_infl, fd_out, noise, meas_range, Ac, Bc, Cc, Dc, law_id,
-                               law_params, v_max, slew_rate, ctrl_dt, xc, voltage, y, g_tot, fc,
-                               meas_out, desired_out)
+        st = _compiled_control(k_stop, plant, ag, devices, sensors, control, out, y, g_tot, fc)
         if st != 0:
             return STATUS_CONTROLLER, k_stop
     return STATUS_OK, k_stop

@@ -29,7 +29,7 @@ from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 
-from benchmark import sensors as _sensors
+from benchmark.measurement_layout import N_ACCELERATIONS, measurement_layout
 from benchmark.errors import InputError, NumericalError, ParameterError
 from controllers.compiled import STATUS_OK, CompiledController, controller_update
 
@@ -48,7 +48,7 @@ __all__ = [
 ]
 
 #: Absolute accelerations of the base (x, y, θ) and of floors 1..8 (x, y, θ each).
-N_ACCELERATION_MEASUREMENTS = 27
+N_ACCELERATION_MEASUREMENTS = N_ACCELERATIONS
 
 
 def measurement_slices(n_devices: int) -> dict[str, slice]:
@@ -58,12 +58,12 @@ def measurement_slices(n_devices: int) -> dict[str, slice]:
     absolute, floor 1 → 8, (x, y, θ) each), ``base_displacement`` (3, relative to the ground
     [m, rad]), ``device_displacement`` (``n_devices`` [m]), ``device_force`` (``n_devices`` [N]).
     """
-    return _sensors.measurement_slices(n_devices)
+    return measurement_layout(n_devices).slices()
 
 
 def n_measurements(n_devices: int) -> int:
     """Length of the measurement vector for ``n_devices`` devices (``30 + 2 n_devices``)."""
-    return _sensors.n_measurements(n_devices)
+    return measurement_layout(n_devices).n_measurements
 
 
 @dataclass(frozen=True)
