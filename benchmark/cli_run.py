@@ -29,6 +29,7 @@ The Python equivalent of the command is :func:`run_case`.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -127,7 +128,7 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
              controller: str = "none", records_dir: str | None = None, out: str | None = None,
              plot_dir: str | None = None, n_modes: int | None = None, control_step: float = 0.005,
              substep_tolerance: float | None = None, baseline_correct: bool = False,
-             progress: bool = False) -> dict[str, Any]:
+             progress: bool = False, bearing_histories: bool = False) -> dict[str, Any]:
     """Run one case and its uncontrolled reference; evaluate, and optionally save and plot.
 
     Parameters
@@ -153,6 +154,10 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
     baseline_correct : bool
     progress : bool
         Print progress lines on stderr.
+    bearing_histories : bool
+        Also write the per-bearing force and state histories into ``out`` (92 bearings x 2
+        components per sample: about 40 MB more for a 30-s record). The figures of ``plot_dir``
+        get them either way (the bearing loops need them).
 
     Returns
     -------
@@ -181,13 +186,15 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
 
     say(f"reference run (no devices): {rec.name}, {orientation}, {layer.name}")
     info = {"record": rec.name, "orientation": orientation, "isolation": layer.name}
+    keep_bearings = bool(bearing_histories or plot_dir)
     reference = simulate(building.without_devices(), rec, controller=None, control_step=control_step,
-                         info=info)
+                         info=info, bearing_histories=keep_bearings)
     if ctrl is None:
         result = reference
     else:
         say(f"controlled run: {controller}")
-        result = simulate(building, rec, controller=ctrl, control_step=control_step, info=info)
+        result = simulate(building, rec, controller=ctrl, control_step=control_step, info=info,
+                          bearing_histories=keep_bearings)
     J = evaluate(result, reference)
     sup = building.superstructure
     corners = corner_responses(result, plan_corners(sup.bearing_xy), sup.storey_heights)
@@ -209,7 +216,12 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
         from benchmark.results import write_result
 
         say(f"writing {out}")
-        write_result(result, out, reference=None if result is reference else reference, evaluation=J,
+        stored, stored_ref = result, reference
+        if keep_bearings and not bearing_histories:  # kept for the figures only
+            stored = dataclasses.replace(result, bearing_force=None, bearing_state=None)
+            stored_ref = stored if reference is result else dataclasses.replace(
+                reference, bearing_force=None, bearing_state=None)
+        write_result(stored, out, reference=None if stored is stored_ref else stored_ref, evaluation=J,
                      isolation=layer, record_source=getattr(rec, "source", ""),
                      record_synthetic=getattr(rec, "synthetic", False), control_step=control_step,
                      n_modes="all" if n_modes is None else n_modes, building=json.dumps(building.describe(),
@@ -253,7 +265,8 @@ def main_run(args: argparse.Namespace) -> int:
                        controller=args.controller, records_dir=args.records_dir, out=args.out,
                        plot_dir=args.plot, n_modes=args.n_modes, control_step=args.control_step,
                        substep_tolerance=args.substep_tolerance,
-                       baseline_correct=args.baseline_correct, progress=not args.json)
+                       baseline_correct=args.baseline_correct, progress=not args.json,
+                       bearing_histories=args.bearing_histories)
     summary.pop("result", None)
     summary.pop("reference", None)
     if args.json:
@@ -292,4 +305,7 @@ def register(subparsers: Any) -> None:
                    help="sub-step tolerance of the nonlinear bearings (default 0.75)")
     p.add_argument("--baseline-correct", action="store_true",
                    help="baseline-correct the record (off by default, as the benchmark distributes it)")
+    p.add_argument("--bearing-histories", action="store_true",
+                   help="also write the force and state histories of every bearing into --out "
+                        "(about 40 MB more for a 30-s record; off by default)")
     p.set_defaults(func=main_run)

@@ -132,7 +132,7 @@ def _reference(motion_args: tuple, building_args: tuple, substep_tolerance: floa
     from benchmark.simulation import simulate
 
     return simulate(build_building(*building_args), load_motion(*motion_args), controller=None,
-                    substep_tolerance=substep_tolerance, record_states=False)
+                    substep_tolerance=substep_tolerance, bearing_histories=False)
 
 
 def run_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
@@ -169,7 +169,7 @@ def run_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
             raise InputError(f"grid parameter n_modes = {n_modes!r}: expected a positive integer")
         n_modes = int(n_modes)
     substep = plain.get("substep_tolerance")
-    kwargs: dict[str, Any] = {"record_states": False, "seed": int(case.seed) % (2 ** 32)}
+    kwargs: dict[str, Any] = {"bearing_histories": False, "seed": int(case.seed) % (2 ** 32)}
     if "control_step" in plain:
         kwargs["control_step"] = plain["control_step"]
     if substep is not None:

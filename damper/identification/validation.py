@@ -287,8 +287,8 @@ def measure_run(building, record_name: str, orientation: str, controller: str = 
 
     record = _load_record(record_name, orientation, records_dir, synthetic)
     info = {"orientation": orientation}
-    reference = simulate(building.without_devices(), record, None, info=info, record_states=False)
-    measured = simulate(building, record, controller, info=info, record_states=False)
+    reference = simulate(building.without_devices(), record, None, info=info, bearing_histories=False)
+    measured = simulate(building, record, controller, info=info, bearing_histories=False)
     ref = SimpleNamespace(info=dict(getattr(reference, "info", {}) or {}), device_force=None,
                           **{k: np.asarray(getattr(reference, k)) for k in _REFERENCE_FIELDS})
     return MeasuredRun(record_name, orientation, record, np.asarray(measured.t),
@@ -339,7 +339,7 @@ def compare_run(building, measured: MeasuredRun, identified: dict, lags: dict | 
     info = {"orientation": measured.orientation}
     for m in rerun:
         swapped = building.with_devices(building.devices.with_model(identified[m]))
-        J[m] = evaluate(simulate(swapped, measured.record, controller, info=info, record_states=False),
+        J[m] = evaluate(simulate(swapped, measured.record, controller, info=info, bearing_histories=False),
                         measured.reference)
     run = RunValidation(measured.record_name, measured.orientation, t, x, xd, v, f, predicted, errors, J,
                         regimes)
