@@ -8,8 +8,9 @@ argument        fields
 :class:`Plant`  the exact linear step of the superstructure, base and the bearings' linear
                 parts (``Phi``, ``G0``, ``G1`` of :func:`benchmark.stepping.discretize_foh`),
                 the base rows ``Gb`` of ``G1``, the record step ``dt`` [s], ``nq``
-:class:`Bearings`  plan positions [m], type ids, packed parameters and states (advanced in
-                place) of the bearings (:mod:`benchmark.isolation.registry`)
+:class:`Bearings`  index in the layer, plan positions [m], type ids, packed parameters and
+                states (advanced in place) of the bearings with a hysteretic force
+                (:mod:`benchmark.isolation.registry`); linear bearings are wholly in ``Plant``
 :class:`Devices`  influence rows (device stroke per base x, y [m], θ [rad]), model ids,
                 packed parameters and states (advanced in place) (:mod:`damper.registry`)
 :class:`Sensors`  the acceleration rows of the measurement (``C_acc``, ``D_acc_g``,
@@ -52,8 +53,11 @@ class Plant(NamedTuple):
 
 
 class Bearings(NamedTuple):
-    """The isolation layer, packed (:meth:`benchmark.isolation.configurations.IsolationLayer.pack`)."""
+    """The isolation layer's bearings with a hysteretic force, packed
+    (:meth:`benchmark.isolation.configurations.IsolationLayer.pack`). Linear bearings are left
+    out: their force is all in the plant's exact linear step."""
 
+    index: np.ndarray    # (nb,) int64: position of each in the layer (the output's bearing axis)
     xy: np.ndarray       # (nb, 2) [m]
     type_id: np.ndarray  # (nb,) int64
     params: np.ndarray   # (nb, MAX_PARAMS)
@@ -106,6 +110,7 @@ class Settings(NamedTuple):
     blowup_limit: float     # [m]
     record_bearings: bool   # keep the per-bearing hysteretic forces
     record_states: bool     # keep the per-bearing hysteretic states
+    newton: bool            # Newton on the base's 3 DOF (else plain fixed-point iteration)
 
 
 class Outputs(NamedTuple):

@@ -70,9 +70,9 @@ from benchmark.kernel_cache import ensure_fresh
 
 ensure_fresh()  # before numba loads any cache: the kernels below call other modules' kernels
 
-from benchmark.isolation.registry import bearing_step  # noqa: E402
+from benchmark.isolation.registry import bearing_step, bearing_tangent  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402
-from damper.registry import MEMO_LENGTH, device_step, device_step_memo  # noqa: E402
+from damper.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent  # noqa: E402
 
 __all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_bearing_forces",
            "energy_histories",
@@ -176,8 +176,8 @@ def initial_forces(dt, bearings, devices, voltage, fb, fd, gb, gd):
         st = bearings.state[i].copy()
         bearing_step(bearings.type_id[i], bearings.params[i], st, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
                      dt, out)
-        fb[i, 0] = out[0]
-        fb[i, 1] = out[1]
+        fb[bearings.index[i], 0] = out[0]
+        fb[bearings.index[i], 1] = out[1]
         gb[0] += out[0]
         gb[1] += out[1]
         gb[2] += -b_xy[i, 1] * out[0] + b_xy[i, 0] * out[1]
@@ -243,6 +243,46 @@ def energy_histories(z: np.ndarray, gb: np.ndarray, gd: np.ndarray, ag: np.ndarr
         out[0, col] = 0.0
         np.cumsum(steps[:, p], out=out[1:, col])
     return out
+
+
+@numba.njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _base_change(Gb, dg, u_scale, v_scale):
+    """Largest change of the base's end displacement / velocity a force change ``dg`` causes,
+    relative to ``u_scale`` / ``v_scale`` (rotations times :data:`ROTATION_RADIUS`)."""
+    du_max = 0.0
+    dv_max = 0.0
+    for r in range(3):
+        du = 0.0
+        dv = 0.0
+        for c in range(3):
+            du += Gb[r, c] * dg[c]
+            dv += Gb[3 + r, c] * dg[c]
+        if r == 2:
+            du *= ROTATION_RADIUS
+            dv *= ROTATION_RADIUS
+        du_max = max(du_max, abs(du))
+        dv_max = max(dv_max, abs(dv))
+    return max(du_max / u_scale, dv_max / v_scale)
+
+
+@numba.njit(cache=True, inline="always")
+def _solve3(M, b, x):
+    """Solve the 3 x 3 system ``M x = b`` by Cramer's rule; False when ``M`` is (near) singular."""
+    c00 = M[1, 1] * M[2, 2] - M[1, 2] * M[2, 1]
+    c01 = M[1, 2] * M[2, 0] - M[1, 0] * M[2, 2]
+    c02 = M[1, 0] * M[2, 1] - M[1, 1] * M[2, 0]
+    det = M[0, 0] * c00 + M[0, 1] * c01 + M[0, 2] * c02
+    scale = abs(M[0, 0]) + abs(M[1, 1]) + abs(M[2, 2])
+    if not (abs(det) > 1e-12 * scale * scale * scale):
+        return False
+    inv = 1.0 / det
+    x[0] = (b[0] * c00 + b[1] * (M[0, 2] * M[2, 1] - M[0, 1] * M[2, 2])
+            + b[2] * (M[0, 1] * M[1, 2] - M[0, 2] * M[1, 1])) * inv
+    x[1] = (b[0] * c01 + b[1] * (M[0, 0] * M[2, 2] - M[0, 2] * M[2, 0])
+            + b[2] * (M[0, 2] * M[1, 0] - M[0, 0] * M[1, 2])) * inv
+    x[2] = (b[0] * c02 + b[1] * (M[0, 1] * M[2, 0] - M[0, 0] * M[2, 1])
+            + b[2] * (M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0])) * inv
+    return math.isfinite(x[0]) and math.isfinite(x[1]) and math.isfinite(x[2])
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
@@ -328,6 +368,12 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
     y = np.empty(n_meas)
     g_tot = np.empty(3)
     fc = np.empty(nd)
+    resid = np.empty(3)
+    delta = np.empty(3)
+    left = np.empty(3)
+    jac = np.empty((3, 6))
+    mat = np.empty((3, 3))
+    tangent = np.empty((2, 4))
     # per-device scratch of values that depend only on a step's start state and voltage (the
     # iterations below advance each device several times from the same state)
     d_memo = np.full((nd, MEMO_LENGTH), np.nan)
@@ -387,6 +433,7 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
         vy0b = z0[nv + nq + 1]
         om0 = z0[nv + nq + 2]
         converged = False
+        newton = settings.newton
         iters = 0
         err_prev = -1.0
         for it in range(settings.max_iter):
@@ -438,33 +485,88 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
                 for c in range(3):
                     gd_new[c] += d_infl[j, c] * f
             # Change of the end displacement/velocity the update causes.
-            du_max = 0.0
-            dv_max = 0.0
             for r in range(3):
                 g_new[r] = gb_new[r] + gd_new[r]
-            for r in range(3):
-                du = 0.0
-                dv = 0.0
-                for c in range(3):
-                    du += Gb[r, c] * (g_new[c] - g_guess[c])
-                    dv += Gb[3 + r, c] * (g_new[c] - g_guess[c])
-                if r == 2:
-                    du *= ROTATION_RADIUS
-                    dv *= ROTATION_RADIUS
-                du_max = max(du_max, abs(du))
-                dv_max = max(dv_max, abs(dv))
+                resid[r] = g_new[r] - g_guess[r]
             u_scale = max(abs(ub1[0]), abs(ub1[1]), ROTATION_RADIUS * abs(ub1[2])) + _U_FLOOR
             v_scale = max(abs(vb1[0]), abs(vb1[1]), ROTATION_RADIUS * abs(vb1[2])) + _V_FLOOR
-            for c in range(3):
-                g_guess[c] = g_new[c]
-            err = max(du_max / u_scale, dv_max / v_scale)
+            err = _base_change(Gb, resid, u_scale, v_scale)
             if not (err == err):  # NaN
                 return STATUS_NONFINITE, k
             if err <= fp_tol:
                 converged = True
                 break
-            # Error left after this update, estimated from the contraction of the last two
-            # updates (c < 1): err * c / (1 - c). Saves the confirming evaluation.
+            if newton:
+                # Newton on the base's 3 DOF: the residual R(g) = F(u(g)) - g of the nonlinear
+                # force, u = zb_lin + Gb g, with the Jacobian I - J Gb, J the sum of the
+                # bearings' and devices' tangents at the end of the step (3 x 6, generalised).
+                for r in range(3):
+                    for c in range(6):
+                        jac[r, c] = 0.0
+                for i in range(nb):
+                    bx = b_xy[i, 0]
+                    by = b_xy[i, 1]
+                    dx = (ub1[0] - by * ub1[2]) - (ux0b - by * th0)
+                    dy = (ub1[1] + bx * ub1[2]) - (uy0b + bx * th0)
+                    bearing_tangent(b_type[i], b_params[i], b_state[i], dx, dy,
+                                    vb1[0] - by * vb1[2], vb1[1] + bx * vb1[2], tangent)
+                    for half in range(2):  # displacement, then velocity columns
+                        o = 2 * half
+                        col = 3 * half
+                        # T_i^T K T_i with T_i = [[1, 0, -y_i], [0, 1, x_i]] (bearing i's motion)
+                        k00 = tangent[0, o]
+                        k01 = tangent[0, o + 1]
+                        k10 = tangent[1, o]
+                        k11 = tangent[1, o + 1]
+                        a02 = -by * k00 + bx * k01
+                        a12 = -by * k10 + bx * k11
+                        jac[0, col] += k00
+                        jac[0, col + 1] += k01
+                        jac[0, col + 2] += a02
+                        jac[1, col] += k10
+                        jac[1, col + 1] += k11
+                        jac[1, col + 2] += a12
+                        jac[2, col] += -by * k00 + bx * k10
+                        jac[2, col + 1] += -by * k01 + bx * k11
+                        jac[2, col + 2] += -by * a02 + bx * a12
+                for j in range(nd):
+                    x1 = d_infl[j, 0] * ub1[0] + d_infl[j, 1] * ub1[1] + d_infl[j, 2] * ub1[2]
+                    xd1 = d_infl[j, 0] * vb1[0] + d_infl[j, 1] * vb1[1] + d_infl[j, 2] * vb1[2]
+                    kx, kv = device_tangent(d_model[j], d_params[j], d_state[j], x1, xd1, voltage[j])
+                    for r in range(3):
+                        for c in range(3):
+                            jac[r, c] += kx * d_infl[j, r] * d_infl[j, c]
+                            jac[r, 3 + c] += kv * d_infl[j, r] * d_infl[j, c]
+                # M = I - J Gb
+                for r in range(3):
+                    for c in range(3):
+                        s = 0.0
+                        for m in range(6):
+                            s += jac[r, m] * Gb[m, c]
+                        mat[r, c] = (1.0 if r == c else 0.0) - s
+                ok = _solve3(mat, resid, delta)
+                if ok:
+                    # error left if the evaluated forces g_new are accepted, by the Newton model:
+                    # g_new - g* = R - delta (the analogue of err c / (1 - c) below)
+                    for r in range(3):
+                        left[r] = resid[r] - delta[r]
+                    err_left = _base_change(Gb, left, u_scale, v_scale)
+                    if it > 0 and err < 0.5 * err_prev and err_left <= fp_tol:
+                        converged = True
+                        break
+                    if err_prev > 0.0 and err > err_prev:
+                        newton = False  # diverging (a tangent far off): plain fixed point from here
+                    else:
+                        for c in range(3):
+                            g_guess[c] += delta[c]
+                        err_prev = err
+                        continue
+                else:
+                    newton = False
+            # Fixed-point update. Error left after it, estimated from the contraction of the
+            # last two updates (c < 1): err * c / (1 - c). Saves the confirming evaluation.
+            for c in range(3):
+                g_guess[c] = g_new[c]
             if err_prev > 0.0:
                 rate = err / err_prev
                 if rate < 0.5 and err * rate / (1.0 - rate) <= fp_tol:
@@ -490,14 +592,14 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
             gd_out[k + 1, c] = gd_new[c]
         if settings.record_bearings:
             for i in range(nb):
-                out.fb[k + 1, i, 0] = fb_tmp[i, 0]
-                out.fb[k + 1, i, 1] = fb_tmp[i, 1]
+                out.fb[k + 1, bearings.index[i], 0] = fb_tmp[i, 0]
+                out.fb[k + 1, bearings.index[i], 1] = fb_tmp[i, 1]
         for j in range(nd):
             out.fd[k + 1, j] = fd_tmp[j]
         if settings.record_states:
             for i in range(nb):
                 for c in range(sb):
-                    out.bstate[k + 1, i, c] = b_state[i, c]
+                    out.bstate[k + 1, bearings.index[i], c] = b_state[i, c]
     # The last sample of the record is a control step too: measure it (the voltage it yields
     # is recorded for that sample only), as the pure-Python path does.
     n = z_out.shape[0]

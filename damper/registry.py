@@ -16,7 +16,7 @@ import numpy as np
 from benchmark.errors import InputError
 from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, ExtendedBoucWen,
                              NormalizedBoucWen, bouc_wen_force, bouc_wen_step)
-from damper.spencer import (MEMO_LENGTH, SPENCER_ID, Spencer, spencer_type_force_kernel,
+from damper.spencer import (MEMO_LENGTH, SPENCER_ID, Spencer, spencer_type_force_kernel, spencer_type_tangent,
                             spencer_type_step, spencer_type_step_memo)
 from damper.virtual import VIRTUAL_DAMPER_ID, VirtualBenchmarkDamper
 from damper.series_dashpot import SERIES_DASHPOT_ID, SeriesDashpotBoucWen
@@ -33,6 +33,7 @@ __all__ = [
     "device_step",
     "device_step_memo",
     "MEMO_LENGTH",
+    "device_tangent",
     "device_force",
 ]
 
@@ -139,3 +140,16 @@ def device_force(model_id, params, state, x, xd, v):
     if model_id == HYPERBOLIC_TANGENT_ID:
         return hyperbolic_tangent_force(params, state, x, xd, v)
     return np.nan
+
+
+@numba.njit(cache=True)
+def device_tangent(model_id, params, state, x, xd, v):
+    """``(dF/dx [N/m], dF/dxd [N·s/m])`` of a device at its current state (internal states held).
+
+    The building's Newton iteration on the base uses them at the end of a step. Models without
+    a tangent return ``(0, 0)``: the iteration then treats their force as given, which only
+    slows its convergence (the fixed point and the convergence test are unchanged).
+    """
+    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
+        return spencer_type_tangent(params, state, x, xd)
+    return 0.0, 0.0

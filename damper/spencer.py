@@ -69,6 +69,7 @@ __all__ = [
     "MEMO_LENGTH",
     "spencer_type_force",
     "spencer_type_force_kernel",
+    "spencer_type_tangent",
 ]
 
 SPENCER_ID = 3
@@ -407,3 +408,17 @@ def _force(params, state, x, xd):
 def spencer_type_force_kernel(params, state, x, xd, v):
     """Force [N] at the current state (the filtered voltage is ``state[2]``; ``v`` unused)."""
     return _force(params, state, x, xd)
+
+
+@numba.njit(cache=True)
+def spencer_type_tangent(params, state, x, xd):
+    r"""Partial derivatives of the force at the current state: ``(dF/dx [N/m], dF/dxd [N·s/m])``.
+
+    With the internal states ``(y, w)`` and the field ``u = state[2]`` held:
+    :math:`\partial F/\partial x = k_1 + c_1 k_0/(c_0 + c_1)`,
+    :math:`\partial F/\partial \dot x = c_1 c_0/(c_0 + c_1)` (the two dashpots in series).
+    The building's Newton iteration uses them at the end of a step (:mod:`benchmark.stepping`).
+    """
+    a, d0, d1 = _laws(params, state[2])
+    s = d1 / (d0 + d1)
+    return params[2] + s * params[1], s * d0
