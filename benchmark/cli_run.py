@@ -128,7 +128,7 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
              controller: str = "none", records_dir: str | None = None, out: str | None = None,
              plot_dir: str | None = None, n_modes: int | None = None, control_step: float = 0.005,
              substep_tolerance: float | None = None, baseline_correct: bool = False,
-             progress: bool = False, bearing_histories: bool = False) -> dict[str, Any]:
+             progress: bool = False, full_histories: bool = False) -> dict[str, Any]:
     """Run one case and its uncontrolled reference; evaluate, and optionally save and plot.
 
     Parameters
@@ -154,10 +154,11 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
     baseline_correct : bool
     progress : bool
         Print progress lines on stderr.
-    bearing_histories : bool
-        Also write the per-bearing force and state histories into ``out`` (92 bearings x 2
-        components per sample: about 40 MB more for a 30-s record). The figures of ``plot_dir``
-        get them either way (the bearing loops need them).
+    full_histories : bool
+        Also write the per-bearing force and state histories (92 bearings x 2 components per
+        sample: about 30 MB more for a 30-s record) and the kernel's state history (every
+        stored history is derived from it; 2.3 MB per run) into ``out``. The figures of
+        ``plot_dir`` get the bearing histories either way (the bearing loops need them).
 
     Returns
     -------
@@ -186,7 +187,7 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
 
     say(f"reference run (no devices): {rec.name}, {orientation}, {layer.name}")
     info = {"record": rec.name, "orientation": orientation, "isolation": layer.name}
-    keep_bearings = bool(bearing_histories or plot_dir)
+    keep_bearings = bool(full_histories or plot_dir)
     reference = simulate(building.without_devices(), rec, controller=None, control_step=control_step,
                          info=info, bearing_histories=keep_bearings)
     if ctrl is None:
@@ -217,10 +218,10 @@ def run_case(record: str, orientation: str = "FN-x", isolation: str | None = Non
 
         say(f"writing {out}")
         stored, stored_ref = result, reference
-        if keep_bearings and not bearing_histories:  # kept for the figures only
-            stored = dataclasses.replace(result, bearing_force=None, bearing_state=None)
-            stored_ref = stored if reference is result else dataclasses.replace(
-                reference, bearing_force=None, bearing_state=None)
+        if not full_histories:  # the per-bearing histories, if any, were for the figures only
+            lean = {"bearing_force": None, "bearing_state": None, "state": None}
+            stored = dataclasses.replace(result, **lean)
+            stored_ref = stored if reference is result else dataclasses.replace(reference, **lean)
         write_result(stored, out, reference=None if stored is stored_ref else stored_ref, evaluation=J,
                      isolation=layer, record_source=getattr(rec, "source", ""),
                      record_synthetic=getattr(rec, "synthetic", False), control_step=control_step,
@@ -266,7 +267,7 @@ def main_run(args: argparse.Namespace) -> int:
                        plot_dir=args.plot, n_modes=args.n_modes, control_step=args.control_step,
                        substep_tolerance=args.substep_tolerance,
                        baseline_correct=args.baseline_correct, progress=not args.json,
-                       bearing_histories=args.bearing_histories)
+                       full_histories=args.full_histories)
     summary.pop("result", None)
     summary.pop("reference", None)
     if args.json:
@@ -305,7 +306,7 @@ def register(subparsers: Any) -> None:
                    help="sub-step tolerance of the nonlinear bearings (default 0.75)")
     p.add_argument("--baseline-correct", action="store_true",
                    help="baseline-correct the record (off by default, as the benchmark distributes it)")
-    p.add_argument("--bearing-histories", action="store_true",
-                   help="also write the force and state histories of every bearing into --out "
-                        "(about 40 MB more for a 30-s record; off by default)")
+    p.add_argument("--full-histories", action="store_true",
+                   help="also write the force and state histories of every bearing and the kernel's "
+                        "state history into --out (about 35 MB more for a 30-s record; off by default)")
     p.set_defaults(func=main_run)
