@@ -494,10 +494,13 @@ def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_
         blocks[name] = slice(sum(c.shape[1] for c in cols), sum(c.shape[1] for c in cols) + w.shape[1])
         cols.append(w)
 
-    add("acc", L_v.T)                                   # q̈, ü_b
-    Wus = np.zeros((nz + 8, basis.shape[0]))
-    Wus[:nq] = basis.T
-    add("us", Wus)                                      # u_s = basis q
+    add("acc", L_v[nq:].T)                              # ü_b (q̈ is used only through basis q̈ below)
+    # u_s = basis q: the state itself for the full superstructure (basis = I), a product otherwise
+    identity_basis = basis.shape[0] == nq and np.array_equal(basis, np.eye(nq))
+    if not identity_basis:
+        Wus = np.zeros((nz + 8, basis.shape[0]))
+        Wus[:nq] = basis.T
+        add("us", Wus)
     add("floor_rel_acc", L_v[:nq].T @ basis.T)          # basis q̈
     Wss = np.zeros((nz + 8, 3))
     Wss[:nq] = KR
@@ -513,13 +516,12 @@ def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_
     Wdev[nv + nq:nz, nd:] = d_infl.T
     add("devices", Wdev)                                # device displacement, velocity
     Y = X @ np.hstack(cols)
-    acc = Y[:, blocks["acc"]]
     ub = z[:, nq:nv].copy()
     vb = z[:, nv + nq:].copy()
-    ab = acc[:, nq:]
+    ab = Y[:, blocks["acc"]]
     base_abs = ab.copy()
     base_abs[:, :2] += ag
-    us = Y[:, blocks["us"]]
+    us = z[:, :nq].copy() if identity_basis else Y[:, blocks["us"]]
     floor_abs = Y[:, blocks["floor_rel_acc"]].reshape(n, 8, 3) + base_abs[:, None, :]
     floor_disp = us.reshape(n, 8, 3)
     drift = np.empty((n, 8, 2))
