@@ -55,14 +55,15 @@ class SimulationResult:
         ``isolation_force + device_force_total`` (the isolation-level force).
     structure_shear : (n, 3)
         First-storey force :math:`R^T(K u_s + C\\dot u_s)` [N, N·m].
-    bearing_force : (n, n_bearings, 2)
-        Total force of each bearing (x, y) [N].
+    bearing_force : (n, n_bearings, 2) or None
+        Total force of each bearing (x, y) [N]; ``None`` with ``bearing_histories=False``.
     bearing_state : (n, n_bearings, n_states) or None
-        Hysteretic states of each bearing (``record_states=True``).
+        Hysteretic states of each bearing (``record_states=True`` and ``bearing_histories=True``).
     device_displacement, device_velocity, device_force, voltage : (n, n_devices)
         [m], [m/s], [N] (device sign convention), [V] (held over each control step).
     energy : dict of (n,) arrays
-        ``input, kinetic, strain, damping, hysteretic, device`` [J] (see :mod:`benchmark.stepping`).
+        ``input, kinetic, strain, damping, hysteretic, device`` [J]
+        (:func:`benchmark.stepping.energy_histories`).
     measurements : (n_control, n_meas)
         The measurement vectors the controller saw (noise added); empty without a controller.
     desired_force : (n_control, n_devices)
@@ -273,7 +274,7 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         or by fixed-point iteration (default); both stop on the same tolerance
         (:mod:`benchmark.stepping`). Newton takes fewer iterations (2.03 instead of 2.39 per
         step on 30 s of Kobe with clipped-optimal control) but, with the tangents' cost, was
-        10-15 % slower when measured (README, "Performance").
+        9-15 % slower when measured (docs/performance.md).
 
     Returns
     -------

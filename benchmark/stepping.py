@@ -72,7 +72,7 @@ ensure_fresh()  # before numba loads any cache: the kernels below call other mod
 
 from benchmark.isolation.registry import bearing_step, bearing_tangent  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402
-from damper.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent  # noqa: E402
+from damper.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent_memo  # noqa: E402
 
 __all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_bearing_forces",
            "energy_histories",
@@ -532,7 +532,8 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
                 for j in range(nd):
                     x1 = d_infl[j, 0] * ub1[0] + d_infl[j, 1] * ub1[1] + d_infl[j, 2] * ub1[2]
                     xd1 = d_infl[j, 0] * vb1[0] + d_infl[j, 1] * vb1[1] + d_infl[j, 2] * vb1[2]
-                    kx, kv = device_tangent(d_model[j], d_params[j], d_state[j], x1, xd1, voltage[j])
+                    kx, kv = device_tangent_memo(d_model[j], d_params[j], d_state[j], x1, xd1, voltage[j],
+                                                 d_memo[j])
                     for r in range(3):
                         for c in range(3):
                             jac[r, c] += kx * d_infl[j, r] * d_infl[j, c]

@@ -17,7 +17,7 @@ from benchmark.errors import InputError
 from damper.bouc_wen import (EXTENDED_BOUC_WEN_ID, NORMALIZED_BOUC_WEN_ID, ExtendedBoucWen,
                              NormalizedBoucWen, bouc_wen_force, bouc_wen_step)
 from damper.spencer import (MEMO_LENGTH, SPENCER_ID, Spencer, spencer_type_force_kernel, spencer_type_tangent,
-                            spencer_type_step, spencer_type_step_memo)
+                            spencer_type_tangent_memo, spencer_type_step, spencer_type_step_memo)
 from damper.virtual import VIRTUAL_DAMPER_ID, VirtualBenchmarkDamper
 from damper.series_dashpot import SERIES_DASHPOT_ID, SeriesDashpotBoucWen
 from damper.bingham import BINGHAM_ID, Bingham, bingham_force, bingham_step
@@ -34,6 +34,7 @@ __all__ = [
     "device_step_memo",
     "MEMO_LENGTH",
     "device_tangent",
+    "device_tangent_memo",
     "device_force",
 ]
 
@@ -153,3 +154,13 @@ def device_tangent(model_id, params, state, x, xd, v):
     if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
         return spencer_type_tangent(params, state, x, xd)
     return 0.0, 0.0
+
+
+@numba.njit(cache=True)
+def device_tangent_memo(model_id, params, state, x, xd, v, memo):
+    """:func:`device_tangent` after :func:`device_step_memo` with the same ``memo``: a model that
+    stored its end-of-step tangent there (the Spencer types) returns it without evaluating its
+    voltage laws again."""
+    if model_id == SPENCER_ID or model_id == VIRTUAL_DAMPER_ID or model_id == SERIES_DASHPOT_ID:
+        return spencer_type_tangent_memo(params, memo)
+    return device_tangent(model_id, params, state, x, xd, v)
