@@ -26,8 +26,8 @@ __all__ = ["ensure_fresh", "kernel_source_fingerprint", "KERNEL_SOURCES", "KERNE
 
 _ROOT = Path(__file__).resolve().parent.parent
 #: Source files (globs relative to the repository root) the stepping kernel can reach.
-KERNEL_SOURCES = ("benchmark/stepping.py", "benchmark/isolation/*.py", "damper/*.py",
-                  "controllers/compiled.py")
+KERNEL_SOURCES = ("benchmark/stepping.py", "benchmark/kernel_args.py", "benchmark/measurement_layout.py",
+                  "benchmark/isolation/*.py", "damper/*.py", "controllers/compiled.py")
 #: Directories whose ``__pycache__`` holds numba caches of those modules.
 KERNEL_SOURCE_DIRS = ("benchmark", "benchmark/isolation", "damper", "controllers")
 _STAMP_NAME = "sbib-kernel-sources.txt"

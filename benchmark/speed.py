@@ -508,7 +508,15 @@ def bench_suite(jobs: int = 2, controllers: Sequence[str] = SUITE_CONTROLLERS, r
 
 
 def bench_result_file(record: str = "kobe", controller: str = "clipped-optimal") -> list[BenchCase]:
-    """``result-file``: size of the HDF5 file of a default ``sbib run`` (run and reference)."""
+    """``result-file``: size of the HDF5 file of a default ``sbib run`` (run and reference).
+
+    Parameters
+    ----------
+    record : str
+        Benchmark record name (``--record``).
+    controller : str
+        Controller name (``--controller``).
+    """
     if not _records_available():
         return [BenchCase("result-file", note="not measured: the benchmark records are absent")]
     from benchmark.cli import main

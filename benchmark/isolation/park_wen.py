@@ -327,6 +327,15 @@ def park_wen_tangent(zx: float, zy: float, dx: float, dy: float,
     of freedom (:mod:`benchmark.stepping`); it is the exact derivative of the end state in the
     limit of a short step.
 
+    Parameters
+    ----------
+    zx, zy : float
+        Hysteretic state (dimensionless) at the end of the step.
+    dx, dy : float
+        Direction of motion (the step's displacement [m]; only the signs matter).
+    yield_displacement, A, beta, gamma : float
+        Park–Wen parameters (Y [m]).
+
     Returns
     -------
     (k_xx, k_xy, k_yx, k_yy) : floats

@@ -142,7 +142,8 @@ def bearing_tangent(type_id, params, state, dx, dy, vx1, vy1, tangent):
     """Derivatives of the hysteretic force at the end of a step, after :func:`bearing_step`.
 
     Writes ``tangent[:, 0:2]`` = d(fx, fy)/d(ux1, uy1) [N/m] and ``tangent[:, 2:4]`` =
-    d(fx, fy)/d(vx1, vy1) [N·s/m], at the bearing's current (end-of-step) ``state``;
+    d(fx, fy)/d(vx1, vy1) [N·s/m] of the bearing of type ``type_id`` with packed ``params``,
+    at its current (end-of-step) ``state``;
     ``(dx, dy)`` is the step's displacement (its direction of motion), ``(vx1, vy1)`` the end
     velocity [m/s]. Zero for a linear bearing (its force is all in the linear part) and for an
     unknown type.
