@@ -20,7 +20,7 @@ from damper.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANG
                          KERNELS, DamperModel)
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, bouc_wen_force, bouc_wen_step
 from damper.spencer import (MEMO_LENGTH, Spencer, spencer_type_force_kernel, spencer_type_step,
-                            spencer_type_step_memo)
+                            spencer_type_step_memo, spencer_type_tangent, spencer_type_tangent_memo)
 from damper.virtual import VirtualBenchmarkDamper
 from damper.series_dashpot import SeriesDashpotBoucWen
 from damper.bingham import Bingham, bingham_force, bingham_step
@@ -37,6 +37,8 @@ __all__ = [
     "device_step",
     "device_step_memo",
     "MEMO_LENGTH",
+    "device_tangent",
+    "device_tangent_memo",
     "device_force",
 ]
 
@@ -167,3 +169,26 @@ def device_force(kernel_id, params, state, x, xd, v):
     if kernel_id == KERNEL_HYPERBOLIC_TANGENT:
         return hyperbolic_tangent_force(params, state, x, xd, v)
     return np.nan
+
+
+@numba.njit(cache=True)
+def device_tangent(kernel_id, params, state, x, xd, v):
+    """``(dF/dx [N/m], dF/dxd [N·s/m])`` of a device at its current state (internal states held).
+
+    The building's Newton iteration on the base uses them at the end of a step. Models without
+    a tangent return ``(0, 0)``: the iteration then treats their force as given, which only
+    slows its convergence (the fixed point and the convergence test are unchanged).
+    """
+    if kernel_id == KERNEL_SPENCER_TYPE:
+        return spencer_type_tangent(params, state, x, xd)
+    return 0.0, 0.0
+
+
+@numba.njit(cache=True)
+def device_tangent_memo(kernel_id, params, state, x, xd, v, memo):
+    """:func:`device_tangent` after :func:`device_step_memo` with the same ``memo``: a model that
+    stored its end-of-step tangent there (the Spencer types) returns it without evaluating its
+    voltage laws again."""
+    if kernel_id == KERNEL_SPENCER_TYPE:
+        return spencer_type_tangent_memo(params, memo)
+    return device_tangent(kernel_id, params, state, x, xd, v)

@@ -70,6 +70,8 @@ __all__ = [
     "MEMO_LENGTH",
     "spencer_type_force",
     "spencer_type_force_kernel",
+    "spencer_type_tangent",
+    "spencer_type_tangent_memo",
 ]
 
 SPENCER_ID = 3
@@ -270,8 +272,10 @@ def _hermite_velocity(x0, x1, xd0, xd1, dt, s):
 
 
 #: Length of the per-device memo of :func:`spencer_type_step_memo` (key, the laws at the step's
-#: start and end field, and at the nodes of up to ``(MEMO_LENGTH - 10) // 6`` sub-steps).
-MEMO_LENGTH = 106
+#: start and end field, at the nodes of up to ``(MEMO_LENGTH - 12) // 6`` sub-steps, and in its last
+#: two entries the force's tangent at the end of the last step (:func:`spencer_type_tangent_memo`).
+MEMO_LENGTH = 108
+_TANGENT_SLOT = MEMO_LENGTH - 2
 
 
 @numba.njit(cache=True)
@@ -345,7 +349,7 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
             state[i] = math.nan
         return math.nan
     n_sub = max(1, int(math.ceil(lam * dt / tol)))
-    nodes_fit = use_memo and 10 + 6 * n_sub <= memo.shape[0]
+    nodes_fit = use_memo and 10 + 6 * n_sub <= _TANGENT_SLOT
     nodes_valid = same_field and nodes_fit and memo[3] == n_sub
     if use_memo:
         memo[3] = n_sub if nodes_fit else -1.0
@@ -393,6 +397,9 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
     state[2] = u1
     # the laws at the end node are those at u1, so _force's evaluation is saved
     ydot1 = (aa * w + da0 * xd1 + k0 * (x1 - y)) / (da0 + da1)
+    if use_memo:  # the dashpots' series ratio and c0 at the end field, for the tangent
+        memo[_TANGENT_SLOT] = da1 / (da0 + da1)
+        memo[_TANGENT_SLOT + 1] = da0
     return da1 * ydot1 + params[2] * (x1 - params[3])
 
 
@@ -410,3 +417,25 @@ def _force(params, state, x, xd):
 def spencer_type_force_kernel(params, state, x, xd, v):
     """Force [N] at the current state (the filtered voltage is ``state[2]``; ``v`` unused)."""
     return _force(params, state, x, xd)
+
+
+@numba.njit(cache=True)
+def spencer_type_tangent(params, state, x, xd):
+    r"""Partial derivatives of the force at the current state: ``(dF/dx [N/m], dF/dxd [N·s/m])``.
+
+    With the internal states ``(y, w)`` and the field ``u = state[2]`` held:
+    :math:`\partial F/\partial x = k_1 + c_1 k_0/(c_0 + c_1)`,
+    :math:`\partial F/\partial \dot x = c_1 c_0/(c_0 + c_1)` (the two dashpots in series).
+    The building's Newton iteration uses them at the end of a step (:mod:`benchmark.simulator.stepping`).
+    """
+    a, d0, d1 = _laws(params, state[2])
+    s = d1 / (d0 + d1)
+    return params[2] + s * params[1], s * d0
+
+
+@numba.njit(cache=True)
+def spencer_type_tangent_memo(params, memo):
+    """:func:`spencer_type_tangent` at the end of the last :func:`spencer_type_step_memo` with this
+    ``memo``, from the end field's laws that step stored (no law evaluated again)."""
+    s = memo[_TANGENT_SLOT]
+    return params[2] + s * params[1], s * memo[_TANGENT_SLOT + 1]

@@ -11,7 +11,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
+
+# One BLAS thread per process, set before numpy is imported (an explicit setting wins): the
+# simulator's dense products are small (54 states, 6000 samples), so OpenBLAS's extra threads only
+# spin against the kernels and the suite's other workers. On the 2-core machine of the README's
+# performance section, a 30-s linear run took 3x longer with the default threads.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 from typing import Sequence
 
 from benchmark import __version__

@@ -37,6 +37,7 @@ The Python equivalent of the command is :func:`benchmark.simulator.case.run_case
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import sys
@@ -76,7 +77,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
              plot_dir: str | None = None, n_modes: int | None = None, control_step: float | None = None,
              substep_tolerance: float | None = None, baseline_correct: bool = False,
              progress: bool = False, format: str = "auto", dt: float | None = None,
-             units: str | None = None, warn: bool = True) -> dict[str, Any]:
+             units: str | None = None, warn: bool = True, full_histories: bool = False) -> dict[str, Any]:
     """``sbib run``: run one case and its reference (:func:`benchmark.simulator.case.run_case`),
     evaluate, and optionally save and plot.
 
@@ -108,6 +109,11 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         How to read a record file (:func:`records.resolve.resolve_record`).
     warn : bool
         Print the record's implausibility flaws and a chosen control step on stderr.
+    full_histories : bool
+        Also write the per-bearing force and state histories (92 bearings x 2 components per
+        sample: about 30 MB more for a 30-s record) and the kernel's state history (every
+        stored history is derived from it; 2.3 MB per run) into ``out``. The figures of
+        ``plot_dir`` get the bearing histories either way (the bearing loops need them).
 
     Returns
     -------
@@ -128,7 +134,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
                       "dt": dt, "units": units}
     case = Case(record=record, orientation=orientation, controller=controller, isolation=isolation,
                 n_modes=n_modes, control_step=control_step, record_options=record_options,
-                options={} if substep_tolerance is None else {"substep_tolerance": substep_tolerance})
+                options={"bearing_histories": bool(full_histories or plot_dir),
+                         **({} if substep_tolerance is None else {"substep_tolerance": substep_tolerance})})
     run = run_case(case)  # the one way to run a case (benchmark.simulator.case)
     say(f"ran {run.record.name} ({orientation}) and its uncontrolled reference in "
         f"{time.perf_counter() - start:.1f} s")
@@ -162,7 +169,12 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
     }
     if out:
         say(f"writing {out}")
-        write_result(result, out, reference=None if result is reference else reference, evaluation=J,
+        stored, stored_ref = result, reference
+        if not full_histories:  # the per-bearing histories, if any, were for the figures only
+            lean = {"bearing_force": None, "bearing_state": None, "state": None}
+            stored = dataclasses.replace(result, **lean)
+            stored_ref = stored if reference is result else dataclasses.replace(reference, **lean)
+        write_result(stored, out, reference=None if stored is stored_ref else stored_ref, evaluation=J,
                      isolation=layer, record_source=getattr(rec, "source", ""),
                      record_synthetic=getattr(rec, "synthetic", False), control_step=control_step,
                      n_modes="all" if n_modes is None else n_modes, building=json.dumps(building.describe(),
@@ -208,7 +220,7 @@ def main_run(args: argparse.Namespace) -> int:
                        plot_dir=args.plot, n_modes=args.n_modes, control_step=args.control_step,
                        substep_tolerance=args.substep_tolerance,
                        baseline_correct=args.baseline_correct, progress=not args.json,
-                       format=args.format, dt=args.dt, units=args.units)
+                       format=args.format, dt=args.dt, units=args.units, full_histories=args.full_histories)
     summary.pop("result", None)
     summary.pop("reference", None)
     if args.json:
@@ -244,4 +256,7 @@ def register(subparsers: Any) -> None:
                         "without a controller it does not matter)")
     p.add_argument("--substep-tolerance", type=float, default=None, metavar="TOL",
                    help="sub-step tolerance of the nonlinear bearings (default 0.75)")
+    p.add_argument("--full-histories", action="store_true",
+                   help="also write the force and state histories of every bearing and the kernel's "
+                        "state history into --out (about 35 MB more for a 30-s record; off by default)")
     p.set_defaults(func=main_run)

@@ -156,7 +156,7 @@ def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, fl
             raise InputError(f"grid parameter n_modes = {n_modes!r}: expected a positive integer")
         n_modes = int(n_modes)
     substep = plain.get("substep_tolerance")
-    kwargs: dict[str, Any] = {"record_states": False, "seed": int(case.seed) % (2 ** 32)}
+    kwargs: dict[str, Any] = {"bearing_histories": False, "seed": int(case.seed) % (2 ** 32)}
     if "control_step" in plain:
         kwargs["control_step"] = plain["control_step"]
     if substep is not None:

@@ -302,7 +302,7 @@ def measure_run(building, record_name: str, orientation: str, controller: str = 
 
     record = _load_record(record_name, orientation, records_dir, synthetic)
     run = run_case(Case(record=record, orientation=orientation, controller=controller, building=building,
-                        options={"record_states": False}), cache=None)
+                        options={"bearing_histories": False}), cache=None)
     reference, measured = run.reference, run.result
     ref = SimpleNamespace(info=dict(getattr(reference, "info", {}) or {}), device_force=None,
                           **{k: np.asarray(getattr(reference, k)) for k in _REFERENCE_FIELDS})
@@ -352,7 +352,7 @@ def compare_run(building, measured: MeasuredRun, identified: dict, lags: dict | 
     for m in rerun:
         swapped = building.with_devices(building.devices.with_model(identified[m]))
         rerun_case = Case(record=measured.record, orientation=measured.orientation, controller=controller,
-                          building=swapped, options={"record_states": False})
+                          building=swapped, options={"bearing_histories": False})
         J[m] = evaluate(run_case(rerun_case, reference=False).result, measured.reference)
     run = RunValidation(measured.record_name, measured.orientation, t, x, xd, v, f, predicted, errors, J,
                         regimes)

@@ -26,8 +26,9 @@ __all__ = ["ensure_fresh", "kernel_source_fingerprint", "KERNEL_SOURCES", "KERNE
 
 _ROOT = Path(__file__).resolve().parents[2]  # the repository root (benchmark/foundation/..)
 #: Source files (globs relative to the repository root) the stepping kernel can reach.
-KERNEL_SOURCES = ("benchmark/simulator/stepping.py", "benchmark/simulator/isolation/*.py", "damper/*.py",
-                  "controllers/compiled.py")
+KERNEL_SOURCES = ("benchmark/simulator/stepping.py", "benchmark/simulator/kernel_args.py",
+                  "controllers/measurement_layout.py", "controllers/measurements.py",
+                  "benchmark/simulator/isolation/*.py", "damper/*.py", "controllers/compiled.py")
 #: Directories whose ``__pycache__`` holds numba caches of those modules.
 KERNEL_SOURCE_DIRS = ("benchmark/simulator", "benchmark/simulator/isolation", "damper", "controllers")
 _STAMP_NAME = "sbib-kernel-sources.txt"

@@ -311,17 +311,17 @@ def linear_model(building, isolation: str = "equivalent", amplitude: float = 0.1
     n_dev = G.shape[0]
     B = mats["B_g"] @ G.T
     E = mats["B_ag"].copy()
-    layout = measurement_layout(n_dev)
-    acc = layout.accelerations
-    C = np.zeros((layout.size, nz))
-    D = np.zeros((layout.size, n_dev))
-    D_g = np.zeros((layout.size, 2))
-    C[acc] = mats["C_acc"]
-    D[acc] = mats["D_acc_g"] @ G.T
-    D_g[acc] = mats["D_acc_ag"]
-    C[layout.base_displacement, nq:nv] = np.eye(3)
-    C[layout.device_displacement, nq:nv] = G
-    D[layout.device_force, :] = np.eye(n_dev)
+    lay = measurement_layout(n_dev)
+    s = lay.slices()
+    C = np.zeros((lay.n_measurements, nz))
+    D = np.zeros((lay.n_measurements, n_dev))
+    D_g = np.zeros((lay.n_measurements, 2))
+    C[:lay.n_accelerations] = mats["C_acc"]
+    D[:lay.n_accelerations] = mats["D_acc_g"] @ G.T
+    D_g[:lay.n_accelerations] = mats["D_acc_ag"]
+    C[s["base_displacement"], nq:nv] = np.eye(3)
+    C[s["device_displacement"], nq:nv] = G
+    D[s["device_force"], :] = np.eye(n_dev)
     return LinearModel(A=mats["A"], B=B, E=E, C=C, D=D, D_g=D_g,
                        state_names=state_names(nq, sup.is_reduced), output_names=measurement_names(n_dev),
                        n_q=nq, bearing_stiffness=k, bearing_damping=c, device_influence=G, matrices=mats,

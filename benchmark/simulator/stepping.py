@@ -38,7 +38,8 @@ sensor ranges and, for a compiled controller, calls
 :func:`controllers.compiled.controller_update`; a pure-Python controller is called by
 :mod:`benchmark.simulator.simulation` between kernel calls of one control step each.
 
-Energy (relative formulation), accumulated in the kernel, per unit of the state:
+Energy (relative formulation), computed from the histories the kernel writes
+(:func:`energy_histories`, dense products over the whole run rather than inside the loop):
 
 * input :math:`E_{in} = -\\int \\ddot u_g^T p\\, dt`, :math:`p` the x, y momentum of
   superstructure and base relative to the ground;
@@ -69,11 +70,12 @@ from benchmark.foundation.kernel_cache import ensure_fresh
 
 ensure_fresh()  # before numba loads any cache: the kernels below call other modules' kernels
 
-from benchmark.simulator.isolation.registry import bearing_step  # noqa: E402
+from benchmark.simulator.isolation.registry import bearing_step, bearing_tangent  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402
-from damper.registry import MEMO_LENGTH, device_step, device_step_memo  # noqa: E402
+from damper.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent_memo  # noqa: E402
 
 __all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_bearing_forces",
+           "energy_histories",
            "STATUS_MESSAGES",
            "STATUS_OK", "STATUS_NONFINITE", "STATUS_NOT_CONVERGED", "STATUS_BLOWUP",
            "STATUS_CONTROLLER", "ROTATION_RADIUS"]
@@ -120,14 +122,22 @@ def discretize_foh(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, 
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
-def measure(k, nq, z, g, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd, noise_row, meas_range, y):
-    """Write the measurement vector at step ``k`` (noise added, clipped to ranges) into ``y``.
+def measure(nq, z, g, ag, fd, devices, sensors, noise_row, y):
+    """Write the measurement vector (noise added, clipped to the ranges) into ``y``.
 
-    ``z`` (n_z,), ``g`` (3,) total generalised nonlinear force, ``ag`` (2,), ``fd`` (n_dev,) at
-    step k.
+    ``z`` (n_z,) state, ``g`` (3,) total generalised nonlinear force, ``ag`` (2,) ground
+    acceleration and ``fd`` (n_dev,) device forces, all at one sample; ``devices`` and
+    ``sensors`` the :class:`benchmark.simulator.kernel_args.Devices` and
+    :class:`benchmark.simulator.kernel_args.Sensors` of the run (the sensors' ``layout`` places the
+    blocks); ``noise_row`` the noise of this control step.
     """
     nz = z.shape[0]
-    for r in range(27):
+    lay = sensors.layout
+    C_acc = sensors.C_acc
+    D_acc_g = sensors.D_acc_g
+    D_acc_ag = sensors.D_acc_ag
+    d_infl = devices.influence
+    for r in range(lay.n_accelerations):
         s = 0.0
         for c in range(nz):
             s += C_acc[r, c] * z[c]
@@ -136,14 +146,14 @@ def measure(k, nq, z, g, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd, noise_row, me
         s += D_acc_ag[r, 0] * ag[0] + D_acc_ag[r, 1] * ag[1]
         y[r] = s
     for c in range(3):
-        y[27 + c] = z[nq + c]
-    nd = d_infl.shape[0]
-    for j in range(nd):
-        y[30 + j] = d_infl[j, 0] * z[nq] + d_infl[j, 1] * z[nq + 1] + d_infl[j, 2] * z[nq + 2]
-        y[30 + nd + j] = fd[j]
+        y[lay.base_displacement + c] = z[nq + c]
+    for j in range(lay.n_devices):
+        y[lay.device_displacement + j] = d_infl[j, 0] * z[nq] + d_infl[j, 1] * z[nq + 1] + d_infl[j, 2] * z[nq + 2]
+        y[lay.device_force + j] = fd[j]
+    ranges = sensors.ranges
     for r in range(y.shape[0]):
         v = y[r] + noise_row[r]
-        lim = meas_range[r]
+        lim = ranges[r]
         if v > lim:
             v = lim
         elif v < -lim:
@@ -152,26 +162,29 @@ def measure(k, nq, z, g, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd, noise_row, me
 
 
 @numba.njit(cache=True)
-def initial_forces(dt, b_xy, b_type, b_params, b_state, d_infl, d_model, d_params, d_state, voltage,
-                   fb, fd, gb, gd):
+def initial_forces(dt, bearings, devices, voltage, fb, fd, gb, gd):
     """Hysteretic bearing forces and device forces of the initial states at rest.
 
     Evaluated by one zero-motion step on copies of the states (the states are not changed).
+    ``bearings``, ``devices``: :class:`benchmark.simulator.kernel_args.Bearings`, ``Devices``.
     """
     out = np.zeros(2)
     gb[:] = 0.0
     gd[:] = 0.0
+    b_xy = bearings.xy
     for i in range(b_xy.shape[0]):
-        st = b_state[i].copy()
-        bearing_step(b_type[i], b_params[i], st, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, dt, out)
-        fb[i, 0] = out[0]
-        fb[i, 1] = out[1]
+        st = bearings.state[i].copy()
+        bearing_step(bearings.type_id[i], bearings.params[i], st, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                     dt, out)
+        fb[bearings.index[i], 0] = out[0]
+        fb[bearings.index[i], 1] = out[1]
         gb[0] += out[0]
         gb[1] += out[1]
         gb[2] += -b_xy[i, 1] * out[0] + b_xy[i, 0] * out[1]
+    d_infl = devices.influence
     for j in range(d_infl.shape[0]):
-        st = d_state[j].copy()
-        f = device_step(d_model[j], d_params[j], st, 0.0, 0.0, 0.0, 0.0, voltage[j], dt)
+        st = devices.state[j].copy()
+        f = device_step(devices.model_id[j], devices.params[j], st, 0.0, 0.0, 0.0, 0.0, voltage[j], dt)
         fd[j] = f
         for c in range(3):
             gd[c] += d_infl[j, c] * f
@@ -202,83 +215,105 @@ def total_bearing_forces(z, nq, b_xy, k_lin, c_lin, fb):
     return fb
 
 
-@numba.njit(cache=True, fastmath=_FASTMATH)
-def _powers(nq, z, gb, gd, ag, Mg, Kq, Cq, Kb, Cb, momentum):
-    """Return (kinetic, strain, damping power, hysteretic power, device power, input power)."""
+def energy_histories(z: np.ndarray, gb: np.ndarray, gd: np.ndarray, ag: np.ndarray, dt: float, nq: int,
+                     Mg: np.ndarray, Kq: np.ndarray, Cq: np.ndarray, Kb: np.ndarray, Cb: np.ndarray,
+                     momentum: np.ndarray) -> np.ndarray:
+    """Energy terms of a run from its histories (module docstring), shape ``(n, 6)`` [J].
+
+    Columns ``input, kinetic, strain, damping, hysteretic, device``; the powers at every sample
+    are dense products over the whole history (one BLAS call each) and the integrals the
+    trapezoid rule on consecutive samples, starting from zero at rest.
+    """
     nv = nq + 3
-    kin = 0.0
-    for r in range(nv):
-        s = 0.0
-        for c in range(nv):
-            s += Mg[r, c] * z[nv + c]
-        kin += z[nv + r] * s
-    strain = 0.0
-    dpow = 0.0
-    for r in range(nq):
-        s = 0.0
-        sd = 0.0
-        for c in range(nq):
-            s += Kq[r, c] * z[c]
-            sd += Cq[r, c] * z[nv + c]
-        strain += z[r] * s
-        dpow += z[nv + r] * sd
+    q = z[:, :nq]
+    ub = z[:, nq:nv]
+    v = z[:, nv:]
+    qd = v[:, :nq]
+    ubd = v[:, nq:]
+    out = np.empty((z.shape[0], 6))
+    out[:, 1] = 0.5 * np.einsum("ij,ij->i", v @ Mg.T, v)
+    out[:, 2] = 0.5 * (np.einsum("ij,ij->i", q @ Kq.T, q) + np.einsum("ij,ij->i", ub @ Kb.T, ub))
+    powers = np.empty((z.shape[0], 4))
+    powers[:, 0] = -np.einsum("ij,ij->i", ag, v @ momentum.T)
+    powers[:, 1] = np.einsum("ij,ij->i", qd @ Cq.T, qd) + np.einsum("ij,ij->i", ubd @ Cb.T, ubd)
+    powers[:, 2] = np.einsum("ij,ij->i", gb, ubd)
+    powers[:, 3] = np.einsum("ij,ij->i", gd, ubd)
+    steps = 0.5 * dt * (powers[1:] + powers[:-1])
+    for col, p in zip((0, 3, 4, 5), range(4)):
+        out[0, col] = 0.0
+        np.cumsum(steps[:, p], out=out[1:, col])
+    return out
+
+
+@numba.njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _base_change(Gb, dg, u_scale, v_scale):
+    """Largest change of the base's end displacement / velocity a force change ``dg`` causes,
+    relative to ``u_scale`` / ``v_scale`` (rotations times :data:`ROTATION_RADIUS`)."""
+    du_max = 0.0
+    dv_max = 0.0
     for r in range(3):
-        s = 0.0
-        sd = 0.0
+        du = 0.0
+        dv = 0.0
         for c in range(3):
-            s += Kb[r, c] * z[nq + c]
-            sd += Cb[r, c] * z[nv + nq + c]
-        strain += z[nq + r] * s
-        dpow += z[nv + nq + r] * sd
-    hpow = 0.0
-    devpow = 0.0
-    for c in range(3):
-        hpow += gb[c] * z[nv + nq + c]
-        devpow += gd[c] * z[nv + nq + c]
-    inpow = 0.0
-    for a in range(2):
-        p = 0.0
-        for c in range(nv):
-            p += momentum[a, c] * z[nv + c]
-        inpow -= ag[a] * p
-    return 0.5 * kin, 0.5 * strain, dpow, hpow, devpow, inpow
+            du += Gb[r, c] * dg[c]
+            dv += Gb[3 + r, c] * dg[c]
+        if r == 2:
+            du *= ROTATION_RADIUS
+            dv *= ROTATION_RADIUS
+        du_max = max(du_max, abs(du))
+        dv_max = max(dv_max, abs(dv))
+    return max(du_max / u_scale, dv_max / v_scale)
+
+
+@numba.njit(cache=True, inline="always")
+def _solve3(M, b, x):
+    """Solve the 3 x 3 system ``M x = b`` by Cramer's rule; False when ``M`` is (near) singular."""
+    c00 = M[1, 1] * M[2, 2] - M[1, 2] * M[2, 1]
+    c01 = M[1, 2] * M[2, 0] - M[1, 0] * M[2, 2]
+    c02 = M[1, 0] * M[2, 1] - M[1, 1] * M[2, 0]
+    det = M[0, 0] * c00 + M[0, 1] * c01 + M[0, 2] * c02
+    scale = abs(M[0, 0]) + abs(M[1, 1]) + abs(M[2, 2])
+    if not (abs(det) > 1e-12 * scale * scale * scale):
+        return False
+    inv = 1.0 / det
+    x[0] = (b[0] * c00 + b[1] * (M[0, 2] * M[2, 1] - M[0, 1] * M[2, 2])
+            + b[2] * (M[0, 1] * M[1, 2] - M[0, 2] * M[1, 1])) * inv
+    x[1] = (b[0] * c01 + b[1] * (M[0, 0] * M[2, 2] - M[0, 2] * M[2, 0])
+            + b[2] * (M[0, 2] * M[1, 0] - M[0, 0] * M[1, 2])) * inv
+    x[2] = (b[0] * c02 + b[1] * (M[0, 1] * M[2, 0] - M[0, 0] * M[2, 1])
+            + b[2] * (M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0])) * inv
+    return math.isfinite(x[0]) and math.isfinite(x[1]) and math.isfinite(x[2])
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
-def _compiled_control(k, ratio, nq, z, gb_out, gd_out, ag, C_acc, D_acc_g, D_acc_ag, d_infl, fd_out,
-                      noise, meas_range, Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt,
-                      xc, voltage, y, g_tot, fc, meas_out, desired_out):
+def _compiled_control(k, plant, ag, devices, sensors, control, out, y, g_tot, fc):
     """Measure at step k, store the measurement, and update the compiled controller's voltages."""
-    kc = k // ratio
-    nd = d_infl.shape[0]
+    kc = k // control.ratio
+    lay = sensors.layout
     for c in range(3):
-        g_tot[c] = gb_out[k, c] + gd_out[k, c]
-    measure(k, nq, z, g_tot, ag[k], C_acc, D_acc_g, D_acc_ag, d_infl, fd_out[k], noise[kc], meas_range, y)
+        g_tot[c] = out.gb[k, c] + out.gd[k, c]
+    measure(plant.nq, out.z[k], g_tot, ag[k], out.fd[k], devices, sensors, sensors.noise[kc], y)
     for r in range(y.shape[0]):
-        meas_out[kc, r] = y[r]
-    for j in range(nd):
-        fc[j] = y[30 + nd + j]
-    return controller_update(Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt,
-                             y, fc, xc, voltage, desired_out[kc])
+        out.meas[kc, r] = y[r]
+    for j in range(lay.n_devices):
+        fc[j] = y[lay.device_force + j]
+    return controller_update(control.Ac, control.Bc, control.Cc, control.Dc, control.law_id,
+                             control.law_params, control.v_max, control.slew_rate, control.dt,
+                             y, fc, control.xc, control.voltage, out.desired[kc])
 
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
-def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
-              b_xy, b_type, b_params, b_state,
-              d_infl, d_model, d_params, d_state,
-              Mg, Kq, Cq, Kb, Cb, momentum,
-              C_acc, D_acc_g, D_acc_ag, noise, meas_range,
-              ctrl_mode, Ac, Bc, Cc, Dc, law_id, law_params, v_max, slew_rate, ctrl_dt, xc, voltage,
-              fp_tol, max_iter, blowup_limit, record_states,
-              z_out, gb_out, gd_out, fb_out, bstate_out, fd_out, v_out, energy_out, meas_out,
-              desired_out, iter_out):
+def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, settings, out):
     """Advance the building from step ``k_start`` to ``k_stop`` (record samples, k_stop ≤ n − 1).
 
-    On entry ``z_out[k_start]``, ``gb_out[k_start]``, ``gd_out[k_start]``, ``fb_out[k_start]``,
-    ``fd_out[k_start]`` and ``energy_out[k_start]`` hold the state at ``k_start``, and
-    ``b_state``/``d_state`` the internal states there (advanced in place). ``ctrl_mode``: 0 no
-    controller or voltages held as given, 1 compiled controller (``controller_update`` at every
-    ``ratio``-th step), 2 voltages given by the caller for this chunk.
+    Arguments are the objects of :mod:`benchmark.simulator.kernel_args`: ``plant`` (:class:`Plant`),
+    ``ag`` the ground acceleration ``(n, 2)`` [m/s²], ``bearings``, ``devices`` (states
+    advanced in place), ``sensors``, ``control`` (controller state and voltages updated in
+    place; ``control.mode`` 0 no controller or voltages held as given, 1 compiled controller,
+    ``controller_update`` at every ``control.ratio``-th step, 2 voltages given by the caller
+    for this chunk), ``settings`` and ``out`` (:class:`Outputs`). On entry ``out.z[k_start]``,
+    ``out.gb[k_start]``, ``out.gd[k_start]``, ``out.fd[k_start]`` hold the state at
+    ``k_start``.
 
     Returns
     -------
@@ -286,11 +321,33 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
         ``status`` 0 when all steps were taken, else a code of :data:`STATUS_MESSAGES` with ``k``
         the step whose end failed.
     """
+    Phi = plant.Phi
+    G0 = plant.G0
+    G1 = plant.G1
+    Gb = plant.Gb
+    dt = plant.dt
+    nq = plant.nq
     nz = Phi.shape[0]
     nv = nq + 3
+    b_xy = bearings.xy
+    b_type = bearings.type_id
+    b_params = bearings.params
+    b_state = bearings.state
+    d_infl = devices.influence
+    d_model = devices.model_id
+    d_params = devices.params
+    d_state = devices.state
+    voltage = control.voltage
+    ratio = control.ratio
+    ctrl_mode = control.mode
+    fp_tol = settings.fp_tol
+    blowup_limit = settings.blowup_limit
+    z_out = out.z
+    gb_out = out.gb
+    gd_out = out.gd
     nb = b_xy.shape[0]
     nd = d_infl.shape[0]
-    n_meas = noise.shape[1]
+    n_meas = sensors.layout.n_measurements
     sb = b_state.shape[1]
     sd = d_state.shape[1]
 
@@ -301,42 +358,35 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
     gb_new = np.empty(3)
     gd_new = np.empty(3)
     zb_lin = np.empty(6)
-    Gb = np.empty((6, 3))
     ub1 = np.empty(3)
     vb1 = np.empty(3)
     b_start = np.empty((nb, sb))
     d_start = np.empty((nd, sd))
     fb_tmp = np.empty((nb, 2))
     fd_tmp = np.empty(nd)
-    out = np.empty(2)
+    force = np.empty(2)
     y = np.empty(n_meas)
     g_tot = np.empty(3)
     fc = np.empty(nd)
+    resid = np.empty(3)
+    delta = np.empty(3)
+    left = np.empty(3)
+    jac = np.empty((3, 6))
+    mat = np.empty((3, 3))
+    tangent = np.empty((2, 4))
     # per-device scratch of values that depend only on a step's start state and voltage (the
     # iterations below advance each device several times from the same state)
     d_memo = np.full((nd, MEMO_LENGTH), np.nan)
-
-    for r in range(3):
-        for c in range(3):
-            Gb[r, c] = G1[nq + r, 2 + c]
-            Gb[3 + r, c] = G1[nv + nq + r, 2 + c]
-
-    # Powers at the start of the chunk (trapezoid rule carries them from step to step).
-    z0 = z_out[k_start]
-    kin, strain, dpow0, hpow0, devpow0, inpow0 = _powers(nq, z0, gb_out[k_start], gd_out[k_start],
-                                                         ag[k_start], Mg, Kq, Cq, Kb, Cb, momentum)
 
     for k in range(k_start, k_stop):
         z0 = z_out[k]
         # ---- control step: measurement, compiled controller
         if ctrl_mode == 1 and k % ratio == 0:
-            st = _compiled_control(k, ratio, nq, z0, gb_out, gd_out, ag, C_acc, D_acc_g, D_acc_ag, d_infl,
-                                   fd_out, noise, meas_range, Ac, Bc, Cc, Dc, law_id, law_params, v_max,
-                                   slew_rate, ctrl_dt, xc, voltage, y, g_tot, fc, meas_out, desired_out)
+            st = _compiled_control(k, plant, ag, devices, sensors, control, out, y, g_tot, fc)
             if st != 0:
                 return STATUS_CONTROLLER, k
         for j in range(nd):
-            v_out[k, j] = voltage[j]
+            out.v[k, j] = voltage[j]
 
         # ---- linear part with the known inputs
         w0[0] = ag[k, 0]
@@ -383,9 +433,10 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
         vy0b = z0[nv + nq + 1]
         om0 = z0[nv + nq + 2]
         converged = False
+        newton = settings.newton
         iters = 0
         err_prev = -1.0
-        for it in range(max_iter):
+        for it in range(settings.max_iter):
             iters = it + 1
             for r in range(3):
                 su = zb_lin[r]
@@ -417,12 +468,12 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
                 vx1 = vb1[0] - by * vb1[2]
                 vy1 = vb1[1] + bx * vb1[2]
                 bearing_step(b_type[i], b_params[i], b_state[i], ux0, uy0, ux1, uy1,
-                             vx0, vy0, vx1, vy1, dt, out)
-                fb_tmp[i, 0] = out[0]
-                fb_tmp[i, 1] = out[1]
-                gb_new[0] += out[0]
-                gb_new[1] += out[1]
-                gb_new[2] += -by * out[0] + bx * out[1]
+                             vx0, vy0, vx1, vy1, dt, force)
+                fb_tmp[i, 0] = force[0]
+                fb_tmp[i, 1] = force[1]
+                gb_new[0] += force[0]
+                gb_new[1] += force[1]
+                gb_new[2] += -by * force[0] + bx * force[1]
             for j in range(nd):
                 x0 = d_infl[j, 0] * ux0b + d_infl[j, 1] * uy0b + d_infl[j, 2] * th0
                 x1 = d_infl[j, 0] * ub1[0] + d_infl[j, 1] * ub1[1] + d_infl[j, 2] * ub1[2]
@@ -434,40 +485,96 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
                 for c in range(3):
                     gd_new[c] += d_infl[j, c] * f
             # Change of the end displacement/velocity the update causes.
-            du_max = 0.0
-            dv_max = 0.0
             for r in range(3):
                 g_new[r] = gb_new[r] + gd_new[r]
-            for r in range(3):
-                du = 0.0
-                dv = 0.0
-                for c in range(3):
-                    du += Gb[r, c] * (g_new[c] - g_guess[c])
-                    dv += Gb[3 + r, c] * (g_new[c] - g_guess[c])
-                if r == 2:
-                    du *= ROTATION_RADIUS
-                    dv *= ROTATION_RADIUS
-                du_max = max(du_max, abs(du))
-                dv_max = max(dv_max, abs(dv))
+                resid[r] = g_new[r] - g_guess[r]
             u_scale = max(abs(ub1[0]), abs(ub1[1]), ROTATION_RADIUS * abs(ub1[2])) + _U_FLOOR
             v_scale = max(abs(vb1[0]), abs(vb1[1]), ROTATION_RADIUS * abs(vb1[2])) + _V_FLOOR
-            for c in range(3):
-                g_guess[c] = g_new[c]
-            err = max(du_max / u_scale, dv_max / v_scale)
+            err = _base_change(Gb, resid, u_scale, v_scale)
             if not (err == err):  # NaN
                 return STATUS_NONFINITE, k
             if err <= fp_tol:
                 converged = True
                 break
-            # Error left after this update, estimated from the contraction of the last two
-            # updates (c < 1): err * c / (1 - c). Saves the confirming evaluation.
+            if newton:
+                # Newton on the base's 3 DOF: the residual R(g) = F(u(g)) - g of the nonlinear
+                # force, u = zb_lin + Gb g, with the Jacobian I - J Gb, J the sum of the
+                # bearings' and devices' tangents at the end of the step (3 x 6, generalised).
+                for r in range(3):
+                    for c in range(6):
+                        jac[r, c] = 0.0
+                for i in range(nb):
+                    bx = b_xy[i, 0]
+                    by = b_xy[i, 1]
+                    dx = (ub1[0] - by * ub1[2]) - (ux0b - by * th0)
+                    dy = (ub1[1] + bx * ub1[2]) - (uy0b + bx * th0)
+                    bearing_tangent(b_type[i], b_params[i], b_state[i], dx, dy,
+                                    vb1[0] - by * vb1[2], vb1[1] + bx * vb1[2], tangent)
+                    for half in range(2):  # displacement, then velocity columns
+                        o = 2 * half
+                        col = 3 * half
+                        # T_i^T K T_i with T_i = [[1, 0, -y_i], [0, 1, x_i]] (bearing i's motion)
+                        k00 = tangent[0, o]
+                        k01 = tangent[0, o + 1]
+                        k10 = tangent[1, o]
+                        k11 = tangent[1, o + 1]
+                        a02 = -by * k00 + bx * k01
+                        a12 = -by * k10 + bx * k11
+                        jac[0, col] += k00
+                        jac[0, col + 1] += k01
+                        jac[0, col + 2] += a02
+                        jac[1, col] += k10
+                        jac[1, col + 1] += k11
+                        jac[1, col + 2] += a12
+                        jac[2, col] += -by * k00 + bx * k10
+                        jac[2, col + 1] += -by * k01 + bx * k11
+                        jac[2, col + 2] += -by * a02 + bx * a12
+                for j in range(nd):
+                    x1 = d_infl[j, 0] * ub1[0] + d_infl[j, 1] * ub1[1] + d_infl[j, 2] * ub1[2]
+                    xd1 = d_infl[j, 0] * vb1[0] + d_infl[j, 1] * vb1[1] + d_infl[j, 2] * vb1[2]
+                    kx, kv = device_tangent_memo(d_model[j], d_params[j], d_state[j], x1, xd1, voltage[j],
+                                                 d_memo[j])
+                    for r in range(3):
+                        for c in range(3):
+                            jac[r, c] += kx * d_infl[j, r] * d_infl[j, c]
+                            jac[r, 3 + c] += kv * d_infl[j, r] * d_infl[j, c]
+                # M = I - J Gb
+                for r in range(3):
+                    for c in range(3):
+                        s = 0.0
+                        for m in range(6):
+                            s += jac[r, m] * Gb[m, c]
+                        mat[r, c] = (1.0 if r == c else 0.0) - s
+                ok = _solve3(mat, resid, delta)
+                if ok:
+                    # error left if the evaluated forces g_new are accepted, by the Newton model:
+                    # g_new - g* = R - delta (the analogue of err c / (1 - c) below)
+                    for r in range(3):
+                        left[r] = resid[r] - delta[r]
+                    err_left = _base_change(Gb, left, u_scale, v_scale)
+                    if it > 0 and err < 0.5 * err_prev and err_left <= fp_tol:
+                        converged = True
+                        break
+                    if err_prev > 0.0 and err > err_prev:
+                        newton = False  # diverging (a tangent far off): plain fixed point from here
+                    else:
+                        for c in range(3):
+                            g_guess[c] += delta[c]
+                        err_prev = err
+                        continue
+                else:
+                    newton = False
+            # Fixed-point update. Error left after it, estimated from the contraction of the
+            # last two updates (c < 1): err * c / (1 - c). Saves the confirming evaluation.
+            for c in range(3):
+                g_guess[c] = g_new[c]
             if err_prev > 0.0:
                 rate = err / err_prev
                 if rate < 0.5 and err * rate / (1.0 - rate) <= fp_tol:
                     converged = True
                     break
             err_prev = err
-        iter_out[k + 1] = iters
+        out.iters[k + 1] = iters
         if not converged:
             return STATUS_NOT_CONVERGED, k
 
@@ -484,38 +591,21 @@ def run_steps(k_start, k_stop, dt, ratio, nq, Phi, G0, G1, ag,
         for c in range(3):
             gb_out[k + 1, c] = gb_new[c]
             gd_out[k + 1, c] = gd_new[c]
-        for i in range(nb):
-            fb_out[k + 1, i, 0] = fb_tmp[i, 0]
-            fb_out[k + 1, i, 1] = fb_tmp[i, 1]
+        if settings.record_bearings:
+            for i in range(nb):
+                out.fb[k + 1, bearings.index[i], 0] = fb_tmp[i, 0]
+                out.fb[k + 1, bearings.index[i], 1] = fb_tmp[i, 1]
         for j in range(nd):
-            fd_out[k + 1, j] = fd_tmp[j]
-        if record_states:
+            out.fd[k + 1, j] = fd_tmp[j]
+        if settings.record_states:
             for i in range(nb):
                 for c in range(sb):
-                    bstate_out[k + 1, i, c] = b_state[i, c]
-
-        # ---- energy (trapezoid on the powers)
-        kin, strain, dpow1, hpow1, devpow1, inpow1 = _powers(nq, z1, gb_new, gd_new, ag[k + 1],
-                                                             Mg, Kq, Cq, Kb, Cb, momentum)
-        half = 0.5 * dt
-        energy_out[k + 1, 0] = energy_out[k, 0] + half * (inpow0 + inpow1)
-        energy_out[k + 1, 1] = kin
-        energy_out[k + 1, 2] = strain
-        energy_out[k + 1, 3] = energy_out[k, 3] + half * (dpow0 + dpow1)
-        energy_out[k + 1, 4] = energy_out[k, 4] + half * (hpow0 + hpow1)
-        energy_out[k + 1, 5] = energy_out[k, 5] + half * (devpow0 + devpow1)
-        inpow0 = inpow1
-        dpow0 = dpow1
-        hpow0 = hpow1
-        devpow0 = devpow1
+                    out.bstate[k + 1, bearings.index[i], c] = b_state[i, c]
     # The last sample of the record is a control step too: measure it (the voltage it yields
     # is recorded for that sample only), as the pure-Python path does.
     n = z_out.shape[0]
     if ctrl_mode == 1 and k_stop == n - 1 and k_stop % ratio == 0:
-        st = _compiled_control(k_stop, ratio, nq, z_out[k_stop], gb_out, gd_out, ag, C_acc, D_acc_g,
-                               D_acc_ag, d_infl, fd_out, noise, meas_range, Ac, Bc, Cc, Dc, law_id,
-                               law_params, v_max, slew_rate, ctrl_dt, xc, voltage, y, g_tot, fc,
-                               meas_out, desired_out)
+        st = _compiled_control(k_stop, plant, ag, devices, sensors, control, out, y, g_tot, fc)
         if st != 0:
             return STATUS_CONTROLLER, k_stop
     return STATUS_OK, k_stop

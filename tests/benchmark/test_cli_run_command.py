@@ -72,6 +72,22 @@ def test_record_file_orientation_output_and_plots(capsys, tmp_path, short_record
     assert sorted(p.split("_")[-1] for p in a["plots"]) == ["bearings.png", "envelopes.png", "orbit.png"]
 
 
+def test_default_file_is_lean_and_full_histories_is_an_option(capsys, tmp_path, short_record_files):
+    two, _ = short_record_files
+    lean, full = tmp_path / "lean.h5", tmp_path / "full.h5"
+    a = run_json(capsys, "--record", str(two), "--isolation", "friction-lrb", "--out", str(lean))
+    b = run_json(capsys, "--record", str(two), "--isolation", "friction-lrb", "--out", str(full),
+                 "--full-histories")
+    assert a["peaks"] == b["peaks"]
+    with h5py.File(lean) as f, h5py.File(full) as g:
+        kept = set(f["run/time_histories"])
+        assert {"base_displacement", "floor_acceleration_absolute", "base_shear"} <= kept
+        assert not {"bearing_force", "bearing_state", "state"} & kept
+        assert {"bearing_force", "bearing_state", "state"} <= set(g["run/time_histories"])
+        assert g["run/time_histories/bearing_force"].shape == (1200, 92, 2)
+    assert lean.stat().st_size < 0.5 * full.stat().st_size
+
+
 def test_controlled_run_has_device_criteria(capsys, short_record_files):
     pytest.importorskip("damper.virtual", reason="the default damper model is not available yet")
     two, _ = short_record_files

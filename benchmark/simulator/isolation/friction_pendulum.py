@@ -39,7 +39,7 @@ import numpy as np
 from benchmark.foundation.errors import ParameterError
 from benchmark.simulator.isolation.base import (BearingParameters, require_nonnegative, require_positive,
                                       require_range)
-from benchmark.simulator.isolation.park_wen import park_wen_advance, park_wen_rates
+from benchmark.simulator.isolation.park_wen import park_wen_advance, park_wen_rates, park_wen_tangent
 
 __all__ = ["FrictionPendulumBearing", "TYPE_ID", "N_PARAMS", "friction_pendulum_step",
            "friction_coefficient"]
@@ -152,3 +152,29 @@ def friction_pendulum_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1
     mu = params[3] - (params[3] - params[4]) * math.exp(-params[5] * speed)
     force_out[0] = mu * params[2] * state[0]
     force_out[1] = mu * params[2] * state[1]
+
+
+@numba.njit(cache=True, inline="always")
+def friction_pendulum_tangent(params, state, dx, dy, vx1, vy1, tangent):
+    """Write the friction force's tangent at the end of a step into ``tangent`` (2 x 4):
+    ``[:, 0:2]`` = d f / d u = mu W dz/du [N/m], ``[:, 2:4]`` = d f / d v = W z (d mu / d|v|) v/|v|
+    [N s/m] (the velocity dependence of the friction coefficient)."""
+    kxx, kxy, kyx, kyy = park_wen_tangent(state[0], state[1], dx, dy, params[6], params[7], params[8], params[9])
+    speed = math.sqrt(vx1 * vx1 + vy1 * vy1)
+    e = math.exp(-params[5] * speed)
+    w = params[2] * (params[3] - (params[3] - params[4]) * e)
+    tangent[0, 0] = w * kxx
+    tangent[0, 1] = w * kxy
+    tangent[1, 0] = w * kyx
+    tangent[1, 1] = w * kyy
+    if speed > 0.0:
+        dmu = params[2] * (params[3] - params[4]) * params[5] * e / speed  # W dmu/ds / |v|
+        tangent[0, 2] = dmu * state[0] * vx1
+        tangent[0, 3] = dmu * state[0] * vy1
+        tangent[1, 2] = dmu * state[1] * vx1
+        tangent[1, 3] = dmu * state[1] * vy1
+    else:
+        tangent[0, 2] = 0.0
+        tangent[0, 3] = 0.0
+        tangent[1, 2] = 0.0
+        tangent[1, 3] = 0.0

@@ -54,7 +54,7 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["park_wen_rates", "park_wen_advance", "park_wen_substeps", "MAX_SUBSTEPS"]
+__all__ = ["park_wen_rates", "park_wen_advance", "park_wen_substeps", "park_wen_tangent", "MAX_SUBSTEPS"]
 
 #: Hard cap on the sub-steps of one structural step (guards against NaN/inf path lengths).
 MAX_SUBSTEPS = 200_000
@@ -313,3 +313,34 @@ def park_wen_advance(state: np.ndarray, offset: int,
     state[offset] = zx
     state[offset + 1] = zy
     return n_total
+
+
+@numba.njit(cache=True, inline="always")
+def park_wen_tangent(zx: float, zy: float, dx: float, dy: float,
+                     yield_displacement: float, A: float, beta: float, gamma: float):
+    r"""Tangent :math:`\partial z / \partial u` (2 x 2, [1/m]) at the state ``(zx, zy)`` moving along ``(dx, dy)``.
+
+    From :math:`Y\,dz = A\,du - z\,(z^T G\,du)`, :math:`G = \mathrm{diag}(\beta + \gamma\,
+    \mathrm{sgn}(d_j z_j))`: :math:`\partial z_a/\partial u_b = (A\delta_{ab} - z_a g_b z_b)/Y`.
+    The building's stepping kernel uses it, at the state at the end of a step and the step's
+    direction of motion, as the bearing's share of the Newton matrix of the base's three degrees
+    of freedom (:mod:`benchmark.simulator.stepping`); it is the exact derivative of the end state in the
+    limit of a short step.
+
+    Parameters
+    ----------
+    zx, zy : float
+        Hysteretic state (dimensionless) at the end of the step.
+    dx, dy : float
+        Direction of motion (the step's displacement [m]; only the signs matter).
+    yield_displacement, A, beta, gamma : float
+        Park–Wen parameters (Y [m]).
+
+    Returns
+    -------
+    (k_xx, k_xy, k_yx, k_yy) : floats
+    """
+    iy = 1.0 / yield_displacement
+    gx = _g(dx * zx, beta, gamma) * zx
+    gy = _g(dy * zy, beta, gamma) * zy
+    return (A - zx * gx) * iy, -zx * gy * iy, -zy * gx * iy, (A - zy * gy) * iy

@@ -22,8 +22,13 @@ Contract with the building core
 * For a continuous-time oracle (scipy ``solve_ivp``) use the dataclasses' plain-numpy
   ``rates(state, ux, uy, vx, vy)`` (d state/dt) and ``force(...)`` (total force) methods.
 
+* :func:`bearing_tangent` writes the hysteretic force's derivatives with respect to the end
+  displacement and velocity (2 x 4) at the state after :func:`bearing_step`; the kernel's Newton
+  iteration on the base uses them. A type without one (zeros) still converges, by the kernel's
+  fixed-point fallback, only more slowly.
+
 Adding a bearing type means writing its module and adding one line to ``_TYPES`` and one
-branch to :func:`bearing_step`.
+branch each to :func:`bearing_step` and :func:`bearing_tangent`.
 """
 
 from __future__ import annotations
@@ -34,12 +39,14 @@ import numpy as np
 from benchmark.foundation.errors import ParameterError
 from benchmark.simulator.isolation import friction_pendulum, lead_rubber, linear
 from benchmark.simulator.isolation.base import BearingParameters
-from benchmark.simulator.isolation.friction_pendulum import FrictionPendulumBearing, friction_pendulum_step
-from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing, lead_rubber_step
+from benchmark.simulator.isolation.friction_pendulum import (FrictionPendulumBearing, friction_pendulum_step,
+                                                   friction_pendulum_tangent)
+from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing, lead_rubber_step, lead_rubber_tangent
 from benchmark.simulator.isolation.linear import LinearBearing, linear_step
 
 __all__ = [
     "BEARING_TYPES", "BEARING_NAMES", "MAX_STATES", "MAX_PARAMS", "bearing_type", "bearing_step",
+    "bearing_tangent",
     "bearing_total_force", "linear_part", "LinearBearing", "LeadRubberBearing",
     "FrictionPendulumBearing", "BearingParameters",
 ]
@@ -123,3 +130,24 @@ def bearing_total_force(params, ux, uy, vx, vy, hysteretic_force, force_out):
     """Total bearing force = linear part + hysteretic force (as written by :func:`bearing_step`)."""
     force_out[0] = params[0] * ux + params[1] * vx + hysteretic_force[0]
     force_out[1] = params[0] * uy + params[1] * vy + hysteretic_force[1]
+
+
+@numba.njit(cache=True, inline="always")
+def bearing_tangent(type_id, params, state, dx, dy, vx1, vy1, tangent):
+    """Derivatives of the hysteretic force at the end of a step, after :func:`bearing_step`.
+
+    Writes ``tangent[:, 0:2]`` = d(fx, fy)/d(ux1, uy1) [N/m] and ``tangent[:, 2:4]`` =
+    d(fx, fy)/d(vx1, vy1) [N·s/m] of the bearing of type ``type_id`` with packed ``params``,
+    at its current (end-of-step) ``state``;
+    ``(dx, dy)`` is the step's displacement (its direction of motion), ``(vx1, vy1)`` the end
+    velocity [m/s]. Zero for a linear bearing (its force is all in the linear part) and for an
+    unknown type.
+    """
+    if type_id == 1:
+        lead_rubber_tangent(params, state, dx, dy, vx1, vy1, tangent)
+    elif type_id == 2:
+        friction_pendulum_tangent(params, state, dx, dy, vx1, vy1, tangent)
+    else:
+        for a in range(2):
+            for b in range(4):
+                tangent[a, b] = 0.0
