@@ -193,6 +193,32 @@ def _header_name(cell: str, path: Path, line: int) -> str:
     return name
 
 
+def parse_row(path, line_no: int, header: list[str], row: list[str]) -> list[float]:
+    """The finite numbers of one CSV data row, one per header column.
+
+    Raises
+    ------
+    InputError
+        A row with the wrong number of values, or a cell that is not a finite number; the
+        message names the file, the line and the column.
+    """
+    if len(row) != len(header):
+        raise InputError(f"{path}:{line_no}: expected {len(header)} values "
+                         f"({', '.join(header)}), got {len(row)}")
+    values = []
+    for col, cell in zip(header, row):
+        try:
+            value = float(cell)
+        except ValueError:
+            raise InputError(f"{path}:{line_no}: column {col!r}: expected a number, "
+                             f"got {cell.strip()!r}") from None
+        if not math.isfinite(value):
+            raise InputError(f"{path}:{line_no}: column {col!r}: expected a finite "
+                             f"number, got {cell.strip()!r}")
+        values.append(value)
+    return values
+
+
 def read_csv(path, voltage: float | None = None, current: float | None = None,
              name: str | None = None) -> DamperTest:
     """Read a damper test CSV file (format in the module docstring).
@@ -248,21 +274,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                     raise InputError(f"{path}:{line_no}: header: expected a voltage or a current "
                                      "column, not both")
                 continue
-            if len(row) != len(header):
-                raise InputError(f"{path}:{line_no}: expected {len(header)} values "
-                                 f"({', '.join(header)}), got {len(row)}")
-            values = []
-            for col, cell in zip(header, row):
-                try:
-                    value = float(cell)
-                except ValueError:
-                    raise InputError(f"{path}:{line_no}: column {col!r}: expected a number, "
-                                     f"got {cell.strip()!r}") from None
-                if not math.isfinite(value):
-                    raise InputError(f"{path}:{line_no}: column {col!r}: expected a finite "
-                                     f"number, got {cell.strip()!r}")
-                values.append(value)
-            rows.append(values)
+            rows.append(parse_row(path, line_no, header, row))
             row_lines.append(line_no)
     if header is None:
         raise InputError(f"{path}: empty file; expected a header line "

@@ -26,6 +26,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
+from damper.data import parse_row
 from damper.hysteretic_oscillator import DEFAULT_UPSAMPLE, PARAMETER_NAMES, HystereticOscillator
 
 __all__ = ["ForceData", "read_data", "read_csv", "read_hdf5", "write_displacement_csv",
@@ -122,21 +123,7 @@ def read_csv(path, need_displacement: bool = True) -> ForceData:
                     if len(set(header)) != len(header):
                         raise InputError(f"{path}:{line_no}: header: repeated column name")
                     continue
-                if len(row) != len(header):
-                    raise InputError(f"{path}:{line_no}: expected {len(header)} values "
-                                     f"({', '.join(header)}), got {len(row)}")
-                values = []
-                for name, cell in zip(header, row):
-                    try:
-                        v = float(cell)
-                    except ValueError:
-                        raise InputError(f"{path}:{line_no}: column {name!r}: expected a number, "
-                                         f"got {cell.strip()!r}") from None
-                    if not math.isfinite(v):
-                        raise InputError(f"{path}:{line_no}: column {name!r}: expected a finite "
-                                         f"number, got {cell.strip()!r}")
-                    values.append(v)
-                rows.append(values)
+                rows.append(parse_row(path, line_no, header, row))
                 lines.append(line_no)
     except UnicodeDecodeError:
         raise InputError(f"{path}: not a UTF-8 text file; expected a CSV with columns "
