@@ -11,10 +11,8 @@ Quick start::
     response.force  # [N]
 """
 
-from benchmark.foundation.kernel_cache import ensure_fresh
 
 # The kernels here call kernels of other modules; numba's cache would not see edits there.
-ensure_fresh()
 
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, StandardBoucWen, limit_cycle_peak
 from damper.data import DamperTest, read_csv, read_utfsm, write_csv

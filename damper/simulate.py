@@ -14,6 +14,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError, NumericalError
 from damper.data import check_samples
 from damper.registry import device_force, device_step, kernel_id_of
+from benchmark.foundation.kernel_cache import ensure_fresh_once
 
 __all__ = ["DamperResponse", "simulate", "prepare_motion"]
 
@@ -119,6 +120,7 @@ def simulate(model, t, x, xdot=None, v=0.0, state0=None) -> DamperResponse:
     NumericalError
         The force became NaN or infinite.
     """
+    ensure_fresh_once()  # numba caches consistent with the kernels they call (kernel_cache)
     kernel_id = kernel_id_of(model)
     t, x, xdot, v = prepare_motion(model, t, x, xdot, v)
     state = (np.array(model.initial_state(), dtype=np.float64) if state0 is None

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import pytest
 
+from benchmark.foundation.kernel_cache import ensure_fresh
+
 _DEFAULT_SHARED = Path(__file__).resolve().parent.parent.parent / "shared"
 
 
@@ -106,3 +108,9 @@ def figures(monkeypatch):
 
     monkeypatch.setattr(Figure, "savefig", savefig)
     return recorder
+
+
+def pytest_configure(config):
+    """Clear numba caches made stale by an edit of a kernel another kernel calls (before any
+    test loads one): see benchmark/foundation/kernel_cache.py."""
+    ensure_fresh()

@@ -23,6 +23,7 @@ from typing import Sequence
 
 from benchmark import __version__
 from benchmark.foundation.errors import InputError, NumericalError, SbibError
+from benchmark.foundation.kernel_cache import ensure_fresh_once
 
 __all__ = ["main", "build_parser", "COMMAND_MODULES"]
 
@@ -80,6 +81,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``sbib`` command line and return its exit status."""
+    ensure_fresh_once()  # before any kernel is loaded from numba's cache (kernel_cache)
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):

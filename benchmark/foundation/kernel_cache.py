@@ -10,8 +10,11 @@ NaN).
 :func:`ensure_fresh` fingerprints the sources of every module the kernel can reach (size,
 modification time and path of each file of :data:`KERNEL_SOURCES`) and, when the
 fingerprint differs from the one stored beside the caches, deletes the numba cache files
-(``*.nbi``, ``*.nbc``) of those packages, so that everything is recompiled once. It runs when
-:mod:`benchmark.simulator.stepping` is imported. With ``NUMBA_CACHE_DIR`` set, the caches live elsewhere
+(``*.nbi``, ``*.nbc``) of those packages, so that everything is recompiled once. It is called
+explicitly, never as a side effect of an import: once per process by :func:`ensure_fresh_once`
+at the entry points that run kernels (the ``sbib`` command, :func:`benchmark.simulator.simulation.simulate`,
+:func:`damper.simulate.simulate`) and by the test suite's ``conftest.py``, before numba loads any
+cache. With ``NUMBA_CACHE_DIR`` set, the caches live elsewhere
 and are cleared there as well (the whole directory's ``.nbi``/``.nbc`` files).
 """
 
@@ -22,7 +25,7 @@ import hashlib
 import os
 from pathlib import Path
 
-__all__ = ["ensure_fresh", "kernel_source_fingerprint", "KERNEL_SOURCES", "KERNEL_SOURCE_DIRS"]
+__all__ = ["ensure_fresh", "ensure_fresh_once", "kernel_source_fingerprint", "KERNEL_SOURCES", "KERNEL_SOURCE_DIRS"]
 
 _ROOT = Path(__file__).resolve().parents[2]  # the repository root (benchmark/foundation/..)
 #: Source files (globs relative to the repository root) the stepping kernel can reach.
@@ -76,3 +79,14 @@ def ensure_fresh() -> bool:
         tmp.write_text(fingerprint)
         os.replace(tmp, stamp)
     return True
+
+
+_CHECKED = False
+
+
+def ensure_fresh_once() -> None:
+    """:func:`ensure_fresh`, the first time it is called in this process."""
+    global _CHECKED
+    if not _CHECKED:
+        _CHECKED = True
+        ensure_fresh()

@@ -34,6 +34,7 @@ from benchmark.simulator import kernel_args
 from controllers.measurements import measurement_layout
 from benchmark.simulator.isolation.registry import LinearBearing
 from benchmark.simulator.stepping import energy_histories, total_bearing_forces
+from benchmark.foundation.kernel_cache import ensure_fresh_once
 
 __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES"]
 
@@ -313,6 +314,7 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     NumericalError
         NaN, blow-up or a fixed point that does not converge; carries time, state and a hint.
     """
+    ensure_fresh_once()  # numba caches consistent with the kernels they call (kernel_cache)
 
     t_start = _time.perf_counter()
     ag = _ground_acceleration(record)

@@ -66,9 +66,7 @@ import numba
 import numpy as np
 import scipy.linalg
 
-from benchmark.foundation.kernel_cache import ensure_fresh
 
-ensure_fresh()  # before numba loads any cache: the kernels below call other modules' kernels
 
 from benchmark.simulator.isolation.registry import bearing_step, bearing_tangent  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402

@@ -6,10 +6,8 @@ and isolation configurations (groups of bearings, named configurations).
 >>> layer.pack().params[:, 0].sum()  # total linear stiffness [N/m]  # doctest: +SKIP
 """
 
-from benchmark.foundation.kernel_cache import ensure_fresh
 
 # The kernels here call kernels of other modules; numba's cache would not see edits there.
-ensure_fresh()
 
 from benchmark.simulator.isolation.configurations import (DEFAULT_NONLINEAR, ISOLATION_NAMES, BearingGroup,
                                                 IsolationLayer, PackedIsolation, get_isolation,
