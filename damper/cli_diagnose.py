@@ -8,8 +8,9 @@
 Fits the base model, traces its held-out residual, adds library effects while they pay (held-out
 BIC), and reports the held-out relative RMS force error before and after
 (:func:`damper.diagnosis.diagnose`). Data files: the damper CSV format
-(:mod:`damper.data`; ``time, displacement, force[, velocity][, voltage|current]``, SI) or the
-UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``). ``--json`` prints
+(:mod:`damper.data`; ``time, displacement, force[, velocity][, voltage|current]``, SI), the
+UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``) or Dyke's records
+(:mod:`damper.dyke_data`, converted to SI when read). ``--json`` prints
 ``{"model", "error_before", "error_after", "effects": [{"name", "parameters",
 "error_after_adding"}], "unexplained", "residual_trace": {variable: share}, ...}``; ``--out DIR``
 writes ``report.md``, ``diagnosis.json`` and the plots.
@@ -28,8 +29,10 @@ __all__ = ["register", "run", "read_test_file"]
 
 
 def read_test_file(path: str):
-    """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern) or damper CSV."""
+    """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern), a Dyke record (CSV
+    with columns t, D [cm], Y [V], V [cm/s], F [N]; :mod:`damper.dyke_data`) or damper CSV."""
     from damper.data import parse_utfsm_name, read_csv, read_utfsm
+    from damper.dyke_data import is_dyke_file, read_dyke
     p = Path(path)
     if p.suffix.lower() == ".txt":
         try:
@@ -38,6 +41,8 @@ def read_test_file(path: str):
             pass
         else:
             return read_utfsm(p)
+    if p.is_file() and is_dyke_file(p):
+        return read_dyke(p)
     return read_csv(p)
 
 

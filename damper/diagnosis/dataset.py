@@ -127,6 +127,9 @@ class DiagnosisData:
     heldout: tuple
     input_name: str
     holdout: float | None
+    #: Coil-input levels of the tests these were decimated from (:mod:`~damper.diagnosis.coarse`),
+    #: so that a coarse copy keeps the nodes and input range of the full tests.
+    source_levels: np.ndarray | None = None
 
     @classmethod
     def from_tests(cls, tests: Sequence[DamperTest], holdout: float | None = DEFAULT_HOLDOUT,
@@ -207,6 +210,8 @@ class DiagnosisData:
 
     def levels(self) -> np.ndarray:
         """Distinct coil-input values over all tests (rounded to 1e-9)."""
+        if self.source_levels is not None:
+            return self.source_levels
         return np.unique(np.round(np.concatenate([m.v for m in self.motions]), 9))
 
     @property
