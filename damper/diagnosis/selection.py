@@ -64,6 +64,7 @@ __all__ = [
     "model_jacobian",
     "select_effects",
     "effects_for_trace",
+    "with_candidate",
     "DEFAULT_MIN_GAIN",
     "DEFAULT_TRACE_SHARE",
 ]
@@ -214,6 +215,18 @@ def model_jacobian(model: AugmentedModel, data: DiagnosisData, nodes=None,
     return np.column_stack(cols) if cols else np.zeros((f0.size, 0))
 
 
+def with_candidate(model: AugmentedModel, effect: Effect, nodes=None) -> AugmentedModel:
+    """``model`` with ``effect`` added; for a ``series`` effect (``roll_off``) on a base whose
+    shape parameters vary with the coil input, those are first replaced by their mean over the
+    ``nodes`` (the series model needs them independent of the input, see
+    :class:`~damper.augmented.Parametrization`), so that the effect can be tried at all."""
+    trial = model.with_effect(effect)
+    if effect.role != "series" or nodes is None:
+        return trial
+    par = Parametrization(trial, nodes=nodes)
+    return par.model(par.vector(trial))
+
+
 def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Sequence[str],
                    scales: dict, nodes=None) -> dict:
     """Screen ``candidates`` (effect names) for the current ``model`` (see the module docstring).
@@ -232,8 +245,10 @@ def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Seque
             continue
         step = 1e-2 * scales[name]
         try:
-            trial = model.with_effect(cls(cls.neutral + step))
-            columns[name] = (_train_forces(trial, data) - f0) / step
+            trial = with_candidate(model, cls(cls.neutral + step), nodes)
+            reference = with_candidate(model, cls.off(), nodes)
+            f_ref = f0 if reference.base is model.base else _train_forces(reference, data)
+            columns[name] = (_train_forces(trial, data) - f_ref) / step
         except (ParameterError, NumericalError, InputError) as exc:
             out[name] = ScreenScore(name, 0.0, 0.0, f"cannot be evaluated: {exc}")
             continue
@@ -378,8 +393,8 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         quick = []
         for s in ranked:
             cls = get_effect(s.name)
-            start = current.with_effect(cls.from_value(s.estimate))
             try:
+                start = with_candidate(current, cls.from_value(s.estimate), nodes)
                 fit = refit(start, motions, data.forces, data.train, nodes=nodes,
                             scales=base_scales, fixed_base=True, max_nfev=max_nfev,
                             tolerance=tolerance)
@@ -400,6 +415,10 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
             top = max(by_score, key=lambda item: item[1].score)
             promising = [top] + [item for item in promising if item is not top]
         joint = promising[:joint_trials] if joint_trials is not None else promising
+        # a series term changes the base model's own parameters (shape shared over the nodes),
+        # so its effect-only refit says little: it is always refitted jointly
+        joint += [item for item in quick
+                  if get_effect(item[1].name).role == "series" and item not in joint]
         chosen = {id(item) for item in joint}
         for rss_q, s, _ in (item for item in quick if id(item) not in chosen):
             err_q = math.sqrt(rss_q) / norm_h
