@@ -560,7 +560,7 @@ def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
 
 
 def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
-              sections: Sequence[str] = ("single", "suite", "identify", "scaling"),
+              sections: Sequence[str] = ("single", "suite", "identify", "diagnose", "scaling"),
               echo: Callable[[str], None] | None = print) -> dict[str, Any]:
     """Run the benchmarks, print the table, write ``bench.json`` and ``scaling.png`` into ``out``.
 
@@ -573,7 +573,8 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
     jobs : int
         Worker processes of the suite and ensemble cases (the target is stated for 2).
     sections : sequence of str
-        Which of ``single``, ``suite``, ``identify``, ``scaling`` to run.
+        Which of ``single``, ``suite``, ``identify``, ``diagnose`` (the residual loop,
+        :mod:`benchmark.speed_diagnose`), ``scaling`` to run.
     echo : callable, optional
         Where progress lines and the table go (default ``print``; ``None``: silent).
 
@@ -585,9 +586,10 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
     from benchmark.atomic import atomic_write_text
     from benchmark.errors import InputError
 
-    unknown = set(sections) - {"single", "suite", "identify", "scaling"}
+    unknown = set(sections) - {"single", "suite", "identify", "diagnose", "scaling"}
     if unknown:
-        raise InputError(f"bench sections {sorted(unknown)} unknown; expected single, suite, identify, scaling")
+        raise InputError(f"bench sections {sorted(unknown)} unknown; expected single, suite, identify, "
+                         "diagnose, scaling")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     say = echo or (lambda _s: None)
@@ -612,6 +614,10 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
         attempt("suite", lambda: bench_suite(jobs=jobs, repeat=1 if quick else 2))
     if "identify" in sections:
         attempt("identify-warm", lambda: bench_identify(repeat=1))
+    if "diagnose" in sections:
+        from benchmark.speed_diagnose import bench_diagnose
+
+        attempt("diagnose", bench_diagnose)
     if "scaling" in sections:
         say("[bench] scaling ...")
         try:
