@@ -3,7 +3,8 @@
 ::
 
     sbib diagnose --data FILE [FILE ...] [--model normalized|extended]
-                  [--holdout FRACTION | --validate FILE ...] [--out DIR] [--json]
+                  [--holdout FRACTION | --validate FILE ...] [--coarse-samples N]
+                  [--out DIR] [--json]
 
 Fits the base model, traces its held-out residual, adds library effects while they pay (held-out
 BIC), and reports the held-out relative RMS force error before and after
@@ -75,6 +76,9 @@ def register(subparsers) -> None:
                        help="separate test files for the held-out errors")
     p.add_argument("--effects", nargs="+", choices=EFFECT_NAMES, metavar="EFFECT",
                    help="restrict the candidates to these effects (default: the whole library)")
+    p.add_argument("--coarse-samples", type=int, default=None, metavar="N",
+                   help="fit on the tests decimated to about N samples, then evaluate on all "
+                        "(default 6000; 0: fit every sample)")
     p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and plots here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
@@ -91,8 +95,13 @@ def run(args) -> int:
     validate = [read_test_file(f) for f in args.validate] if args.validate else None
     progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
     holdout = args.holdout if args.holdout is not None else DEFAULT_HOLDOUT
+    from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
+    coarse = getattr(args, "coarse_samples", None)
+    if coarse is not None and coarse < 0:
+        raise InputError(f"--coarse-samples: expected 0 or a number of samples >= 100, got {coarse}")
+    coarse = DEFAULT_COARSE_SAMPLES if coarse is None else (None if coarse == 0 else coarse)
     result = diagnose(tests, model=args.model, holdout=holdout, validate=validate,
-                      candidates=args.effects, progress=progress)
+                      candidates=args.effects, progress=progress, coarse_samples=coarse)
     if args.out:
         paths = write_report(result, args.out)
         if progress:
