@@ -102,7 +102,8 @@ def decimate(data: DiagnosisData, q: int) -> DiagnosisData:
         train.append(_take(tr, idx))
         held.append(_take(ho, idx))
     return DiagnosisData(tuple(motions), tuple(forces), tuple(train), tuple(held),
-                         data.input_name, data.holdout, source_levels=data.levels())
+                         data.input_name, data.holdout, source_levels=data.levels(),
+                         _source_nodes=data.nodes())
 
 
 class Progress:

@@ -375,6 +375,13 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         train_res = data.measured("train") - _train_forces(current, data)
         tr = trace_residual(train_res, data.signals("train"))
         named = effects_for_trace(tr.shares, tr.mean_share, remaining, trace_share)
+        if data.input_varies_within_tests:
+            # a field lag leaves a residual that follows each input change for a few time
+            # constants: no binned variable holds it, and its first-order score at tau = 0 is a
+            # derivative through a step; so an input term is always tried when the input changes
+            for n in remaining:
+                if get_effect(n).role == "input" and n not in named:
+                    named[n] = ["voltage_rate"]
         for name, variables in named.items():
             sc = screens[name]
             if any(s.name == name for s in ranked) or sc.reason.startswith(("not identifiable",
