@@ -18,7 +18,9 @@ One round of the forward selection, from the current (fitted) model :math:`\\hat
    on holds a share of the residual), first alone (the candidate's own parameter, the model
    held: two simulations per iteration), then the ``joint_trials`` most promising jointly
    with the model (:func:`damper.augmented.refit`): the best screening score, then those that
-   alone lower the held-out error by at least half of ``min_gain``.
+   alone lower the held-out error by at least half of ``min_gain``, and always a series term
+   and, when the input changes, an input term (a model fitted without them compensates, so
+   their effect-only refit says little).
 3. **Choose** by the Bayesian information criterion on the held-out samples,
 
    .. math:: \\mathrm{BIC} = N_\\text{eff}\\ln(\\mathrm{RSS}_h/N_h) + k\\ln N_\\text{eff},
@@ -424,8 +426,12 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         joint = promising[:joint_trials] if joint_trials is not None else promising
         # a series term changes the base model's own parameters (shape shared over the nodes),
         # so its effect-only refit says little: it is always refitted jointly
-        joint += [item for item in quick
-                  if get_effect(item[1].name).role == "series" and item not in joint]
+        # so does an input term on data whose input changes (the model was fitted without it
+        # and compensates: its effect-only refit can even raise the error)
+        joint += [item for item in quick if item not in joint
+                  and (get_effect(item[1].name).role == "series"
+                       or (get_effect(item[1].name).role == "input"
+                           and data.input_varies_within_tests))]
         chosen = {id(item) for item in joint}
         for rss_q, s, _ in (item for item in quick if id(item) not in chosen):
             err_q = math.sqrt(rss_q) / norm_h
