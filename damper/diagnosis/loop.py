@@ -13,6 +13,10 @@
    structured without mattering). Where it lives is reported (``unexplained_in``), no term is
    forced.
 
+Steps 1 and 3 run on the tests decimated to about ``coarse_samples`` fitted samples
+(:mod:`~damper.diagnosis.coarse`); every held-out error, trace and the verdict are computed on
+all samples.
+
 Errors are relative RMS force errors :math:`\\|F - \\hat F\\|_2/\\|F\\|_2` on the held-out samples.
 """
 
