@@ -34,6 +34,7 @@ name                   role        term                                         
 ``inertia``            additive    :math:`m\\,\\ddot x` (fluid and piston mass)      ``mass`` [kg], >= 0
 ``quadratic_damping``  additive    :math:`c_2\\,\\dot x|\\dot x|` (turbulent losses)  ``c2`` [N·s²/m²], >= 0
 ``asymmetry``          factor      :math:`1 + a\\,\\mathrm{sgn}(F_\\text{base})`      ``ratio`` [-], |a| < 1
+``direction``          factor      :math:`1 + d\\,\\mathrm{sgn}\\,\\dot x`              ``ratio`` [-], |d| < 1
 ``fade``               factor      :math:`1 + \\phi\\,(t - t_0)`                     ``rate`` [1/s]
 ``voltage_lag``        input       :math:`\\tau\\dot u = v - u`                      ``tau`` [s], >= 0
 ``roll_off``           series      dashpot :math:`c_s = \\kappa_w/v_r` in series       ``velocity`` [m/s], >= 0
@@ -87,6 +88,7 @@ __all__ = [
     "RollOff",
     "QuadraticDamping",
     "Asymmetry",
+    "Direction",
     "Fade",
     "EFFECTS",
     "EFFECT_NAMES",
@@ -172,6 +174,9 @@ class Effect:
     lower: ClassVar[float] = -math.inf
     upper: ClassVar[float] = math.inf
     description: ClassVar[str]
+    #: Residual-trace variables (:data:`damper.diagnosis.trace.TRACE_VARIABLES`, plus ``mean``)
+    #: where the missing term shows up: the loop tries the effect whenever the trace names one.
+    traces: ClassVar[tuple[str, ...]] = ()
 
     def _validate(self) -> None:
         raw = getattr(self, self.parameter_name)
@@ -279,6 +284,7 @@ class Stiffness(Effect):
     unit: ClassVar[str] = "N/m"
     lower: ClassVar[float] = 0.0
     description: ClassVar[str] = "linear elastic force kappa_x*x (accumulator stiffness)"
+    traces: ClassVar[tuple[str, ...]] = ("displacement", "loop")
 
     def __post_init__(self) -> None:
         self._validate()
@@ -307,6 +313,7 @@ class Offset(Effect):
     parameter_name: ClassVar[str] = "f0"
     unit: ClassVar[str] = "N"
     description: ClassVar[str] = "constant force f0 (accumulator preload)"
+    traces: ClassVar[tuple[str, ...]] = ("mean",)
 
     def __post_init__(self) -> None:
         self._validate()
@@ -336,6 +343,7 @@ class Inertia(Effect):
     unit: ClassVar[str] = "kg"
     lower: ClassVar[float] = 0.0
     description: ClassVar[str] = "inertial force m*xddot (fluid and piston mass)"
+    traces: ClassVar[tuple[str, ...]] = ("acceleration",)
 
     def __post_init__(self) -> None:
         self._validate()
@@ -369,6 +377,7 @@ class QuadraticDamping(Effect):
     unit: ClassVar[str] = "N*s^2/m^2"
     lower: ClassVar[float] = 0.0
     description: ClassVar[str] = "turbulent loss c2*xdot*|xdot|"
+    traces: ClassVar[tuple[str, ...]] = ("velocity",)
 
     def __post_init__(self) -> None:
         self._validate()
@@ -400,6 +409,7 @@ class Asymmetry(Effect):
     lower: ClassVar[float] = -0.9
     upper: ClassVar[float] = 0.9
     description: ClassVar[str] = "force level (1+a) in extension, (1-a) in compression"
+    traces: ClassVar[tuple[str, ...]] = ("sign", "loop")
 
     def __post_init__(self) -> None:
         self._validate()
@@ -410,6 +420,48 @@ class Asymmetry(Effect):
 
     def factor(self, motion, base_force):
         return 1.0 + self.ratio * np.sign(base_force)
+
+
+@dataclass(frozen=True)
+class Direction(Effect):
+    """Different force levels in the two directions of motion: factor :math:`1 + d\\,\\mathrm{sgn}\\,\\dot x`.
+
+    A damper whose valves or seals differ between extension and compression strokes carries a
+    larger force, at the same speed and voltage, in one direction of *motion*. ``asymmetry``
+    scales by the sign of the force, which differs from the direction of motion after each
+    reversal (until the hysteretic force has turned over); this term scales the whole force by
+    the direction the piston moves in.
+
+    Parameters
+    ----------
+    ratio : float
+        :math:`d` [-], ``-0.9 <= d <= 0.9``: forces while :math:`\\dot x > 0` are scaled by
+        ``1 + d``, while :math:`\\dot x < 0` by ``1 - d`` (``1`` at rest).
+    """
+
+    ratio: float
+    name: ClassVar[str] = "direction"
+    role: ClassVar[str] = "factor"
+    parameter_name: ClassVar[str] = "ratio"
+    unit: ClassVar[str] = "-"
+    lower: ClassVar[float] = -0.9
+    upper: ClassVar[float] = 0.9
+    description: ClassVar[str] = "force level (1+d) while xdot > 0, (1-d) while xdot < 0"
+    traces: ClassVar[tuple[str, ...]] = ("sign", "loop")
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return 0.1
+
+    @classmethod
+    def not_identifiable(cls, motions):
+        return _zero_throughout(motions, "xdot", "velocity")
+
+    def factor(self, motion, base_force):
+        return 1.0 + self.ratio * np.sign(motion.xdot)
 
 
 @dataclass(frozen=True)
@@ -430,6 +482,7 @@ class Fade(Effect):
     parameter_name: ClassVar[str] = "rate"
     unit: ClassVar[str] = "1/s"
     description: ClassVar[str] = "force level changing linearly with the time since the test began"
+    traces: ClassVar[tuple[str, ...]] = ("time",)
 
     def __post_init__(self) -> None:
         self._validate()
@@ -467,6 +520,7 @@ class VoltageLag(Effect):
     lower: ClassVar[float] = 0.0
     upper: ClassVar[float] = 10.0
     description: ClassVar[str] = "first-order filter tau*du/dt = v - u on the coil input"
+    traces: ClassVar[tuple[str, ...]] = ("voltage_rate", "voltage")
 
     def __post_init__(self) -> None:
         self._validate()
@@ -506,6 +560,7 @@ class RollOff(Effect):
     upper: ClassVar[float] = 10.0  # beyond any MR damper's velocity range
     description: ClassVar[str] = ("dashpot c_s = kappa_w/v_r in series with the base model "
                                   "(force rolls off viscously below about v_r)")
+    traces: ClassVar[tuple[str, ...]] = ("velocity", "loop")
 
     def __post_init__(self) -> None:
         self._validate()
@@ -574,7 +629,7 @@ def first_order_filter(t: np.ndarray, v: np.ndarray, tau: float) -> np.ndarray:
 
 #: The library, in the order the loop lists candidates.
 EFFECTS: dict[str, type[Effect]] = {cls.name: cls for cls in (
-    Stiffness, Offset, Inertia, VoltageLag, QuadraticDamping, Asymmetry, Fade, RollOff)}
+    Stiffness, Offset, Inertia, VoltageLag, QuadraticDamping, Asymmetry, Direction, Fade, RollOff)}
 #: The library's names.
 EFFECT_NAMES: tuple[str, ...] = tuple(EFFECTS)
 

@@ -22,14 +22,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--quick", action="store_true", help="fewer repeats and scaling points (smoke run)")
     p.add_argument("--jobs", type=int, default=2, help="processes of the suite and ensemble cases (default 2)")
     p.add_argument("--only", default=None,
-                   help="comma list of sections: single, suite, identify, scaling (default: all)")
+                   help="comma list of sections: single, suite, identify, diagnose, scaling (default: all)")
     p.set_defaults(func=_run)
 
 
 def _run(args: argparse.Namespace) -> int:
     if args.jobs < 1:
         raise InputError(f"--jobs must be >= 1, got {args.jobs}")
-    sections = ("single", "suite", "identify", "scaling")
+    sections = ("single", "suite", "identify", "diagnose", "scaling")
     if args.only:
         sections = tuple(s.strip() for s in args.only.split(",") if s.strip())
     run_bench(args.out, quick=args.quick, jobs=args.jobs, sections=sections)

@@ -3,13 +3,15 @@
 ::
 
     sbib diagnose --data FILE [FILE ...] [--model normalized|extended]
-                  [--holdout FRACTION | --validate FILE ...] [--out DIR] [--json]
+                  [--holdout FRACTION | --validate FILE ...] [--coarse-samples N]
+                  [--out DIR] [--json]
 
 Fits the base model, traces its held-out residual, adds library effects while they pay (held-out
 BIC), and reports the held-out relative RMS force error before and after
 (:func:`damper.diagnosis.diagnose`). Data files: the damper CSV format
-(:mod:`damper.data`; ``time, displacement, force[, velocity][, voltage|current]``, SI) or the
-UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``). ``--json`` prints
+(:mod:`damper.data`; ``time, displacement, force[, velocity][, voltage|current]``, SI), the
+UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``) or Dyke's records
+(:mod:`damper.dyke_data`, converted to SI when read). ``--json`` prints
 ``{"model", "error_before", "error_after", "effects": [{"name", "parameters",
 "error_after_adding"}], "unexplained", "residual_trace": {variable: share}, ...}``; ``--out DIR``
 writes ``report.md``, ``diagnosis.json`` and the plots.
@@ -28,12 +30,15 @@ from damper.effects import EFFECT_NAMES
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import write_report
+from damper.dyke_data import is_dyke_file, read_dyke
+from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 
 __all__ = ["register", "run", "read_test_file"]
 
 
 def read_test_file(path: str):
-    """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern) or damper CSV."""
+    """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern), a Dyke record (CSV
+    with columns t, D [cm], Y [V], V [cm/s], F [N]; :mod:`damper.dyke_data`) or damper CSV."""
     p = Path(path)
     if p.suffix.lower() == ".txt":
         try:
@@ -42,6 +47,8 @@ def read_test_file(path: str):
             pass
         else:
             return read_utfsm(p)
+    if p.is_file() and is_dyke_file(p):
+        return read_dyke(p)
     return read_csv(p)
 
 
@@ -73,6 +80,9 @@ def register(subparsers) -> None:
                        help="separate test files for the held-out errors")
     p.add_argument("--effects", nargs="+", choices=EFFECT_NAMES, metavar="EFFECT",
                    help="restrict the candidates to these effects (default: the whole library)")
+    p.add_argument("--coarse-samples", type=int, default=None, metavar="N",
+                   help="fit on the tests decimated to about N samples, then evaluate on all "
+                        "(default 6000; 0: fit every sample)")
     p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and plots here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
@@ -86,8 +96,12 @@ def run(args) -> int:
     validate = [read_test_file(f) for f in args.validate] if args.validate else None
     progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
     holdout = args.holdout if args.holdout is not None else DEFAULT_HOLDOUT
+    coarse = getattr(args, "coarse_samples", None)
+    if coarse is not None and coarse < 0:
+        raise InputError(f"--coarse-samples: expected 0 or a number of samples >= 100, got {coarse}")
+    coarse = DEFAULT_COARSE_SAMPLES if coarse is None else (None if coarse == 0 else coarse)
     result = diagnose(tests, model=args.model, holdout=holdout, validate=validate,
-                      candidates=args.effects, progress=progress)
+                      candidates=args.effects, progress=progress, coarse_samples=coarse)
     if args.out:
         paths = write_report(result, args.out)
         if progress:

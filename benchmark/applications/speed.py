@@ -77,6 +77,8 @@ from benchmark.foundation.paths import records_dir
 from records.synthetic import benchmark_like
 from benchmark.applications.linear_floor import linear_floor_inputs, linear_floor_steps
 from benchmark.simulator.simulation import _discrete_system, _ground_acceleration
+from benchmark.applications.bench_case import BenchCase
+from benchmark.applications.speed_diagnose import bench_diagnose
 
 __all__ = ["BenchCase", "time_call", "machine_description", "bench_single_run", "bench_suite", "bench_result_file",
            "FLOOR_TARGETS", "SUITE_EFFICIENCY_TARGET", "RESULT_FILE_TARGET_MB",
@@ -86,48 +88,6 @@ __all__ = ["BenchCase", "time_call", "machine_description", "bench_single_run", 
 #: The five controllers of the suite case.
 SUITE_CONTROLLERS = ("passive-off", "passive-on", "clipped-optimal", "modulated", "lyapunov")
 _PACKAGES = ("benchmark", "damper", "controllers", "records")
-
-
-@dataclass
-class BenchCase:
-    """One row of the benchmark table.
-
-    Attributes
-    ----------
-    case : str
-        Case name.
-    project_s : float or None
-        Time of the project's code [s] (None: not measured).
-    reference_s : float or None
-        Time of the reference [s] (scipy ``solve_ivp`` where there is one).
-    ratio : float or None
-        ``reference_s / project_s``.
-    max_relative_difference : float or None
-        Largest relative difference of the compared quantities (peaks) [-].
-    target : str
-        The target, in words.
-    met : bool or None
-        Whether the target is met (None: no target or not measured).
-    vs_floor : float or None
-        ``project_s`` over the linear floor measured in the same process
-        (:mod:`benchmark.applications.linear_floor`), or for ``suite-efficiency`` the parallel time over the
-        ideal one: the ratio the target is stated in.
-    note : str
-        What was measured, or why it was not.
-    details : dict
-        Extra numbers (JSON-serialisable).
-    """
-
-    case: str
-    project_s: float | None = None
-    reference_s: float | None = None
-    ratio: float | None = None
-    max_relative_difference: float | None = None
-    target: str = ""
-    met: bool | None = None
-    vs_floor: float | None = None
-    note: str = ""
-    details: dict = field(default_factory=dict)
 
 
 class Timing(NamedTuple):
@@ -692,7 +652,7 @@ def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
 
 
 def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
-              sections: Sequence[str] = ("single", "suite", "identify", "scaling"),
+              sections: Sequence[str] = ("single", "suite", "identify", "diagnose", "scaling"),
               echo: Callable[[str], None] | None = print) -> dict[str, Any]:
     """Run the benchmarks, print the table, write ``bench.json`` and ``scaling.png`` into ``out``.
 
@@ -705,7 +665,8 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
     jobs : int
         Worker processes of the suite and ensemble cases (the target is stated for 2).
     sections : sequence of str
-        Which of ``single``, ``suite``, ``identify``, ``scaling`` to run.
+        Which of ``single``, ``suite``, ``identify``, ``diagnose`` (the residual loop,
+        :mod:`benchmark.applications.speed_diagnose`), ``scaling`` to run.
     echo : callable, optional
         Where progress lines and the table go (default ``print``; ``None``: silent).
 
@@ -715,9 +676,10 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
         ``machine``, ``cases`` (list of :class:`BenchCase` as dicts), ``scaling``, ``quick``.
     """
 
-    unknown = set(sections) - {"single", "suite", "identify", "scaling"}
+    unknown = set(sections) - {"single", "suite", "identify", "diagnose", "scaling"}
     if unknown:
-        raise InputError(f"bench sections {sorted(unknown)} unknown; expected single, suite, identify, scaling")
+        raise InputError(f"bench sections {sorted(unknown)} unknown; expected single, suite, identify, "
+                         "diagnose, scaling")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     say = echo or (lambda _s: None)
@@ -743,6 +705,8 @@ def run_bench(out: str | os.PathLike, quick: bool = False, jobs: int = 2,
         attempt("suite", lambda: bench_suite(jobs=jobs, repeat=1 if quick else 2))
     if "identify" in sections:
         attempt("identify-warm", lambda: bench_identify(repeat=1))
+    if "diagnose" in sections:
+        attempt("diagnose", bench_diagnose)
     if "scaling" in sections:
         say("[bench] scaling ...")
         try:

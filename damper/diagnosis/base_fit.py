@@ -39,6 +39,8 @@ __all__ = ["fit_base", "shape_grid", "hat_weights"]
 RHO_STROKE_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0)
 SIGMA_GRID = (0.5, 1.0, 2.0)
 N_GRID = (1.0, 2.0)
+#: Residual evaluations (optimizer iterations) each start gets before the best one goes on.
+START_NFEV = 4
 
 
 def hat_weights(v: np.ndarray, nodes: np.ndarray | None) -> np.ndarray:
@@ -109,7 +111,8 @@ def _model_from(kind: str, coef: np.ndarray, rho: float, sigma: float, n: float,
 
 
 def fit_base(data: DiagnosisData, kind: str = "normalized", n_starts: int = 3,
-             max_nfev: int = 200) -> RefitResult:
+             max_nfev: int = 200, tolerance: float = 1e-10,
+             progress=None) -> RefitResult:
     """Fit the base model of ``kind`` to the training samples of ``data``.
 
     Parameters
@@ -120,6 +123,10 @@ def fit_base(data: DiagnosisData, kind: str = "normalized", n_starts: int = 3,
         Best grid points (distinct rho) refined by joint least squares.
     max_nfev : int
         Cap on residual evaluations per refinement.
+    tolerance : float
+        Stopping tolerance of each refinement (:func:`damper.augmented.refit`).
+    progress : callable, optional
+        Receives one line per refined start.
 
     Returns
     -------
@@ -161,15 +168,31 @@ def fit_base(data: DiagnosisData, kind: str = "normalized", n_starts: int = 3,
         starts.append(_model_from(kind, coef, rho, sigma, n, nodes, vr, floor))
         if len(starts) >= n_starts:
             break
+    # every start takes a few steps, then only the best goes on (the starts of the grid mostly
+    # reach the same optimum; refining each to the end tripled the cost of the base fit)
     best: RefitResult | None = None
-    for start in starts:
+    budget = START_NFEV if len(starts) > 1 else max_nfev
+    for i, start in enumerate(starts):
         try:
             result = refit(start, data.motions, data.forces, data.train, nodes=nodes,
-                           max_nfev=max_nfev)
+                           max_nfev=min(budget, max_nfev), tolerance=tolerance)
         except NumericalError:
             continue
+        if progress:
+            progress(f"  base start {i + 1}/{len(starts)} (rho {start.base.rho:.4g} 1/m): training "
+                     f"error {result.relative_rms_error:.4f} after {result.nfev} evaluations")
         if best is None or result.relative_rms_error < best.relative_rms_error:
             best = result
+    if best is not None and budget < max_nfev and not best.success:
+        try:
+            more = refit(best.model, data.motions, data.forces, data.train, nodes=nodes,
+                         max_nfev=max_nfev, tolerance=tolerance)
+        except NumericalError:
+            more = None
+        if more is not None and more.relative_rms_error <= best.relative_rms_error:
+            best = more
+        if progress:
+            progress(f"  base model refined: training error {best.relative_rms_error:.4f}")
     if best is None:
         raise NumericalError("diagnose: the base model could not be refined from any start",
                              hint="check the data (units, force sign) or try the other --model")

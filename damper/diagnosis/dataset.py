@@ -35,6 +35,8 @@ DEFAULT_HOLDOUT = 0.25
 #: At most this many distinct input levels become law nodes; more (or varying input) use a grid.
 _MAX_LEVEL_NODES = 6
 _GRID_NODES = 4
+#: The grid of nodes spans these percentiles of the input (each end).
+_NODE_PERCENTILE = 2.5
 
 
 def _dominant_frequency(t: np.ndarray, x: np.ndarray) -> float:
@@ -127,6 +129,10 @@ class DiagnosisData:
     heldout: tuple
     input_name: str
     holdout: float | None
+    #: Coil-input levels of the tests these were decimated from (:mod:`~damper.diagnosis.coarse`),
+    #: so that a coarse copy keeps the nodes and input range of the full tests.
+    source_levels: np.ndarray | None = None
+    _source_nodes: np.ndarray | None = None
 
     @classmethod
     def from_tests(cls, tests: Sequence[DamperTest], holdout: float | None = DEFAULT_HOLDOUT,
@@ -207,6 +213,8 @@ class DiagnosisData:
 
     def levels(self) -> np.ndarray:
         """Distinct coil-input values over all tests (rounded to 1e-9)."""
+        if self.source_levels is not None:
+            return self.source_levels
         return np.unique(np.round(np.concatenate([m.v for m in self.motions]), 9))
 
     @property
@@ -217,13 +225,25 @@ class DiagnosisData:
     def nodes(self) -> np.ndarray | None:
         """Voltage nodes for the base model's laws: ``None`` for one input level, the distinct
         levels when there are few (voltage steps between a few levels included: the laws are
-        then PCHIP between the levels), else a uniform grid of four nodes."""
+        then PCHIP between the levels), else a uniform grid of four nodes between the 2.5th and
+        97.5th percentiles of the input."""
         levels = self.levels()
         if levels.size <= 1:
             return None
         if levels.size <= _MAX_LEVEL_NODES:
             return levels
-        return np.linspace(levels[0], levels[-1], _GRID_NODES)
+        # a grid over the bulk of the input: a measured command rings past its levels for a few
+        # milliseconds after each switch (Dyke's records: 0-2.25 V commands read -0.44-2.71 V),
+        # and nodes out there would be fitted on a handful of samples; the laws hold their end
+        # values beyond the grid (:class:`~damper.voltage_laws.Tabulated`); ringing holds ~1 % of them
+        if self.source_levels is None:
+            v = np.concatenate([m.v for m in self.motions])
+        else:  # a decimated copy keeps the full tests' nodes
+            return self._source_nodes
+        lo, hi = np.percentile(v, [_NODE_PERCENTILE, 100.0 - _NODE_PERCENTILE])
+        if not hi > lo:
+            lo, hi = levels[0], levels[-1]
+        return np.linspace(lo, hi, _GRID_NODES)
 
     def voltage_range(self) -> tuple[float, float]:
         """Range of the base model's input: contains every input value and [0, 1]."""

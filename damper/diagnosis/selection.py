@@ -13,8 +13,14 @@ One round of the forward selection, from the current (fitted) model :math:`\\hat
 
    and a candidate whose :math:`\\hat\\theta_e` leaves its admissible interval (a negative mass,
    stiffness, turbulent coefficient or time constant) scores 0.
-2. **Refit** the best-scoring candidates jointly with the model
-   (:func:`damper.augmented.refit`, from :math:`\\hat\\theta_e`).
+2. **Refit** the best-scoring candidates, and every candidate the trace of the training
+   residual names (:func:`effects_for_trace`: an effect is tried whenever a variable it depends
+   on holds a share of the residual), first alone (the candidate's own parameter, the model
+   held: two simulations per iteration), then the ``joint_trials`` most promising jointly
+   with the model (:func:`damper.augmented.refit`): the best screening score, then those that
+   alone lower the held-out error by at least half of ``min_gain``, and always a series term
+   and, when the input changes, an input term (a model fitted without them compensates, so
+   their effect-only refit says little).
 3. **Choose** by the Bayesian information criterion on the held-out samples,
 
    .. math:: \\mathrm{BIC} = N_\\text{eff}\\ln(\\mathrm{RSS}_h/N_h) + k\\ln N_\\text{eff},
@@ -44,7 +50,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.augmented import AugmentedModel, Parametrization, refit
 from damper.diagnosis.dataset import DiagnosisData
-from damper.diagnosis.trace import effective_sample_size
+from damper.diagnosis.trace import effective_sample_size, trace_residual
 from damper.effects import EFFECT_NAMES, Effect, get_effect
 
 __all__ = [
@@ -59,7 +65,10 @@ __all__ = [
     "screen_effects",
     "model_jacobian",
     "select_effects",
+    "effects_for_trace",
+    "with_candidate",
     "DEFAULT_MIN_GAIN",
+    "DEFAULT_TRACE_SHARE",
 ]
 
 #: An effect must lower the held-out error by at least this fraction of the current error.
@@ -68,6 +77,34 @@ DEFAULT_MIN_GAIN = 0.02
 DEFAULT_TRIALS = 3
 #: Screening scores below this are not refitted.
 MIN_SCORE = 1e-3
+#: A trace variable explaining at least this share of the training residual's variance (or a
+#: mean holding this share of its mean square) *names* its effects: they are refitted whatever
+#: their screening score.
+DEFAULT_TRACE_SHARE = 0.1
+#: Candidates refitted jointly with the model per round, after each was refitted alone.
+DEFAULT_JOINT_TRIALS = 2
+#: Stopping tolerance of the loop's refits (see :func:`damper.augmented.refit`).
+DEFAULT_TOLERANCE = 1e-6
+
+
+def effects_for_trace(shares: dict, mean_share: float, names, min_share: float = DEFAULT_TRACE_SHARE
+                      ) -> dict[str, list[str]]:
+    """The effects (among ``names``) a residual trace points to: effect -> variables naming it.
+
+    Each effect declares the trace variables where its missing term shows up
+    (:attr:`damper.effects.Effect.traces`: displacement, velocity, acceleration, voltage,
+    voltage_rate, time, sign, loop, mean); a variable holding at least ``min_share`` of the
+    residual's variance names every effect that depends on it.
+    """
+    held = {k for k, v in shares.items() if v >= min_share}
+    if mean_share >= min_share:
+        held.add("mean")
+    out: dict[str, list[str]] = {}
+    for n in names:
+        hit = [v for v in get_effect(n).traces if v in held]
+        if hit:
+            out[n] = hit
+    return out
 
 
 def relative_rms_error(measured: np.ndarray, predicted: np.ndarray) -> float:
@@ -180,6 +217,18 @@ def model_jacobian(model: AugmentedModel, data: DiagnosisData, nodes=None,
     return np.column_stack(cols) if cols else np.zeros((f0.size, 0))
 
 
+def with_candidate(model: AugmentedModel, effect: Effect, nodes=None) -> AugmentedModel:
+    """``model`` with ``effect`` added; for a ``series`` effect (``roll_off``) on a base whose
+    shape parameters vary with the coil input, those are first replaced by their mean over the
+    ``nodes`` (the series model needs them independent of the input, see
+    :class:`~damper.augmented.Parametrization`), so that the effect can be tried at all."""
+    trial = model.with_effect(effect)
+    if effect.role != "series" or nodes is None:
+        return trial
+    par = Parametrization(trial, nodes=nodes)
+    return par.model(par.vector(trial))
+
+
 def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Sequence[str],
                    scales: dict, nodes=None) -> dict:
     """Screen ``candidates`` (effect names) for the current ``model`` (see the module docstring).
@@ -198,9 +247,10 @@ def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Seque
             continue
         step = 1e-2 * scales[name]
         try:
-            reference, trial = _screen_pair(model, cls, step, nodes)
-            columns[name] = (_train_forces(trial, data)
-                             - (f0 if reference is model else _train_forces(reference, data))) / step
+            trial = with_candidate(model, cls(cls.neutral + step), nodes)
+            reference = with_candidate(model, cls.off(), nodes)
+            f_ref = f0 if reference.base is model.base else _train_forces(reference, data)
+            columns[name] = (_train_forces(trial, data) - f_ref) / step
         except (ParameterError, NumericalError, InputError) as exc:
             out[name] = ScreenScore(name, 0.0, 0.0, f"cannot be evaluated: {exc}")
             continue
@@ -282,7 +332,10 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                    candidates: Sequence[str] | None = None, *, nodes=None,
                    min_gain: float = DEFAULT_MIN_GAIN, trials: int = DEFAULT_TRIALS,
                    max_effects: int | None = None, max_nfev: int = 200,
-                   progress: Callable[[str], None] | None = None) -> SelectionResult:
+                   progress: Callable[[str], None] | None = None,
+                   tolerance: float = DEFAULT_TOLERANCE,
+                   trace_share: float = DEFAULT_TRACE_SHARE,
+                   joint_trials: int | None = DEFAULT_JOINT_TRIALS) -> SelectionResult:
     """Forward selection of library effects by held-out BIC (see the module docstring).
 
     Parameters
@@ -304,6 +357,16 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         Residual evaluations per joint refit.
     progress : callable, optional
         Called with a one-line message after each trial.
+    tolerance : float
+        Stopping tolerance of each refit.
+    trace_share : float
+        Variables of the training residual's trace holding at least this share name their
+        effects (:func:`effects_for_trace`), which are refitted besides the ``trials`` best
+        screening scores.
+    joint_trials : int or None
+        Each candidate is first refitted alone (its own parameter, the model held); the
+        ``joint_trials`` that lower the held-out error most are then refitted jointly with the
+        model, and only those can be added (``None``: all).
 
     Returns
     -------
@@ -333,14 +396,77 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         screens = screen_effects(current, data, remaining, scales, nodes=nodes)
         ranked = sorted((s for s in screens.values() if s.score >= MIN_SCORE),
                         key=lambda s: -s.score)[:trials]
+        # the trace of the training residual names the effects that depend on where it lives
+        train_res = data.measured("train") - _train_forces(current, data)
+        tr = trace_residual(train_res, data.signals("train"))
+        named = effects_for_trace(tr.shares, tr.mean_share, remaining, trace_share)
+        if data.input_varies_within_tests:
+            # a field lag leaves a residual that follows each input change for a few time
+            # constants: no binned variable holds it, and its first-order score at tau = 0 is a
+            # derivative through a step; so an input term is always tried when the input changes
+            for n in remaining:
+                if get_effect(n).role == "input" and n not in named:
+                    named[n] = ["voltage_rate"]
+        for name, variables in named.items():
+            sc = screens[name]
+            if any(s.name == name for s in ranked) or sc.reason.startswith(("not identifiable",
+                                                                           "cannot be evaluated")):
+                continue
+            cls = get_effect(name)
+            estimate = sc.estimate if sc.score > 0 else cls.neutral + 0.05 * scales[name]
+            ranked.append(ScreenScore(name, sc.score, estimate,
+                                      "named by the trace: " + ", ".join(variables)))
+        if progress and ranked:
+            progress(f"round {len(rounds) + 1}: held-out error {err_old:.4f}; refitting "
+                     + ", ".join(s.name for s in ranked))
         round_trials, best = [], None
+        base_scales = {**scales, **{k: abs(v) for k, v in _base_scales(current).items()}}
+        # stage 1, cheap: each candidate's own parameter alone (two simulations per iteration)
+        quick = []
         for s in ranked:
             cls = get_effect(s.name)
-            start = current.with_effect(cls.from_value(s.estimate))
             try:
+                start = with_candidate(current, cls.from_value(s.estimate), nodes)
                 fit = refit(start, motions, data.forces, data.train, nodes=nodes,
-                            scales={**scales, **{k: abs(v) for k, v in _base_scales(current).items()}},
-                            max_nfev=max_nfev)
+                            scales=base_scales, fixed_base=True, max_nfev=max_nfev,
+                            tolerance=tolerance)
+                rss_q, _ = _heldout_rss(fit.model, data)
+            except (NumericalError, ParameterError, InputError) as exc:
+                round_trials.append(Trial(s.name, s.score, math.nan, math.inf, {}, note=str(exc)))
+                continue
+            quick.append((rss_q, s, fit.model))
+        quick.sort(key=lambda item: item[0])
+        # a term that cannot lower the error by half the required gain on its own is not
+        # refitted jointly (the joint refit costs a simulation per model parameter and step)
+        promising = [item for item in quick
+                     if math.sqrt(item[0]) / norm_h <= (1.0 - 0.5 * min_gain) * err_old]
+        # ... except the best screening score, whose first-order estimate already allows for
+        # the model's own parameters moving (a term the model partly absorbs shows only jointly)
+        by_score = [item for item in quick if item[1].score >= MIN_SCORE]
+        if by_score:
+            top = max(by_score, key=lambda item: item[1].score)
+            promising = [top] + [item for item in promising if item is not top]
+        joint = promising[:joint_trials] if joint_trials is not None else promising
+        # a series term changes the base model's own parameters (shape shared over the nodes),
+        # so its effect-only refit says little: it is always refitted jointly
+        # so does an input term on data whose input changes (the model was fitted without it
+        # and compensates: its effect-only refit can even raise the error)
+        joint += [item for item in quick if item not in joint
+                  and (get_effect(item[1].name).role == "series"
+                       or (get_effect(item[1].name).role == "input"
+                           and data.input_varies_within_tests))]
+        chosen = {id(item) for item in joint}
+        for rss_q, s, _ in (item for item in quick if id(item) not in chosen):
+            err_q = math.sqrt(rss_q) / norm_h
+            round_trials.append(Trial(s.name, s.score, err_q, bic_delta(rss_old, rss_q, n_eff, 1),
+                                      {}, note="effect-only refit; not refitted jointly"))
+            if progress:
+                progress(f"  screened {s.name} alone: held-out error {err_old:.4f} -> {err_q:.4f}")
+        # stage 2: the most promising refitted jointly with the model
+        for _, s, quick_model in joint:
+            try:
+                fit = refit(quick_model, motions, data.forces, data.train, nodes=nodes,
+                            scales=base_scales, max_nfev=max_nfev, tolerance=tolerance)
                 rss_new, _ = _heldout_rss(fit.model, data)
             except (NumericalError, ParameterError, InputError) as exc:
                 round_trials.append(Trial(s.name, s.score, math.nan, math.inf, {}, note=str(exc)))

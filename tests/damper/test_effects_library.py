@@ -26,7 +26,7 @@ def _motion(freq=1.0, amp=0.01, n=801, v=0.0):
 
 def test_library_names_are_the_issue_names():
     assert EFFECT_NAMES == ("stiffness", "offset", "inertia", "voltage_lag", "quadratic_damping",
-                            "asymmetry", "fade", "roll_off")
+                            "asymmetry", "direction", "fade", "roll_off")
     with pytest.raises(InputError, match="unknown name 'friction'"):
         get_effect("friction")
 
@@ -117,3 +117,37 @@ def test_joint_refit_recovers_base_and_effect_parameters():
     assert fit.model.effect("stiffness").kappa_x == pytest.approx(3e4, rel=1e-4)
     assert fit.model.effect("asymmetry").ratio == pytest.approx(0.1, rel=1e-4)
     assert fit.model.base.rho == pytest.approx(400.0, rel=1e-3)
+
+
+def test_direction_scales_the_force_by_the_direction_of_motion():
+    from damper.effects import Direction
+    m = _motion()
+    base = AugmentedModel(BASE).force(m)
+    force = AugmentedModel(BASE, (Direction(0.2),)).force(m)
+    up, down = m.xdot > 0, m.xdot < 0
+    np.testing.assert_allclose(force[up], 1.2 * base[up])
+    np.testing.assert_allclose(force[down], 0.8 * base[down])
+    with pytest.raises(ParameterError):
+        Direction(1.5)
+
+
+def test_every_effect_names_the_trace_variables_it_shows_in():
+    from damper.diagnosis.trace import TRACE_VARIABLES
+    covered = set()
+    for cls in EFFECTS.values():
+        assert cls.traces, cls.name
+        assert set(cls.traces) <= set(TRACE_VARIABLES) | {"mean"}
+        covered |= set(cls.traces)
+    assert covered == set(TRACE_VARIABLES) | {"mean"}
+
+
+def test_pchip_slopes_match_scipy():
+    from scipy.interpolate import PchipInterpolator
+    from damper.voltage_laws import pchip_slopes
+    rng = np.random.default_rng(3)
+    for n in (2, 3, 4, 6):
+        for _ in range(50):
+            x = np.cumsum(rng.uniform(0.1, 1.0, n))
+            y = rng.normal(size=n) * (rng.random(n) < 0.8)
+            np.testing.assert_allclose(pchip_slopes(x, y), PchipInterpolator(x, y).derivative()(x),
+                                       rtol=1e-10, atol=1e-12)

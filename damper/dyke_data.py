@@ -1,0 +1,129 @@
+"""Reader of the Dyke prototype MR-damper records (random motion, randomly switching voltage).
+
+The files of Dyke's characterization tests of the ~1.5 kN prototype damper of Spencer et al.
+(1997), as distributed in the converted CSV form (``ransim_u_converted.csv``, see the data
+provenance notes of the shared data folder), have one quoted header line and columns
+
+=====  ==========================================  =============
+name   meaning                                     unit in file
+=====  ==========================================  =============
+``t``  time                                        s
+``A``  acceleration channel (not used)             --
+``D``  displacement                                cm
+``Y``  command voltage                             V
+``fs`` sampling rate (first row only)              Hz
+``V``  velocity                                    cm/s
+``F``  force                                       N
+=====  ==========================================  =============
+
+(rows may end with a trailing comma). :func:`read_dyke` converts cm and cm/s to m and m/s at
+this edge and returns a :class:`~damper.data.DamperTest` with the command voltage as its input.
+
+References
+----------
+Dyke S.J., *Prototype MR damper characterization tests using white noise*, NEES-2012-1158,
+DesignSafe-CI, doi:10.4231/D3V11VM6X.
+Spencer B.F. Jr., Dyke S.J., Sain M.K., Carlson J.D. (1997), *Phenomenological model for
+magnetorheological dampers*, J. Eng. Mech. 123(3):230-238.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+
+from benchmark.foundation.errors import DataNotFoundError, InputError
+from damper.data import DamperTest
+
+__all__ = ["read_dyke", "is_dyke_file", "DYKE_COLUMNS"]
+
+#: Columns a Dyke record must have (``A`` and ``fs`` may be present and are ignored).
+DYKE_COLUMNS = ("t", "D", "Y", "V", "F")
+_CM = 1e-2
+
+
+def _header(path: Path) -> list[str] | None:
+    try:
+        with open(path, newline="", encoding="utf-8", errors="replace") as fh:
+            for row in csv.reader(fh):
+                if row and any(c.strip() for c in row):
+                    return [c.strip().strip('"') for c in row]
+    except OSError:
+        return None
+    return None
+
+
+def is_dyke_file(path) -> bool:
+    """Whether ``path`` is a CSV whose header carries the Dyke columns (t, D, Y, V, F)."""
+    header = _header(Path(path))
+    return header is not None and all(c in header for c in DYKE_COLUMNS)
+
+
+def read_dyke(path, name: str | None = None) -> DamperTest:
+    """Read one Dyke record into SI units (displacement [m], velocity [m/s], force [N], voltage [V]).
+
+    Parameters
+    ----------
+    path : path-like
+        The CSV file (format in the module docstring).
+    name : str, optional
+        Label (default: the file stem).
+
+    Raises
+    ------
+    DataNotFoundError
+        The file does not exist.
+    InputError
+        Missing columns, a non-numeric or non-finite value (the message names the line and
+        column), fewer than 2 rows or a time axis that does not increase.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"{path}: Dyke damper record not found")
+    header = _header(path)
+    if header is None:
+        raise InputError(f"{path}: empty file; expected a header with columns t, D, Y, V, F")
+    missing = [c for c in DYKE_COLUMNS if c not in header]
+    if missing:
+        raise InputError(f"{path}:1: header: missing column(s) {', '.join(missing)}; expected "
+                         "t [s], D [cm], Y [V], V [cm/s], F [N]")
+    index = {c: header.index(c) for c in DYKE_COLUMNS}
+    rows = []
+    with open(path, newline="", encoding="utf-8", errors="replace") as fh:
+        reader = csv.reader(fh)
+        started = False
+        for line_no, row in enumerate(reader, start=1):
+            if not row or all(not c.strip() for c in row):
+                continue
+            if not started:
+                started = True  # the header
+                continue
+            values = []
+            for c in DYKE_COLUMNS:
+                i = index[c]
+                cell = row[i].strip() if i < len(row) else ""
+                try:
+                    value = float(cell)
+                except ValueError:
+                    raise InputError(f"{path}:{line_no}: column {c!r}: expected a number, got "
+                                     f"{cell!r}") from None
+                if not math.isfinite(value):
+                    raise InputError(f"{path}:{line_no}: column {c!r}: expected a finite number, "
+                                     f"got {cell!r}")
+                values.append(value)
+            rows.append(values)
+    if len(rows) < 2:
+        raise InputError(f"{path}: expected at least 2 data lines, got {len(rows)}")
+    data = np.array(rows)
+    t, d, y, v, f = (data[:, i] for i in range(5))
+    if np.any(np.diff(t) <= 0):
+        i = int(np.argmax(np.diff(t) <= 0)) + 1
+        raise InputError(f"{path}: column 't': expected strictly increasing times, got {t[i]:g} s "
+                         f"after {t[i - 1]:g} s (data row {i + 1})")
+    return DamperTest(time=t, displacement=d * _CM, velocity=v * _CM, force=f, voltage=y,
+                      name=name or path.stem, source=str(path),
+                      metadata={"units_in_file": "t [s], D [cm], Y [V], V [cm/s], F [N]",
+                                "provider": "S. Dyke, NEES-2012-1158 (doi:10.4231/D3V11VM6X)"})

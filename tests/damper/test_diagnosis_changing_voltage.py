@@ -1,0 +1,120 @@
+"""The residual loop on data with changing voltage: coarse pass, random-voltage protocol, Dyke reader."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from benchmark.applications.cli import main
+from benchmark.foundation.errors import DataNotFoundError, InputError
+from damper.diagnosis import DiagnosisData, diagnose
+from damper.diagnosis.coarse import Progress, decimate, decimation_factor
+from damper.diagnosis.protocols import random_voltage_levels, random_voltage_test
+from damper.dyke_data import is_dyke_file, read_dyke
+
+DYKE = "hysteresis_data/dyke_mr_damper_random_voltage/ransim_u_converted.csv"
+
+
+def test_random_voltage_protocol_switches_and_is_reproducible():
+    a = random_voltage_test("virtual", duration=6.0, sample_rate=500.0, seed=3)
+    b = random_voltage_test("virtual", duration=6.0, sample_rate=500.0, seed=3)
+    np.testing.assert_array_equal(a.force, b.force)
+    switches = np.count_nonzero(np.diff(a.voltage))
+    assert 8 <= switches <= 40  # mean hold 0.3 s over 6 s
+    assert 0.0 <= a.voltage.min() and a.voltage.max() <= 1.0
+    assert np.sqrt(np.mean(a.displacement ** 2)) == pytest.approx(0.01, rel=1e-6)
+    assert abs(a.displacement[0]) < 1e-12  # starts from rest
+    with pytest.raises(InputError, match="band"):
+        random_voltage_test("virtual", band=(1.0, 100.0), sample_rate=500.0)
+
+
+def test_random_voltage_levels_hold_times():
+    t = np.arange(0, 200.0, 0.001)
+    v = random_voltage_levels(t, 0.5, (0.0, 1.0), np.random.default_rng(0))
+    n = np.count_nonzero(np.diff(v)) + 1
+    assert 200.0 / n == pytest.approx(0.5, rel=0.15)
+
+
+def test_decimation_keeps_levels_nodes_and_enough_samples_per_period():
+    test = random_voltage_test("virtual", duration=20.0, sample_rate=1000.0, seed=2)
+    data = DiagnosisData.from_tests([test])
+    q = decimation_factor(data, 3000)
+    assert q > 1
+    coarse = decimate(data, q)
+    assert sum(k.sum() for k in coarse.train) <= 3000 * 1.01
+    np.testing.assert_array_equal(coarse.nodes(), data.nodes())
+    assert coarse.voltage_range() == data.voltage_range()
+    assert decimation_factor(data, None) == 1
+    assert decimate(data, 1) is data
+    # a slow cap never decimates below 100 samples per period of a fast motion
+    assert decimation_factor(data, 100) <= q * 100
+    with pytest.raises(InputError, match="coarse_samples"):
+        decimation_factor(data, 5)
+
+
+@pytest.mark.slow
+def test_loop_on_random_voltage_finds_lag_and_roll_off_and_reports_progress():
+    """The virtual damper has a 33 ms field lag and a low-velocity roll-off (Spencer's c1)."""
+    test = random_voltage_test("virtual", duration=12.0, sample_rate=1000.0, seed=4)
+    lines = []
+    d = diagnose([test], progress=lines.append)
+    assert {"voltage_lag", "roll_off"} <= set(d.effects)
+    assert d.error_after < 0.5 * d.error_before
+    assert d.final_model.effect("voltage_lag").tau == pytest.approx(1 / 30, rel=0.3)
+    assert any("coarse pass" in s for s in lines) and all(s.startswith("[") for s in lines)
+    assert d.settings["decimation"] > 1
+
+
+def test_progress_prints_one_line_per_step(capsys):
+    p = Progress()
+    p("a step")
+    p("another")
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and err[0].endswith("a step")
+    Progress(quiet=True)("nothing")
+    assert capsys.readouterr().err == ""
+
+
+def test_dyke_reader_converts_to_si(tmp_path):
+    path = tmp_path / "dyke.csv"
+    path.write_text('"t","A","D","Y","fs","V","F",\n0,1,-0.5,2.0,3000,10,-100,\n'
+                    '0.001,1,-0.4,2.0,,11,-90,\n0.002,1,-0.3,1.5,,12,-80,\n')
+    assert is_dyke_file(path)
+    t = read_dyke(path)
+    np.testing.assert_allclose(t.displacement, [-0.005, -0.004, -0.003])
+    np.testing.assert_allclose(t.velocity, [0.10, 0.11, 0.12])
+    np.testing.assert_allclose(t.force, [-100, -90, -80])
+    np.testing.assert_allclose(t.voltage, [2.0, 2.0, 1.5])
+
+
+def test_dyke_reader_refuses_malformed_files(tmp_path):
+    bad = tmp_path / "bad.csv"
+    bad.write_text('"t","D","Y","V"\n0,1,2,3\n')
+    with pytest.raises(InputError, match="missing column"):
+        read_dyke(bad)
+    bad.write_text('"t","D","Y","V","F"\n0,1,2,3,4\n0.1,1,x,3,4\n')
+    with pytest.raises(InputError, match=r":3: column 'Y'"):
+        read_dyke(bad)
+    bad.write_text('"t","D","Y","V","F"\n0,1,2,3,4\n0,1,2,3,4\n')
+    with pytest.raises(InputError, match="increasing"):
+        read_dyke(bad)
+    with pytest.raises(DataNotFoundError):
+        read_dyke(tmp_path / "missing.csv")
+
+
+def test_real_dyke_record(shared_dir):
+    path = shared_dir / DYKE
+    if not path.is_file():
+        pytest.skip(f"{path} not found")
+    t = read_dyke(path)
+    assert t.n_samples == 60096
+    assert t.sample_rate == pytest.approx(3004.8, rel=1e-3)
+    assert 0.005 < np.ptp(t.displacement) < 0.05  # about +-1 cm, in metres
+    assert np.ptp(t.voltage) > 2.0
+
+
+def test_cli_reads_dyke_and_refuses_a_tiny_coarse_pass(tmp_path, capsys):
+    path = tmp_path / "dyke.csv"
+    path.write_text('"t","D","Y","V","F"\n0,0,0,0,0\n0.001,0.1,0,1,5\n')
+    assert main(["diagnose", "--data", str(path), "--coarse-samples", "-3"]) == 2
+    assert "--coarse-samples" in capsys.readouterr().err
