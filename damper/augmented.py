@@ -38,8 +38,8 @@ from dataclasses import dataclass, field, replace
 from typing import Sequence
 
 import numpy as np
-from scipy.optimize import least_squares
 
+from damper.fitting import least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.effects import EFFECTS, EFFECT_NAMES, Effect, Motion, get_effect
@@ -554,9 +554,8 @@ def refit(start: AugmentedModel, motions: Sequence[Motion], forces: Sequence[np.
                              hint="check the starting parameters")
     if par.size == 0:
         return RefitResult(start, float(np.linalg.norm(r0) * force_scale / norm), 1, True, "nothing to fit")
-    sol = least_squares(residuals, q0, bounds=(par.lower / par.scale, par.upper / par.scale),
-                        method="trf", x_scale=1.0, diff_step=1e-6, xtol=tolerance, ftol=tolerance,
-                        gtol=tolerance, max_nfev=max_nfev)
+    sol = least_squares_fit(residuals, q0, par.lower / par.scale, par.upper / par.scale, tolerance=tolerance,
+                            diff_step=1e-6, max_nfev=max_nfev)
     model = par.model(sol.x * par.scale)
     rel = float(np.linalg.norm(sol.fun) * force_scale / norm)
     return RefitResult(model=model, relative_rms_error=rel, nfev=count["n"],

@@ -30,7 +30,7 @@ the start's linear part to decay by :math:`10^{-4}`, at most a quarter of the re
 data that do not start at rest are fitted as well as data that do.
 
 Uncertainty: the Jacobian at the optimum gives :math:`\\mathrm{cov} = s^2(J^TJ)^{-1}`
-(:func:`~damper.identification.refine.jacobian_covariance`), mapped to the normalized and the
+(:func:`~damper.fitting.jacobian_covariance`), mapped to the normalized and the
 benchmark's parameters by the delta method. It assumes white output noise; read it as a lower
 bound otherwise.
 """
@@ -50,7 +50,8 @@ from benchmark.foundation.errors import InputError, NumericalError, ParameterErr
 from damper.hysteretic_oscillator import (DEFAULT_UPSAMPLE, PARAMETER_UNITS, HystereticOscillator,
                                           upsample_force)
 from damper.hysteretic_oscillator_kernel import newmark_bouc_wen
-from damper.identification.refine import fit_scaled, jacobian_covariance
+from damper.fitting import jacobian_covariance
+from damper.identification.refine import fit_scaled
 
 __all__ = ["HystereticFit", "identify_hysteretic", "linear_start", "hysteresis_start",
            "MIN_SAMPLES", "SEARCH_NAMES"]

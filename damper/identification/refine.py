@@ -29,8 +29,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
 
+from damper.fitting import jacobian_covariance, least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.closed_form import MODELS, PARAMETER_NAMES
@@ -38,7 +38,7 @@ from damper.identification.cycles import Cycle
 from damper.simulate import simulate
 
 __all__ = ["RefinedFit", "refine", "SharedFit", "refine_shared", "make_model",
-           "free_parameters", "fit_scaled", "jacobian_covariance"]
+           "free_parameters", "fit_scaled"]
 
 _UPPER = {"sigma": 50.0, "n": 20.0}
 _LOWER = {"kappa_x": 0.0, "sigma": 0.5, "n": 1.0}
@@ -159,9 +159,7 @@ class _Problem:
 
 def _fit(problem: _Problem, q0: np.ndarray, max_nfev: int | None):
     q0 = np.clip(q0, problem.lower + 1e-12, problem.upper - 1e-12)
-    return least_squares(problem.residuals, q0, bounds=(problem.lower, problem.upper),
-                         method="trf", x_scale=1.0, diff_step=1e-5, xtol=1e-10, ftol=1e-10,
-                         gtol=1e-10, max_nfev=max_nfev)
+    return least_squares_fit(problem.residuals, q0, problem.lower, problem.upper, max_nfev=max_nfev)
 
 
 def fit_scaled(problem, q0: np.ndarray, max_nfev: int | None):
@@ -173,32 +171,6 @@ def fit_scaled(problem, q0: np.ndarray, max_nfev: int | None):
     parameter vector scaled to order one. Used by :mod:`damper.identification.hysteretic` as well.
     """
     return _fit(problem, q0, max_nfev)
-
-
-def jacobian_covariance(jac: np.ndarray, fun: np.ndarray, scale: np.ndarray) -> np.ndarray:
-    """Covariance :math:`s^2 (J^T J)^{-1}` of the parameters ``p = scale * q`` at a least-squares optimum.
-
-    Parameters
-    ----------
-    jac : ndarray, shape (m, p)
-        Jacobian of the residuals with respect to the scaled parameters ``q``.
-    fun : ndarray, shape (m,)
-        Residuals at the optimum; :math:`s^2 = \\mathrm{RSS}/(m - p)`.
-    scale : ndarray, shape (p,)
-        ``p = scale * q``.
-
-    Returns
-    -------
-    ndarray, shape (p, p)
-        In the units of ``p`` (NaN where the pseudo-inverse fails).
-    """
-    jac = np.asarray(jac) / np.asarray(scale, dtype=float)[None, :]
-    m, p = jac.shape
-    s2 = float(np.sum(np.asarray(fun) ** 2)) / max(m - p, 1)
-    try:
-        return np.linalg.pinv(jac.T @ jac) * s2
-    except np.linalg.LinAlgError:
-        return np.full((p, p), np.nan)
 
 
 def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
@@ -415,9 +387,7 @@ def refine_shared(tests: list[tuple], starts: list[dict], shared: str = "kappa_x
         return np.concatenate(parts)
 
     q0 = np.clip(np.ones(n_q), lower + 1e-12, upper - 1e-12)
-    sol = least_squares(residuals, q0, bounds=(lower, upper), method="trf", jac_sparsity=sparsity,
-                        x_scale=1.0, diff_step=1e-5, xtol=1e-10, ftol=1e-10, gtol=1e-10,
-                        max_nfev=max_nfev)
+    sol = least_squares_fit(residuals, q0, lower, upper, jac_sparsity=sparsity, max_nfev=max_nfev)
     value = float(sol.x[0] * s0)
     jac = sol.jac.toarray() if hasattr(sol.jac, "toarray") else np.asarray(sol.jac)
     s2 = float(np.sum(sol.fun ** 2)) / max(jac.shape[0] - n_q, 1)
