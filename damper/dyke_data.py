@@ -30,13 +30,14 @@ magnetorheological dampers*, J. Eng. Mech. 123(3):230-238.
 from __future__ import annotations
 
 import csv
-import math
+import io
 from pathlib import Path
 
 import numpy as np
 
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from damper.data import DamperTest
+from benchmark.foundation.textfile import read_text
+from damper.data import DamperTest, parse_row
 
 __all__ = ["read_dyke", "is_dyke_file", "DYKE_COLUMNS"]
 
@@ -92,29 +93,16 @@ def read_dyke(path, name: str | None = None) -> DamperTest:
                          "t [s], D [cm], Y [V], V [cm/s], F [N]")
     index = {c: header.index(c) for c in DYKE_COLUMNS}
     rows = []
-    with open(path, newline="", encoding="utf-8", errors="replace") as fh:
-        reader = csv.reader(fh)
-        started = False
-        for line_no, row in enumerate(reader, start=1):
-            if not row or all(not c.strip() for c in row):
-                continue
-            if not started:
-                started = True  # the header
-                continue
-            values = []
-            for c in DYKE_COLUMNS:
-                i = index[c]
-                cell = row[i].strip() if i < len(row) else ""
-                try:
-                    value = float(cell)
-                except ValueError:
-                    raise InputError(f"{path}:{line_no}: column {c!r}: expected a number, got "
-                                     f"{cell!r}") from None
-                if not math.isfinite(value):
-                    raise InputError(f"{path}:{line_no}: column {c!r}: expected a finite number, "
-                                     f"got {cell!r}")
-                values.append(value)
-            rows.append(values)
+    text = read_text(path, "Dyke damper record")  # binary or not UTF-8: one-line InputError
+    started = False
+    for line_no, row in enumerate(csv.reader(io.StringIO(text, newline="")), start=1):
+        if not row or all(not c.strip() for c in row):
+            continue
+        if not started:
+            started = True  # the header
+            continue
+        cells = [row[index[c]] if index[c] < len(row) else "" for c in DYKE_COLUMNS]
+        rows.append(parse_row(path, line_no, list(DYKE_COLUMNS), cells))
     if len(rows) < 2:
         raise InputError(f"{path}: expected at least 2 data lines, got {len(rows)}")
     data = np.array(rows)

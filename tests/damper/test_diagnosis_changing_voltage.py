@@ -118,3 +118,14 @@ def test_cli_reads_dyke_and_refuses_a_tiny_coarse_pass(tmp_path, capsys):
     path.write_text('"t","D","Y","V","F"\n0,0,0,0,0\n0.001,0.1,0,1,5\n')
     assert main(["diagnose", "--data", str(path), "--coarse-samples", "-3"]) == 2
     assert "--coarse-samples" in capsys.readouterr().err
+
+
+def test_dyke_reader_rejects_non_utf8_bytes_in_one_line(tmp_path):
+    from benchmark.foundation.errors import InputError
+    from damper.dyke_data import read_dyke
+
+    bad = tmp_path / "dyke.csv"
+    bad.write_bytes(b"t,D,Y,V,F\n0,0.1,1,2,3\n0.001,\xff\xfe,1,2,3\n")
+    with pytest.raises(InputError, match="not UTF-8") as info:
+        read_dyke(bad)
+    assert "\n" not in str(info.value)
