@@ -39,8 +39,7 @@ from benchmark.foundation.errors import InputError
 from benchmark.simulator.building import Building
 from benchmark.simulator.case import Case, run_case
 from controllers.registry import get_controller
-from records.synthetic import benchmark_like
-from records import load_benchmark_record
+from records.resolve import resolve_record
 from benchmark.simulator.isolation.configurations import BearingGroup
 from benchmark.simulator.devices import DeviceLayout, DeviceSlot
 
@@ -75,10 +74,7 @@ def load_motion(record: str, orientation: str, synthetic: bool, motion_seed: int
     ``pga`` [m/s²] (NaN: unscaled) becomes the peak absolute acceleration of the stronger
     component; both components are scaled by the same factor.
     """
-    if synthetic:
-        motion = benchmark_like(record, orientation, seed=int(motion_seed))
-    else:
-        motion = load_benchmark_record(record, orientation)
+    motion = resolve_record(record, orientation, synthetic=bool(synthetic), seed=int(motion_seed))
     if not math.isnan(pga):
         peak = float(np.max(np.abs(motion.acceleration)))
         if not peak > 0:

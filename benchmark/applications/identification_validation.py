@@ -41,12 +41,11 @@ from benchmark.simulator.criteria import key_json
 from damper.identification.metrics import dissipated_energy
 from damper.effects import first_order_filter
 from damper.simulate import simulate as simulate_damper
-from records import load_benchmark_record
+from records.resolve import resolve_record
 from benchmark.simulator.evaluation import evaluate
 from benchmark.simulator.case import Case, run_case
 from damper.identification.parallel import make_executor, run_tasks, worker_count
 from records import BENCHMARK_RECORDS, ORIENTATIONS
-from records.synthetic import benchmark_like
 from damper.identification.plots import plot_force_errors
 from records.catalogue import canonical_orientation
 
@@ -286,12 +285,6 @@ _REFERENCE_FIELDS = ("t", "base_shear", "structure_shear", "base_displacement", 
                      "floor_acceleration_absolute")
 
 
-def _load_record(name: str, orientation: str, records_dir, synthetic: bool):
-    if synthetic:
-        return benchmark_like(name, orientation)
-    return load_benchmark_record(name, orientation, records_dir=records_dir)
-
-
 def measure_run(building, record_name: str, orientation: str, controller: str = "clipped-optimal",
                 records_dir: str | None = None, synthetic: bool = False) -> MeasuredRun:
     """Run the building without devices (reference) and with its own dampers under ``controller``.
@@ -300,7 +293,7 @@ def measure_run(building, record_name: str, orientation: str, controller: str = 
     reference (see :class:`MeasuredRun`).
     """
 
-    record = _load_record(record_name, orientation, records_dir, synthetic)
+    record = resolve_record(record_name, orientation, records_dir=records_dir, synthetic=synthetic)
     run = run_case(Case(record=record, orientation=orientation, controller=controller, building=building,
                         options={"bearing_histories": False}), cache=None)
     reference, measured = run.reference, run.result
