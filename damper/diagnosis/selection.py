@@ -264,29 +264,6 @@ def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Seque
     return {name: out[name] for name in candidates}
 
 
-def _screen_pair(model: AugmentedModel, cls: type[Effect], step: float, nodes=None):
-    """The models whose force difference over ``step`` is the candidate's sensitivity.
-
-    Normally ``model`` itself and ``model`` with the effect at ``neutral + step``. A ``series``
-    effect needs base shape parameters independent of the coil input, which a base with voltage
-    laws on the ``nodes`` does not have: then both models are taken where the joint refit starts
-    (:class:`~damper.augmented.Parametrization`: those parameters at their mean over the nodes),
-    so the column is the effect's sensitivity there.
-    """
-    trial = model.with_effect(cls(cls.neutral + step))
-    if cls.role != "series" or nodes is None:
-        return model, trial
-    try:
-        cls(cls.neutral + step).series_base(model.base)  # shape independent of the input: plain pair
-        return model, trial
-    except ParameterError:
-        par = Parametrization(trial, nodes=nodes)
-        vector = par.vector(trial)
-        shared = par.model(vector)
-        vector[par.n_base + list(par.effect_classes).index(cls)] = cls.neutral
-        return par.model(vector), shared
-
-
 @dataclass(frozen=True)
 class Trial:
     """One candidate refitted in a round: its held-out error and BIC change."""
