@@ -488,7 +488,8 @@ def bench_result_file(record: str = "kobe", controller: str = "clipped-optimal")
         mb = path.stat().st_size / 1e6
     return [BenchCase("result-file", target=f"<= {RESULT_FILE_TARGET_MB:g} MB", met=mb <= RESULT_FILE_TARGET_MB,
                       note=f"sbib run --record {record} --controller {controller} --out: {mb:.2f} MB "
-                           f"(run and reference; --full-histories adds the per-bearing and state histories)",
+                           f"(run and reference, single precision; --full-histories writes double precision with the "
+                           f"per-bearing, state and measurement histories)",
                       details={"size_mb": mb})]
 
 

@@ -16,7 +16,11 @@ Layout of a file written by :func:`write_result` (format ``sbib-result``, versio
     /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``,
                                   ``<Jk>_formula``, ``<Jk>_source`` (optional)
 
-All quantities are SI (m, m/s, m/s², rad, N, N·m, V, J, s). The file is written to a
+All quantities are SI (m, m/s, m/s², rad, N, N·m, V, J, s). Histories are float64 unless the file
+was written with ``precision="single"`` (root attribute ``precision``): then every float history
+and energy term except the time vector is float32 (7 significant digits, relative rounding
+6e-8, far below any response quantity's meaning), which halves the file; ``sbib run`` writes
+single precision unless ``--full-histories``. The file is written to a
 temporary file in the destination directory and renamed when complete
 (:func:`benchmark.foundation.atomic.atomic_path`), so an interrupted run never leaves a partial file.
 :func:`read_result` reads a run back into a :class:`StoredResult` with the same field names as
@@ -153,7 +157,11 @@ def _json_default(obj: Any) -> Any:
     return repr(obj)
 
 
-def _write_run(group: Any, result: Any) -> None:
+#: storage precision -> numpy type of the float histories (:func:`write_result`)
+_PRECISIONS = {"double": np.float64, "single": np.float32}
+
+
+def _write_run(group: Any, result: Any, dtype: Any = np.float64) -> None:
     items = _result_items(result)
     th = group.create_group("time_histories")
     n = None
@@ -165,6 +173,8 @@ def _write_run(group: Any, result: Any) -> None:
             continue
         if name == "t":
             n = arr.shape[0]
+        elif arr.dtype.kind == "f":
+            arr = arr.astype(dtype, copy=False)
         units, description, axes = FIELD_UNITS.get(
             name, ("SI", "field not in the results schema (see benchmark.simulator.simulation)", ""))
         kwargs = {"compression": "gzip", "compression_opts": 4, "shuffle": True} if arr.size > 4096 else {}
@@ -177,7 +187,7 @@ def _write_run(group: Any, result: Any) -> None:
     energy = items.get("energy") or {}
     eg = group.create_group("energy")
     for term, values in energy.items():
-        ds = eg.create_dataset(term, data=np.asarray(values, dtype=float))
+        ds = eg.create_dataset(term, data=np.asarray(values, dtype=dtype))
         ds.attrs["units"] = "J"
         ds.attrs["description"] = _ENERGY_DESCRIPTIONS.get(term, term)
     info = items.get("info") or {}
@@ -194,7 +204,7 @@ def _write_run(group: Any, result: Any) -> None:
 
 def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
                  evaluation: dict[str, float | None] | None = None, isolation: Any = None,
-                 **extra: object) -> Path:
+                 precision: str = "double", **extra: object) -> Path:
     """Write a run (and optionally its reference run and J1–J9) to an HDF5 file, atomically.
 
     Parameters
@@ -209,6 +219,10 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
         J1–J9 (:func:`benchmark.simulator.evaluation.evaluate`), stored as attributes of ``/evaluation``.
     isolation : IsolationLayer, optional
         Stored as JSON (``isolation_json``) so the file documents the bearing parameters.
+    precision : {"double", "single"}
+        Storage type of the float histories and energies (the time vector stays float64);
+        ``"single"`` halves the file (module docstring). Peaks and J's are computed before
+        storing, in double precision, either way.
     **extra
         Further root attributes (converted to ``str``), e.g. ``record_source``.
 
@@ -220,6 +234,10 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
     import h5py
 
 
+    if precision not in _PRECISIONS:
+        raise InputError(f"write_result: precision {precision!r} unknown; expected one of "
+                         f"{', '.join(_PRECISIONS)}")
+    dtype = _PRECISIONS[precision]
     path = Path(path)
     info = _result_items(result).get("info") or {}
     attrs = provenance(**extra)
@@ -230,14 +248,15 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
         with h5py.File(tmp, "w") as f:
             f.attrs["format"] = FORMAT_NAME
             f.attrs["format_version"] = FORMAT_VERSION
+            f.attrs["precision"] = precision
             for key, value in attrs.items():
                 f.attrs[key] = value
             if isolation is not None:
                 f.attrs["isolation_json"] = (isolation.to_json() if hasattr(isolation, "to_json")
                                              else json.dumps(isolation, default=_json_default))
-            _write_run(f.create_group("run"), result)
+            _write_run(f.create_group("run"), result, dtype)
             if reference is not None:
-                _write_run(f.create_group("reference"), reference)
+                _write_run(f.create_group("reference"), reference, dtype)
             if evaluation is not None:
                 eg = f.create_group("evaluation")
                 for key, value in evaluation.items():
@@ -275,6 +294,11 @@ def _attr(value: Any) -> Any:
     return value
 
 
+def _as_float64(value: np.ndarray) -> np.ndarray:
+    # single-precision files are read back as float64, as every computation expects
+    return value.astype(np.float64) if value.dtype == np.float32 else value
+
+
 def read_result(path: str | os.PathLike, which: str = "run") -> StoredResult:
     """Read a run (``which="run"``) or its reference run (``"reference"``) from a result file.
 
@@ -298,10 +322,10 @@ def read_result(path: str | os.PathLike, which: str = "run") -> StoredResult:
         g = f[which]
         out = StoredResult()
         for name, ds in g["time_histories"].items():
-            out.arrays[name] = ds[()]
+            out.arrays[name] = _as_float64(ds[()])
             out.units[name] = _attr(ds.attrs.get("units", ""))
         for name, ds in g["energy"].items():
-            out.energy[name] = ds[()]
+            out.energy[name] = _as_float64(ds[()])
         out.info = json.loads(_attr(g.attrs.get("info_json", "{}")))
         if "peaks" in g:
             out.peaks = {k: _attr(v) for k, v in g["peaks"].attrs.items() if not k.endswith("_units")}

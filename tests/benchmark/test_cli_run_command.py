@@ -85,6 +85,10 @@ def test_default_file_is_lean_and_full_histories_is_an_option(capsys, tmp_path, 
         assert not {"bearing_force", "bearing_state", "state"} & kept
         assert {"bearing_force", "bearing_state", "state"} <= set(g["run/time_histories"])
         assert g["run/time_histories/bearing_force"].shape == (1200, 92, 2)
+        # single precision by default, double with --full-histories (issue 14: <= 5 MB per run)
+        assert f.attrs["precision"] == "single" and g.attrs["precision"] == "double"
+        assert f["run/time_histories/base_displacement"].dtype == np.float32
+        assert g["run/time_histories/base_displacement"].dtype == np.float64
     assert lean.stat().st_size < 0.5 * full.stat().st_size
 
 

@@ -79,7 +79,7 @@ def test_round_trip_with_units_provenance_and_evaluation(tmp_path):
 
 
 def test_failed_write_leaves_no_file(tmp_path, monkeypatch):
-    def boom(group, result):
+    def boom(group, result, dtype):
         group.create_dataset("partial", data=np.zeros(3))
         raise RuntimeError("disk full")
     monkeypatch.setattr(results_module, "_write_run", boom)
@@ -91,7 +91,7 @@ def test_failed_write_leaves_no_file(tmp_path, monkeypatch):
 def test_existing_file_is_replaced_only_when_complete(tmp_path, monkeypatch):
     path = write_result(make_run(0), tmp_path / "out.h5")
     before = read_result(path).base_displacement.copy()
-    monkeypatch.setattr(results_module, "_write_run", lambda g, r: (_ for _ in ()).throw(KeyboardInterrupt()))
+    monkeypatch.setattr(results_module, "_write_run", lambda g, r, d: (_ for _ in ()).throw(KeyboardInterrupt()))
     with pytest.raises(KeyboardInterrupt):
         write_result(make_run(5), path)
     assert np.array_equal(read_result(path).base_displacement, before)
@@ -111,3 +111,30 @@ def test_reader_errors(tmp_path):
     with pytest.raises(InputError, match="reference"):
         read_result(path, "reference")
     assert read_evaluation(path) == {}
+
+
+def test_single_precision_halves_the_file_and_reads_back_as_float64(tmp_path):
+    """``precision="single"`` stores float32 (the time vector excepted), reads back float64 within
+    float32 rounding, and J's recomputed from it agree with the stored ones; the default is double."""
+    run, ref = make_run(0), make_run(1, n_dev=0, scale=2.0)
+    J = evaluate(run, ref)
+    double = write_result(run, tmp_path / "double.h5", reference=ref, evaluation=J)
+    single = write_result(run, tmp_path / "single.h5", reference=ref, evaluation=J, precision="single")
+    with h5py.File(single) as f:
+        assert f.attrs["precision"] == "single"
+        assert f["run/time_histories/base_displacement"].dtype == np.float32
+        assert f["run/time_histories/t"].dtype == np.float64
+        assert f["run/energy/input"].dtype == np.float32
+    with h5py.File(double) as f:
+        assert f.attrs["precision"] == "double"
+        assert f["run/time_histories/base_displacement"].dtype == np.float64
+    assert single.stat().st_size < 0.6 * double.stat().st_size
+    back = read_result(single)
+    assert back.base_displacement.dtype == np.float64
+    np.testing.assert_allclose(back.base_displacement, run.base_displacement, rtol=1e-6, atol=1e-7)
+    assert not np.array_equal(back.base_displacement, run.base_displacement)  # really rounded
+    recomputed = evaluate(back, read_result(single, "reference"))
+    assert recomputed == pytest.approx(J, rel=1e-5)
+    with pytest.raises(InputError, match="precision 'half' unknown"):
+        write_result(run, tmp_path / "bad.h5", precision="half")
+    assert not (tmp_path / "bad.h5").exists()
