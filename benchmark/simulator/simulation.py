@@ -16,7 +16,7 @@ from __future__ import annotations
 import hashlib
 import time as _time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -84,6 +84,15 @@ class SimulationResult:
         Fixed-point iterations of each step.
     info : dict
         record, orientation, isolation, controller, settings, elapsed time.
+
+    Notes
+    -----
+    :func:`simulate` returns the kernel's own histories (base motion, device forces, voltages,
+    measurements) at once and derives the others (accelerations, floor responses, drifts,
+    shears, device strokes, energies) on first access, in one pass each
+    (:func:`_derived_histories`, :func:`benchmark.simulator.stepping.energy_histories`): a run whose
+    caller reads only a few histories does not pay for the rest. The values are the same either
+    way; pickling (worker processes) and :func:`dataclasses.replace` derive them first.
     """
 
     t: np.ndarray
@@ -111,6 +120,41 @@ class SimulationResult:
     info: dict = field(default_factory=dict)
     state: np.ndarray | None = field(default=None, repr=False)
     ground_acceleration: np.ndarray | None = field(default=None, repr=False)
+
+    def __getattr__(self, name: str) -> Any:
+        # Called only for an attribute not set yet: a derived history of a lazy result.
+        pending = self.__dict__.get("_pending")
+        if pending is None or name not in pending:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        derive = pending[name]
+        values = derive()
+        for key in [k for k, f in pending.items() if f is derive]:
+            del pending[key]
+        self.__dict__.update(values)
+        return values[name]
+
+    def materialize(self) -> "SimulationResult":
+        """Derive every history not derived yet (see Notes); returns ``self``."""
+        pending = self.__dict__.get("_pending") or {}
+        for name in list(pending):
+            if name in pending:
+                getattr(self, name)
+        return self
+
+    def __getstate__(self) -> dict:
+        self.materialize()
+        state = dict(self.__dict__)
+        state.pop("_pending", None)
+        return state
+
+    @classmethod
+    def _lazy(cls, pending: dict[str, Callable[[], dict]], **values: Any) -> "SimulationResult":
+        # ``values`` the fields known now; ``pending`` maps each other field to the call that
+        # returns it (with its siblings) as a dict
+        self = cls.__new__(cls)
+        self.__dict__.update(values)
+        self.__dict__["_pending"] = dict(pending)
+        return self
 
     @property
     def n_samples(self) -> int:
@@ -487,18 +531,22 @@ def _raise_numerical(status, k, dt, z_out, nq, nv, session):
                          state=state, hint=hint)
 
 
-def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_infl, isolation, session, info,
-                  bearing_histories, **settings):
-    z, gb, gd, fd, v, meas, desired, iters = out.z, out.gb, out.gd, out.fd, out.v, out.meas, out.desired, out.iters
+#: the histories :func:`_derived_histories` derives (one pass) and the energy terms, derived
+#: on first access of a :class:`SimulationResult`
+_DERIVED_HISTORIES = ("base_acceleration", "base_acceleration_absolute", "floor_displacement",
+                      "floor_acceleration_absolute", "drift_ratio", "isolation_force", "base_shear",
+                      "structure_shear", "device_displacement", "device_velocity")
+
+
+def _derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl) -> dict[str, np.ndarray]:
+    """The histories linear in the kernel's ``X = [z, g_bearings, g_devices, ag]`` (SI), in one
+    matrix product ``X @ W`` (a single BLAS call instead of a dozen small ones on strided views)."""
     sup = building.superstructure
     nq = sup.n_q
     nv = nq + 3
     nz = z.shape[1]
     n = z.shape[0]
     nd = d_infl.shape[0]
-    t = np.arange(n) * dt
-    # Every derived history is linear in X = [z, g_bearings, g_devices, ag]: one matrix product
-    # X @ W gives them all (a single BLAS call instead of a dozen small ones on strided views).
     X = np.empty((n, nz + 8))
     X[:, :nz] = z
     X[:, nz:nz + 3] = gb
@@ -540,8 +588,6 @@ def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_
     Wdev[nv + nq:nz, nd:] = d_infl.T
     add("devices", Wdev)                                # device displacement, velocity
     Y = X @ np.hstack(cols)
-    ub = z[:, nq:nv].copy()
-    vb = z[:, nv + nq:].copy()
     ab = Y[:, blocks["acc"]]
     base_abs = ab.copy()
     base_abs[:, :2] += ag
@@ -552,11 +598,22 @@ def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_
     drift[:, 0] = floor_disp[:, 0, :2]
     drift[:, 1:] = floor_disp[:, 1:, :2] - floor_disp[:, :-1, :2]
     drift /= sup.storey_heights[None, :, None]
-    structure_shear = Y[:, blocks["structure_shear"]]
     iso = Y[:, blocks["isolation"]]
     dev = Y[:, blocks["devices"]]
-    dev_disp = dev[:, :nd]
-    dev_vel = dev[:, nd:]
+    return {"base_acceleration": ab, "base_acceleration_absolute": base_abs, "floor_displacement": floor_disp,
+            "floor_acceleration_absolute": floor_abs, "drift_ratio": drift, "isolation_force": iso,
+            "base_shear": iso + gd, "structure_shear": Y[:, blocks["structure_shear"]],
+            "device_displacement": dev[:, :nd], "device_velocity": dev[:, nd:]}
+
+
+def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_infl, isolation, session, info,
+                  bearing_histories, **settings):
+    z, gb, gd, fd, v, meas, desired, iters = out.z, out.gb, out.gd, out.fd, out.v, out.meas, out.desired, out.iters
+    sup = building.superstructure
+    nq = sup.n_q
+    nv = nq + 3
+    n = z.shape[0]
+    t = np.arange(n) * dt
     bearing_force = bstate = None
     if bearing_histories:
         # total bearing forces, in place of the hysteretic ones (a compiled loop: no temporaries)
@@ -565,8 +622,6 @@ def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_
                                              np.ascontiguousarray(packed.params[:, 1]), out.fb)
         if out.bstate.shape[0] == n:
             bstate = out.bstate
-    energy = energy_histories(z, gb, gd, ag, dt, nq, extra["Mg"], extra["Kq"], extra["Cq"], Kb, Cb,
-                              extra["momentum"])
     info = dict(info)
     info.setdefault("record", getattr(record, "name", ""))
     info.setdefault("record_source", getattr(record, "source", ""))
@@ -582,16 +637,22 @@ def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_
                         for k, v in settings.items()}
     info["mean_iterations"] = float(iters[1:].mean()) if n > 1 else 0.0
     info["max_iterations_used"] = int(iters.max()) if n > 1 else 0
-    return SimulationResult(
-        t=t, base_displacement=ub, base_velocity=vb, base_acceleration=ab,
-        base_acceleration_absolute=base_abs, floor_displacement=floor_disp,
-        floor_acceleration_absolute=floor_abs.reshape(n, 8, 3), drift_ratio=drift,
-        isolation_force=iso, device_force_total=gd.copy(), base_shear=iso + gd,
-        structure_shear=structure_shear, bearing_force=bearing_force, bearing_state=bstate,
-        device_displacement=dev_disp, device_velocity=dev_vel, device_force=fd, voltage=v,
-        energy={name: energy[:, i].copy() for i, name in enumerate(ENERGY_NAMES)},
-        measurements=meas, desired_force=desired, iterations=iters, info=info, state=z,
-        ground_acceleration=ag)
+
+    def histories() -> dict[str, np.ndarray]:
+        return _derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl)
+
+    def energy() -> dict[str, Any]:
+        e = energy_histories(z, gb, gd, ag, dt, nq, extra["Mg"], extra["Kq"], extra["Cq"], Kb, Cb,
+                             extra["momentum"])
+        return {"energy": {name: e[:, i].copy() for i, name in enumerate(ENERGY_NAMES)}}
+
+    pending: dict[str, Callable[[], dict]] = {name: histories for name in _DERIVED_HISTORIES}
+    pending["energy"] = energy
+    return SimulationResult._lazy(
+        pending, t=t, base_displacement=z[:, nq:nv].copy(), base_velocity=z[:, nv + nq:].copy(),
+        device_force_total=gd.copy(), bearing_force=bearing_force, bearing_state=bstate,
+        device_force=fd, voltage=v, measurements=meas, desired_force=desired, iterations=iters, info=info,
+        state=z, ground_acceleration=ag)
 
 
 # --------------------------------------------------------------------------- reduced order
