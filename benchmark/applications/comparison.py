@@ -37,7 +37,7 @@ from controllers.registry import get_controller
 from records.resolve import resolve_record
 from records.resolve import looks_like_file
 from records.catalogue import ORIENTATION_ALIASES
-from benchmark.simulator.case import REFERENCES, Case, choose_control_step, run_case
+from benchmark.simulator.case import Case, ReferenceCache, choose_control_step, run_case
 from benchmark.simulator.criteria import J_NAMES, key_json, key_lines  # the single definition table of the J's
 from benchmark.foundation.progress import progress_bar
 
@@ -264,10 +264,17 @@ def _check_records(record_list: list[str], orientation: str, settings: dict,
 _BUILDING_OVERRIDE: Any = None  # a caller's Building, installed in each worker by _init_worker
 
 
+#: The reference runs a worker keeps. The tasks go record by record, orientation by
+#: orientation, with every controller of one pair in a row, so the pair in hand and the one
+#: before it are all a worker needs; the default cache's 8 full uncontrolled runs (~11 MB each)
+#: only raised a worker's peak memory.
+_WORKER_REFERENCES = ReferenceCache(size=2)
+
+
 def _init_worker(building: Any) -> None:
     global _BUILDING_OVERRIDE
     _BUILDING_OVERRIDE = building
-    REFERENCES.clear()
+    _WORKER_REFERENCES.clear()
 
 
 @lru_cache(maxsize=4)
@@ -325,7 +332,7 @@ def _run_one(task) -> tuple:
     case = Case(record=record, controller=_make_controller(spec),
                 building=_building(settings.get("isolation"), settings.get("n_modes")),
                 control_step=settings["control_step"], options=options)
-    out = run_case(case)
+    out = run_case(case, cache=_WORKER_REFERENCES)
     result, reference = out.result, out.reference
     run = ComparisonRun(record=label[0] if label else record_name, orientation=orientation,
                         controller=_controller_label(spec),
