@@ -263,6 +263,6 @@ def register(subparsers: Any) -> None:
                    help="sub-step tolerance of the nonlinear bearings (default 0.75)")
     p.add_argument("--full-histories", action="store_true",
                    help="write --out in double precision and with the force and state histories of "
-                        "every bearing, the kernel's state and the measurement vectors (about 50 MB for "
+                        "every bearing, the kernel's state and the measurement vectors (about 47 MB for "
                         "a 30-s record instead of about 4.5 MB in single precision; off by default)")
     p.set_defaults(func=main_run)
