@@ -130,8 +130,9 @@ class SimulationResult:
         values = derive()
         for key in [k for k, f in pending.items() if f is derive]:
             del pending[key]
-        self.__dict__.update(values)
-        return values[name]
+        for key, value in values.items():  # never over a value set meanwhile
+            self.__dict__.setdefault(key, value)
+        return self.__dict__[name]
 
     def materialize(self) -> "SimulationResult":
         """Derive every history not derived yet (see Notes); returns ``self``."""

@@ -122,3 +122,6 @@ def test_derived_histories_are_built_on_first_access_and_survive_pickling(buildi
     assert back.energy.keys() == a.energy.keys()
     with pytest.raises(AttributeError, match="no attribute 'nonsense'"):
         a.nonsense
+    d = simulate(building, rec, controller="passive-on", bearing_histories=False)
+    d.base_shear = np.zeros(3)                  # set before its group was derived: kept
+    assert d.drift_ratio.shape == a.drift_ratio.shape and np.array_equal(d.base_shear, np.zeros(3))
