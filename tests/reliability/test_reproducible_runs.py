@@ -36,7 +36,7 @@ SCRIPT = textwrap.dedent('''
 
     def digest(result):
         out = {}
-        for name, value in sorted(vars(result).items()):
+        for name, value in sorted(vars(result.materialize()).items()):  # every derived history too
             if isinstance(value, np.ndarray):
                 out[name] = hashlib.sha256(np.ascontiguousarray(value).tobytes()).hexdigest()
             elif isinstance(value, dict) and name == "energy":
