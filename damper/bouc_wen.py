@@ -43,6 +43,9 @@ to zero at a distance found by Gauss-Legendre quadrature of :math:`dx/dw`, then 
 regime is integrated with classical RK4 in
 :math:`N = \\lceil \\rho\\,n\\max(1, 2\\sigma-1)\\max(1,|w|)^{n-1}|\\Delta x| / \\mathrm{tol} \\rceil`
 sub-steps (``tol = substep_tolerance``). Error is O(tol⁴) and independent of the time step.
+A loading branch within :data:`SATURATED` of :math:`|w| = 1` is linear to double precision,
+:math:`1 - |w| \\propto e^{-\\rho n u}`, and is advanced in that closed form instead: most of a
+large stroke is travelled saturated (2-3× fewer sub-steps on the UTFSM tests).
 
 The limit cycle under a periodic wave input between :math:`X_{min}` and :math:`X_{max}` peaks at
 :math:`w_0` solving :math:`\\psi(w_0) - \\psi(-w_0) = \\rho(X_{max} - X_{min})`
@@ -89,6 +92,8 @@ EXTENDED_BOUC_WEN_ID = 2
 DEFAULT_SUBSTEP_TOLERANCE = 0.05
 #: Upper bound on sub-steps per step (guards against absurd parameters).
 MAX_SUBSTEPS = 200_000
+#: Distance of ``|w|`` from 1 below which a loading branch is advanced in closed form.
+SATURATED = 1e-9
 
 _LAW_ORDER = ("kappa_x", "kappa_xdot", "kappa_w", "rho", "sigma", "n")
 
@@ -497,7 +502,15 @@ def _branch_rate(w, direction, c, rho, n):
 @numba.njit(cache=True)
 def _rk4_branch(w, direction, c, rho, n, length, n_sub):
     h = length / n_sub
-    for _ in range(n_sub):
+    loading = c == 1.0
+    for i in range(n_sub):
+        if loading:
+            # Saturated: near w = direction the loading branch is linear, e' = -rho n e for
+            # e = 1 - direction w (the next term is O(e^2), below 1e-17 here). Most of a large
+            # stroke is travelled in this state; the exponential replaces its sub-steps.
+            e = 1.0 - direction * w
+            if abs(e) < SATURATED:
+                return direction * (1.0 - e * math.exp(-rho * n * (n_sub - i) * h))
         k1 = _branch_rate(w, direction, c, rho, n)
         k2 = _branch_rate(w + 0.5 * h * k1, direction, c, rho, n)
         k3 = _branch_rate(w + 0.5 * h * k2, direction, c, rho, n)
