@@ -31,7 +31,11 @@ in time along the cubic Hermite path of the step, in
 :math:`\\lambda = (\\rho\\,\\alpha z_0 + k_0)/(c_0+c_1) + \\rho n\\max(1, 2\\sigma-1)\\max(1,|w|)^{n-1}
 (|\\dot x|_{max} + |\\dot y|)`, the ratios taken at the worse of the
 field's values at the start and the end of the step (the field moves monotonically between
-them). The laws are evaluated once per RK4 node: the end of one sub-step
+them). For :math:`\\sigma > 1` that bound is the unloading branch's, :math:`2\\sigma - 1` times
+stiffer than the loading one and met only briefly after each reversal: a step is first taken
+with the loading rate (the factor 1 instead) at the packed ``loading_tol`` and is redone with the
+full bound if any RK4 node finds :math:`\\dot r\\,w < 0` (on the UTFSM fits, σ ≈ 20, this cuts
+the cost of a test four-fold at unchanged accuracy). The laws are evaluated once per RK4 node: the end of one sub-step
 is the start of the next, and the last node's values give the force at the end of the step.
 
 Parameters of the 1.5 kN prototype (:meth:`Spencer.prototype_1997`, Spencer et al. 1997, as
@@ -78,14 +82,23 @@ SPENCER_ID = 3
 MAX_SUBSTEPS = 200_000
 
 
+#: Length of the packed parameters' head (before the three laws).
+_HEAD = 9
+
+
 def pack_spencer_type(tol: float, k0: float, k1: float, x0: float, eta: float, rho: float,
                       sigma: float, n: float, alpha_w: VoltageLaw, c0: VoltageLaw,
-                      c1: VoltageLaw) -> np.ndarray:
-    """Kernel parameters ``[tol, k0, k1, x0, eta, rho, sigma, n, law(alpha_w), law(c0), law(c1)]``.
+                      c1: VoltageLaw, loading_tol: float | None = None) -> np.ndarray:
+    """Kernel parameters ``[tol, k0, k1, x0, eta, rho, sigma, n, loading_tol, law(alpha_w), law(c0),
+    law(c1)]``.
 
     ``alpha_w`` is the force scale of the normalized hysteretic variable [N] (``alpha * z0``).
+    ``tol`` is the sub-step size ``lambda * h`` under the bound that covers both branches;
+    ``loading_tol`` (default ``tol``) the one of a step that stays on the loading branch, which
+    the kernel tries first when ``sigma > 1`` (see :func:`spencer_type_step`).
     """
-    head = np.array([tol, k0, k1, x0, eta, rho, sigma, n], dtype=np.float64)
+    head = np.array([tol, k0, k1, x0, eta, rho, sigma, n, tol if loading_tol is None else loading_tol],
+                    dtype=np.float64)
     return np.ascontiguousarray(np.concatenate((head, alpha_w.to_array(), c0.to_array(),
                                                 c1.to_array())))
 
@@ -246,7 +259,7 @@ class Spencer(SpencerTypeModel):
 
 @numba.njit(cache=True)
 def _laws(params, u):
-    off = 8
+    off = _HEAD
     a = law_value(params, off, u)
     off += law_length(params, off)
     d0 = law_value(params, off, u)
@@ -257,11 +270,12 @@ def _laws(params, u):
 
 @numba.njit(cache=True, inline="always")
 def _rates(y, w, x, xd, a, d0, d1, k0, rho, sigma, n):
+    """``(ydot, wdot, r)``: the rates and the element's relative velocity ``r = xd - ydot``."""
     ydot = (a * w + d0 * xd + k0 * (x - y)) / (d0 + d1)
     r = xd - ydot
     s = 1.0 if r * w > 0.0 else -1.0
     wdot = rho * r * (1.0 - (sigma * s + 1.0 - sigma) * _abs_pow(abs(w), n))
-    return ydot, wdot
+    return ydot, wdot, r
 
 
 @numba.njit(cache=True, inline="always")
@@ -341,14 +355,49 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
     ydot0 = (a * w + d0 * xd0 + k0 * (x0 - y)) / (d0 + d1)
     aw = abs(w)
     w_factor = aw ** (n - 1.0) if aw > 1.0 else 1.0  # max(1, |w|)^(n-1) without pow when |w| <= 1
-    lam = (rho * ratio + kratio
-           + rho * n * max(1.0, 2.0 * sigma - 1.0) * w_factor
-           * (max(abs(xd0), abs(xd1), abs(x1 - x0) / dt) + abs(ydot0)))
+    speed = max(abs(xd0), abs(xd1), abs(x1 - x0) / dt) + abs(ydot0)
+    unloading_factor = max(1.0, 2.0 * sigma - 1.0)
+    lam = rho * ratio + kratio + rho * n * unloading_factor * w_factor * speed
     if not (lam * dt / tol <= MAX_SUBSTEPS):  # also NaN: the tolerance cannot be met
         for i in range(state.shape[0]):
             state[i] = math.nan
         return math.nan
     n_sub = max(1, int(math.ceil(lam * dt / tol)))
+    done = False
+    if unloading_factor > 1.0:
+        # sigma > 1: the bound above covers the unloading branch, stiffer by 2 sigma - 1 but
+        # travelled only briefly after each reversal. A step that stays on the loading branch
+        # takes the loading rate at the loading tolerance; one that meets unloading (r w < 0 at
+        # any RK4 node) is redone from its start with the bound above.
+        lam_loading = rho * ratio + kratio + rho * n * w_factor * speed
+        n_loading = max(1, int(math.ceil(lam_loading * dt / params[8])))
+        if n_loading < n_sub:
+            y1, w1, done = _integrate(params, memo, use_memo, same_field, field_settled, n_loading, True,
+                                      y, w, x0, x1, xd0, xd1, dt, v, du, eta, k0, rho, sigma, n,
+                                      a, d0, d1, a_1, d0_1, d1_1)
+    if not done:
+        y1, w1, _ = _integrate(params, memo, use_memo, same_field, field_settled, n_sub, False,
+                               y, w, x0, x1, xd0, xd1, dt, v, du, eta, k0, rho, sigma, n,
+                               a, d0, d1, a_1, d0_1, d1_1)
+    state[0] = y1
+    state[1] = w1
+    state[2] = u1
+    # the laws at the end node are those at u1, so _force's evaluation is saved
+    ydot1 = (a_1 * w1 + d0_1 * xd1 + k0 * (x1 - y1)) / (d0_1 + d1_1)
+    if use_memo:  # the dashpots' series ratio and c0 at the end field, for the tangent
+        memo[_TANGENT_SLOT] = d1_1 / (d0_1 + d1_1)
+        memo[_TANGENT_SLOT + 1] = d0_1
+    return d1_1 * ydot1 + params[2] * (x1 - params[3])
+
+
+@numba.njit(cache=True, inline="always")
+def _integrate(params, memo, use_memo, same_field, field_settled, n_sub, loading_only,
+               y, w, x0, x1, xd0, xd1, dt, v, du, eta, k0, rho, sigma, n,
+               a, d0, d1, a_1, d0_1, d1_1):
+    """RK4 in ``n_sub`` sub-steps along the step's Hermite path; returns ``(y, w, completed)``.
+
+    With ``loading_only`` it stops (``completed`` False) at the first node where ``r w < 0``,
+    the unloading branch its sub-step count was not chosen for."""
     nodes_fit = use_memo and 10 + 6 * n_sub <= _TANGENT_SLOT
     nodes_valid = same_field and nodes_fit and memo[3] == n_sub
     if use_memo:
@@ -383,24 +432,26 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
                 ab, db0, db1 = a_1, d0_1, d1_1
             else:
                 ab, db0, db1 = _memo_laws(params, memo, 13 + 6 * k, v + du * decay, nodes_valid, nodes_fit)
-        ky1, kw1 = _rates(y, w, xa, va, aa, da0, da1, k0, rho, sigma, n)
-        ky2, kw2 = _rates(y + 0.5 * h * ky1, w + 0.5 * h * kw1, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
-        ky3, kw3 = _rates(y + 0.5 * h * ky2, w + 0.5 * h * kw2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
-        ky4, kw4 = _rates(y + h * ky3, w + h * kw3, xb, vb, ab, db0, db1, k0, rho, sigma, n)
+        ky1, kw1, r1 = _rates(y, w, xa, va, aa, da0, da1, k0, rho, sigma, n)
+        y2 = y + 0.5 * h * ky1
+        w2 = w + 0.5 * h * kw1
+        ky2, kw2, r2 = _rates(y2, w2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
+        y3 = y + 0.5 * h * ky2
+        w3 = w + 0.5 * h * kw2
+        ky3, kw3, r3 = _rates(y3, w3, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
+        y4 = y + h * ky3
+        w4 = w + h * kw3
+        ky4, kw4, r4 = _rates(y4, w4, xb, vb, ab, db0, db1, k0, rho, sigma, n)
+        if loading_only and (r1 * w < 0.0 or r2 * w2 < 0.0 or r3 * w3 < 0.0 or r4 * w4 < 0.0):
+            if use_memo:
+                memo[3] = -1.0  # the nodes past this sub-step were not stored
+            return y, w, False
         y += h * (ky1 + 2.0 * ky2 + 2.0 * ky3 + ky4) / 6.0
         w += h * (kw1 + 2.0 * kw2 + 2.0 * kw3 + kw4) / 6.0
         xa = xb
         va = vb
         aa, da0, da1 = ab, db0, db1
-    state[0] = y
-    state[1] = w
-    state[2] = u1
-    # the laws at the end node are those at u1, so _force's evaluation is saved
-    ydot1 = (aa * w + da0 * xd1 + k0 * (x1 - y)) / (da0 + da1)
-    if use_memo:  # the dashpots' series ratio and c0 at the end field, for the tangent
-        memo[_TANGENT_SLOT] = da1 / (da0 + da1)
-        memo[_TANGENT_SLOT + 1] = da0
-    return da1 * ydot1 + params[2] * (x1 - params[3])
+    return y, w, True
 
 
 @numba.njit(cache=True)
