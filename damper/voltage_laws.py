@@ -60,6 +60,7 @@ __all__ = [
     "Saturating",
     "as_law",
     "law_value",
+    "law_values",
     "law_length",
     "check_law",
     "ParameterLike",
@@ -274,8 +275,8 @@ class Tabulated(VoltageLaw):
         return pchip_slopes(vg, vals)
 
     def _evaluate(self, v):
-        arr = self.to_array()
-        return np.array([law_value(arr, 0, float(vi)) for vi in v])
+        # one compiled loop: check_law samples 1001 voltages each time a model is built
+        return law_values(self.to_array(), 0, np.ascontiguousarray(v, dtype=np.float64))
 
     def _payload(self):
         return [float(len(self.voltages)), *self.voltages, *self.values, *self.slopes]
@@ -428,3 +429,12 @@ def law_value(params, offset, v):
             x = x ** e
         return params[p] + params[p + 1] * math.tanh(x)
     return math.nan
+
+
+@numba.njit(cache=True)
+def law_values(params, offset, v):
+    """:func:`law_value` at each voltage of the array ``v`` [V]."""
+    out = np.empty(v.size)
+    for i in range(v.size):
+        out[i] = law_value(params, offset, v[i])
+    return out
