@@ -16,6 +16,8 @@ $(VENV)/.installed: pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
+	@echo "compiling the numba kernels once (sbib warm-up, about 2 minutes; later runs load them from the cache)"
+	$(SBIB) warm-up
 	touch $@
 
 run: setup
