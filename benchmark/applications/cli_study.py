@@ -32,7 +32,8 @@ def _run(args: argparse.Namespace) -> int:
     for name, step in summary["steps"].items():
         where = step.get("output", "") if isinstance(step, dict) else ""
         took = step.get("elapsed_s") if isinstance(step, dict) else None
-        print(f"  {name:<15} {'' if took is None else f'{took:7.1f} s'}  {where}")
+        beside = f"  (beside the {step['beside']})" if isinstance(step, dict) and step.get("beside") else ""
+        print(f"  {name:<15} {'' if took is None else f'{took:7.1f} s'}  {where}{beside}")
     print(f"summary: {args.out}/summary.json")
     print(f"report:  {summary['report']}  (open it in a browser; works offline)")
     return 0

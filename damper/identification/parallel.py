@@ -23,7 +23,7 @@ from typing import Any, Callable, Iterable, Sequence
 
 from benchmark.foundation.errors import InputError
 
-__all__ = ["worker_count", "make_executor", "run_tasks", "single_threaded_blas"]
+__all__ = ["worker_count", "make_executor", "make_side_executor", "run_tasks", "single_threaded_blas"]
 
 _SETTERS = ("scipy_openblas_set_num_threads64_", "scipy_openblas_set_num_threads",
             "openblas_set_num_threads64_", "openblas_set_num_threads")
@@ -88,6 +88,15 @@ def make_executor(jobs: int | None) -> Executor | None:
         return None
     ctx = multiprocessing.get_context("spawn" if os.name == "nt" else "fork")
     return ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_init_worker)
+
+
+def make_side_executor() -> Executor | None:
+    """One extra worker process for a single-core job that runs beside a pool of
+    :func:`make_executor`, or ``None`` on a one-core machine (run it inline afterwards)."""
+    if worker_count(None) == 1:
+        return None
+    ctx = multiprocessing.get_context("spawn" if os.name == "nt" else "fork")
+    return ProcessPoolExecutor(max_workers=1, mp_context=ctx, initializer=_init_worker)
 
 
 def run_tasks(fn: Callable, tasks: Sequence[tuple], executor: Executor | None = None,
