@@ -49,7 +49,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import control as ct
 import numpy as np
 import scipy.linalg
 
@@ -218,6 +217,8 @@ def lqr_design(A, B, Cz, Dz, Wz, Wf) -> dict:
     Q = 0.5 * (Q + Q.T)
     R = 0.5 * (R + R.T)
     try:
+        import control as ct  # here, not at import: it loads matplotlib and scipy.signal (~120 MB)
+
         K, P, poles = ct.lqr(A, B, Q, R, N)
     except Exception as exc:  # python-control raises several types for a failed ARE
         raise NumericalError(f"LQR design failed: {exc}",
@@ -245,6 +246,8 @@ def kalman_design(Ad, Ed, Cs, W, V) -> dict:
     Qd_sym = Ed @ W @ Ed.T
     Qd_sym = 0.5 * (Qd_sym + Qd_sym.T)
     try:
+        import control as ct
+
         L, P, poles = ct.dlqe(Ad, np.eye(Ad.shape[0]), Cs, Qd_sym, 0.5 * (V + V.T))
     except Exception as exc:
         raise NumericalError(f"Kalman filter design failed: {exc}",
