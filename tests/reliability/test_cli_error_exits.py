@@ -65,6 +65,8 @@ def _argv(template: list[str], files: dict[str, Path]) -> list[str]:
 
 # (argv with @name for a file of the fixture, text the message must contain)
 CASES = {
+    # --- sbib warm-up (no options: an unknown one is refused before anything is compiled)
+    "warm-up: unknown option": (["warm-up", "--jobs", "2"], "--jobs"),
     # --- sbib records
     "records show: unknown name": (["records", "show", "nosuch"], "nosuch"),
     "records show: empty file": (["records", "show", "@empty.txt"], "empty.txt"),
