@@ -217,10 +217,8 @@ def lqr_design(A, B, Cz, Dz, Wz, Wf) -> dict:
     Q = 0.5 * (Q + Q.T)
     R = 0.5 * (R + R.T)
     try:
-        import control as ct  # here, not at import: it loads matplotlib and scipy.signal (~120 MB)
-
-        K, P, poles = ct.lqr(A, B, Q, R, N)
-    except Exception as exc:  # python-control raises several types for a failed ARE
+        K, P, poles = _lqr(A, B, Q, R, N)
+    except Exception as exc:  # scipy raises several types for a failed ARE
         raise NumericalError(f"LQR design failed: {exc}",
                              hint="check that the weights are positive and the model stabilisable") from None
     K, P = np.asarray(K), np.asarray(P)
@@ -246,9 +244,7 @@ def kalman_design(Ad, Ed, Cs, W, V) -> dict:
     Qd_sym = Ed @ W @ Ed.T
     Qd_sym = 0.5 * (Qd_sym + Qd_sym.T)
     try:
-        import control as ct
-
-        L, P, poles = ct.dlqe(Ad, np.eye(Ad.shape[0]), Cs, Qd_sym, 0.5 * (V + V.T))
+        L, P, poles = _dlqe(Ad, np.eye(Ad.shape[0]), Cs, Qd_sym, 0.5 * (V + V.T))
     except Exception as exc:
         raise NumericalError(f"Kalman filter design failed: {exc}",
                              hint="check the sensor set (observability) and noise intensities") from None
@@ -310,3 +306,47 @@ def estimator_fit(true: np.ndarray, estimate: np.ndarray) -> np.ndarray:
     err = np.linalg.norm(true - estimate, axis=0)
     spread = np.linalg.norm(true - true.mean(axis=0), axis=0)
     return 100.0 * (1.0 - err / np.where(spread > 0, spread, np.inf))
+
+
+# python-control's lqr and dlqe (0.10, scipy back end, no slycot), operation for operation, so the
+# gains are bit-identical to those python-control computes (tests/controllers/test_lqg_design.py
+# checks it), without importing python-control in every process that designs an LQG:
+# python-control loads matplotlib.pyplot and scipy.signal at import (~60-120 MB per process).
+
+def _symmetric_or_raise(M: np.ndarray, name: str) -> None:
+    if not ((M - M.T) < np.finfo(M.dtype).eps).all():  # python-control's _is_symmetric
+        raise ValueError(f"{name} must be a symmetric matrix")
+
+
+def _lqr(A, B, Q, R, N):
+    """``control.lqr(A, B, Q, R, N)``: ``(K, X, closed-loop poles)`` of the continuous LQR with
+    cross weight ``N`` (``care`` with ``S = N``, ``E = I``, scipy's generalized ARE solver)."""
+    A = np.array(A, ndmin=2, dtype=float)
+    B = np.array(B, ndmin=2, dtype=float)
+    Q = np.array(Q, ndmin=2, dtype=float)
+    R = np.array(R, ndmin=2, dtype=float)
+    S = np.array(N, ndmin=2, dtype=float)
+    _symmetric_or_raise(Q, "Q")
+    _symmetric_or_raise(R, "R")
+    E = np.eye(A.shape[0])
+    X = scipy.linalg.solve_continuous_are(A, B, Q, R, s=S, e=E)
+    K = np.linalg.solve(R, B.T @ X @ E + S.T)
+    poles, _ = scipy.linalg.eig(A - B @ K, E)
+    return K, X, poles
+
+
+def _dlqe(A, G, C, QN, RN):
+    """``control.dlqe(A, G, C, QN, RN)``: ``(L, P, estimator poles)`` of the stationary discrete
+    Kalman predictor (``dare`` of the dual problem, scipy's discrete ARE solver)."""
+    A = np.array(A, ndmin=2, dtype=float)
+    G = np.array(G, ndmin=2, dtype=float)
+    C = np.array(C, ndmin=2, dtype=float)
+    QN = np.array(QN, ndmin=2, dtype=float)
+    RN = np.array(RN, ndmin=2, dtype=float)
+    Ad, Bd, Qd, Rd = (np.array(M, ndmin=2) for M in (A.T, C.T, G @ QN @ G.T, RN))
+    _symmetric_or_raise(Qd, "QN")
+    _symmetric_or_raise(Rd, "RN")
+    X = scipy.linalg.solve_discrete_are(Ad, Bd, Qd, Rd, e=None, s=None)
+    LT = scipy.linalg.solve(Bd.T @ X @ Bd + Rd, Bd.T @ X @ Ad)
+    poles = scipy.linalg.eigvals(Ad - Bd @ LT)
+    return LT.T, X, poles

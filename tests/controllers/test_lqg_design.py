@@ -120,3 +120,46 @@ def test_reduced_design_estimator_tracks_projected_states(plant):
     base_disp_true = x[:, 0]
     base_disp_est = states[:-1] @ red.plant.C[4]
     assert estimator_fit(base_disp_true[500:, None], base_disp_est[500:, None])[0] > 90.0
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_riccati_designs_are_python_controls_bit_for_bit(seed):
+    """controllers.lqg solves the two AREs with scipy operation for operation as python-control
+    0.10 does (without importing it in every worker: it loads matplotlib); python-control is the oracle."""
+    ct = pytest.importorskip("control")
+    from controllers.lqg import _dlqe, _lqr
+    rng = np.random.default_rng(seed)
+    n, m, p = 18, 2, 6
+    A = rng.normal(size=(n, n)) - 3 * np.eye(n)
+    B = rng.normal(size=(n, m))
+    Q = rng.normal(size=(n, n))
+    Q = Q @ Q.T
+    R = np.diag([2.0, 3.0])
+    N = 0.01 * rng.normal(size=(n, m))
+    for ours, theirs in zip(_lqr(A, B, Q, R, N), ct.lqr(A, B, Q, R, N)):
+        np.testing.assert_array_equal(np.sort_complex(np.ravel(ours)) if np.iscomplexobj(ours) else ours,
+                                      np.sort_complex(np.ravel(theirs)) if np.iscomplexobj(theirs) else theirs)
+    Ad = np.eye(n) + 0.01 * A
+    C = rng.normal(size=(p, n))
+    W = 0.1 * np.eye(n)
+    V = 0.01 * np.eye(p)
+    for ours, theirs in zip(_dlqe(Ad, np.eye(n), C, W, V), ct.dlqe(Ad, np.eye(n), C, W, V)):
+        np.testing.assert_array_equal(ours, theirs)
+
+
+def test_the_building_design_imports_no_plotting_library():
+    """A process that designs the clipped-optimal LQG (every suite worker) need not load
+    matplotlib or python-control (~60-120 MB of resident memory each)."""
+    import subprocess
+    import sys
+    code = ("import sys\n"
+            "from benchmark.simulator.building import Building\n"
+            "from benchmark.simulator.control import control_context\n"
+            "from controllers.registry import get_controller\n"
+            "c = get_controller('clipped-optimal')\n"
+            "c.build(control_context(Building.default(), 0.005))\n"
+            "assert c.design is not None\n"
+            "print(sorted(m for m in ('matplotlib', 'control') if m in sys.modules))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.strip().splitlines()[-1] == "[]"
