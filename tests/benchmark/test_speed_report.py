@@ -108,3 +108,19 @@ def test_second_process_does_not_recompile():
         counts.append(json.loads(line.split(" ", 1)[1]))
     assert counts[1]["compilations"] == 0, counts[1]["compiled"]
     assert counts[1]["cache_loads"] > 0
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="VmHWM is Linux's")
+def test_a_script_reports_its_own_peak_memory_not_its_launchers():
+    """ru_maxrss survives exec: a bench script launched by a large process would report the
+    launcher's peak. The bench reads VmHWM instead."""
+    ballast = np.ones(450 * 2**20 // 8)  # 450 MB resident in this (launching) process
+    code = ("import resource\n"
+            "from benchmark.applications.speed import own_peak_rss_kb\n"
+            "print(own_peak_rss_kb() / 1024, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    own, inherited = (float(v) for v in out.stdout.split())
+    assert ballast.sum() > 0
+    assert own < 400.0  # the script's own imports, well below the launcher's 450 MB
+    assert own <= inherited
