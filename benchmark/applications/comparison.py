@@ -157,10 +157,12 @@ class ComparisonResult:
                         g.create_dataset(k, data=v, compression="gzip")
         return path
 
-    def plot(self, directory: str | os.PathLike) -> list[Path]:
-        """Draw the figures into ``directory`` (PNG) and return their paths."""
+    def plot(self, directory: str | os.PathLike, part: tuple[int, int] = (0, 1)) -> list[Path]:
+        """Draw the figures into ``directory`` (PNG) and return their paths.
 
-        return comparison_plots.plot_all(self, Path(directory))
+        ``part = (i, n)``: only the i-th of n shares (:func:`comparison_plots.plot_all`)."""
+
+        return comparison_plots.plot_all(self, Path(directory), part)
 
 
 def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: str,

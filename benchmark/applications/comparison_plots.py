@@ -156,12 +156,17 @@ def plot_histories(result: Any, record: str, orientation: str, path: Path) -> Pa
     return _save(fig, path)
 
 
-def plot_all(result: Any, directory: Path) -> list[Path]:
-    """All figures of the comparison into ``directory`` (created)."""
+def plot_all(result: Any, directory: Path, part: tuple[int, int] = (0, 1)) -> list[Path]:
+    """All figures of the comparison into ``directory`` (created).
+
+    ``part = (i, n)`` draws only the i-th of n interleaved shares of the figures (the summaries
+    belong to share 0), so that n processes can draw them side by side."""
+    i, n = part
     directory.mkdir(parents=True, exist_ok=True)
     paths = [plot_J_by_record(result, directory / "J_by_record.png"),
-             plot_J_summary(result, directory / "J_summary.png")]
-    for record, orientation in result.cases:
-        paths.append(plot_histories(result, record, orientation,
-                                    directory / f"histories_{record}_{orientation}.png"))
+             plot_J_summary(result, directory / "J_summary.png")] if i == 0 else []
+    for k, (record, orientation) in enumerate(result.cases):
+        if k % n == (n - 1 - i):  # share 0, which has the summaries, takes the smaller share
+            paths.append(plot_histories(result, record, orientation,
+                                        directory / f"histories_{record}_{orientation}.png"))
     return paths
