@@ -357,7 +357,8 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
     w_factor = aw ** (n - 1.0) if aw > 1.0 else 1.0  # max(1, |w|)^(n-1) without pow when |w| <= 1
     speed = max(abs(xd0), abs(xd1), abs(x1 - x0) / dt) + abs(ydot0)
     unloading_factor = max(1.0, 2.0 * sigma - 1.0)
-    lam = rho * ratio + kratio + rho * n * unloading_factor * w_factor * speed
+    lam_field = rho * ratio + kratio  # the dashpots' part of the rate bound, either branch
+    lam = lam_field + rho * n * unloading_factor * w_factor * speed
     if not (lam * dt / tol <= MAX_SUBSTEPS):  # also NaN: the tolerance cannot be met
         for i in range(state.shape[0]):
             state[i] = math.nan
@@ -369,16 +370,14 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
         # travelled only briefly after each reversal. A step that stays on the loading branch
         # takes the loading rate at the loading tolerance; one that meets unloading (r w < 0 at
         # any RK4 node) is redone from its start with the bound above.
-        lam_loading = rho * ratio + kratio + rho * n * w_factor * speed
+        lam_loading = lam_field + rho * n * w_factor * speed
         n_loading = max(1, int(math.ceil(lam_loading * dt / params[8])))
         if n_loading < n_sub:
             y1, w1, done = _integrate(params, memo, use_memo, same_field, field_settled, n_loading, True,
-                                      y, w, x0, x1, xd0, xd1, dt, v, du, eta, k0, rho, sigma, n,
-                                      a, d0, d1, a_1, d0_1, d1_1)
+                                      y, w, x0, x1, xd0, xd1, dt, v, du, a, d0, d1, a_1, d0_1, d1_1)
     if not done:
         y1, w1, _ = _integrate(params, memo, use_memo, same_field, field_settled, n_sub, False,
-                               y, w, x0, x1, xd0, xd1, dt, v, du, eta, k0, rho, sigma, n,
-                               a, d0, d1, a_1, d0_1, d1_1)
+                               y, w, x0, x1, xd0, xd1, dt, v, du, a, d0, d1, a_1, d0_1, d1_1)
     state[0] = y1
     state[1] = w1
     state[2] = u1
@@ -392,12 +391,17 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
 
 @numba.njit(cache=True, inline="always")
 def _integrate(params, memo, use_memo, same_field, field_settled, n_sub, loading_only,
-               y, w, x0, x1, xd0, xd1, dt, v, du, eta, k0, rho, sigma, n,
-               a, d0, d1, a_1, d0_1, d1_1):
+               y, w, x0, x1, xd0, xd1, dt, v, du, a, d0, d1, a_1, d0_1, d1_1):
     """RK4 in ``n_sub`` sub-steps along the step's Hermite path; returns ``(y, w, completed)``.
 
-    With ``loading_only`` it stops (``completed`` False) at the first node where ``r w < 0``,
-    the unloading branch its sub-step count was not chosen for."""
+    ``a, d0, d1`` and ``a_1, d0_1, d1_1`` are the laws at the step's start and end field. With
+    ``loading_only`` it stops (``completed`` False) at the first node where ``r w < 0``, the
+    unloading branch its sub-step count was not chosen for."""
+    k0 = params[1]
+    eta = params[4]
+    rho = params[5]
+    sigma = params[6]
+    n = params[7]
     nodes_fit = use_memo and 10 + 6 * n_sub <= _TANGENT_SLOT
     nodes_valid = same_field and nodes_fit and memo[3] == n_sub
     if use_memo:

@@ -84,19 +84,18 @@ def worker_count(jobs: int | None, n_tasks: int | None = None) -> int:
 def make_executor(jobs: int | None) -> Executor | None:
     """A process pool of :func:`worker_count` workers, or ``None`` when that is 1 (run inline)."""
     n = worker_count(jobs)
-    if n == 1:
-        return None
-    ctx = multiprocessing.get_context("spawn" if os.name == "nt" else "fork")
-    return ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_init_worker)
+    return None if n == 1 else _pool(n)
 
 
 def make_side_executor() -> Executor | None:
     """One extra worker process for a single-core job that runs beside a pool of
     :func:`make_executor`, or ``None`` on a one-core machine (run it inline afterwards)."""
-    if worker_count(None) == 1:
-        return None
+    return None if worker_count(None) == 1 else _pool(1)
+
+
+def _pool(n: int) -> Executor:
     ctx = multiprocessing.get_context("spawn" if os.name == "nt" else "fork")
-    return ProcessPoolExecutor(max_workers=1, mp_context=ctx, initializer=_init_worker)
+    return ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_init_worker)
 
 
 def run_tasks(fn: Callable, tasks: Sequence[tuple], executor: Executor | None = None,
