@@ -8,7 +8,12 @@ export SBIB_SHARED      ?= $(abspath ../shared)
 export SBIB_RECORDS_DIR ?= $(SBIB_SHARED)/records/raw/FDZ
 OUT ?= results
 
-.PHONY: setup run test test-all bench clean
+# numba compiles for the host CPU; the golden tests are run a second time with numba compiled for the
+# generic x86-64 target (its own cache folder), so that a CPU other than the developer's cannot break
+# `make test` (issue #22). NUMBA_CPU_NAME is numba's documented switch for the compilation target.
+GENERIC_CACHE := $(abspath .numba-generic)
+
+.PHONY: setup run test test-generic test-all bench clean
 
 setup: $(VENV)/.installed
 
@@ -27,6 +32,10 @@ test: setup
 	$(VENV)/bin/lint-imports
 	$(VENV)/bin/mypy
 	$(PY) -m pytest -q
+	$(MAKE) --no-print-directory test-generic
+
+test-generic: setup
+	NUMBA_CPU_NAME=generic NUMBA_CACHE_DIR=$(GENERIC_CACHE) $(PY) -m pytest -q -p no:cacheprovider tests/golden
 
 test-all: setup
 	$(PY) -m pytest -q -m ''
@@ -35,5 +44,5 @@ bench: setup
 	$(SBIB) bench --out $(OUT)/bench
 
 clean:
-	rm -rf $(VENV) $(OUT) .pytest_cache
+	rm -rf $(VENV) $(OUT) .pytest_cache $(GENERIC_CACHE)
 	find . -name __pycache__ -type d -prune -exec rm -rf {} +
