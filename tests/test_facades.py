@@ -1,0 +1,46 @@
+"""The package façades (issue #23): every exported name resolves, lazily, to the object it names."""
+
+from __future__ import annotations
+
+import importlib
+import subprocess
+import sys
+
+import pytest
+
+FACADES = ["benchmark", "controllers"]
+
+
+@pytest.mark.parametrize("package", FACADES)
+def test_every_export_resolves_to_its_module_attribute(package):
+    pkg = importlib.import_module(package)
+    for name, module in pkg.EXPORTS.items():
+        assert getattr(pkg, name) is getattr(importlib.import_module(module), name), f"{package}.{name}"
+        assert name in dir(pkg)
+
+
+@pytest.mark.parametrize("package", FACADES)
+def test_an_unknown_name_is_an_attribute_error(package):
+    pkg = importlib.import_module(package)
+    with pytest.raises(AttributeError, match="no_such_name"):
+        pkg.no_such_name  # noqa: B018
+
+
+def test_importing_the_facades_loads_neither_the_simulator_nor_python_control():
+    code = ("import sys, benchmark, controllers, records\n"
+            "bad = sorted(m for m in sys.modules if m.startswith(('benchmark.simulator', 'benchmark.applications',"
+            " 'control.', 'controllers.')) or m == 'control')\n"
+            "print(bad); raise SystemExit(1 if bad else 0)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_readme_quick_start_runs_through_the_facade(records_dir):
+    import benchmark as sb
+
+    record = sb.load_benchmark_record("kobe", "FN-x")
+    building = sb.Building.default(isolation="linear", devices=None)
+    result = sb.simulate(building, record)
+    assert isinstance(result.peaks, sb.Peaks)
+    J = sb.evaluate(result, result)
+    assert J["J3"] == pytest.approx(1.0)
