@@ -67,6 +67,7 @@ from typing import ClassVar
 
 import numba
 import numpy as np
+from scipy.special import hyp2f1
 
 from damper.base import DamperModel, KERNEL_BOUC_WEN
 from benchmark.foundation.errors import InputError, ParameterError
@@ -78,6 +79,8 @@ __all__ = [
     "StandardBoucWen",
     "limit_cycle_peak",
     "limit_cycle_psi",
+    "g_integral",
+    "h_integral",
     "bouc_wen_step",
     "bouc_wen_force",
     "NORMALIZED_BOUC_WEN_ID",
@@ -373,38 +376,109 @@ class StandardBoucWen:
 
 # ------------------------------------------------------------------- limit cycle (DOMAIN §4)
 
+def g_integral(w: np.ndarray | float, n: float) -> np.ndarray:
+    """:math:`G_n(w) = \\int_0^w d\\mu/(1 - \\mu^n)` for :math:`0 \\le w < 1`.
+
+    Closed form :math:`w\\,{}_2F_1(1, 1/n; 1 + 1/n; w^n)` (term-wise integration of the
+    geometric series). On the loading branch of the normalized Bouc-Wen model,
+    :math:`G_n(\\bar w(x)) = \\rho (x - x^*)` for :math:`x \\ge x^*`.
+
+    Parameters
+    ----------
+    w : float or ndarray
+        Normalized hysteretic variable(s), :math:`0 \\le |w| < 1`.
+    n : float
+        Bouc-Wen exponent (:math:`n \\ge 1`).
+
+    Returns
+    -------
+    ndarray
+        :math:`G_n(w)`, odd in ``w``.
+    """
+    w = np.asarray(w, dtype=float)
+    return w * hyp2f1(1.0, 1.0 / n, 1.0 + 1.0 / n, np.abs(w) ** n)
+
+
+def h_integral(w: np.ndarray | float, sigma: float, n: float) -> np.ndarray:
+    """:math:`H_{\\sigma,n}(w) = \\int_0^w d\\mu / (1 + (2\\sigma - 1)\\mu^n)` for :math:`w \\ge 0`.
+
+    On the loading branch for :math:`x < x^*` (where :math:`\\bar w < 0`),
+    :math:`H_{\\sigma,n}(-\\bar w(x)) = \\rho (x^* - x)`.
+
+    Parameters
+    ----------
+    w : float or ndarray
+        Normalized hysteretic variable(s), :math:`w \\ge 0`.
+    sigma, n : float
+        Bouc-Wen shape parameters (:math:`\\sigma \\ge 1/2`, :math:`n \\ge 1`).
+
+    Returns
+    -------
+    ndarray
+        :math:`H_{\\sigma,n}(w)`.
+    """
+    w = np.asarray(w, dtype=float)
+    return w * hyp2f1(1.0, 1.0 / n, 1.0 + 1.0 / n, -(2.0 * sigma - 1.0) * np.abs(w) ** n)
+
+
 def limit_cycle_psi(w0: float, sigma: float, n: float) -> float:
-    """:math:`\\psi(w_0) - \\psi(-w_0) = \\int_0^{w_0} \\frac{d\\mu}{1-\\mu^n}
-    + \\int_0^{w_0} \\frac{d\\mu}{1+(2\\sigma-1)\\mu^n}` for :math:`0 \\le w_0 < 1`."""
-    from scipy.integrate import quad
+    """:math:`\\psi(w_0) - \\psi(-w_0) = G_n(w_0) + H_{\\sigma,n}(w_0)` for :math:`0 \\le w_0 < 1`.
+
+    The stroke :math:`\\rho (X_{max} - X_{min})` that a limit cycle with peak :math:`w_0` needs:
+    the loading branch climbs from :math:`-w_0` to 0 (:math:`H`) and from 0 to :math:`w_0` (:math:`G`).
+
+    Parameters
+    ----------
+    w0 : float
+        Peak of the limit cycle, :math:`0 \\le w_0 < 1`.
+    sigma, n : float
+        Bouc-Wen shape parameters.
+
+    Returns
+    -------
+    float
+        :math:`\\rho (X_{max} - X_{min})` [-].
+
+    Raises
+    ------
+    InputError
+        If ``w0`` is outside [0, 1).
+    """
     if not 0.0 <= w0 < 1.0:
         raise InputError(f"w0: expected 0 <= w0 < 1, got {w0}")
-    # 1/(1 - m^n) = [1/(1 - m^n) - 1/(n (1 - m))] + 1/(n (1 - m)): the bracket is bounded
-    # on [0, 1) (-> (n - 1)/(2n)), the log singularity is integrated exactly.
-    def regular(m):
-        if 1.0 - m < 1e-6:
-            return (n - 1.0) / (2.0 * n)
-        return 1.0 / (1.0 - m ** n) - 1.0 / (n * (1.0 - m))
-    first = quad(regular, 0.0, w0, limit=200)[0] - math.log1p(-w0) / n
-    second = quad(lambda m: 1.0 / (1.0 + (2.0 * sigma - 1.0) * m ** n), 0.0, w0, limit=200)[0]
-    return first + second
+    return float(g_integral(w0, n) + h_integral(w0, sigma, n))
 
 
-def limit_cycle_peak(rho: float, sigma: float, n: float, x_min: float, x_max: float) -> float:
+def limit_cycle_peak(rho_stroke: float, sigma: float, n: float) -> float:
     """Peak :math:`w_0` of the normalized Bouc-Wen limit cycle under a wave input.
 
-    Solves :math:`\\psi(w_0) - \\psi(-w_0) = \\rho (X_{max} - X_{min})` (Ikhouane & Rodellar 2007). The loading branch runs from :math:`-w_0` at :math:`X_{min}` to
+    Solves :math:`\\psi(w_0) - \\psi(-w_0) = \\rho (X_{max} - X_{min})` (Ikhouane & Rodellar 2007,
+    :func:`limit_cycle_psi`). The loading branch runs from :math:`-w_0` at :math:`X_{min}` to
     :math:`w_0` at :math:`X_{max}`; the "plastic" assumption :math:`\\bar w \\approx 1` needs
-    :math:`\\rho(X_{max}-X_{min}) \\gtrsim 6`.
+    :math:`\\rho(X_{max}-X_{min}) \\gtrsim 6` (0.72 at 2, 0.95 at 4, 0.993 at 6 for n = 1,
+    :math:`\\sigma = 1/2`).
+
+    Parameters
+    ----------
+    rho_stroke : float
+        :math:`\\rho (X_{max} - X_{min})` [-]: ``rho`` [1/m] times the stroke [m].
+    sigma, n : float
+        Bouc-Wen shape parameters.
+
+    Returns
+    -------
+    float
+        :math:`w_0` in [0, 1): 0 for no stroke, the largest double below 1 where the cycle
+        saturates beyond double precision.
     """
     from scipy.optimize import brentq
-    target = float(rho) * (float(x_max) - float(x_min))
-    if not target > 0:
-        raise InputError(f"limit_cycle_peak: expected rho*(x_max - x_min) > 0, got {target}")
+    rho_stroke = float(rho_stroke)
+    if not rho_stroke > 0.0:
+        return 0.0
     hi = 1.0 - 1e-15
-    if limit_cycle_psi(hi, sigma, n) < target:  # beyond double precision: w0 = 1
-        return 1.0
-    return float(brentq(lambda w: limit_cycle_psi(w, sigma, n) - target, 0.0, hi, xtol=1e-14))
+    if limit_cycle_psi(hi, sigma, n) <= rho_stroke:
+        return hi
+    return float(brentq(lambda w: limit_cycle_psi(w, sigma, n) - rho_stroke, 0.0, hi, xtol=1e-14))
 
 
 # ------------------------------------------------------------------------ numba kernels

@@ -51,8 +51,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from benchmark.foundation.errors import InputError
-from damper.identification.cycles import (Branches, ExcitationWarning, check_excitation, g_integral, h_integral,
-                                          limit_cycle_peak, plastic_distance)
+from damper.bouc_wen import g_integral, h_integral, limit_cycle_peak
+from damper.identification.cycles import Branches, ExcitationWarning, check_excitation, plastic_distance
 
 __all__ = ["DesignPoints", "ClosedFormResult", "closed_form", "MODELS", "PARAMETER_NAMES"]
 

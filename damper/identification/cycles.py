@@ -27,10 +27,9 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.special import hyp2f1
 
 from benchmark.foundation.errors import InputError
+from damper.bouc_wen import g_integral, h_integral, limit_cycle_peak
 
 __all__ = [
     "Cycle",
@@ -39,9 +38,6 @@ __all__ = [
     "detect_cycles",
     "steady_cycles",
     "average_branches",
-    "g_integral",
-    "h_integral",
-    "limit_cycle_peak",
     "plastic_distance",
     "check_excitation",
     "MIN_RHO_STROKE",
@@ -339,45 +335,6 @@ def average_branches(displacement: np.ndarray, velocity: np.ndarray, force: np.n
     fl, vl, cl = binned("loading")
     fu, vu, cu = binned("unloading")
     return Branches(centres, fl, fu, vl, vu, cl, cu, x_min, x_max, len(cycles))
-
-
-def g_integral(w: np.ndarray | float, n: float) -> np.ndarray:
-    """:math:`G_n(w) = \\int_0^w d\\mu/(1 - \\mu^n)` for :math:`0 \\le w < 1`.
-
-    Closed form :math:`w\\,{}_2F_1(1, 1/n; 1 + 1/n; w^n)` (term-wise integration of the
-    geometric series). On the loading branch of the normalized Bouc-Wen model,
-    :math:`G_n(\\bar w(x)) = \\rho (x - x^*)` for :math:`x \\ge x^*`.
-    """
-    w = np.asarray(w, dtype=float)
-    return w * hyp2f1(1.0, 1.0 / n, 1.0 + 1.0 / n, np.abs(w) ** n)
-
-
-def h_integral(w: np.ndarray | float, sigma: float, n: float) -> np.ndarray:
-    """:math:`H_{\\sigma,n}(w) = \\int_0^w d\\mu / (1 + (2\\sigma - 1)\\mu^n)` for :math:`w \\ge 0`.
-
-    On the loading branch for :math:`x < x^*` (where :math:`\\bar w < 0`),
-    :math:`H_{\\sigma,n}(-\\bar w(x)) = \\rho (x^* - x)`.
-    """
-    w = np.asarray(w, dtype=float)
-    return w * hyp2f1(1.0, 1.0 / n, 1.0 + 1.0 / n, -(2.0 * sigma - 1.0) * np.abs(w) ** n)
-
-
-def limit_cycle_peak(rho_stroke: float, sigma: float, n: float) -> float:
-    """Peak :math:`w_0` of the normalized Bouc-Wen limit cycle for a given :math:`\\rho(X_{max}-X_{min})`.
-
-    Solves :math:`H_{\\sigma,n}(w_0) + G_n(w_0) = \\rho (X_{max} - X_{min})` for
-    :math:`w_0 \\in (0, 1)`.
-    """
-    if not rho_stroke > 0.0:
-        return 0.0
-
-    def gap(w0: float) -> float:
-        return float(h_integral(w0, sigma, n) + g_integral(w0, n)) - rho_stroke
-
-    hi = 1.0 - 1e-15
-    if gap(hi) <= 0.0:
-        return hi
-    return brentq(gap, 0.0, hi, xtol=1e-14)
 
 
 def plastic_distance(rho: float, sigma: float, n: float, w0: float, level: float = 0.99) -> float:

@@ -66,7 +66,7 @@ def test_limit_cycle_peak_matches_psi_relation(sigma, n, rho_dx):
     response = simulate(model, t, amplitude * np.sin(2 * np.pi * t))
     last_cycle = t >= 7.0
     w_peak = response.states[last_cycle, 0].max()
-    w0 = limit_cycle_peak(rho, sigma, n, -amplitude, amplitude)
+    w0 = limit_cycle_peak(rho * 2 * amplitude, sigma, n)
     assert w_peak == pytest.approx(w0, abs=2e-4)
     assert limit_cycle_psi(w0, sigma, n) == pytest.approx(rho_dx, rel=1e-8)
 
@@ -74,7 +74,7 @@ def test_limit_cycle_peak_matches_psi_relation(sigma, n, rho_dx):
 def test_limit_cycle_values_from_domain_notes():
     # n = 1, sigma = 1/2: w0 = 0.72 at rho dX = 2, 0.95 at 4, 0.993 at 6 (DOMAIN.md §4)
     for rho_dx, expected in ((2, 0.72), (4, 0.95), (6, 0.993)):
-        assert limit_cycle_peak(1.0, 0.5, 1.0, 0.0, rho_dx) == pytest.approx(expected, abs=3e-3)
+        assert limit_cycle_peak(rho_dx, 0.5, 1.0) == pytest.approx(expected, abs=3e-3)
 
 
 def test_standard_normalized_conversion_keeps_the_loop():

@@ -15,9 +15,9 @@ from scipy.integrate import quad, solve_ivp
 
 from benchmark.foundation.errors import InputError
 from damper.identification.closed_form import closed_form
+from damper.bouc_wen import g_integral, h_integral, limit_cycle_peak, limit_cycle_psi
 from damper.identification.cycles import (ExcitationWarning, average_branches, check_excitation,
-                                          detect_cycles, g_integral, h_integral, limit_cycle_peak,
-                                          steady_cycles)
+                                          detect_cycles, steady_cycles)
 
 TRUE = dict(kappa_x=2.0e5, kappa_xdot=1.0e5, kappa_w=1.0e5, rho=150.0, sigma=0.8, n=1.5)
 
@@ -80,15 +80,22 @@ def test_integrals_match_quadrature():
                 assert h_integral(w, s, n) == pytest.approx(ref, rel=1e-10)
 
 
-def test_limit_cycle_peak_matches_domain_values_and_the_model_module():
+def test_limit_cycle_peak_matches_domain_values_and_quadrature():
     # DOMAIN.md §4, n = 1, sigma = 1/2: w0 = 0.72 at 2, 0.95 at 4, 0.993 at 6.
     assert limit_cycle_peak(2.0, 0.5, 1.0) == pytest.approx(0.72, abs=0.01)
     assert limit_cycle_peak(4.0, 0.5, 1.0) == pytest.approx(0.95, abs=0.01)
     assert limit_cycle_peak(6.0, 0.5, 1.0) == pytest.approx(0.993, abs=0.001)
-    from damper.bouc_wen import limit_cycle_peak as model_peak
-    assert limit_cycle_peak(0.5 * 150.0, 0.8, 1.5) == pytest.approx(model_peak(150.0, 0.8, 1.5, -0.25, 0.25),
-                                                                    abs=1e-9)
-    assert limit_cycle_peak(3.0, 2.0, 2.0) == pytest.approx(model_peak(10.0, 2.0, 2.0, 0.0, 0.3), abs=1e-9)
+    assert limit_cycle_peak(0.0, 0.5, 1.0) == 0.0
+    # The closed forms (hypergeometric) against direct quadrature of the two integrals.
+    from scipy.integrate import quad
+    for sigma, n, rho_stroke in ((0.8, 1.5, 75.0), (2.0, 2.0, 3.0), (0.5, 1.0, 2.0), (1.0, 2.5, 5.0)):
+        w0 = limit_cycle_peak(rho_stroke, sigma, n)
+        if w0 > 0.999999:
+            continue
+        g = quad(lambda m: 1.0 / (1.0 - m ** n), 0.0, w0, limit=400)[0]
+        h = quad(lambda m: 1.0 / (1.0 + (2.0 * sigma - 1.0) * m ** n), 0.0, w0, limit=400)[0]
+        assert limit_cycle_psi(w0, sigma, n) == pytest.approx(g + h, rel=1e-9)
+        assert g + h == pytest.approx(rho_stroke, rel=1e-8)
 
 
 def test_reference_loop_reaches_its_predicted_limit_cycle_peak(loop):
