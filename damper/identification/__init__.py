@@ -12,10 +12,10 @@ The device under test is always handed in (a model instance or a registered name
 only through :mod:`damper.laboratory` or the building's recorded histories.
 """
 
-from damper.identification.closed_form import MODELS, PARAMETER_NAMES, ClosedFormResult, closed_form
+from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES, ClosedFormResult, closed_form
 from damper.identification.identify import Identification, identify, identify_arrays
 from damper.identification.metrics import force_errors
 from damper.identification.refine import RefinedFit, refine
 
-__all__ = ["MODELS", "PARAMETER_NAMES", "ClosedFormResult", "closed_form", "Identification",
+__all__ = ["MODEL_FORMS", "PARAMETER_NAMES", "ClosedFormResult", "closed_form", "Identification",
            "identify", "identify_arrays", "force_errors", "RefinedFit", "refine"]

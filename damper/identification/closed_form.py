@@ -54,10 +54,10 @@ from benchmark.foundation.errors import InputError
 from damper.bouc_wen import g_integral, h_integral, limit_cycle_peak
 from damper.identification.cycles import Branches, ExcitationWarning, check_excitation, plastic_distance
 
-__all__ = ["DesignPoints", "ClosedFormResult", "closed_form", "MODELS", "PARAMETER_NAMES"]
+__all__ = ["DesignPoints", "ClosedFormResult", "closed_form", "MODEL_FORMS", "PARAMETER_NAMES"]
 
-#: Model names accepted by the identification.
-MODELS = ("normalized", "extended")
+#: The model forms the identification fits (the seed paper's two; registered damper models are `damper.registry.MODELS`).
+MODEL_FORMS = ("normalized", "extended")
 #: Parameter names, in the order used throughout the identification (SI units: N/m, N·s/m, N, 1/m, -, -).
 PARAMETER_NAMES = ("kappa_x", "kappa_xdot", "kappa_w", "rho", "sigma", "n")
 
@@ -281,8 +281,8 @@ def closed_form(branches: Branches, model: str = "extended", n_method: str = "in
         amplitude is constant over the plastic region (:math:`\\kappa_{\\dot x}` and :math:`\\kappa_w`
         cannot be separated), or (``strict``) insufficient excitation.
     """
-    if model not in MODELS:
-        raise InputError(f"model: expected one of {MODELS}, got {model!r}")
+    if model not in MODEL_FORMS:
+        raise InputError(f"model: expected one of {MODEL_FORMS}, got {model!r}")
     if kappa_x_method not in ("inclination", "regression"):
         raise InputError(f"kappa_x_method: expected 'inclination' or 'regression', got {kappa_x_method!r}")
     if kappa_x is not None:

@@ -33,7 +33,7 @@ import numpy as np
 from damper.fitting import jacobian_covariance, least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.identification.closed_form import MODELS, PARAMETER_NAMES
+from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES
 from damper.identification.cycles import Cycle
 from damper.simulate import simulate
 
@@ -46,8 +46,8 @@ _LOWER = {"kappa_x": 0.0, "sigma": 0.5, "n": 1.0}
 
 def free_parameters(model: str) -> tuple[str, ...]:
     """Names of the parameters identified for ``model`` ("normalized": no ``kappa_x``)."""
-    if model not in MODELS:
-        raise InputError(f"model: expected one of {MODELS}, got {model!r}")
+    if model not in MODEL_FORMS:
+        raise InputError(f"model: expected one of {MODEL_FORMS}, got {model!r}")
     return PARAMETER_NAMES if model == "extended" else PARAMETER_NAMES[1:]
 
 
@@ -58,7 +58,7 @@ def make_model(model: str, parameters: dict[str, float], **options):
         return ExtendedBoucWen(*(parameters[k] for k in PARAMETER_NAMES), **options)
     if model == "normalized":
         return NormalizedBoucWen(*(parameters[k] for k in PARAMETER_NAMES[1:]), **options)
-    raise InputError(f"model: expected one of {MODELS}, got {model!r}")
+    raise InputError(f"model: expected one of {MODEL_FORMS}, got {model!r}")
 
 
 @dataclass(frozen=True)

@@ -47,7 +47,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.identification.closed_form import MODELS, PARAMETER_NAMES, closed_form
+from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES, closed_form
 from damper.identification.cycles import average_branches, detect_cycles, steady_cycles
 from damper.identification.identify import Identification, identify
 from damper.identification.parallel import make_executor, run_tasks, worker_count
@@ -400,7 +400,7 @@ def _identify_at_voltage(device, voltage: float, models: tuple, protocol: TestPr
 
 
 def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
-                          models: Sequence[str] = MODELS, protocol: TestProtocol = TestProtocol(),
+                          models: Sequence[str] = MODEL_FORMS, protocol: TestProtocol = TestProtocol(),
                           progress: Callable[[str], None] | None = None,
                           n_bootstrap: int = 0, kappa_x: str | float = "large-loop",
                           kappa_x_protocol: TestProtocol = LARGE_LOOP_PROTOCOL,
@@ -439,8 +439,8 @@ def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
     v = np.asarray(voltages, dtype=float)
     models = tuple(models)
     for m in models:
-        if m not in MODELS:
-            raise InputError(f"models: expected names from {MODELS}, got {m!r}")
+        if m not in MODEL_FORMS:
+            raise InputError(f"models: expected names from {MODEL_FORMS}, got {m!r}")
     if isinstance(kappa_x, str):
         if kappa_x not in KAPPA_X_MODES:
             raise InputError(f"kappa_x: expected one of {KAPPA_X_MODES} or a number [N/m], got {kappa_x!r}")
