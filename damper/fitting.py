@@ -3,7 +3,7 @@
 Every fit in the package goes through :func:`least_squares_fit`: the identification's joint
 refinement (:mod:`damper.identification.refine`), its shared-parameter fit, the residual loop's
 refits of augmented models (:func:`damper.augmented.refit`) and the hysteretic oscillator's
-identification (:mod:`damper.identification.hysteretic`). It is
+identification (:mod:`damper.hysteresis.identification`). It is
 :func:`scipy.optimize.least_squares` with the trust-region reflective method (Branch, Coleman &
 Li 1999) on parameters ``q`` scaled to order one (``x_scale = 1``), a forward-difference Jacobian
 (or one of a given sparsity) and one tolerance for ``xtol``, ``ftol`` and ``gtol``.

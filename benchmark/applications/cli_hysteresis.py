@@ -10,10 +10,10 @@
   the RMS error is printed. ``--periodic``: the input is one period of a periodic force and the
   steady-state period is returned (the benchmark's multisine test set).
 * ``sbib hysteresis test-signals --out DIR``: the benchmark's two test sets regenerated with the
-  true system (:func:`damper.hysteresis_benchmark.test_sets`), as CSV ``time, force,
+  true system (:func:`damper.hysteresis.noel_schoukens.test_sets`), as CSV ``time, force,
   displacement``.
 
-Method: :mod:`damper.identification.hysteretic`; model: :mod:`damper.hysteretic_oscillator`.
+Method: :mod:`damper.hysteresis.identification`; model: :mod:`damper.hysteresis.oscillator`.
 """
 
 from __future__ import annotations
@@ -27,10 +27,10 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import InputError
-from damper import hysteresis_benchmark
-from damper.hysteresis_benchmark import FS, rms_error
-from damper.hysteresis_io import load_model, read_data, save_model, write_displacement_csv
-from damper.identification.hysteretic import MIN_SAMPLES, identify_hysteretic
+from damper.hysteresis import noel_schoukens
+from damper.hysteresis.noel_schoukens import FS, rms_error
+from damper.hysteresis.files import load_model, read_data, save_model, write_displacement_csv
+from damper.hysteresis.identification import MIN_SAMPLES, identify_hysteretic
 
 __all__ = ["register", "run_fit", "run_predict", "run_test_signals"]
 
@@ -155,7 +155,7 @@ def run_test_signals(args: argparse.Namespace) -> int:
     """Write the regenerated benchmark test sets as CSV files in ``args.out``."""
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    for name, (u, y) in hysteresis_benchmark.test_sets(seed=args.seed).items():
+    for name, (u, y) in noel_schoukens.test_sets(seed=args.seed).items():
         t = np.arange(u.size) / FS
         text = "time [s],force [N],displacement [m]\n" + "".join(
             f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(t, u, y))

@@ -168,7 +168,7 @@ def fit_scaled(problem, q0: np.ndarray, max_nfev: int | None):
     Bounded trust-region least squares (:func:`scipy.optimize.least_squares`, ``trf``, 2-point
     finite-difference Jacobian with relative step 1e-5, tolerances 1e-10) of
     ``problem.residuals(q)`` within ``problem.lower <= q <= problem.upper``, where ``q`` is the
-    parameter vector scaled to order one. Used by :mod:`damper.identification.hysteretic` as well.
+    parameter vector scaled to order one. Used by :mod:`damper.hysteresis.identification` as well.
     """
     return _fit(problem, q0, max_nfev)
 

@@ -43,7 +43,7 @@ stiffness of the oscillator is :math:`k + \\alpha`.
 Integration
 -----------
 The benchmark integrates with a Newmark (trapezoidal) scheme at 20 times the sampling rate
-(its section 4); :mod:`damper.hysteretic_oscillator_kernel` implements that scheme. A force sampled
+(its section 4); :mod:`damper.hysteresis.oscillator_kernel` implements that scheme. A force sampled
 at ``fs`` is first interpolated to the integration rate: band-limited interpolation
 (:func:`upsample_force`: exact Fourier interpolation for one period of a periodic input, a long
 Kaiser-windowed polyphase filter otherwise), since a sampled force is the sampling of a
@@ -66,7 +66,7 @@ import numpy as np
 from scipy import signal
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.hysteretic_oscillator_kernel import newmark_bouc_wen
+from damper.hysteresis.oscillator_kernel import newmark_bouc_wen
 
 __all__ = ["HystereticOscillator", "upsample_force", "DEFAULT_UPSAMPLE", "PARAMETER_NAMES",
            "PARAMETER_UNITS"]

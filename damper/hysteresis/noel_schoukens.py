@@ -19,7 +19,7 @@ The benchmark's description (its Table 1 and sections 4-5) defines
 
 The official test files are not redistributed with the benchmark description this project
 holds; :func:`test_sets` regenerates signals of the same definitions with the true system and
-this project's integrator (:mod:`damper.hysteretic_oscillator_kernel`, the benchmark's Newmark
+this project's integrator (:mod:`damper.hysteresis.oscillator_kernel`, the benchmark's Newmark
 scheme). The multisine's random phases cannot be the official ones (they come from MATLAB's
 ``rand``); any seed gives a signal of the same class. The sweep is taken as the linear chirp
 :math:`u = 40\\sin(2\\pi(f_0 t + \\tfrac12\\dot f t^2))`, 180 s long.
@@ -33,7 +33,7 @@ import numpy as np
 from scipy import signal
 
 from benchmark.foundation.errors import InputError
-from damper.hysteretic_oscillator import HystereticOscillator
+from damper.hysteresis.oscillator import HystereticOscillator
 
 __all__ = ["TRUE_PARAMETERS", "FS", "UPSAMPLE", "PERIOD", "true_system", "multisine",
            "sine_sweep", "decimate_fir", "synthesize", "test_sets", "rms_error", "NOISE_RMS"]

@@ -1,4 +1,4 @@
-"""Identification of a hysteretic oscillator (:mod:`damper.hysteretic_oscillator`) from u and y.
+"""Identification of a hysteretic oscillator (:mod:`damper.hysteresis.oscillator`) from u and y.
 
 Output-error least squares on the simulated displacement, in three steps, each physically reasoned:
 
@@ -47,9 +47,9 @@ import numpy as np
 from scipy import signal
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.hysteretic_oscillator import (DEFAULT_UPSAMPLE, PARAMETER_UNITS, HystereticOscillator,
+from damper.hysteresis.oscillator import (DEFAULT_UPSAMPLE, PARAMETER_UNITS, HystereticOscillator,
                                           upsample_force)
-from damper.hysteretic_oscillator_kernel import newmark_bouc_wen
+from damper.hysteresis.oscillator_kernel import newmark_bouc_wen
 from damper.fitting import jacobian_covariance
 from damper.identification.refine import fit_scaled
 
@@ -453,7 +453,7 @@ def identify_hysteretic(force: np.ndarray, displacement: np.ndarray, fs: float,
                         upsample: int = DEFAULT_UPSAMPLE, skip: float | None = None,
                         max_nfev: int = 40, search_upsample: int | None = None,
                         polish_nfev: int = 10) -> HystereticFit:
-    """Identify a :class:`~damper.hysteretic_oscillator.HystereticOscillator` (module docstring).
+    """Identify a :class:`~damper.hysteresis.oscillator.HystereticOscillator` (module docstring).
 
     Parameters
     ----------

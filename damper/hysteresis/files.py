@@ -27,7 +27,7 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
 from damper.data import parse_row
-from damper.hysteretic_oscillator import DEFAULT_UPSAMPLE, PARAMETER_NAMES, HystereticOscillator
+from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, PARAMETER_NAMES, HystereticOscillator
 
 __all__ = ["ForceData", "read_data", "read_csv", "read_hdf5", "write_displacement_csv",
            "save_model", "load_model", "MODEL_KIND"]

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from benchmark.foundation.errors import InputError, NumericalError
-from damper import hysteresis_benchmark as hb
-from damper.hysteretic_oscillator import HystereticOscillator
-from damper.identification.hysteretic import identify_hysteretic, linear_start
+from damper.hysteresis import noel_schoukens as hb
+from damper.hysteresis.oscillator import HystereticOscillator
+from damper.hysteresis.identification import identify_hysteretic, linear_start
 
 # A variant of the benchmark on the other (saturating) branch, with nu != 1 and other m, c, k.
 VARIANT = HystereticOscillator.from_standard(mass=1.5, damping=6.0, stiffness=3e4, alpha=4e4,

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from benchmark.applications.cli import main
-from damper import hysteresis_benchmark as hb
-from damper.hysteresis_io import load_model
+from damper.hysteresis import noel_schoukens as hb
+from damper.hysteresis.files import load_model
 
 
 def _write_csv(path, u, y=None, fs=hb.FS, t0=0.0):
@@ -144,8 +144,8 @@ def test_predict_errors(tmp_path, capsys):
 
 
 def test_test_signals_command(tmp_path, capsys, monkeypatch):
-    # Short sweep for speed: the definitions are those of damper.hysteresis_benchmark.
-    import damper.hysteresis_benchmark as module
+    # Short sweep for speed: the definitions are those of damper.hysteresis.noel_schoukens.
+    import damper.hysteresis.noel_schoukens as module
     original = module.test_sets
     monkeypatch.setattr(module, "test_sets", lambda seed: original(seed=seed, sweep_duration=4.0))
     assert main(["hysteresis", "test-signals", "--out", str(tmp_path)]) == 0

@@ -8,8 +8,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper import hysteresis_benchmark as hb
-from damper.hysteretic_oscillator import HystereticOscillator, upsample_force
+from damper.hysteresis import noel_schoukens as hb
+from damper.hysteresis.oscillator import HystereticOscillator, upsample_force
 
 SATURATING = dict(mass=1.5, damping=6.0, stiffness=3e4, alpha=4e4, beta=2e3, gamma=0.6, delta=0.3,
                   nu=1.5)

@@ -1,4 +1,4 @@
-"""Compiled Newmark integration of the Bouc-Wen oscillator (kernel of :mod:`damper.hysteretic_oscillator`).
+"""Compiled Newmark integration of the Bouc-Wen oscillator (kernel of :mod:`damper.hysteresis.oscillator`).
 
 Equations (Noël & Schoukens 2016, eqs. 1-3, with :math:`B = \\beta\\gamma`, :math:`D = \\beta\\delta`):
 
@@ -22,7 +22,7 @@ Newton-Raphson (the benchmark starts it from :math:`\\ddot y_+ = \\dot z_+ = 0`;
 previous instant's rates, which reaches the same root in fewer iterations), iterated until the
 corrections are below 1e-13 of the size of each equation's terms. The scheme is second order;
 its error at the benchmark's 15 kHz integration rate is about 1e-4 of the response (see
-``tests/test_hysteretic_oscillator.py``).
+``tests/damper/hysteresis/test_hysteretic_oscillator.py``).
 """
 
 from __future__ import annotations
