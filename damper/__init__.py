@@ -1,6 +1,6 @@
-"""MR damper models, the virtual benchmark damper, its virtual laboratory and identification.
+"""MR damper models, their laboratory, identification and diagnosis.
 
-Quick start::
+The façade (names load on first use, :mod:`benchmark.foundation.facade`)::
 
     import numpy as np
     import damper
@@ -9,22 +9,55 @@ Quick start::
     t = np.linspace(0.0, 5.0, 5001)
     response = damper.simulate(model, t, 0.1 * np.sin(2 * np.pi * t), v=0.0)
     response.force  # [N]
+    test = damper.periodic_test("virtual", amplitude=0.1, frequency=1.0, voltage=0.5)
+    fit = damper.identify(test, model="extended")
+
+The package by concern:
+
+- :mod:`damper.models`: the model contract and registry, the models, voltage laws, and
+  :func:`damper.models.response.simulate` (a model driven by a displacement history);
+- :mod:`damper.io`: measured test data (:class:`DamperTest`, CSV, UTFSM and Dyke files);
+- :mod:`damper.lab`: the virtual laboratory, its protocols, loop measurements and figures;
+- :mod:`damper.fitting`: the one least-squares engine;
+- :mod:`damper.identification`: the seed paper's identification steps;
+- :mod:`damper.diagnosis`: the residual loop, with its effects and augmented model;
+- :mod:`damper.hysteresis`: the force-driven Bouc-Wen oscillator and its benchmark.
 """
 
+from benchmark.foundation.facade import lazy_exports
 
-# The kernels here call kernels of other modules; numba's cache would not see edits there.
+#: Public name -> the module that defines it.
+EXPORTS = {
+    "DamperModel": "damper.models.base",
+    "NormalizedBoucWen": "damper.models.bouc_wen",
+    "ExtendedBoucWen": "damper.models.bouc_wen",
+    "StandardBoucWen": "damper.models.bouc_wen",
+    "limit_cycle_peak": "damper.models.bouc_wen",
+    "Spencer": "damper.models.spencer",
+    "VirtualBenchmarkDamper": "damper.models.virtual",
+    "MODELS": "damper.models.registry",
+    "get_model_class": "damper.models.registry",
+    "device_step": "damper.models.registry",
+    "device_force": "damper.models.registry",
+    "DamperResponse": "damper.models.response",
+    "simulate": "damper.models.response",
+    "Constant": "damper.models.voltage_laws",
+    "Polynomial": "damper.models.voltage_laws",
+    "Exponential": "damper.models.voltage_laws",
+    "SeedKappaW": "damper.models.voltage_laws",
+    "Tabulated": "damper.models.voltage_laws",
+    "DamperTest": "damper.io.data",
+    "read_csv": "damper.io.data",
+    "write_csv": "damper.io.data",
+    "read_utfsm": "damper.io.data",
+    "periodic_test": "damper.lab.laboratory",
+    "general_test": "damper.lab.laboratory",
+    "identify": "damper.identification.identify",
+    "Identification": "damper.identification.identify",
+    "diagnose": "damper.diagnosis.loop",
+    "Diagnosis": "damper.diagnosis.loop",
+    "AugmentedModel": "damper.diagnosis.augmented",
+}
 
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, StandardBoucWen, limit_cycle_peak
-from damper.data import DamperTest, read_csv, read_utfsm, write_csv
-from damper.laboratory import general_test, periodic_test
-from damper.registry import MODELS, device_force, device_step, get_model_class
-from damper.simulate import DamperResponse, simulate
-from damper.voltage_laws import Constant, Exponential, Polynomial, SeedKappaW, Tabulated
-
-__all__ = [
-    "NormalizedBoucWen", "ExtendedBoucWen", "StandardBoucWen", "limit_cycle_peak",
-    "DamperTest", "read_csv", "write_csv", "read_utfsm",
-    "MODELS", "get_model_class", "device_step", "device_force",
-    "DamperResponse", "simulate", "periodic_test", "general_test",
-    "Constant", "Polynomial", "Exponential", "SeedKappaW", "Tabulated",
-]
+__all__ = list(EXPORTS)
+__getattr__, __dir__ = lazy_exports(__name__, EXPORTS, globals())

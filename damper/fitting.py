@@ -2,7 +2,7 @@
 
 Every fit in the package goes through :func:`least_squares_fit`: the identification's joint
 refinement (:mod:`damper.identification.refine`), its shared-parameter fit, the residual loop's
-refits of augmented models (:func:`damper.augmented.refit`) and the hysteretic oscillator's
+refits of augmented models (:func:`damper.diagnosis.augmented.refit`) and the hysteretic oscillator's
 identification (:mod:`damper.hysteresis.identification`). It is
 :func:`scipy.optimize.least_squares` with the trust-region reflective method (Branch, Coleman &
 Li 1999) on parameters ``q`` scaled to order one (``x_scale = 1``), a forward-difference Jacobian

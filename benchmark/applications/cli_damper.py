@@ -13,7 +13,7 @@ damper at 0 V), and ``normalized_bouc_wen`` / ``extended_bouc_wen`` (give every 
 ``--voltage`` is required for a model whose force depends on the voltage and rejected (one-line
 error) for one whose does not: the defaults of ``bingham`` (one fit at 1.5 V), ``dahl`` and
 ``hyperbolic_tangent`` (0 V calibrations) have constant parameters, so a voltage would be
-silently ignored. Give such a model voltage laws (:mod:`damper.voltage_laws`) through the Python
+silently ignored. Give such a model voltage laws (:mod:`damper.models.voltage_laws`) through the Python
 API to make it respond (see :func:`check_voltage_effect`).
 """
 
@@ -25,20 +25,20 @@ from dataclasses import MISSING, fields
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.registry import get_model_class
-from damper.data import write_csv
-from damper.laboratory import periodic_test
-from damper.loops import last_cycles
-from damper.plots import plot_loops
+from damper.models.registry import get_model_class
+from damper.io.data import write_csv
+from damper.lab.laboratory import periodic_test
+from damper.lab.loops import last_cycles
+from damper.lab.plots import plot_loops
 
 __all__ = ["register", "default_model", "run_test", "responds_to_voltage", "check_voltage_effect"]
 
 _DEFAULT_FACTORIES = {
-    "virtual": ("damper.virtual", "VirtualBenchmarkDamper", None),
-    "spencer": ("damper.spencer", "Spencer", "prototype_1997"),
-    "bingham": ("damper.bingham", "Bingham", "spencer_1997"),
-    "dahl": ("damper.dahl", "Dahl", "virtual_0V"),
-    "hyperbolic_tangent": ("damper.hyperbolic_tangent", "HyperbolicTangent", "virtual_0V"),
+    "virtual": ("damper.models.virtual", "VirtualBenchmarkDamper", None),
+    "spencer": ("damper.models.spencer", "Spencer", "prototype_1997"),
+    "bingham": ("damper.models.bingham", "Bingham", "spencer_1997"),
+    "dahl": ("damper.models.dahl", "Dahl", "virtual_0V"),
+    "hyperbolic_tangent": ("damper.models.hyperbolic_tangent", "HyperbolicTangent", "virtual_0V"),
 }
 
 
@@ -103,7 +103,7 @@ def check_voltage_effect(model, name: str, voltage: float | None) -> float:
     if not responds and float(voltage) != low:
         raise InputError(f"--model {name}: its force does not depend on the voltage (constant "
                          f"parameters), so --voltage {voltage:g} would be ignored; leave --voltage "
-                         "out, or give the model voltage laws (damper.voltage_laws) in Python")
+                         "out, or give the model voltage laws (damper.models.voltage_laws) in Python")
     return float(voltage)
 
 

@@ -9,9 +9,9 @@
 Fits the base model, traces its held-out residual, adds library effects while they pay (held-out
 BIC), and reports the held-out relative RMS force error before and after
 (:func:`damper.diagnosis.diagnose`). Data files: the damper CSV format
-(:mod:`damper.data`; ``time, displacement, force[, velocity][, voltage|current]``, SI), the
+(:mod:`damper.io.data`; ``time, displacement, force[, velocity][, voltage|current]``, SI), the
 UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``) or Dyke's records
-(:mod:`damper.dyke_data`, converted to SI when read). ``--json`` prints
+(:mod:`damper.io.dyke`, converted to SI when read). ``--json`` prints
 ``{"model", "error_before", "error_after", "effects": [{"name", "parameters",
 "error_after_adding"}], "unexplained", "residual_trace": {variable: share}, ...}``; ``--out DIR``
 writes ``report.md``, ``diagnosis.json`` and the plots.
@@ -25,12 +25,12 @@ import sys
 from pathlib import Path
 
 from benchmark.foundation.errors import InputError
-from damper.data import parse_utfsm_name, read_csv, read_utfsm
-from damper.effects import EFFECT_NAMES
+from damper.io.data import parse_utfsm_name, read_csv, read_utfsm
+from damper.diagnosis.effects import EFFECT_NAMES
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import write_report
-from damper.dyke_data import is_dyke_file, read_dyke
+from damper.io.dyke import is_dyke_file, read_dyke
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 
 __all__ = ["register", "run", "read_test_file"]
@@ -38,7 +38,7 @@ __all__ = ["register", "run", "read_test_file"]
 
 def read_test_file(path: str):
     """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern), a Dyke record (CSV
-    with columns t, D [cm], Y [V], V [cm/s], F [N]; :mod:`damper.dyke_data`) or damper CSV."""
+    with columns t, D [cm], Y [V], V [cm/s], F [N]; :mod:`damper.io.dyke`) or damper CSV."""
     p = Path(path)
     if p.suffix.lower() == ".txt":
         try:

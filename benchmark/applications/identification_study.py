@@ -18,10 +18,10 @@ Steps (each through the public API):
    transition), and re-run the building with the identified extended model in place of the
    device;
 4. measure the structural ceiling on each run's most-moving damper at 0 V and 1 V
-   (:mod:`~damper.identification.ceiling`): the identified models' error against the best
+   (:mod:`~benchmark.applications.identification_ceiling`): the identified models' error against the best
    each model form reaches fitted to that very motion;
-5. close the loop (:mod:`~damper.identification.closed_loop`, unless ``close_loop=False``):
-   a laboratory campaign with changing voltage (:mod:`~damper.identification.campaign`), the
+5. close the loop (:mod:`~benchmark.applications.identification_closed_loop`, unless ``close_loop=False``):
+   a laboratory campaign with changing voltage (:mod:`~benchmark.applications.identification_campaign`), the
    residual loop from both bases, the augmented models validated in the same runs (replayed
    with the commanded voltage and re-run in the building), and the seed's claim measured:
    the Fig. 11 pair ("original", "proposed") and the closed loop's pair, named by the
@@ -32,7 +32,7 @@ Steps (each through the public API):
    error anatomy).
 
 The device is injected (default ``"virtual"``, the registered name of the virtual benchmark
-damper): the identification sees it only through :mod:`damper.laboratory`, the validation only
+damper): the identification sees it only through :mod:`damper.lab.laboratory`, the validation only
 through the building's recorded damper histories.
 
 Everything runs on one process pool (``jobs``, default all cores): the earthquake runs with the
@@ -66,15 +66,15 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path, atomic_write_text
 from benchmark.foundation.progress import progress_bar
-from damper.identification.ceiling import DEFAULT_CEILING_VOLTAGES
+from benchmark.applications.identification_ceiling import DEFAULT_CEILING_VOLTAGES
 from damper.identification.closed_form import PARAMETER_NAMES
 from damper.identification.identify import identify
-from damper.identification.parallel import make_executor, run_tasks, worker_count
+from benchmark.foundation.pool import make_executor, run_tasks, worker_count
 from damper.identification.voltage_grid import (DEFAULT_VOLTAGES, KAPPA_X_MODES, LARGE_LOOP_PROTOCOL,
                                                 TestProtocol, identify_voltage_grid)
 from damper.identification.voltage_lag import fit_voltage_lag, switching_test
 from benchmark.foundation.provenance import provenance
-from damper.laboratory import resolve_device
+from damper.lab.laboratory import resolve_device
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from damper.identification import plots
 from benchmark.foundation.errors import InputError
@@ -82,12 +82,12 @@ from damper.identification.plots import plot_error_anatomy
 from benchmark.simulator.building import Building
 from benchmark.applications.identification_validation import measure_run
 from benchmark.applications.identification_validation import validate_in_building
-from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
+from benchmark.applications.identification_ceiling import pick_damper, structural_ceiling, summarize_ceiling
 from records.catalogue import canonical_orientation
-from damper.identification.claim_plots import plot_claim_ratios, plot_seed_fig11
-from damper.identification.closed_loop import start_loops
-from damper.identification.closed_loop import CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED, claim_object, closed_form_models, finish_loops
-from damper.identification.closed_loop import claim_summary
+from benchmark.applications.identification_claim_plots import plot_claim_ratios, plot_seed_fig11
+from benchmark.applications.identification_closed_loop import start_loops
+from benchmark.applications.identification_closed_loop import CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED, claim_object, closed_form_models, finish_loops
+from benchmark.applications.identification_closed_loop import claim_summary
 
 __all__ = ["run_identify_study", "write_parameters_csv", "FIG6_PROTOCOL", "LARGE_LOOP_PROTOCOL",
            "FREE_KX", "FREE_KX_PCHIP"]
@@ -220,11 +220,11 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         it (names :data:`FREE_KX`, :data:`FREE_KX_PCHIP`).
     ceiling : bool
         With the validation: measure the structural ceiling of the normalized and extended forms
-        on each run's most-moving damper (:func:`~damper.identification.ceiling.structural_ceiling`).
+        on each run's most-moving damper (:func:`~benchmark.applications.identification_ceiling.structural_ceiling`).
     jobs : int, optional
         Worker processes (default all cores; 1: everything in this process).
     close_loop : bool
-        Close the loop (:mod:`~damper.identification.closed_loop`): run the laboratory campaign
+        Close the loop (:mod:`~benchmark.applications.identification_closed_loop`): run the laboratory campaign
         and the residual loop, validate the augmented models with the others, and measure the
         seed's claim (the ``claim`` object of ``validation.json``, the seed's Fig. 11 pair).
     campaign_scale : float

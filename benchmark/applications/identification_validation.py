@@ -7,7 +7,7 @@ For every benchmark record and orientation:
    each damper's displacement, velocity, commanded voltage and force are recorded, as a
    field measurement would;
 2. these inputs are replayed through each identified (voltage-dependent) model with
-   :func:`damper.simulate` — as the seed paper does, with the commanded voltage, and also
+   :func:`damper.models.response` — as the seed paper does, with the commanded voltage, and also
    through the identified field filter (:mod:`~damper.identification.voltage_lag`; names
    ending in ``+lag``) — and the force histories are compared: relative RMS error,
    peak error over peak force and dissipated-energy error, over all dampers of the run
@@ -39,12 +39,12 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.criteria import key_json
 from damper.identification.metrics import dissipated_energy
-from damper.effects import first_order_filter
-from damper.simulate import simulate as simulate_damper
+from damper.models.field_filter import first_order_filter
+from damper.models.response import simulate as simulate_damper
 from records.resolve import resolve_record
 from benchmark.simulator.evaluation import evaluate
 from benchmark.simulator.case import Case, run_case
-from damper.identification.parallel import make_executor, run_tasks, worker_count
+from benchmark.foundation.pool import make_executor, run_tasks, worker_count
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from damper.identification.plots import plot_force_errors
 from records.catalogue import canonical_orientation
@@ -89,12 +89,12 @@ def replay(model, t: np.ndarray, displacement: np.ndarray, velocity: np.ndarray,
 
     With ``tau > 0`` the commanded voltage first passes the identified field filter
     :math:`\\tau\\dot u = v - u` (:mod:`~damper.identification.voltage_lag`). ``model`` may be a
-    registered damper model or an augmented model (:class:`damper.augmented.AugmentedModel`).
+    registered damper model or an augmented model (:class:`damper.diagnosis.augmented.AugmentedModel`).
     """
     x = np.asarray(displacement, dtype=float)
     out = np.empty_like(x)
     if not hasattr(model, "model_id") and hasattr(model, "effects"):
-        # An augmented model (damper.augmented) without a registered counterpart: its own simulate.
+        # An augmented model (damper.diagnosis.augmented) without a registered counterpart: its own simulate.
         lo, hi = model.base.voltage_range
         for d in range(x.shape[1]):
             v = np.asarray(voltage[:, d], dtype=float)

@@ -7,7 +7,7 @@ case                   test                                                   ta
 ``diagnose-3khz``      25 s at 3 kHz (75 001 samples), the same protocol      <= 60 s
 =====================  =====================================================  ============
 
-Both tests come from the virtual laboratory (:func:`damper.diagnosis.protocols.random_voltage_test`
+Both tests come from the virtual laboratory (:func:`damper.lab.protocols.random_voltage_test`
 on the virtual benchmark damper, 1 % force noise, voltage levels held 0.3 s on average). Each is
 timed *warm* (the compiled kernels cached; a short diagnosis runs first in the same process) on
 *one core*: a fresh Python process pinned to one CPU with the BLAS, OpenMP and numba thread pools
@@ -40,7 +40,7 @@ try:
 except (AttributeError, OSError):
     pass
 from damper.diagnosis import diagnose
-from damper.diagnosis.protocols import random_voltage_test
+from damper.lab.protocols import random_voltage_test
 args = json.loads(sys.argv[1])
 warm = random_voltage_test("virtual", duration=4.0, sample_rate=500.0, seed=99)
 diagnose([warm], max_effects=1)

@@ -18,12 +18,12 @@ from benchmark.foundation.beside import run_beside
 from records.report import write_records_report
 from benchmark.applications.comparison import compare
 from benchmark.applications.identification_study import run_identify_study
-from damper.identification.parallel import make_side_executor
+from benchmark.foundation.pool import make_side_executor
 from damper.diagnosis import diagnose
 from damper.diagnosis.report import write_report as write_diagnosis_report
-from damper.laboratory import periodic_test
+from damper.lab.laboratory import periodic_test
 from benchmark.foundation.paths import shared_dir
-from damper.data import read_utfsm, utfsm_files
+from damper.io.data import read_utfsm, utfsm_files
 from benchmark.foundation.paths import records_dir as _records_dir
 from benchmark.foundation.progress import progress_lines
 from benchmark.applications.report import REPORT_NAME, write_report

@@ -3,7 +3,7 @@
 numba's ``cache=True`` invalidates a cached function only when *its own* source file changes,
 not when a function it calls in another module changes (numba issue #6845). The stepping
 kernel calls the bearing, damper and controller kernels of other modules, which call further
-ones; after an edit there (say, a new damper model registered in ``damper/registry.py``), a
+ones; after an edit there (say, a new damper model registered in ``damper/models/registry.py``), a
 stale cached ``run_steps`` would still dispatch to the old code (an unknown model id returns
 NaN).
 
@@ -13,7 +13,7 @@ fingerprint differs from the one stored beside the caches, deletes the numba cac
 (``*.nbi``, ``*.nbc``) of those packages, so that everything is recompiled once. It is called
 explicitly, never as a side effect of an import: once per process by :func:`ensure_fresh_once`
 at the entry points that run kernels (the ``sbib`` command, :func:`benchmark.simulator.simulation.simulate`,
-:func:`damper.simulate.simulate`) and by the test suite's ``conftest.py``, before numba loads any
+:func:`damper.models.response.simulate`) and by the test suite's ``conftest.py``, before numba loads any
 cache. With ``NUMBA_CACHE_DIR`` set, the caches live elsewhere
 and are cleared there as well (the whole directory's ``.nbi``/``.nbc`` files).
 """
@@ -31,9 +31,11 @@ _ROOT = Path(__file__).resolve().parents[2]  # the repository root (benchmark/fo
 #: Source files (globs relative to the repository root) the stepping kernel can reach.
 KERNEL_SOURCES = ("benchmark/simulator/stepping.py", "benchmark/simulator/kernel_args.py",
                   "controllers/measurement_layout.py", "controllers/measurements.py",
-                  "benchmark/simulator/isolation/*.py", "damper/*.py", "controllers/compiled.py")
+                  "benchmark/simulator/isolation/*.py", "damper/models/*.py", "damper/diagnosis/effects.py",
+                  "damper/diagnosis/augmented.py", "controllers/compiled.py")
 #: Directories whose ``__pycache__`` holds numba caches of those modules.
-KERNEL_SOURCE_DIRS = ("benchmark/simulator", "benchmark/simulator/isolation", "damper", "controllers")
+KERNEL_SOURCE_DIRS = ("benchmark/simulator", "benchmark/simulator/isolation", "damper/models", "damper/diagnosis",
+                      "controllers")
 _STAMP_NAME = "sbib-kernel-sources.txt"
 
 

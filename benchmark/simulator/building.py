@@ -23,7 +23,7 @@ from benchmark.simulator.structure import Superstructure, load_superstructure
 from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, IsolationLayer, get_isolation
 from benchmark.simulator.structure import location_matrix
 from benchmark.simulator.devices import DeviceLayout
-from damper.base import DamperModel
+from damper.models.base import DamperModel
 
 __all__ = ["Building"]
 

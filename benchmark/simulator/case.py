@@ -29,7 +29,7 @@ from benchmark.simulator.evaluation import evaluate, peaks
 from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
 from benchmark.simulator.simulation import SimulationResult, simulate
 from controllers.registry import get_controller
-from damper.base import DamperModel
+from damper.models.base import DamperModel
 from records.record import Record
 from records.resolve import resolve_record
 

@@ -2,7 +2,7 @@
 
 A :class:`DeviceLayout` is a tuple of :class:`DeviceSlot`. Each slot has a plan position
 (x, y) [m] relative to the base centre of mass, a direction (0 = x, 1 = y) and a damper model
-from :mod:`damper.registry` (any registered model object: ``model_id``, ``to_array()``,
+from :mod:`damper.models.registry` (any registered model object: ``model_id``, ``to_array()``,
 ``initial_state()``, ``voltage_range``). Device *j* is a point on the rigid base, so it moves by
 
 .. math::
@@ -26,7 +26,7 @@ base centre of mass on average (small torsional coupling):
   y = −39.75, −24.05 m (mean x = 2.71 m).
 
 All positions are bearing positions of ``structure.json``. The default damper model is the
-project's virtual benchmark damper (:mod:`damper.virtual`, ~1000 kN class, 0–1 V); any other
+project's virtual benchmark damper (:mod:`damper.models.virtual`, ~1000 kN class, 0–1 V); any other
 model can be given (``DeviceLayout.default(model=...)``) and every slot can be changed.
 """
 
@@ -39,9 +39,9 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import transformation
-from damper.virtual import VirtualBenchmarkDamper
-from damper.base import DamperModel
-from damper.registry import MODELS, get_model_class, kernel_id_of, model_id_of
+from damper.models.virtual import VirtualBenchmarkDamper
+from damper.models.base import DamperModel
+from damper.models.registry import MODELS, get_model_class, kernel_id_of, model_id_of
 
 __all__ = ["DeviceSlot", "DeviceLayout", "default_damper_model", "DEFAULT_X_POSITIONS",
            "DEFAULT_Y_POSITIONS", "DIRECTION_NAMES"]
@@ -65,7 +65,7 @@ def default_damper_model() -> DamperModel:
 def _check_model(model: object, where: str) -> None:
     if not isinstance(model, DamperModel):
         raise InputError(f"{where}: {type(model).__name__} is not a damper model; expected a "
-                         "damper.base.DamperModel registered in damper.registry")
+                         "damper.models.base.DamperModel registered in damper.models.registry")
     model_id_of(model)
 
 
@@ -80,7 +80,7 @@ class DeviceSlot:
     direction : int or str
         0 or ``"x"``; 1 or ``"y"``.
     model : damper model
-        A registered damper model object (see :mod:`damper.registry`).
+        A registered damper model object (see :mod:`damper.models.registry`).
     label : str
         Free text for reports.
     """
@@ -231,7 +231,7 @@ class DeviceLayout:
 
         Returns
         -------
-        kernel_ids : (n,) int64, each model's kernel family (:func:`damper.registry.kernel_id_of`)
+        kernel_ids : (n,) int64, each model's kernel family (:func:`damper.models.registry.kernel_id_of`)
         params : (n, P) float64, each model's ``to_array()`` zero-padded to the longest
         states : (n, S) float64, each model's ``initial_state()`` zero-padded (S >= 1)
         n_states : (n,) int64

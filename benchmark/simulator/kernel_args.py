@@ -12,7 +12,7 @@ argument        fields
                 states (advanced in place) of the bearings with a hysteretic force
                 (:mod:`benchmark.simulator.isolation.registry`); linear bearings are wholly in ``Plant``
 :class:`Devices`  influence rows (device stroke per base x, y [m], θ [rad]), model ids,
-                packed parameters and states (advanced in place) (:mod:`damper.registry`)
+                packed parameters and states (advanced in place) (:mod:`damper.models.registry`)
 :class:`Sensors`  the acceleration rows of the measurement (``C_acc``, ``D_acc_g``,
                 ``D_acc_ag`` of :func:`benchmark.simulator.linear_model.state_space_matrices`), the noise
                 of every control step, the sensor ranges and the

@@ -21,7 +21,7 @@ found by fixed-point (predictor–corrector) iteration: predict :math:`g_{k+1}` 
 (quadratic from steps k, k−1, k−2 for the bearings' part, linear for the devices', whose force
 jumps with the voltage), compute the base's end displacement and velocity, advance every bearing
 (:func:`benchmark.simulator.isolation.registry.bearing_step`) and device
-(:func:`damper.registry.device_step`) from its state at the step's start along the cubic
+(:func:`damper.models.registry.device_step`) from its state at the step's start along the cubic
 Hermite path between the step's end points (the kernels sub-step internally as their
 stiffness needs), sum their forces into :math:`g_{k+1}`, and repeat until the change of the
 base's end displacement and velocity that the update causes is below ``fixed_point_tolerance``
@@ -70,7 +70,7 @@ import scipy.linalg
 
 from benchmark.simulator.isolation.registry import bearing_step, bearing_tangent  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402
-from damper.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent_memo  # noqa: E402
+from damper.models.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent_memo  # noqa: E402
 
 __all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_bearing_forces",
            "energy_histories",

@@ -11,7 +11,7 @@ depend on :math:`\\kappa_x, \\kappa_{\\dot x}, \\kappa_w`, and
 :math:`\\varphi \\equiv 1` for constant parameters) is a bounded linear least-squares problem
 (:func:`scipy.optimize.lsq_linear`, coefficients >= 0). :func:`fit_base` scans a grid of shape
 parameters this way (variable projection), then refines the best few jointly with
-:func:`damper.augmented.refit` and keeps the best on the training samples. No test needs to be
+:func:`damper.diagnosis.augmented.refit` and keeps the best on the training samples. No test needs to be
 a clean periodic wave, so measured, multi-amplitude and multi-voltage data sets all work.
 (For a single periodic test at constant voltage the closed-form method of
 :mod:`damper.identification` is the textbook start; the grid gives the same optimum here and
@@ -27,11 +27,11 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from benchmark.foundation.errors import InputError, NumericalError
-from damper.augmented import AugmentedModel, RefitResult, make_base, refit
-from damper.bouc_wen import NormalizedBoucWen
+from damper.diagnosis.augmented import AugmentedModel, RefitResult, make_base, refit
+from damper.models.bouc_wen import NormalizedBoucWen
 from damper.diagnosis.dataset import DiagnosisData
-from damper.simulate import simulate
-from damper.voltage_laws import Tabulated
+from damper.models.response import simulate
+from damper.models.voltage_laws import Tabulated
 
 __all__ = ["fit_base", "shape_grid", "hat_weights"]
 
@@ -124,14 +124,14 @@ def fit_base(data: DiagnosisData, kind: str = "normalized", n_starts: int = 3,
     max_nfev : int
         Cap on residual evaluations per refinement.
     tolerance : float
-        Stopping tolerance of each refinement (:func:`damper.augmented.refit`).
+        Stopping tolerance of each refinement (:func:`damper.diagnosis.augmented.refit`).
     progress : callable, optional
         Receives one line per refined start.
 
     Returns
     -------
     RefitResult
-        The best refined base model (wrapped as an :class:`~damper.augmented.AugmentedModel`
+        The best refined base model (wrapped as an :class:`~damper.diagnosis.augmented.AugmentedModel`
         without effects) and its training error.
 
     Raises

@@ -3,7 +3,7 @@
 Every candidate the loop tries is a joint nonlinear least-squares refit whose Jacobian is built
 by finite differences, one simulation of every test per free parameter; the cost of the loop is
 therefore the number of samples times the number of simulations. The models are continuous-time
-(:func:`damper.simulate.simulate` sub-steps the hysteresis between samples and interpolates the
+(:func:`damper.models.response.simulate` sub-steps the hysteresis between samples and interpolates the
 motion), so a test sampled densely (1-3 kHz for motions of a few hertz) carries far more samples
 than the fit of a dozen parameters needs. :func:`decimate` keeps one sample in ``q``, with ``q``
 chosen by :func:`decimation_factor` so that
@@ -31,7 +31,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from damper.diagnosis.dataset import DiagnosisData, _dominant_frequency
-from damper.effects import Motion
+from damper.diagnosis.effects import Motion
 
 __all__ = ["decimation_factor", "decimate", "Progress", "DEFAULT_COARSE_SAMPLES",
            "MIN_SAMPLES_PER_PERIOD"]

@@ -1,8 +1,8 @@
 """Tests prepared for the residual loop: motions, forces, training and held-out samples.
 
-From a list of :class:`~damper.data.DamperTest` records this module builds
+From a list of :class:`~damper.io.data.DamperTest` records this module builds
 
-* one :class:`~damper.effects.Motion` per test, with the acceleration the ``inertia`` term needs
+* one :class:`~damper.diagnosis.effects.Motion` per test, with the acceleration the ``inertia`` term needs
   (Savitzky-Golay derivative of the measured velocity over about 1/20 of the dominant period,
   so that measurement noise is not amplified);
 * the *warm-up* of each test (the samples before the first displacement reversal, where a model
@@ -25,8 +25,8 @@ import numpy as np
 from scipy.signal import savgol_filter
 
 from benchmark.foundation.errors import InputError
-from damper.data import DamperTest
-from damper.effects import Motion
+from damper.io.data import DamperTest
+from damper.diagnosis.effects import Motion
 
 __all__ = ["DiagnosisData", "acceleration_from_velocity", "first_reversal", "DEFAULT_HOLDOUT"]
 
@@ -235,7 +235,7 @@ class DiagnosisData:
         # a grid over the bulk of the input: a measured command rings past its levels for a few
         # milliseconds after each switch (Dyke's records: 0-2.25 V commands read -0.44-2.71 V),
         # and nodes out there would be fitted on a handful of samples; the laws hold their end
-        # values beyond the grid (:class:`~damper.voltage_laws.Tabulated`); ringing holds ~1 % of them
+        # values beyond the grid (:class:`~damper.models.voltage_laws.Tabulated`); ringing holds ~1 % of them
         if self.source_levels is None:
             v = np.concatenate([m.v for m in self.motions])
         else:  # a decimated copy keeps the full tests' nodes

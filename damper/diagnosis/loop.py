@@ -29,8 +29,8 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.augmented import AugmentedModel, refit
-from damper.data import DamperTest
+from damper.diagnosis.augmented import AugmentedModel, refit
+from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, decimate, decimation_factor
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT, DiagnosisData
@@ -265,7 +265,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         1e-4 at a third of the loop's cost (the models are continuous-time, the coarse fit is
         already the fit).
     tolerance : float
-        Stopping tolerance of the refits (:func:`damper.augmented.refit`).
+        Stopping tolerance of the refits (:func:`damper.diagnosis.augmented.refit`).
     trace_share : float
         Share of the training residual a trace variable must hold to name its effects
         (:func:`~damper.diagnosis.selection.effects_for_trace`).

@@ -17,7 +17,7 @@ One round of the forward selection, from the current (fitted) model :math:`\\hat
    residual names (:func:`effects_for_trace`: an effect is tried whenever a variable it depends
    on holds a share of the residual), first alone (the candidate's own parameter, the model
    held: two simulations per iteration), then the ``joint_trials`` most promising jointly
-   with the model (:func:`damper.augmented.refit`): the best screening score, then those that
+   with the model (:func:`damper.diagnosis.augmented.refit`): the best screening score, then those that
    alone lower the held-out error by at least half of ``min_gain``, and always a series term
    and, when the input changes, an input term (a model fitted without them compensates, so
    their effect-only refit says little).
@@ -48,10 +48,10 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.augmented import AugmentedModel, Parametrization, refit
+from damper.diagnosis.augmented import AugmentedModel, Parametrization, refit
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size, trace_residual
-from damper.effects import EFFECT_NAMES, Effect, get_effect
+from damper.diagnosis.effects import EFFECT_NAMES, Effect, get_effect
 
 __all__ = [
     "ScreenScore",
@@ -83,7 +83,7 @@ MIN_SCORE = 1e-3
 DEFAULT_TRACE_SHARE = 0.1
 #: Candidates refitted jointly with the model per round, after each was refitted alone.
 DEFAULT_JOINT_TRIALS = 2
-#: Stopping tolerance of the loop's refits (see :func:`damper.augmented.refit`).
+#: Stopping tolerance of the loop's refits (see :func:`damper.diagnosis.augmented.refit`).
 DEFAULT_TOLERANCE = 1e-6
 
 
@@ -92,7 +92,7 @@ def effects_for_trace(shares: dict, mean_share: float, names, min_share: float =
     """The effects (among ``names``) a residual trace points to: effect -> variables naming it.
 
     Each effect declares the trace variables where its missing term shows up
-    (:attr:`damper.effects.Effect.traces`: displacement, velocity, acceleration, voltage,
+    (:attr:`damper.diagnosis.effects.Effect.traces`: displacement, velocity, acceleration, voltage,
     voltage_rate, time, sign, loop, mean); a variable holding at least ``min_share`` of the
     residual's variance names every effect that depends on it.
     """
@@ -221,7 +221,7 @@ def with_candidate(model: AugmentedModel, effect: Effect, nodes=None) -> Augment
     """``model`` with ``effect`` added; for a ``series`` effect (``roll_off``) on a base whose
     shape parameters vary with the coil input, those are first replaced by their mean over the
     ``nodes`` (the series model needs them independent of the input, see
-    :class:`~damper.augmented.Parametrization`), so that the effect can be tried at all."""
+    :class:`~damper.diagnosis.augmented.Parametrization`), so that the effect can be tried at all."""
     trial = model.with_effect(effect)
     if effect.role != "series" or nodes is None:
         return trial

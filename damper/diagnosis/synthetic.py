@@ -1,7 +1,7 @@
 """Synthetic devices and tests for checking the residual loop on data whose truth is known.
 
 A *device* is anything with ``simulate(t, x, xdot, xddot, v)`` returning an object with a
-``force`` array: an :class:`~damper.augmented.AugmentedModel` (a base model with library
+``force`` array: an :class:`~damper.diagnosis.augmented.AugmentedModel` (a base model with library
 effects the fitted model does not declare), or one of the devices here whose effect lies
 *outside* the library:
 
@@ -27,9 +27,9 @@ import numba
 import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.augmented import AugmentedModel, AugmentedResponse
-from damper.data import DamperTest
-from damper.effects import Motion
+from damper.diagnosis.augmented import AugmentedModel, AugmentedResponse
+from damper.io.data import DamperTest
+from damper.diagnosis.effects import Motion
 
 __all__ = ["PlayDevice", "HeatedDevice", "sinusoidal_tests", "play_operator", "step_voltage_tests"]
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
-from damper.data import parse_row
+from damper.io.data import parse_row
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, PARAMETER_NAMES, HystereticOscillator
 
 __all__ = ["ForceData", "read_data", "read_csv", "read_hdf5", "write_displacement_csv",

@@ -15,7 +15,7 @@ Unique (normalized) parametrization
 Only :math:`\\alpha`, :math:`\\beta\\gamma`, :math:`\\beta\\delta` and :math:`\\nu` enter the equations,
 so :math:`(\\alpha, \\beta, \\gamma, \\delta, \\nu)` is not unique (any :math:`\\beta` with
 :math:`\\gamma/\\beta`, :math:`\\delta/\\beta` gives the same system). As in
-:mod:`damper.bouc_wen` (Ikhouane & Rodellar 2007) the model is stored normalized,
+:mod:`damper.models.bouc_wen` (Ikhouane & Rodellar 2007) the model is stored normalized,
 :math:`z = \\kappa_w w` with
 
 .. math::
@@ -31,7 +31,7 @@ branch sign :math:`s = \\operatorname{sgn}\\beta(\\gamma+\\delta) = \\pm 1`:
    \\rho = \\frac{\\alpha}{\\kappa_w}, \\quad \\sigma = \\frac{\\gamma}{\\gamma+\\delta}, \\quad
    s = \\operatorname{sgn}\\beta(\\gamma+\\delta) .
 
-With :math:`s = +1` this is exactly :class:`damper.bouc_wen.NormalizedBoucWen`'s hysteresis
+With :math:`s = +1` this is exactly :class:`damper.models.bouc_wen.NormalizedBoucWen`'s hysteresis
 (:math:`|w| \\le 1`, :math:`\\kappa_w` is the force the hysteretic part saturates at). With
 :math:`s = -1` (the benchmark: :math:`\\gamma + \\delta = -0.3`) the hysteretic force hardens on
 loading instead of saturating and :math:`\\kappa_w` is the force at which its loading stiffness

@@ -9,7 +9,7 @@ best each model form reaches on an earthquake's damper motion), :mod:`~.measured
 :mod:`~.study` (``sbib identify``), :mod:`~.plots`.
 
 The device under test is always handed in (a model instance or a registered name) and reached
-only through :mod:`damper.laboratory` or the building's recorded histories.
+only through :mod:`damper.lab.laboratory` or the building's recorded histories.
 """
 
 from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES, ClosedFormResult, closed_form

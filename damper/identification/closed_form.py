@@ -51,12 +51,12 @@ import numpy as np
 from scipy.optimize import brentq
 
 from benchmark.foundation.errors import InputError
-from damper.bouc_wen import g_integral, h_integral, limit_cycle_peak
+from damper.models.bouc_wen import g_integral, h_integral, limit_cycle_peak
 from damper.identification.cycles import Branches, ExcitationWarning, check_excitation, plastic_distance
 
 __all__ = ["DesignPoints", "ClosedFormResult", "closed_form", "MODEL_FORMS", "PARAMETER_NAMES"]
 
-#: The model forms the identification fits (the seed paper's two; registered damper models are `damper.registry.MODELS`).
+#: The model forms the identification fits (the seed paper's two; registered damper models are `damper.models.registry.MODELS`).
 MODEL_FORMS = ("normalized", "extended")
 #: Parameter names, in the order used throughout the identification (SI units: N/m, N·s/m, N, 1/m, -, -).
 PARAMETER_NAMES = ("kappa_x", "kappa_xdot", "kappa_w", "rho", "sigma", "n")

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.bouc_wen import g_integral, h_integral, limit_cycle_peak
+from damper.models.bouc_wen import g_integral, h_integral, limit_cycle_peak
 
 __all__ = [
     "Cycle",

@@ -1,7 +1,7 @@
 """Identification of one constant-voltage periodic test: cycles → closed form → refinement → errors.
 
 :func:`identify` chains the steps of Bahar et al. (2009, Sec. 3) for one test (a
-:class:`damper.data.DamperTest` from the virtual laboratory or a file):
+:class:`damper.io.data.DamperTest` from the virtual laboratory or a file):
 
 1. detect the cycles and wait for the limit cycle (:mod:`~damper.identification.cycles`);
 2. average the loading and unloading branches and compute the closed-form parameters, checking
@@ -239,7 +239,7 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
 
 
 def identify(test, model: str = "extended", **options) -> Identification:
-    """Identify ``model`` from a :class:`damper.data.DamperTest` (constant voltage or current).
+    """Identify ``model`` from a :class:`damper.io.data.DamperTest` (constant voltage or current).
 
     The test's ``velocity`` is used when present; its constant ``voltage`` [V] (or ``current``
     [A]) labels the result. ``options`` are those of :func:`identify_arrays`.

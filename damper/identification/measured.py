@@ -1,7 +1,7 @@
 """Identification of measured constant-voltage (or constant-current) tests, e.g. the UTFSM files.
 
-Each file is read (:func:`damper.data.read_utfsm` for UTFSM names ``<amp>mm<freq>Hz<cur>A.txt``,
-:func:`damper.data.read_csv` otherwise) and identified with
+Each file is read (:func:`damper.io.data.read_utfsm` for UTFSM names ``<amp>mm<freq>Hz<cur>A.txt``,
+:func:`damper.io.data.read_csv` otherwise) and identified with
 :func:`~damper.identification.identify.identify` (closed form, refinement, uncertainty). When
 several files share one voltage/current (different amplitudes or frequencies), each file's
 model predicts every other file at that level: the *held-out* relative RMS error tells how
@@ -21,15 +21,15 @@ from benchmark.foundation.errors import InputError
 from benchmark.foundation.display_units import parameter_kind, si_unit
 from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
-from damper.simulate import simulate
-from damper.data import parse_utfsm_name, read_csv, read_utfsm
+from damper.models.response import simulate
+from damper.io.data import parse_utfsm_name, read_csv, read_utfsm
 from damper.identification import plots
 
 __all__ = ["read_test", "identify_files", "held_out_errors"]
 
 
 def read_test(path):
-    """Read one test file: UTFSM name pattern → :func:`damper.data.read_utfsm`, else CSV."""
+    """Read one test file: UTFSM name pattern → :func:`damper.io.data.read_utfsm`, else CSV."""
 
     path = Path(path)
     try:

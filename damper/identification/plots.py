@@ -293,7 +293,7 @@ def plot_error_anatomy(validation_json: dict, ceiling_entries: Sequence, path,
     and transition samples of each earthquake run (from ``validation_json["regimes"]``). Right:
     at constant 0 V and 1 V on each run's most-moving damper, the identified models' error
     (filled) against the best the same model form reaches when fitted to that very motion
-    (hollow; :mod:`~damper.identification.ceiling`).
+    (hollow; :mod:`~benchmark.applications.identification_ceiling`).
     """
     nor, ext = pair
     regimes = validation_json.get("regimes", {})

@@ -5,7 +5,7 @@ Starting from the closed-form values, minimise over :math:`p = (\\kappa_x, \\kap
 
 .. math:: \\sum_{k \\in \\mathcal{W}} c_k \\left(\\hat F_k(p) - F_k\\right)^2 / F_{rms}^2,
 
-where :math:`\\hat F(p)` is the model force simulated with :func:`damper.simulate` (the same
+where :math:`\\hat F(p)` is the model force simulated with :func:`damper.models.response` (the same
 compiled kernels the building runs) over the whole test from rest, :math:`\\mathcal W` the
 samples of the steady cycles and :math:`c_k` the multiplicity of sample :math:`k`'s cycle (1,
 or a bootstrap count). The search runs on :math:`p/p_0` with the admissible class as bounds
@@ -32,10 +32,10 @@ import numpy as np
 
 from damper.fitting import jacobian_covariance, least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES
 from damper.identification.cycles import Cycle
-from damper.simulate import simulate
+from damper.models.response import simulate
 
 __all__ = ["RefinedFit", "refine", "SharedFit", "refine_shared", "make_model",
            "free_parameters", "fit_scaled"]
@@ -52,7 +52,7 @@ def free_parameters(model: str) -> tuple[str, ...]:
 
 
 def make_model(model: str, parameters: dict[str, float], **options):
-    """The :class:`~damper.bouc_wen.ExtendedBoucWen` or :class:`~damper.bouc_wen.NormalizedBoucWen`
+    """The :class:`~damper.models.bouc_wen.ExtendedBoucWen` or :class:`~damper.models.bouc_wen.NormalizedBoucWen`
     with constant ``parameters`` (SI); ``options`` go to the class (e.g. ``substep_tolerance``)."""
     if model == "extended":
         return ExtendedBoucWen(*(parameters[k] for k in PARAMETER_NAMES), **options)
@@ -70,7 +70,7 @@ class RefinedFit:
     model_name : str
         ``"normalized"`` or ``"extended"``.
     model : NormalizedBoucWen or ExtendedBoucWen
-        The fitted model (constant parameters), ready for :func:`damper.simulate`.
+        The fitted model (constant parameters), ready for :func:`damper.models.response`.
     parameters, start : dict
         Fitted and starting values of the six parameters (SI; ``kappa_x`` = 0 for normalized).
     standard_error : dict
@@ -196,7 +196,7 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
         Cap on the residual evaluations of the main fit.
     substep_tolerance : float
         Sub-step size of the model's integrator during the search (see
-        :class:`~damper.bouc_wen.NormalizedBoucWen`). The default 0.25 is 2–3 times faster
+        :class:`~damper.models.bouc_wen.NormalizedBoucWen`). The default 0.25 is 2–3 times faster
         than the model default 0.05 and changes the force by about 2e-7 relative on the
         virtual damper's tests; the returned model and ``force`` use the model default.
     fixed : dict, optional

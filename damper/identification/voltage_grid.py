@@ -1,17 +1,17 @@
 """Identification over a voltage grid and the voltage laws fitted to the parameter table.
 
 At each voltage of a grid (default 0, 0.1, …, 1 V, the seed paper's Table 1) a periodic test
-is run on the device through :func:`damper.laboratory.periodic_test` and identified with
+is run on the device through :func:`damper.lab.laboratory.periodic_test` and identified with
 :func:`~damper.identification.identify.identify`. The resulting table (parameters per model
 and voltage) is then fitted with
 
 * the seed paper's laws (Bahar et al. 2009, eq. 5–10): :math:`\\kappa_x` constant (5),
   :math:`\\kappa_{\\dot x} = a + b v` (6), :math:`n = a + b e^{-13 v}` (7),
   :math:`\\rho = a + b e^{-14 v}` (8), :math:`\\sigma = a + b e^{-14 v}` (9) and the three-region
-  :math:`\\kappa_w` law (10) (:class:`~damper.voltage_laws.SeedKappaW`), each by linear least
+  :math:`\\kappa_w` law (10) (:class:`~damper.models.voltage_laws.SeedKappaW`), each by linear least
   squares (the exponents 13 and 14 are the paper's, fixed);
-* the generic law of :mod:`damper.voltage_laws`: the shape-preserving cubic through the table
-  (:class:`~damper.voltage_laws.Tabulated`); it interpolates, so its error is reported by
+* the generic law of :mod:`damper.models.voltage_laws`: the shape-preserving cubic through the table
+  (:class:`~damper.models.voltage_laws.Tabulated`); it interpolates, so its error is reported by
   leave-one-out cross-validation.
 
 Fit errors: RMS and maximum of the relative residual at the grid voltages. A seed law that
@@ -46,15 +46,15 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES, closed_form
 from damper.identification.cycles import average_branches, detect_cycles, steady_cycles
 from damper.identification.identify import Identification, identify
-from damper.identification.parallel import make_executor, run_tasks, worker_count
+from benchmark.foundation.pool import make_executor, run_tasks, worker_count
 from damper.identification.refine import free_parameters, refine_shared
-from damper.voltage_laws import (Constant, Exponential, Polynomial, SeedKappaW, Tabulated,
+from damper.models.voltage_laws import (Constant, Exponential, Polynomial, SeedKappaW, Tabulated,
                                  VoltageLaw, check_law)
-from damper.laboratory import periodic_test
+from damper.lab.laboratory import periodic_test
 
 __all__ = ["TestProtocol", "LawFit", "VoltageGridResult", "KappaXEstimate", "identify_voltage_grid",
            "estimate_kappa_x", "fit_voltage_laws", "voltage_model", "DEFAULT_VOLTAGES",
@@ -66,7 +66,7 @@ DEFAULT_VOLTAGES = tuple(np.round(np.linspace(0.0, 1.0, 11), 10))
 
 @dataclass(frozen=True)
 class TestProtocol:
-    """A constant-voltage periodic test (arguments of :func:`damper.laboratory.periodic_test`).
+    """A constant-voltage periodic test (arguments of :func:`damper.lab.laboratory.periodic_test`).
 
     The default drives the device with ±0.1 m at 0.5 Hz (±0.31 m/s): the displacements and
     velocities the dampers see in the benchmark's earthquake runs (peaks 0.1–0.3 m and up to
@@ -359,7 +359,7 @@ def voltage_model(model: str, laws: dict[str, LawFit], fallback: dict[str, LawFi
     """The voltage-dependent :class:`ExtendedBoucWen`/:class:`NormalizedBoucWen` from fitted laws.
 
     A law that leaves the admissible class somewhere in ``voltage_range`` (checked with
-    :func:`damper.voltage_laws.check_law`) is replaced by the same parameter's ``fallback`` law,
+    :func:`damper.models.voltage_laws.check_law`) is replaced by the same parameter's ``fallback`` law,
     and a note is appended to ``notes``.
     """
     names = free_parameters(model)
@@ -410,7 +410,7 @@ def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
     Parameters
     ----------
     device : damper model or str
-        The device under test, handed to :func:`damper.laboratory.periodic_test` (e.g.
+        The device under test, handed to :func:`damper.lab.laboratory.periodic_test` (e.g.
         ``"virtual"``); the identification never looks inside it.
     voltages : sequence of float
         Grid [V].

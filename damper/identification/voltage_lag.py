@@ -8,9 +8,9 @@ filter (Spencer et al. 1997, :math:`\\dot u = -\\eta(u - v)`, :math:`\\tau = 1/\
 .. math:: \\tau\\dot u = v - u, \\qquad F = F_\\text{model}(x, \\dot x; u).
 
 :math:`\\tau` is fitted by bounded scalar least squares on a test run through
-:func:`damper.laboratory.general_test`: a sinusoidal displacement with the voltage switched
+:func:`damper.lab.laboratory.general_test`: a sinusoidal displacement with the voltage switched
 between 0 and 1 V as a square wave, the voltage-dependent model fixed. The filter is
-:func:`damper.effects.first_order_filter` (exact for piecewise-linear input).
+:func:`damper.models.field_filter.first_order_filter` (exact for piecewise-linear input).
 """
 
 from __future__ import annotations
@@ -21,9 +21,9 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from benchmark.foundation.errors import InputError
-from damper.effects import first_order_filter
-from damper.simulate import simulate
-from damper.laboratory import general_test, resolve_device
+from damper.models.field_filter import first_order_filter
+from damper.models.response import simulate
+from damper.lab.laboratory import general_test, resolve_device
 
 __all__ = ["LagFit", "switching_test", "fit_voltage_lag", "filtered_force"]
 

@@ -93,7 +93,7 @@ def test_default_file_is_lean_and_full_histories_is_an_option(capsys, tmp_path, 
 
 
 def test_controlled_run_has_device_criteria(capsys, short_record_files):
-    pytest.importorskip("damper.virtual", reason="the default damper model is not available yet")
+    pytest.importorskip("damper.models.virtual", reason="the default damper model is not available yet")
     two, _ = short_record_files
     s = run_json(capsys, "--record", str(two), "--isolation", "linear", "--controller", "passive-on")
     assert s["peaks"]["peak_device_force"] > 0

@@ -100,7 +100,7 @@ def test_devices_at_constant_voltage_match_solve_ivp(shared_dir, records_dir):
     # Two virtual benchmark dampers (one per direction; the 16-device run is in the slow test):
     # the oracle calls the damper model's own rates/force for each device.
     from controllers.passive import ConstantVoltage
-    from damper.virtual import VirtualBenchmarkDamper
+    from damper.models.virtual import VirtualBenchmarkDamper
 
     layout = DeviceLayout.from_positions([(1.82, 30.69), (-17.25, -16.18)], [0, 1], VirtualBenchmarkDamper())
     building = Building.default(isolation="friction-lrb", devices=layout,

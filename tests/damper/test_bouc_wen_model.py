@@ -9,9 +9,9 @@ from scipy.integrate import solve_ivp
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper import ExtendedBoucWen, NormalizedBoucWen, StandardBoucWen, simulate
-from damper.bouc_wen import limit_cycle_peak, limit_cycle_psi
-from damper.registry import device_step, get_model_class
-from damper.voltage_laws import Exponential, Polynomial
+from damper.models.bouc_wen import limit_cycle_peak, limit_cycle_psi
+from damper.models.registry import device_step, get_model_class
+from damper.models.voltage_laws import Exponential, Polynomial
 
 
 def _oracle(model, t, x_fun, xd_fun, v=0.0):

@@ -7,14 +7,14 @@ import pytest
 
 from benchmark.foundation.errors import ParameterError
 from damper import simulate
-from damper.base import DamperModel
-from damper.bingham import Bingham
-from damper.dahl import Dahl
-from damper.hyperbolic_tangent import HyperbolicTangent
-from damper.registry import MODELS, MODELS_BY_ID, device_force
-from damper.spencer import Spencer
-from damper.virtual import VirtualBenchmarkDamper
-from damper.voltage_laws import Polynomial
+from damper.models.base import DamperModel
+from damper.models.bingham import Bingham
+from damper.models.dahl import Dahl
+from damper.models.hyperbolic_tangent import HyperbolicTangent
+from damper.models.registry import MODELS, MODELS_BY_ID, device_force
+from damper.models.spencer import Spencer
+from damper.models.virtual import VirtualBenchmarkDamper
+from damper.models.voltage_laws import Polynomial
 
 T = np.linspace(0.0, 2.0, 801)
 X = 0.02 * np.sin(2 * np.pi * T)

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from benchmark.applications.cli import main
-from damper.data import read_csv
-from damper.laboratory import periodic_test
-from damper.loops import last_cycles
-from damper.plots import plot_loops
+from damper.io.data import read_csv
+from damper.lab.laboratory import periodic_test
+from damper.lab.loops import last_cycles
+from damper.lab.plots import plot_loops
 
 
 def test_damper_test_writes_csv_and_plot(tmp_path, capsys):
@@ -81,9 +81,9 @@ def test_voltage_is_required_for_a_model_that_depends_on_it(tmp_path, capsys):
 
 def test_voltage_is_accepted_for_a_voltage_law(tmp_path):
     """A model whose parameters are voltage laws responds to --voltage (API-built model)."""
-    from damper.bingham import Bingham
+    from damper.models.bingham import Bingham
     from benchmark.applications.cli_damper import check_voltage_effect
-    from damper.voltage_laws import Polynomial
+    from damper.models.voltage_laws import Polynomial
 
     model = Bingham(f_c=Polynomial((500.0, 300.0)), c0=5.0e3, f0=0.0)
     check_voltage_effect(model, "bingham", 1.0)          # no error

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from damper.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm, utfsm_files, write_csv
+from damper.io.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm, utfsm_files, write_csv
 
 
 def _test_record(**extra):

@@ -9,8 +9,8 @@ from benchmark.applications.cli import main
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from damper.diagnosis import DiagnosisData, diagnose
 from damper.diagnosis.coarse import Progress, decimate, decimation_factor
-from damper.diagnosis.protocols import random_voltage_levels, random_voltage_test
-from damper.dyke_data import is_dyke_file, read_dyke
+from damper.lab.protocols import random_voltage_levels, random_voltage_test
+from damper.io.dyke import is_dyke_file, read_dyke
 
 DYKE = "hysteresis_data/dyke_mr_damper_random_voltage/ransim_u_converted.csv"
 
@@ -122,7 +122,7 @@ def test_cli_reads_dyke_and_refuses_a_tiny_coarse_pass(tmp_path, capsys):
 
 def test_dyke_reader_rejects_non_utf8_bytes_in_one_line(tmp_path):
     from benchmark.foundation.errors import InputError
-    from damper.dyke_data import read_dyke
+    from damper.io.dyke import read_dyke
 
     bad = tmp_path / "dyke.csv"
     bad.write_bytes(b"t,D,Y,V,F\n0,0.1,1,2,3\n0.001,\xff\xfe,1,2,3\n")

@@ -14,15 +14,15 @@ import pytest
 
 from benchmark.applications.cli import main
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from damper.augmented import AugmentedModel
-from damper.bouc_wen import NormalizedBoucWen
-from damper.data import DamperTest, write_csv
+from damper.diagnosis.augmented import AugmentedModel
+from damper.models.bouc_wen import NormalizedBoucWen
+from damper.io.data import DamperTest, write_csv
 from damper.diagnosis import DiagnosisData, diagnose
 from damper.diagnosis.synthetic import (HeatedDevice, PlayDevice, sinusoidal_tests,
                                         step_voltage_tests)
-from damper.effects import (Asymmetry, Fade, Inertia, Offset, QuadraticDamping, RollOff, Stiffness,
+from damper.diagnosis.effects import (Asymmetry, Fade, Inertia, Offset, QuadraticDamping, RollOff, Stiffness,
                             VoltageLag)
-from damper.voltage_laws import Polynomial
+from damper.models.voltage_laws import Polynomial
 
 BASE = NormalizedBoucWen(2000.0, 800.0, 400.0, 1.0, 1.5)
 
@@ -102,7 +102,7 @@ def test_effect_outside_the_library_is_not_claimed():
 
 def test_virtual_benchmark_damper_needs_stiffness():
     """The seed paper's finding: starting from the normalized model, the loop adds kappa_x x."""
-    from damper.laboratory import periodic_test
+    from damper.lab.laboratory import periodic_test
     tests = [periodic_test("virtual", 0.4, 0.8, 0.0, cycles=5, sample_rate=200, noise=0.01, seed=1),
              periodic_test("virtual", 0.1, 1.5, 0.0, cycles=5, sample_rate=200, noise=0.01, seed=2)]
     d = diagnose(tests, model="normalized")
@@ -200,7 +200,7 @@ def test_hidden_temperature_is_not_taken_for_fade():
 
 @pytest.mark.slow
 def test_measured_utfsm_data_one_current(shared_dir):
-    from damper.data import read_utfsm, utfsm_files
+    from damper.io.data import read_utfsm, utfsm_files
     files = [f for f in utfsm_files(shared_dir) if f.stem.endswith("Hz1A")]
     assert len(files) == 6
     d = diagnose([read_utfsm(f) for f in files])

@@ -17,12 +17,12 @@ import math
 import numpy as np
 import pytest
 
-from damper.augmented import AugmentedModel
-from damper.bouc_wen import NormalizedBoucWen
+from damper.diagnosis.augmented import AugmentedModel
+from damper.models.bouc_wen import NormalizedBoucWen
 from damper.diagnosis import diagnose
 from damper.diagnosis.synthetic import PlayDevice, sinusoidal_tests, step_voltage_tests
-from damper.effects import EFFECT_NAMES, Motion, get_effect
-from damper.voltage_laws import Polynomial
+from damper.diagnosis.effects import EFFECT_NAMES, Motion, get_effect
+from damper.models.voltage_laws import Polynomial
 
 BASE = NormalizedBoucWen(2000.0, 800.0, 400.0, 1.0, 1.5)
 #: a base whose force depends on the voltage, so that a voltage lag shows

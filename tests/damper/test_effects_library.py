@@ -6,13 +6,13 @@ import numpy as np
 import pytest
 
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.augmented import AugmentedModel, Parametrization, refit
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.effects import (EFFECT_NAMES, EFFECTS, Asymmetry, Fade, Inertia, Motion, Offset,
-                            QuadraticDamping, Stiffness, VoltageLag, first_order_filter,
-                            get_effect)
-from damper.simulate import simulate
-from damper.voltage_laws import Polynomial
+from damper.diagnosis.augmented import AugmentedModel, Parametrization, refit
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.diagnosis.effects import (EFFECT_NAMES, EFFECTS, Asymmetry, Fade, Inertia, Motion, Offset,
+                                      QuadraticDamping, Stiffness, VoltageLag, get_effect)
+from damper.models.field_filter import first_order_filter
+from damper.models.response import simulate
+from damper.models.voltage_laws import Polynomial
 
 BASE = NormalizedBoucWen(2000.0, 800.0, 400.0, 1.0, 1.5)
 
@@ -120,7 +120,7 @@ def test_joint_refit_recovers_base_and_effect_parameters():
 
 
 def test_direction_scales_the_force_by_the_direction_of_motion():
-    from damper.effects import Direction
+    from damper.diagnosis.effects import Direction
     m = _motion()
     base = AugmentedModel(BASE).force(m)
     force = AugmentedModel(BASE, (Direction(0.2),)).force(m)
@@ -143,7 +143,7 @@ def test_every_effect_names_the_trace_variables_it_shows_in():
 
 def test_pchip_slopes_match_scipy():
     from scipy.interpolate import PchipInterpolator
-    from damper.voltage_laws import pchip_slopes
+    from damper.models.voltage_laws import pchip_slopes
     rng = np.random.default_rng(3)
     for n in (2, 3, 4, 6):
         for _ in range(50):

@@ -10,11 +10,11 @@ def _check(figures) -> None:
     figures.check()
 
 def _diagnosis(input_name: str):
-    from damper.augmented import AugmentedModel
-    from damper.bouc_wen import NormalizedBoucWen
+    from damper.diagnosis.augmented import AugmentedModel
+    from damper.models.bouc_wen import NormalizedBoucWen
     from damper.diagnosis import diagnose
     from damper.diagnosis.synthetic import sinusoidal_tests
-    from damper.effects import Stiffness
+    from damper.diagnosis.effects import Stiffness
 
     device = AugmentedModel(NormalizedBoucWen(2000.0, 800.0, 400.0, 1.0, 1.5), (Stiffness(5.0e4),))
     tests = sinusoidal_tests(device, cycles=3, samples_per_cycle=100, input_name=input_name)
@@ -40,9 +40,9 @@ def test_diagnosis_figures_use_display_units(tmp_path, figures, input_name):
 
 
 def test_identify_data_figures_have_units(tmp_path, figures):
-    from damper.data import write_csv
+    from damper.io.data import write_csv
     from damper.identification.measured import identify_files
-    from damper.laboratory import periodic_test
+    from damper.lab.laboratory import periodic_test
 
     path = tmp_path / "t.csv"
     write_csv(periodic_test("virtual", 0.02, 1.0, 0.0, cycles=3, sample_rate=100.0), path)

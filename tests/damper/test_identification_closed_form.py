@@ -15,7 +15,7 @@ from scipy.integrate import quad, solve_ivp
 
 from benchmark.foundation.errors import InputError
 from damper.identification.closed_form import closed_form
-from damper.bouc_wen import g_integral, h_integral, limit_cycle_peak, limit_cycle_psi
+from damper.models.bouc_wen import g_integral, h_integral, limit_cycle_peak, limit_cycle_psi
 from damper.identification.cycles import (ExcitationWarning, average_branches, check_excitation,
                                           detect_cycles, steady_cycles)
 

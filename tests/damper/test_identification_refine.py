@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from benchmark.foundation.errors import InputError
-from damper.bouc_wen import ExtendedBoucWen
+from damper.models.bouc_wen import ExtendedBoucWen
 from damper.identification.identify import identify, identify_arrays
 from damper.identification.metrics import (dissipated_energy, energy_error, force_errors,
                                            peak_error, relative_rms_error, spencer_errors)
-from damper.simulate import simulate
+from damper.models.response import simulate
 
 # A device of the benchmark's scale (DOMAIN.md §3: kappa_x ~ 207 kN/m, kappa_xdot ~ 100 kN s/m).
 TRUE = dict(kappa_x=2.07e5, kappa_xdot=1.0e5, kappa_w=1.2e5, rho=120.0, sigma=0.9, n=1.4)
@@ -65,7 +65,7 @@ def test_normalized_model_cannot_fit_an_inclined_loop():
 
 
 def test_identify_takes_a_damper_test_and_rejects_varying_voltage():
-    from damper.data import DamperTest
+    from damper.io.data import DamperTest
     t, x, xd, force = periodic_data(cycles=4)
     test = DamperTest(time=t, displacement=x, velocity=xd, force=force, voltage=np.full(t.size, 0.3),
                       name="unit")

@@ -10,18 +10,18 @@ import numpy as np
 import pytest
 
 from benchmark.foundation.errors import InputError
-from damper.bouc_wen import ExtendedBoucWen
+from damper.models.bouc_wen import ExtendedBoucWen
 from benchmark.applications.identification_validation import replay, run_errors
 from damper.identification.voltage_grid import TestProtocol, fit_voltage_laws, identify_voltage_grid
 from damper.identification.voltage_lag import filtered_force, fit_voltage_lag
-from damper.simulate import simulate
-from damper.voltage_laws import Polynomial
+from damper.models.response import simulate
+from damper.models.voltage_laws import Polynomial
 
 IDENT_DIR = Path(__file__).resolve().parents[2] / "damper" / "identification"
 
 
 def test_no_identification_module_imports_the_virtual_damper():
-    """Identification reaches the virtual damper only through damper.laboratory (injected device)."""
+    """Identification reaches the virtual damper only through damper.lab.laboratory (injected device)."""
     offenders = []
     apps = IDENT_DIR.parents[1] / "benchmark" / "applications"
     for path in sorted(IDENT_DIR.glob("*.py")) + [apps / "cli_identify.py", apps / "identification_study.py",
@@ -34,7 +34,7 @@ def test_no_identification_module_imports_the_virtual_damper():
             elif isinstance(node, ast.ImportFrom):
                 mod = node.module or ""
                 names = [mod] + [f"{mod}.{a.name}" for a in node.names]
-            if any(n == "damper.virtual" or n.startswith("damper.virtual.") for n in names):
+            if any(n == "damper.models.virtual" or n.startswith("damper.models.virtual.") for n in names):
                 offenders.append(f"{path.name}:{node.lineno}")
         text = path.read_text(encoding="utf-8")
         assert "VirtualBenchmarkDamper" not in text, path.name
@@ -122,7 +122,7 @@ def test_joint_kappa_x_and_a_pool_give_the_same_grid_as_one_process():
 
 
 def test_worker_count_rejects_bad_jobs():
-    from damper.identification.parallel import run_tasks, worker_count
+    from benchmark.foundation.pool import run_tasks, worker_count
     assert worker_count(1) == 1 and worker_count(8, n_tasks=3) == 3 and worker_count(None) >= 1
     for bad in (-1, 1.5, "2", True):
         with pytest.raises(InputError, match="jobs"):
@@ -143,7 +143,7 @@ def test_field_lag_is_recovered_from_a_switching_test():
     x = 0.1 * np.sin(np.pi * t)
     xd = 0.1 * np.pi * np.cos(np.pi * t)
     v = np.where(np.mod(t, 0.4) < 0.2, 0.0, 1.0)
-    from damper.data import DamperTest
+    from damper.io.data import DamperTest
     force = filtered_force(model, t, x, xd, v, tau=0.03)
     fit = fit_voltage_lag(model, DamperTest(time=t, displacement=x, velocity=xd, force=force, voltage=v,
                                             name="switching"))

@@ -8,8 +8,8 @@ import json
 import pytest
 
 from benchmark.applications.cli import main
-from damper.data import write_csv
-from damper.laboratory import periodic_test
+from damper.io.data import write_csv
+from damper.lab.laboratory import periodic_test
 
 
 @pytest.fixture(scope="module")

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from benchmark.foundation.errors import InputError
-from damper.base import KERNEL_BINGHAM, DamperModel
-from damper.voltage_laws import Constant, Polynomial
+from damper.models.base import KERNEL_BINGHAM, DamperModel
+from damper.models.voltage_laws import Constant, Polynomial
 
 
 @dataclass(frozen=True)
@@ -47,7 +47,7 @@ class ToyViscousDamper(DamperModel):
 
 @pytest.fixture
 def registered():
-    from damper import registry
+    from damper.models import registry
 
     cls = registry.register_model(ToyViscousDamper)  # the one registration
     yield cls
@@ -85,12 +85,12 @@ def test_the_toy_model_runs_in_the_building(registered, records_dir):
 
 
 def test_registration_refuses_what_breaks_the_contract(registered):
-    from damper import registry
+    from damper.models import registry
 
     class NotAModel:
         name = "nope"
 
-    with pytest.raises(InputError, match="not a damper.base.DamperModel"):
+    with pytest.raises(InputError, match="not a damper.models.base.DamperModel"):
         registry.register_model(NotAModel)
 
     @dataclass(frozen=True)

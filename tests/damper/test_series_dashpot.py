@@ -7,12 +7,12 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from benchmark.foundation.errors import ParameterError
-from damper.augmented import AugmentedModel
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.effects import Motion, RollOff
-from damper.series_dashpot import SeriesDashpotBoucWen, scaled_law
-from damper.simulate import simulate
-from damper.voltage_laws import Constant, Exponential, Polynomial, Saturating, SeedKappaW, Tabulated
+from damper.diagnosis.augmented import AugmentedModel
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.diagnosis.effects import Motion, RollOff
+from damper.models.series_dashpot import SeriesDashpotBoucWen, scaled_law
+from damper.models.response import simulate
+from damper.models.voltage_laws import Constant, Exponential, Polynomial, Saturating, SeedKappaW, Tabulated
 
 EXT = ExtendedBoucWen(2e5, Tabulated((0.0, 1.0), (1e5, 3e5)), Tabulated((0.0, 1.0), (5e4, 1e6)),
                       100.0, 1.5, 1.4)
@@ -109,7 +109,7 @@ def test_roll_off_effect_runs_the_series_model_and_vanishes_at_zero():
 def test_refit_with_voltage_nodes_keeps_one_shape_and_recovers_the_roll_off():
     """Over several coil inputs the series model's rho, sigma, n stay single values (the kernel
     cannot vary them) while kappa_xdot and kappa_w follow node laws; the refit converges."""
-    from damper.augmented import Parametrization, refit
+    from damper.diagnosis.augmented import Parametrization, refit
 
     def base(rho):
         return NormalizedBoucWen(Tabulated((0.0, 1.0), (1e3, 3e3)), Tabulated((0.0, 1.0), (1e4, 3e4)),
@@ -159,7 +159,7 @@ def test_steep_unloading_converges_to_the_fine_solution():
 
 def test_the_loading_tolerance_is_unused_below_sigma_one():
     """sigma <= 1: one bound serves both branches, and the packed loading tolerance changes nothing."""
-    from damper.spencer import spencer_type_step
+    from damper.models.spencer import spencer_type_step
     m = SeriesDashpotBoucWen(kappa_x=1e3, kappa_xdot=7e3, kappa_w=1e3, rho=2000.0, sigma=0.9, n=1.4,
                              roll_off_velocity=0.01)
     t = np.arange(0.0, 1.0, 2e-3)

@@ -12,10 +12,10 @@ from scipy.integrate import solve_ivp
 
 from benchmark.foundation.errors import InputError, ParameterError
 from damper import simulate
-from damper.laboratory import general_test, periodic_test
-from damper.loops import dissipated_energy, last_cycles, midline_slope, plastic_branch_fit
-from damper.spencer import Spencer
-from damper.virtual import VirtualBenchmarkDamper
+from damper.lab.laboratory import general_test, periodic_test
+from damper.lab.loops import dissipated_energy, last_cycles, midline_slope, plastic_branch_fit
+from damper.models.spencer import Spencer
+from damper.models.virtual import VirtualBenchmarkDamper
 
 
 @pytest.fixture(scope="module")
@@ -162,7 +162,7 @@ def test_bad_virtual_parameters():
 
 
 def test_identification_does_not_import_the_virtual_damper():
-    """Identification reaches the virtual damper only through damper.laboratory."""
+    """Identification reaches the virtual damper only through damper.lab.laboratory."""
     package = Path(__file__).resolve().parents[2] / "damper"
     for path in sorted(package.glob("*ident*.py")) + sorted(package.glob("identification/*.py")):
         tree = ast.parse(path.read_text(encoding="utf-8"))

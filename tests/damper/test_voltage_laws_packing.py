@@ -7,7 +7,7 @@ import pytest
 from scipy.interpolate import PchipInterpolator
 
 from benchmark.foundation.errors import ParameterError
-from damper.voltage_laws import (Constant, Exponential, Polynomial, Saturating, SeedKappaW, Tabulated,
+from damper.models.voltage_laws import (Constant, Exponential, Polynomial, Saturating, SeedKappaW, Tabulated,
                                  as_law, law_length, law_value)
 
 LAWS = [

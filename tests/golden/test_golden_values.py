@@ -124,7 +124,7 @@ CASES = {
 
 def _identification_values() -> dict:
     from damper.identification import identify
-    from damper.laboratory import periodic_test
+    from damper.lab.laboratory import periodic_test
 
     test = periodic_test("virtual", amplitude=0.1, frequency=1.0, voltage=0.5, cycles=4,
                          sample_rate=200.0).select(t_start=2.0)
@@ -136,11 +136,11 @@ def _identification_values() -> dict:
 
 
 def _diagnosis_values() -> dict:
-    from damper.augmented import AugmentedModel
-    from damper.bouc_wen import NormalizedBoucWen
+    from damper.diagnosis.augmented import AugmentedModel
+    from damper.models.bouc_wen import NormalizedBoucWen
     from damper.diagnosis import diagnose
     from damper.diagnosis.synthetic import sinusoidal_tests
-    from damper.effects import Stiffness
+    from damper.diagnosis.effects import Stiffness
 
     device = AugmentedModel(NormalizedBoucWen(2000.0, 800.0, 400.0, 1.0, 1.5), [Stiffness(3e4)])
     d = diagnose(sinusoidal_tests(device, noise=0.01, seed=1))

@@ -92,7 +92,7 @@ def test_extended_bouc_wen_rejects_inadmissible_parameters(case):
 
 
 def test_virtual_damper_rejects_inadmissible_override():
-    from damper.virtual import VirtualBenchmarkDamper
+    from damper.models.virtual import VirtualBenchmarkDamper
 
     _raises(lambda: VirtualBenchmarkDamper(rho=-1.0), "rho", ParameterError)
 
@@ -148,7 +148,7 @@ LAB_CASES = {
 
 @pytest.mark.parametrize("case", sorted(LAB_CASES))
 def test_laboratory_periodic_test_rejects(case):
-    from damper.laboratory import periodic_test
+    from damper.lab.laboratory import periodic_test
 
     kwargs = dict(device="virtual", amplitude=0.05, frequency=1.0, voltage=0.0, cycles=2)
     changes, match = LAB_CASES[case]
@@ -157,7 +157,7 @@ def test_laboratory_periodic_test_rejects(case):
 
 
 def test_laboratory_general_test_rejects_voltage_outside_the_device_range():
-    from damper.laboratory import general_test
+    from damper.lab.laboratory import general_test
 
     _raises(lambda: general_test("virtual", T, X, v=np.full(T.size, 3.0)), "v")
     _raises(lambda: general_test("virtual", T, X, v=0.0, noise=math.inf), "noise")
@@ -197,7 +197,7 @@ def test_identification_rejects_too_short_a_test():
 
 def test_diagnosis_rejects_bad_arguments():
     from damper.diagnosis import diagnose
-    from damper.laboratory import periodic_test
+    from damper.lab.laboratory import periodic_test
 
     test = periodic_test("virtual", 0.05, 1.0, 0.0, cycles=2)
     _raises(lambda: diagnose([]), "at least one test")
@@ -248,7 +248,7 @@ def test_isolation_layers_are_validated():
 
 def test_devices_are_validated():
     from benchmark.simulator.devices import DeviceLayout, DeviceSlot
-    from damper.virtual import VirtualBenchmarkDamper
+    from damper.models.virtual import VirtualBenchmarkDamper
 
     model = VirtualBenchmarkDamper()
     _raises(lambda: DeviceSlot(0.0, 0.0, "z", model), "direction")

@@ -201,7 +201,7 @@ def _check_damper_test(test) -> None:
 
 
 def test_valid_damper_templates_are_read(tmp_path):
-    from damper.data import read_csv, read_utfsm
+    from damper.io.data import read_csv, read_utfsm
 
     _check_damper_test(read_csv(_write(tmp_path / "t.csv", "\n".join(DAMPER_CSV_LINES))))
     _check_damper_test(read_utfsm(_write(tmp_path / "2mm5Hz0x5A.txt", "\n".join(UTFSM_LINES))))
@@ -210,7 +210,7 @@ def test_valid_damper_templates_are_read(tmp_path):
 @_settings("damper_csv")
 @given(data=st.data())
 def test_damper_csv_reader(tmp_path, data):
-    from damper.data import read_csv
+    from damper.io.data import read_csv
 
     path = _write(tmp_path / "damper_test.csv", data.draw(mutated(DAMPER_CSV_LINES)))
     _check_damper_test(_outcome(read_csv, path))
@@ -219,7 +219,7 @@ def test_damper_csv_reader(tmp_path, data):
 @_settings("utfsm")
 @given(data=st.data(), raw=st.booleans())
 def test_utfsm_reader(tmp_path, data, raw):
-    from damper.data import read_utfsm
+    from damper.io.data import read_utfsm
 
     content = data.draw(st.binary(max_size=200)) if raw else data.draw(mutated(UTFSM_LINES))
     path = _write(tmp_path / "2mm5Hz0x5A.txt", content)

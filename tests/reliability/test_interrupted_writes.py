@@ -2,7 +2,7 @@
 
 A child process rewrites one destination in a loop (an HDF5 result of
 :func:`benchmark.simulator.results.write_result`, a record CSV of :func:`records.readers.write_csv`, a
-damper test CSV of :func:`damper.data.write_csv`), each generation filling every array with
+damper test CSV of :func:`damper.io.data.write_csv`), each generation filling every array with
 its generation number. The parent kills it (SIGKILL: no clean-up at all; SIGINT: Ctrl-C) after
 a delay from a fixed schedule, then reads the destination back: it must be readable, and
 every value in it must be one generation's. After Ctrl-C no temporary file may remain (after
@@ -53,7 +53,7 @@ CHILD = textwrap.dedent('''
             from records.readers import write_csv
             write_csv(Record(f"gen{gen}", 0.01, np.full((n, 2), float(gen))), dest)
         else:
-            from damper.data import DamperTest, write_csv
+            from damper.io.data import DamperTest, write_csv
             t = np.arange(n) * 0.001
             write_csv(DamperTest(time=t, displacement=np.full(n, float(gen)), velocity=np.full(n, float(gen)),
                                  force=np.full(n, float(gen)), voltage=np.full(n, 0.5), name=f"gen{gen}"), dest)
@@ -93,7 +93,7 @@ def _generation(kind: str, path: Path) -> int:
         values = np.unique(record.acceleration)
         assert values.size == 1 and record.n_samples == SIZES[kind]
         return int(values[0])
-    from damper.data import read_csv
+    from damper.io.data import read_csv
 
     test = read_csv(path)
     values = np.unique(test.force)

@@ -30,8 +30,8 @@ LATIN1 = {
 def _readers():
     from benchmark.applications.ensemble import EnsembleConfig
     from benchmark.simulator.isolation.configurations import load_isolation as load_isolation_file
-    from damper.data import read_csv as read_damper_csv
-    from damper.data import read_utfsm
+    from damper.io.data import read_csv as read_damper_csv
+    from damper.io.data import read_utfsm
     from records import load_record
 
     return {

@@ -83,7 +83,7 @@ def test_another_seed_gives_other_noise(runner, records_dir):
 
 
 def test_laboratory_noise_is_seeded():
-    from damper.laboratory import periodic_test
+    from damper.lab.laboratory import periodic_test
 
     a = periodic_test("virtual", 0.05, 1.0, 0.3, cycles=2, noise=0.02, seed=11)
     b = periodic_test("virtual", 0.05, 1.0, 0.3, cycles=2, noise=0.02, seed=11)

@@ -64,10 +64,10 @@ def test_normalized_form_is_unique():
 
 
 def test_saturating_branch_matches_damper_normalized_bouc_wen():
-    from damper.bouc_wen import StandardBoucWen
+    from damper.models.bouc_wen import StandardBoucWen
     m = HystereticOscillator.from_standard(**SATURATING)
     assert m.branch == 1
-    # Same hysteresis as damper.bouc_wen's standard -> normalized map (Wen's convention:
+    # Same hysteresis as damper.models.bouc_wen's standard -> normalized map (Wen's convention:
     # D zdot = A xdot - beta' |xdot||z|^(n-1) z - gamma' xdot |z|^n).
     s = StandardBoucWen(c0=1.0, k0=0.0, alpha=1.0, A=SATURATING["alpha"], D=1.0,
                         beta=SATURATING["beta"] * SATURATING["gamma"],

@@ -1,7 +1,7 @@
 """Force history of a damper model under a prescribed displacement and voltage history.
 
 :func:`simulate` runs the same compiled kernels the building uses
-(:func:`damper.registry.device_step`), step by step between the given samples.
+(:func:`damper.models.registry.device_step`), step by step between the given samples.
 """
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ import numba
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError
-from damper.data import check_samples
-from damper.registry import device_force, device_step, kernel_id_of
+from damper.io.data import check_samples
+from damper.models.registry import device_force, device_step, kernel_id_of
 from benchmark.foundation.kernel_cache import ensure_fresh_once
 
 __all__ = ["DamperResponse", "simulate", "prepare_motion"]
@@ -96,7 +96,7 @@ def simulate(model, t, x, xdot=None, v=0.0, state0=None) -> DamperResponse:
     Parameters
     ----------
     model : damper model
-        Any registered model instance (see :mod:`damper.registry`).
+        Any registered model instance (see :mod:`damper.models.registry`).
     t : array_like (n,)
         Strictly increasing sample times [s].
     x : array_like (n,)

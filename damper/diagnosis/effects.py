@@ -1,8 +1,8 @@
 """A library of physical effects that a base MR damper model may lack, each a term with its own parameter.
 
 The residual loop (:mod:`damper.diagnosis`) extends a base model (normalized or extended
-Bouc-Wen, :mod:`damper.bouc_wen`) by *composition* with these terms
-(:class:`damper.augmented.AugmentedModel`). Every effect has one parameter, a *neutral* value at
+Bouc-Wen, :mod:`damper.models.bouc_wen`) by *composition* with these terms
+(:class:`damper.diagnosis.augmented.AugmentedModel`). Every effect has one parameter, a *neutral* value at
 which it vanishes (the base model is recovered exactly), physical bounds, and a role that says
 where it enters the composition:
 
@@ -49,7 +49,7 @@ name                   role        term                                         
   through a dashpot :math:`c_s = \\kappa_w / v_r` (Spencer et al.'s :math:`c_1`), so below about
   the roll-off velocity :math:`v_r` the force falls viscously instead of holding the yield
   force: the low-velocity roll-off of measured loops, which no rate-independent term
-  produces (:class:`damper.series_dashpot.SeriesDashpotBoucWen`). ``velocity = 0`` is the
+  produces (:class:`damper.models.series_dashpot.SeriesDashpotBoucWen`). ``velocity = 0`` is the
   base model itself.
 * ``voltage_lag``: first-order field build-up (coil inductance, eddy currents). The filter is
   integrated exactly for an input that is linear between samples, so ``tau = 0`` returns the
@@ -72,11 +72,11 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar
 
-import numba
 import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.series_dashpot import SeriesDashpotBoucWen
+from damper.models.field_filter import first_order_filter
+from damper.models.series_dashpot import SeriesDashpotBoucWen
 
 __all__ = [
     "Motion",
@@ -93,7 +93,6 @@ __all__ = [
     "EFFECTS",
     "EFFECT_NAMES",
     "get_effect",
-    "first_order_filter",
 ]
 
 
@@ -547,7 +546,7 @@ class RollOff(Effect):
     ----------
     velocity : float
         Roll-off velocity :math:`v_r` [m/s], >= 0 (``0``: no roll-off, the base model). See
-        :class:`damper.series_dashpot.SeriesDashpotBoucWen` for the equations; the base model's
+        :class:`damper.models.series_dashpot.SeriesDashpotBoucWen` for the equations; the base model's
         ρ, σ and n must not depend on the coil input.
     """
 
@@ -578,53 +577,6 @@ class RollOff(Effect):
         if self.velocity == 0.0:
             return base
         return SeriesDashpotBoucWen.from_bouc_wen(base, self.velocity)
-
-
-@numba.njit(cache=True)
-def _first_order_filter(t, v, tau, out):
-    out[0] = v[0]
-    for k in range(t.size - 1):
-        h = t[k + 1] - t[k]
-        if tau <= 0.0:
-            out[k + 1] = v[k + 1]
-            continue
-        e = math.exp(-h / tau)
-        # exact solution of tau u' = v - u for v linear over the step
-        out[k + 1] = e * out[k] + (1.0 - e) * v[k] + (v[k + 1] - v[k]) * (1.0 - tau * (1.0 - e) / h)
-
-
-def first_order_filter(t: np.ndarray, v: np.ndarray, tau: float) -> np.ndarray:
-    """Output of :math:`\\tau\\dot u = v - u`, :math:`u(t_0) = v(t_0)`, for ``v`` linear between samples.
-
-    Over a step of length :math:`h` with :math:`e = e^{-h/\\tau}`:
-
-    .. math:: u_{k+1} = e\\,u_k + (1-e)\\,v_k + (v_{k+1}-v_k)\\Big(1 - \\frac{\\tau(1-e)}{h}\\Big),
-
-    exact for piecewise-linear input; ``tau = 0`` returns ``v``.
-
-    Parameters
-    ----------
-    t : ndarray (n,)
-        Strictly increasing times [s].
-    v : ndarray (n,)
-        Input samples.
-    tau : float
-        Time constant [s], >= 0.
-
-    Returns
-    -------
-    ndarray (n,)
-    """
-    t = np.ascontiguousarray(t, dtype=np.float64)
-    v = np.ascontiguousarray(v, dtype=np.float64)
-    if t.shape != v.shape or t.ndim != 1:
-        raise InputError(f"first_order_filter: t and v must be 1-D of equal length, got "
-                         f"{t.shape} and {v.shape}")
-    if not (math.isfinite(tau) and tau >= 0.0):
-        raise ParameterError(f"voltage_lag.tau: expected a finite value >= 0 s, got {tau!r}")
-    out = np.empty_like(v)
-    _first_order_filter(t, v, float(tau), out)
-    return out
 
 
 #: The library, in the order the loop lists candidates.

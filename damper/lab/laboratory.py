@@ -20,10 +20,10 @@ import math
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.data import DamperTest
-from damper.base import DamperModel
-from damper.registry import get_model_class
-from damper.simulate import simulate
+from damper.io.data import DamperTest
+from damper.models.base import DamperModel
+from damper.models.registry import get_model_class
+from damper.models.response import simulate
 
 __all__ = ["periodic_test", "general_test", "resolve_device", "WAVEFORMS"]
 
@@ -143,7 +143,7 @@ def periodic_test(device, amplitude: float, frequency: float, voltage: float, cy
     label = f"{model.name} {waveform} {amplitude:g} m {frequency:g} Hz {voltage:g} V"
     return DamperTest(time=t, displacement=x, velocity=xdot, force=_measure(response.force, noise, seed),
                       voltage=np.full(n, voltage), name=label,
-                      source=f"damper.laboratory.periodic_test({model.name})",
+                      source=f"damper.lab.laboratory.periodic_test({model.name})",
                       metadata=dict(protocol="periodic", waveform=waveform, amplitude=amplitude,
                                     frequency=frequency, voltage=voltage, cycles=cycles,
                                     sample_rate=sample_rate, noise=noise, seed=seed,
@@ -164,5 +164,5 @@ def general_test(device, t, x, v, noise: float = 0.0, seed: int | None = None,
     return DamperTest(time=response.t, displacement=response.displacement,
                       velocity=response.velocity, force=_measure(response.force, noise, seed),
                       voltage=response.voltage, name=f"{model.name} general test",
-                      source=f"damper.laboratory.general_test({model.name})",
+                      source=f"damper.lab.laboratory.general_test({model.name})",
                       metadata=dict(protocol="general", noise=noise, seed=seed, device=model.name))

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from benchmark.foundation.errors import InputError
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.identification.ceiling import pick_damper, structural_ceiling, summarize_ceiling
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from benchmark.applications.identification_ceiling import pick_damper, structural_ceiling, summarize_ceiling
 from damper.identification.cycles import ExcitationWarning
 from benchmark.applications.identification_validation import (RunValidation, ValidationResult, field_estimate,
                                               regime_errors, regime_masks)
-from damper.voltage_laws import Polynomial
+from damper.models.voltage_laws import Polynomial
 
 # A stiff extended device: at ±0.1 m the elastic term (5e5 N/m) is as large as the dry friction,
 # which the normalized form cannot carry over a motion with drifting amplitude.
@@ -123,7 +123,7 @@ def test_the_virtual_dampers_roll_off_is_what_levels_the_two_forms_at_high_field
     c1) limits both Bouc-Wen forms alike; without it, the extended form is far better."""
     from damper.identification.identify import identify
     from damper.identification.voltage_grid import TestProtocol
-    from damper.virtual import VirtualBenchmarkDamper
+    from damper.models.virtual import VirtualBenchmarkDamper
 
     t = np.arange(0.0, 15.0, 5e-3)
     rng = np.random.default_rng(7)

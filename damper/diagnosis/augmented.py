@@ -1,9 +1,9 @@
 """Augmented damper model: a base Bouc-Wen model composed with effect terms, and its joint refit.
 
-An :class:`AugmentedModel` holds a base model from :mod:`damper.bouc_wen` (normalized or
+An :class:`AugmentedModel` holds a base model from :mod:`damper.models.bouc_wen` (normalized or
 extended, constant parameters or voltage laws) and a tuple of effects from
-:mod:`damper.effects`. It does not copy the base model: the base force comes from
-:func:`damper.simulate` (the same compiled kernels the building runs), and the effects are
+:mod:`damper.diagnosis.effects`. It does not copy the base model: the base force comes from
+:func:`damper.models.response` (the same compiled kernels the building runs), and the effects are
 applied around it,
 
 .. math::
@@ -13,13 +13,13 @@ applied around it,
        + \\sum_k f_k(x, \\dot x, \\ddot x, t),
 
 with :math:`F_\\text{base}` the base model, or the base model in series with the ``roll_off``
-dashpot (:class:`~damper.series_dashpot.SeriesDashpotBoucWen`) when that effect is present,
+dashpot (:class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`) when that effect is present,
 :math:`\\mathcal I` the input effects (``voltage_lag``), :math:`g_j` the factor effects
 (``asymmetry``, ``fade``) and :math:`f_k` the additive ones (``stiffness``, ``offset``,
 ``inertia``, ``quadratic_damping``).
 
 :class:`Parametrization` maps the free parameters of an augmented model (the base model's
-parameters, constant or as node values of :class:`~damper.voltage_laws.Tabulated` laws, and one
+parameters, constant or as node values of :class:`~damper.models.voltage_laws.Tabulated` laws, and one
 value per effect) to a flat vector and back, with bounds and scales; :func:`refit` adjusts them
 all jointly by bounded nonlinear least squares (:func:`scipy.optimize.least_squares`, trust-region
 reflective) on a set of tests, counting only the samples a mask selects (the training part)
@@ -41,10 +41,10 @@ import numpy as np
 
 from damper.fitting import least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.effects import EFFECTS, EFFECT_NAMES, Effect, Motion, get_effect
-from damper.simulate import simulate
-from damper.voltage_laws import Tabulated, VoltageLaw
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.diagnosis.effects import EFFECTS, EFFECT_NAMES, Effect, Motion, get_effect
+from damper.models.response import simulate
+from damper.models.voltage_laws import Tabulated, VoltageLaw
 
 __all__ = [
     "Motion",
@@ -97,7 +97,7 @@ class AugmentedResponse:
 def make_base(kind: str, parameters: dict, voltage_range: tuple[float, float] = (0.0, 1.0)):
     """The base model of ``kind`` ("normalized" or "extended") from a parameter dict (SI).
 
-    Values may be numbers or :class:`~damper.voltage_laws.VoltageLaw` objects; extra keys
+    Values may be numbers or :class:`~damper.models.voltage_laws.VoltageLaw` objects; extra keys
     (``kappa_x`` for the normalized model) are ignored.
     """
     try:
@@ -131,8 +131,8 @@ class AugmentedModel:
 
     Examples
     --------
-    >>> from damper.bouc_wen import NormalizedBoucWen
-    >>> from damper.effects import Stiffness
+    >>> from damper.models.bouc_wen import NormalizedBoucWen
+    >>> from damper.diagnosis.effects import Stiffness
     >>> m = AugmentedModel(NormalizedBoucWen(1e3, 5e3, 300.0, 1.0, 1.0), (Stiffness(2e4),))
     >>> m.effect_names
     ('stiffness',)
@@ -286,7 +286,7 @@ class Parametrization:
 
     Layout: the base parameters in ``parameter_names`` order, each a single value (constant
     parameters, ``nodes is None``) or its values at the voltage ``nodes`` (a
-    :class:`~damper.voltage_laws.Tabulated` law, PCHIP between nodes); then one value per effect
+    :class:`~damper.models.voltage_laws.Tabulated` law, PCHIP between nodes); then one value per effect
     in composition order. With a ``series`` effect (``roll_off``) the shape parameters ρ, σ, n
     and κ_x stay single values even with nodes (the series model needs them independent of the
     coil input; a template whose laws vary there starts from their mean over the nodes).

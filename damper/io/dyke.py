@@ -17,7 +17,7 @@ name   meaning                                     unit in file
 =====  ==========================================  =============
 
 (rows may end with a trailing comma). :func:`read_dyke` converts cm and cm/s to m and m/s at
-this edge and returns a :class:`~damper.data.DamperTest` with the command voltage as its input.
+this edge and returns a :class:`~damper.io.data.DamperTest` with the command voltage as its input.
 
 References
 ----------
@@ -37,7 +37,7 @@ import numpy as np
 
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.textfile import read_text
-from damper.data import DamperTest, parse_row
+from damper.io.data import DamperTest, parse_row
 
 __all__ = ["read_dyke", "is_dyke_file", "DYKE_COLUMNS"]
 

@@ -7,11 +7,11 @@
 
 the normalized Bouc-Wen model with :math:`\\sigma = 1`, :math:`n = 1` (Spencer et al. 1997; Bahar et al. 2009): the
 hysteretic force relaxes exponentially, :math:`w = \\pm 1 \\mp (1 \\mp w_r)e^{-\\rho|x - x_r|}`, after
-each reversal. It runs on the Bouc-Wen kernel (:func:`damper.bouc_wen.bouc_wen_step`).
-Units as in :class:`~damper.bouc_wen.ExtendedBoucWen`; ``kappa_x >= 0``, the others > 0.
+each reversal. It runs on the Bouc-Wen kernel (:func:`damper.models.bouc_wen.bouc_wen_step`).
+Units as in :class:`~damper.models.bouc_wen.ExtendedBoucWen`; ``kappa_x >= 0``, the others > 0.
 
 :meth:`Dahl.virtual_0V` is a documented calibration to the virtual benchmark damper's 0 V
-loops as read off with :mod:`damper.loops` (``kappa_x`` = 207 kN/m, ``kappa_xdot`` =
+loops as read off with :mod:`damper.lab.loops` (``kappa_x`` = 207 kN/m, ``kappa_xdot`` =
 98 kN·s/m, ``kappa_w`` = 57 kN, ``rho`` = 120 1/m).
 
 References
@@ -28,9 +28,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from damper.base import KERNEL_BOUC_WEN, DamperModel
-from damper.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, ExtendedBoucWen
-from damper.voltage_laws import ParameterLike
+from damper.models.base import KERNEL_BOUC_WEN, DamperModel
+from damper.models.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, ExtendedBoucWen
+from damper.models.voltage_laws import ParameterLike
 
 __all__ = ["Dahl", "DAHL_ID"]
 

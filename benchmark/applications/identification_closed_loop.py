@@ -2,14 +2,14 @@
 
 After the seed paper's protocol (:mod:`~damper.identification.voltage_grid`), the study
 
-1. runs the laboratory campaign of :mod:`~damper.identification.campaign` on the device
+1. runs the laboratory campaign of :mod:`~benchmark.applications.identification_campaign` on the device
    (voltage steps and switching, small amplitudes, random motion with random voltage), through
-   :mod:`damper.laboratory` only;
+   :mod:`damper.lab.laboratory` only;
 2. runs the residual loop (:func:`damper.diagnosis.diagnose`) on it, from the normalized and
    from the extended base model, the training tests fitted and the separate held-out tests
    judging every term. The loop adds what it finds; nothing here names an effect;
 3. for the seed's claim, builds the normalized model *with the effects the loop found from the
-   extended base* (refitted jointly, :func:`damper.augmented.refit`): the two forms then differ
+   extended base* (refitted jointly, :func:`damper.diagnosis.augmented.refit`): the two forms then differ
    only by the extended model's elastic term :math:`\\kappa_x x`, which is the premise of the
    claim (the seed compares the forms, nothing else);
 4. turns each augmented model into a model the building's compiled kernels run
@@ -35,14 +35,14 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.series_dashpot import SeriesDashpotBoucWen
+from damper.models.series_dashpot import SeriesDashpotBoucWen
 from damper.identification.refine import free_parameters
 from damper.identification.voltage_grid import fit_voltage_laws, voltage_model
 from damper.diagnosis import diagnose
-from damper.augmented import AugmentedModel, make_base, refit
+from damper.diagnosis.augmented import AugmentedModel, make_base, refit
 from damper.diagnosis import DiagnosisData
-from damper.identification.campaign import laboratory_campaign
-from damper.identification.parallel import run_tasks
+from benchmark.applications.identification_campaign import laboratory_campaign
+from benchmark.foundation.pool import run_tasks
 
 __all__ = ["ORIGINAL", "PROPOSED", "CLOSED_LOOP_NORMALIZED", "CLOSED_LOOP_EXTENDED", "LOOP_FROM_NORMALIZED",
            "ClosedLoopResult", "building_model", "closed_form_models", "close_the_loop", "start_loops",
@@ -65,13 +65,13 @@ def building_model(model):
     """The registered damper model that computes what the augmented ``model`` computes.
 
     The base model with ``stiffness`` becomes the extended Bouc-Wen model (:math:`\\kappa_x`
-    added); with ``roll_off`` it becomes :class:`~damper.series_dashpot.SeriesDashpotBoucWen`,
+    added); with ``roll_off`` it becomes :class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`,
     which also carries a ``voltage_lag`` as its field time constant. The result runs on the
-    compiled kernels, in :func:`damper.simulate` and in the building alike.
+    compiled kernels, in :func:`damper.models.response` and in the building alike.
 
     Parameters
     ----------
-    model : damper.augmented.AugmentedModel
+    model : damper.diagnosis.augmented.AugmentedModel
 
     Returns
     -------
@@ -290,9 +290,9 @@ def close_the_loop(device, campaign=None, executor=None, progress: Callable[[str
     Parameters
     ----------
     device : damper model or str
-        The device under test (through :mod:`damper.laboratory` only).
+        The device under test (through :mod:`damper.lab.laboratory` only).
     campaign : Campaign, optional
-        Tests to use (default :func:`~damper.identification.campaign.laboratory_campaign`).
+        Tests to use (default :func:`~benchmark.applications.identification_campaign.laboratory_campaign`).
     executor : concurrent.futures.Executor, optional
         A pool: the two loops run at once.
     progress : callable, optional

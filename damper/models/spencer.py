@@ -21,8 +21,8 @@ The kernel works with the normalized hysteretic variable :math:`w = z/z_0`,
 (σ ≥ ½), ``n >= 1``, positive dashpots, non-negative springs, ``eta > 0``.
 
 The same kernel (:func:`spencer_type_step`) serves every "Spencer-type" device, with any
-:mod:`~damper.voltage_laws` for the hysteretic force scale and the two dashpots: the virtual
-benchmark damper (:mod:`damper.virtual`) uses it with saturating laws.
+:mod:`~damper.models.voltage_laws` for the hysteretic force scale and the two dashpots: the virtual
+benchmark damper (:mod:`damper.models.virtual`) uses it with saturating laws.
 
 Numerics: the filtered voltage is advanced exactly,
 :math:`u(\\tau) = v + (u_0 - v)e^{-\\eta\\tau}`; ``(y, w)`` are integrated with classical RK4
@@ -59,10 +59,10 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from damper.base import DamperModel, KERNEL_SPENCER_TYPE
+from damper.models.base import DamperModel, KERNEL_SPENCER_TYPE
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.bouc_wen import _abs_pow, _check_voltage_range, hermite_position, DEFAULT_SUBSTEP_TOLERANCE
-from damper.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value
+from damper.models.bouc_wen import _abs_pow, _check_voltage_range, hermite_position, DEFAULT_SUBSTEP_TOLERANCE
+from damper.models.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value
 
 __all__ = [
     "Spencer",

@@ -1,7 +1,7 @@
 """Hysteresis-loop figures (PNG via the Agg backend), as in the seed paper's Fig. 1-3.
 
 :func:`plot_loops` draws force-displacement and force-velocity loops of one or more tests
-(:class:`~damper.data.DamperTest` or :class:`~damper.simulate.DamperResponse`), optionally with
+(:class:`~damper.io.data.DamperTest` or :class:`~damper.models.response.DamperResponse`), optionally with
 the force minus an elastic part :math:`\\kappa_x x` (the seed's Fig. 3). Forces in kN.
 """
 

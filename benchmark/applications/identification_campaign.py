@@ -3,7 +3,7 @@
 The seed paper identifies its models on periodic tests at constant voltage. Under a semi-active
 controller the damper sees what those tests never show: the voltage switching many times a
 second, small strokes between reversals, irregular motion. This module designs that campaign
-and runs it on the device through :mod:`damper.laboratory` only (never through the earthquake
+and runs it on the device through :mod:`damper.lab.laboratory` only (never through the earthquake
 runs the models are later validated in):
 
 * **voltage steps**: a sine with the voltage held at each level of a staircase in turn;
@@ -29,7 +29,7 @@ from typing import Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.laboratory import general_test, resolve_device
+from damper.lab.laboratory import general_test, resolve_device
 
 __all__ = ["Campaign", "DEFAULT_LEVELS", "DEFAULT_SAMPLE_RATE", "random_motion", "random_voltage",
            "staircase_voltage", "square_voltage", "laboratory_campaign"]
@@ -43,7 +43,7 @@ DEFAULT_SAMPLE_RATE = 200.0
 
 @dataclass(frozen=True)
 class Campaign:
-    """The tests of :func:`laboratory_campaign` (each a :class:`damper.data.DamperTest`).
+    """The tests of :func:`laboratory_campaign` (each a :class:`damper.io.data.DamperTest`).
 
     Attributes
     ----------
@@ -133,7 +133,7 @@ def random_voltage(t: np.ndarray, levels: Sequence[float], hold: tuple[float, fl
 def laboratory_campaign(device, sample_rate: float = DEFAULT_SAMPLE_RATE,
                         levels: Sequence[float] = DEFAULT_LEVELS, stroke: float = 0.1,
                         noise: float = 0.0, seed: int = 0, scale: float = 1.0) -> Campaign:
-    """Run the campaign on ``device`` through :func:`damper.laboratory.general_test`.
+    """Run the campaign on ``device`` through :func:`damper.lab.laboratory.general_test`.
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""The damper model contract: what every model in :mod:`damper.registry` implements.
+"""The damper model contract: what every model in :mod:`damper.models.registry` implements.
 
 A damper model is a frozen, validated dataclass of SI parameters that subclasses
 :class:`DamperModel`. It declares
@@ -7,7 +7,7 @@ A damper model is a frozen, validated dataclass of SI parameters that subclasses
   JSON files, reports);
 * ``model_id`` — its registered integer id (unique);
 * ``kernel`` — the compiled kernel family that advances it (:data:`KERNELS`): the building's
-  stepping kernel and :func:`damper.simulate` dispatch on this number, so a model that packs
+  stepping kernel and :func:`damper.models.response` dispatch on this number, so a model that packs
   its parameters into an existing family's layout needs no kernel edit;
 * ``n_states`` and ``state_names`` — its internal states;
 * ``voltage_range`` — the admissible coil voltages ``(v_min, v_max)`` [V];
@@ -16,9 +16,9 @@ A damper model is a frozen, validated dataclass of SI parameters that subclasses
 * ``rates(state, x, xdot, v)`` and ``force(state, x, xdot, v)`` — plain-numpy equations, for
   oracles and readers.
 
-Adding a model is one module with its class plus one :func:`damper.registry.register_model`
+Adding a model is one module with its class plus one :func:`damper.models.registry.register_model`
 call (see ``docs/ARCHITECTURE.md``, "Where things go"); a new kernel family also adds one
-branch to each of :func:`damper.registry.device_step` and :func:`damper.registry.device_force`.
+branch to each of :func:`damper.models.registry.device_step` and :func:`damper.models.registry.device_force`.
 """
 
 from __future__ import annotations
@@ -31,14 +31,14 @@ import numpy as np
 __all__ = ["DamperModel", "KERNEL_BOUC_WEN", "KERNEL_SPENCER_TYPE", "KERNEL_BINGHAM",
            "KERNEL_HYPERBOLIC_TANGENT", "KERNELS"]
 
-#: Bouc-Wen family (normalized, extended, Dahl): :func:`damper.bouc_wen.bouc_wen_step`.
+#: Bouc-Wen family (normalized, extended, Dahl): :func:`damper.models.bouc_wen.bouc_wen_step`.
 KERNEL_BOUC_WEN = 1
 #: Spencer-type family (Spencer, the virtual damper, Bouc-Wen with a series dashpot):
-#: :func:`damper.spencer.spencer_type_step`.
+#: :func:`damper.models.spencer.spencer_type_step`.
 KERNEL_SPENCER_TYPE = 2
-#: Stateless Bingham law: :func:`damper.bingham.bingham_step`.
+#: Stateless Bingham law: :func:`damper.models.bingham.bingham_step`.
 KERNEL_BINGHAM = 3
-#: Stateless hyperbolic-tangent law: :func:`damper.hyperbolic_tangent.hyperbolic_tangent_step`.
+#: Stateless hyperbolic-tangent law: :func:`damper.models.hyperbolic_tangent.hyperbolic_tangent_step`.
 KERNEL_HYPERBOLIC_TANGENT = 4
 #: Kernel families by id.
 KERNELS: dict[int, str] = {KERNEL_BOUC_WEN: "bouc_wen", KERNEL_SPENCER_TYPE: "spencer_type",

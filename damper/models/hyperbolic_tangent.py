@@ -9,7 +9,7 @@ shifts it between the two halves of the stroke. Units: ``c`` [N·s/m] > 0, ``k``
 ``alpha`` [N] > 0 (numbers or voltage laws), ``beta`` [s/m] > 0, ``delta`` [-], ``f0`` [N].
 
 :meth:`HyperbolicTangent.virtual_0V` is a documented calibration to the virtual benchmark damper's
-0 V loops as read off with :mod:`damper.loops` (``k`` = 207 kN/m mid-line slope,
+0 V loops as read off with :mod:`damper.lab.loops` (``k`` = 207 kN/m mid-line slope,
 ``c`` = 98 kN·s/m and ``alpha`` = 57 kN from the plastic branches, ``beta`` = 60 s/m for a
 yield over about ±0.03 m/s, ``delta = 0``, ``f0 = 0``).
 
@@ -29,10 +29,10 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from damper.base import DamperModel, KERNEL_HYPERBOLIC_TANGENT
+from damper.models.base import DamperModel, KERNEL_HYPERBOLIC_TANGENT
 from benchmark.foundation.errors import ParameterError
-from damper.bouc_wen import _check_voltage_range
-from damper.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
+from damper.models.bouc_wen import _check_voltage_range
+from damper.models.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 
 __all__ = ["HyperbolicTangent", "HYPERBOLIC_TANGENT_ID", "hyperbolic_tangent_step",
            "hyperbolic_tangent_force"]

@@ -29,10 +29,10 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from damper.base import DamperModel, KERNEL_BINGHAM
+from damper.models.base import DamperModel, KERNEL_BINGHAM
 from benchmark.foundation.errors import ParameterError
-from damper.bouc_wen import _check_voltage_range
-from damper.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
+from damper.models.bouc_wen import _check_voltage_range
+from damper.models.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 
 __all__ = ["Bingham", "BINGHAM_ID", "bingham_step", "bingham_force"]
 

@@ -72,7 +72,7 @@ def plot_seed_fig11(run, path, proposed: str = "proposed", original: str = "orig
 
 def plot_claim_ratios(summary: dict, path) -> Path:
     """Extended/normalized relative RMS error ratio per run, for each pair of ``summary``
-    (:func:`~damper.identification.closed_loop.claim_summary`), with the targets 1 and 1/3."""
+    (:func:`~benchmark.applications.identification_closed_loop.claim_summary`), with the targets 1 and 1/3."""
     fig, ax = plt.subplots(figsize=(10, 4))
     colors = {"seed": "tab:gray", "closed_loop": "tab:red"}
     labels_done = None

@@ -4,7 +4,7 @@ A careful experimenter who wants the field dynamics and the voltage dependence o
 one record drives it with a band-limited random displacement while the command voltage jumps
 between random levels at random instants (Dyke's characterization tests of the prototype damper
 of Spencer et al. 1997 were run this way). :func:`random_voltage_test` builds that protocol and
-runs it through :func:`damper.laboratory.general_test`, so the device is reached only as a test
+runs it through :func:`damper.lab.laboratory.general_test`, so the device is reached only as a test
 rig would reach it.
 
 * displacement: a sum of ``components`` sines with frequencies drawn log-uniformly in
@@ -27,9 +27,9 @@ import math
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.data import DamperTest
-from damper.laboratory import general_test
-from damper.laboratory import resolve_device
+from damper.io.data import DamperTest
+from damper.lab.laboratory import general_test
+from damper.lab.laboratory import resolve_device
 
 __all__ = ["random_voltage_test", "random_voltage_levels"]
 
@@ -129,6 +129,6 @@ def random_voltage_test(device, duration: float = 40.0, sample_rate: float = 100
                       force=test.force, voltage=test.voltage,
                       name=f"{model.name} random motion, random voltage ({duration:g} s, "
                            f"{sample_rate:g} Hz)",
-                      source=f"damper.diagnosis.protocols.random_voltage_test({model.name})",
+                      source=f"damper.lab.protocols.random_voltage_test({model.name})",
                       metadata={**test.metadata, "protocol": "random voltage", "hold": hold,
                                 "band": list(band), "amplitude": amplitude, "seed": seed})

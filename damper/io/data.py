@@ -3,7 +3,7 @@
 CSV format (SI units, one header line, optional ``#`` comment lines before it)::
 
     # name: virtual 0.4 m 0.8 Hz 0 V
-    # source: damper.laboratory.periodic_test(...)
+    # source: damper.lab.laboratory.periodic_test(...)
     time,displacement,force,velocity,voltage
     0.0,0.0,-1234.5,2.01,0.0
     ...

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.data import DamperTest
+from damper.io.data import DamperTest
 
 __all__ = ["last_cycles", "midline_slope", "plastic_branch_fit", "dissipated_energy"]
 

@@ -1,11 +1,11 @@
 """Registry of damper models: one name and one integer id per model, and the one dispatch kernel.
 
 Every damper model is a frozen parameter dataclass in its own module that subclasses
-:class:`damper.base.DamperModel` (the contract: ``name``, ``model_id``, ``kernel``,
+:class:`damper.models.base.DamperModel` (the contract: ``name``, ``model_id``, ``kernel``,
 ``n_states``, ``to_array()``, ``initial_state()``, ``voltage_range``, plain-numpy
 ``rates``/``force``). It is registered once, by :func:`register_model`, under its ``name``.
-The building's stepping kernel and :func:`damper.simulate` call :func:`device_step` with the
-model's *kernel family* (:data:`damper.base.KERNELS`), its packed parameters and its state, so
+The building's stepping kernel and :func:`damper.models.response` call :func:`device_step` with the
+model's *kernel family* (:data:`damper.models.base.KERNELS`), its packed parameters and its state, so
 adding a model is one module plus one :func:`register_model` call (a test registers a toy model
 and runs it in the building: ``tests/damper/test_model_registration.py``).
 """
@@ -16,16 +16,16 @@ import numba
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANGENT, KERNEL_SPENCER_TYPE,
+from damper.models.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANGENT, KERNEL_SPENCER_TYPE,
                          KERNELS, DamperModel)
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, bouc_wen_force, bouc_wen_step
-from damper.spencer import (MEMO_LENGTH, Spencer, spencer_type_force_kernel, spencer_type_step,
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, bouc_wen_force, bouc_wen_step
+from damper.models.spencer import (MEMO_LENGTH, Spencer, spencer_type_force_kernel, spencer_type_step,
                             spencer_type_step_memo, spencer_type_tangent, spencer_type_tangent_memo)
-from damper.virtual import VirtualBenchmarkDamper
-from damper.series_dashpot import SeriesDashpotBoucWen
-from damper.bingham import Bingham, bingham_force, bingham_step
-from damper.dahl import Dahl
-from damper.hyperbolic_tangent import HyperbolicTangent, hyperbolic_tangent_force, hyperbolic_tangent_step
+from damper.models.virtual import VirtualBenchmarkDamper
+from damper.models.series_dashpot import SeriesDashpotBoucWen
+from damper.models.bingham import Bingham, bingham_force, bingham_step
+from damper.models.dahl import Dahl
+from damper.models.hyperbolic_tangent import HyperbolicTangent, hyperbolic_tangent_force, hyperbolic_tangent_step
 
 __all__ = [
     "MODELS",
@@ -54,11 +54,11 @@ def register_model(cls: type[DamperModel]) -> type[DamperModel]:
     Raises
     ------
     InputError
-        If ``cls`` is not a :class:`~damper.base.DamperModel` subclass, names an unknown kernel
+        If ``cls`` is not a :class:`~damper.models.base.DamperModel` subclass, names an unknown kernel
         family, or its name or id is already taken by another class.
     """
     if not (isinstance(cls, type) and issubclass(cls, DamperModel)):
-        raise InputError(f"register_model: {cls!r} is not a damper.base.DamperModel subclass")
+        raise InputError(f"register_model: {cls!r} is not a damper.models.base.DamperModel subclass")
     name, model_id, kernel = getattr(cls, "name", None), getattr(cls, "model_id", None), getattr(cls, "kernel", None)
     if not isinstance(name, str) or not name:
         raise InputError(f"register_model: {cls.__name__} has no name")
@@ -100,7 +100,7 @@ def model_id_of(model: DamperModel) -> int:
 
 
 def kernel_id_of(model: DamperModel) -> int:
-    """The kernel family (:data:`damper.base.KERNELS`) of a registered model instance: the number
+    """The kernel family (:data:`damper.models.base.KERNELS`) of a registered model instance: the number
     :func:`device_step` dispatches on."""
     model_id_of(model)
     return int(type(model).kernel)

@@ -16,7 +16,7 @@ Extended model (seed eq. 3-4) adds a linear elastic force :math:`\\kappa_x(v)\\,
 Admissible class (BIBO-stable, physically meaningful loops): :math:`\\kappa_{\\dot x} > 0`,
 :math:`\\kappa_w > 0`, :math:`\\rho > 0`, :math:`\\sigma \\ge 1/2`, :math:`n \\ge 1`, and here
 :math:`\\kappa_x \\ge 0` (``kappa_x = 0`` is the normalized model). Each parameter may be a
-number or a :class:`~damper.voltage_laws.VoltageLaw`; the class is checked over the whole
+number or a :class:`~damper.models.voltage_laws.VoltageLaw`; the class is checked over the whole
 ``voltage_range`` on construction, raising :class:`~benchmark.foundation.errors.ParameterError`.
 Units: ``kappa_x`` [N/m], ``kappa_xdot`` [N·s/m], ``kappa_w`` [N], ``rho`` [1/m],
 ``sigma`` and ``n`` dimensionless, ``w`` dimensionless (|w| <= 1 from w(0) = 0).
@@ -69,9 +69,9 @@ import numba
 import numpy as np
 from scipy.special import hyp2f1
 
-from damper.base import DamperModel, KERNEL_BOUC_WEN
+from damper.models.base import DamperModel, KERNEL_BOUC_WEN
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
+from damper.models.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 
 __all__ = [
     "NormalizedBoucWen",
@@ -152,7 +152,7 @@ class _BoucWenBase(DamperModel):
     # -- packing ---------------------------------------------------------------------
     def to_array(self) -> np.ndarray:
         """Flat ``float64`` parameters: ``[tol, law(kappa_x), law(kappa_xdot), law(kappa_w),
-        law(rho), law(sigma), law(n)]`` (each law packed as in :mod:`damper.voltage_laws`)."""
+        law(rho), law(sigma), law(n)]`` (each law packed as in :mod:`damper.models.voltage_laws`)."""
         parts = [np.array([self.substep_tolerance])]
         parts += [self._law(name).to_array() for name in _LAW_ORDER]
         return np.ascontiguousarray(np.concatenate(parts), dtype=np.float64)

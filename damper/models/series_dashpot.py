@@ -18,7 +18,7 @@ moves and the force is the extended Bouc-Wen force
 velocity** :math:`v_r = \\kappa_w / c_s` the element cannot reach its yield force and the force
 falls viscously towards zero with the velocity (the "roll-off" of measured force-velocity
 loops, which a rate-independent Bouc-Wen element cannot produce). As :math:`v_r \\to 0` the
-model tends to the extended Bouc-Wen model (:class:`damper.bouc_wen.ExtendedBoucWen`); the
+model tends to the extended Bouc-Wen model (:class:`damper.models.bouc_wen.ExtendedBoucWen`); the
 normalized model is the case :math:`\\kappa_x = 0`.
 
 Parametrizing the dashpot by :math:`v_r` rather than :math:`c_s` keeps the parameter on the
@@ -26,10 +26,10 @@ scale of the test velocities and makes it independent of the force level, so one
 velocity can serve every coil input while :math:`c_s(v) = \\kappa_w(v)/v_r` follows the yield
 force.
 
-Numerics: the compiled Spencer-type kernel (:func:`damper.spencer.spencer_type_step`: exact
+Numerics: the compiled Spencer-type kernel (:func:`damper.models.spencer.spencer_type_step`: exact
 field update, RK4 sub-steps along the step's Hermite path, sub-step size from the stiffness
 estimate). The field follows the coil input without lag unless ``field_lag``
-is set (in an augmented model a lag is the ``voltage_lag`` effect of :mod:`damper.effects`,
+is set (in an augmented model a lag is the ``voltage_lag`` effect of :mod:`damper.diagnosis.effects`,
 applied to the input).
 
 References
@@ -48,9 +48,9 @@ from typing import ClassVar
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from damper.bouc_wen import _check_voltage_range
-from damper.spencer import SpencerTypeModel, pack_spencer_type
-from damper.voltage_laws import (Constant, Exponential, ParameterLike, Polynomial, Saturating,
+from damper.models.bouc_wen import _check_voltage_range
+from damper.models.spencer import SpencerTypeModel, pack_spencer_type
+from damper.models.voltage_laws import (Constant, Exponential, ParameterLike, Polynomial, Saturating,
                                  SeedKappaW, Tabulated, VoltageLaw, _finite, as_law, check_law)
 
 __all__ = ["SeriesDashpotBoucWen", "SERIES_DASHPOT_ID", "DEFAULT_SERIES_SUBSTEP_TOLERANCE", "scaled_law"]
@@ -66,7 +66,7 @@ _NO_LAG_RATE = 1.0e6
 def scaled_law(law: VoltageLaw, factor: float) -> VoltageLaw:
     """``factor`` times ``law``, as a law of the same kind.
 
-    Every law kind of :mod:`damper.voltage_laws` is linear in its amplitude coefficients
+    Every law kind of :mod:`damper.models.voltage_laws` is linear in its amplitude coefficients
     (constant, polynomial and seed-κ_w coefficients, tabulated values, ``a`` and ``b`` of the
     exponential and saturating laws), so the scaled law is exact.
 
@@ -127,7 +127,7 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
         Time constant :math:`\\tau` [s] of the field's first-order response to the coil input,
         :math:`\\tau\\dot u = v - u` (Spencer et al.'s :math:`\\eta = 1/\\tau`), >= 0; 0 (default):
         the field follows the input at once. The kernel updates the field exactly over each step,
-        so the model with a lag runs in the building as it does in :func:`damper.simulate` (the
+        so the model with a lag runs in the building as it does in :func:`damper.models.response` (the
         ``voltage_lag`` effect of an augmented model, made part of the model).
 
     Examples
@@ -213,7 +213,7 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
         return min(1.0, self.substep_tolerance * max(1.0, 2.0 * self.sigma - 1.0))
 
     def to_array(self) -> np.ndarray:
-        """Packed parameters (:func:`damper.spencer.pack_spencer_type` layout)."""
+        """Packed parameters (:func:`damper.models.spencer.pack_spencer_type` layout)."""
         return pack_spencer_type(self.kernel_tolerance(), **self._kernel_parameters(),
                                  loading_tol=self.substep_tolerance)
 

@@ -19,7 +19,7 @@ If the normalized and extended forms reach nearly the same ceiling, no identific
 can make one well below the other on that motion and voltage; if the identified error is far
 above the ceiling, the identification (not the form) is what to improve.
 
-The device is reached only through :func:`damper.laboratory.general_test`. Errors are the
+The device is reached only through :func:`damper.lab.laboratory.general_test`. Errors are the
 relative RMS force error over the whole motion (:func:`~damper.identification.metrics.relative_rms_error`).
 """
 
@@ -35,8 +35,8 @@ from benchmark.foundation.errors import InputError, NumericalError, ParameterErr
 from damper.identification.cycles import Cycle
 from damper.identification.metrics import relative_rms_error
 from damper.identification.refine import refine
-from damper.simulate import simulate
-from damper.laboratory import general_test
+from damper.models.response import simulate
+from damper.lab.laboratory import general_test
 
 __all__ = ["CeilingEntry", "structural_ceiling", "pick_damper", "DEFAULT_CEILING_VOLTAGES",
            "summarize_ceiling"]

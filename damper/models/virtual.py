@@ -5,7 +5,7 @@ the benchmark as a virtual laboratory. This module is that device: a ~1000 kN cl
 whose internal model is richer than the extended Bouc-Wen model the identification fits
 (series stiffness and dashpot, an accumulator spring, a low-velocity roll-off, first-order field
 dynamics under voltage changes, smoothly saturating voltage dependence). Identification code
-must reach it only through :mod:`damper.laboratory` (a test checks that it does not import this
+must reach it only through :mod:`damper.lab.laboratory` (a test checks that it does not import this
 module). The test bench (this module's tests, the plots) may know everything below.
 
 Model (Spencer-type, Spencer et al. 1997, with a normalized hysteretic variable)
@@ -23,7 +23,7 @@ A Bouc-Wen element (force :math:`F_w w`) in parallel with a dashpot :math:`c_0` 
 :math:`k_0`, in series with the dashpot :math:`c_1`, all in parallel with the accumulator
 spring :math:`k_1`. ``v`` is the commanded voltage, ``u`` the field the fluid sees.
 
-Voltage laws (all saturating smoothly, :class:`~damper.voltage_laws.Saturating`,
+Voltage laws (all saturating smoothly, :class:`~damper.models.voltage_laws.Saturating`,
 :math:`p(u) = a + b\\tanh((u/c)^e)`):
 
 =============  =============================  ===========  ===========  ==========
@@ -41,7 +41,7 @@ Constants: ``k0 = 40 kN/m``, ``k1 = 170 kN/m``, ``x0 = 0``, ``rho = 120 1/m``,
 [0, 1] V.
 
 Calibration targets (Bahar et al. 2009: the seed's Fig. 1-3 and 6), checked by the tests from loops
-produced by :mod:`damper.laboratory`:
+produced by :mod:`damper.lab.laboratory`:
 
 * 0 V, ±0.4 m at 0.8 Hz (±2 m/s): inclined loop, average slope ≈ 207 kN/m (82.8 kN over 0.4 m);
 * 0 V, ±0.03 m at 1 Hz (10 s test, Fig. 6): force about ±80 kN (the seed does not state the
@@ -65,9 +65,9 @@ from typing import ClassVar
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from damper.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, _check_voltage_range
-from damper.spencer import SpencerTypeModel
-from damper.voltage_laws import ParameterLike, Saturating, VoltageLaw, as_law, check_law
+from damper.models.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, _check_voltage_range
+from damper.models.spencer import SpencerTypeModel
+from damper.models.voltage_laws import ParameterLike, Saturating, VoltageLaw, as_law, check_law
 
 __all__ = ["VirtualBenchmarkDamper", "VIRTUAL_DAMPER_ID"]
 

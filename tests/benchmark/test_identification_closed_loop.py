@@ -9,16 +9,16 @@ import numpy as np
 import pytest
 
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.augmented import AugmentedModel
-from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.effects import Asymmetry, RollOff, Stiffness, VoltageLag
-from damper.identification.campaign import laboratory_campaign, random_voltage
-from damper.identification.closed_loop import (CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED, ORIGINAL,
+from damper.diagnosis.augmented import AugmentedModel
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.diagnosis.effects import Asymmetry, RollOff, Stiffness, VoltageLag
+from benchmark.applications.identification_campaign import laboratory_campaign, random_voltage
+from benchmark.applications.identification_closed_loop import (CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED, ORIGINAL,
                                                PROPOSED, building_model, claim_object, claim_summary,
                                                closed_form_models)
-from damper.series_dashpot import SeriesDashpotBoucWen
-from damper.simulate import simulate
-from damper.voltage_laws import Polynomial, Tabulated
+from damper.models.series_dashpot import SeriesDashpotBoucWen
+from damper.models.response import simulate
+from damper.models.voltage_laws import Polynomial, Tabulated
 
 CHEAP_DEVICE = ExtendedBoucWen(kappa_x=2e5, kappa_xdot=Polynomial((1e5, 1e5)),
                                kappa_w=Polynomial((5e4, 9e5)), rho=120.0, sigma=0.9, n=1.4)
@@ -30,7 +30,7 @@ def test_campaign_runs_steps_switching_small_and_random_tests_through_the_labora
     rows = c.describe()
     for t in c.train + c.heldout:
         assert np.ptp(t.voltage) > 0, t.name          # every test changes the voltage
-        assert t.metadata["device"] == CHEAP_DEVICE.name  # run by damper.laboratory
+        assert t.metadata["device"] == CHEAP_DEVICE.name  # run by damper.lab.laboratory
     strokes = [r["stroke_m"] for r in rows]
     assert min(strokes) < 0.1 * max(strokes)          # small amplitudes are in
     assert any("random" in r["name"] for r in rows if r["set"] == "train")
@@ -140,7 +140,7 @@ def test_claim_object_and_ratios():
 
 @pytest.mark.slow
 def test_loop_finds_the_lag_and_roll_off_of_a_device_it_was_not_told_about():
-    from damper.identification.closed_loop import close_the_loop
+    from benchmark.applications.identification_closed_loop import close_the_loop
     device = SeriesDashpotBoucWen(kappa_x=1.5e5, kappa_xdot=Polynomial((8e4, 1.5e5)),
                                   kappa_w=Polynomial((6e4, 8e5)), rho=110.0, sigma=1.0, n=1.5,
                                   roll_off_velocity=0.03, field_lag=0.04)
@@ -179,7 +179,7 @@ def test_the_screen_sees_roll_off_on_a_base_with_voltage_laws():
     evaluates it where the joint refit starts instead of failing (and never trying it)."""
     from damper.diagnosis.dataset import DiagnosisData
     from damper.diagnosis.selection import screen_effects
-    from damper.effects import EFFECT_NAMES, get_effect
+    from damper.diagnosis.effects import EFFECT_NAMES, get_effect
 
     device = SeriesDashpotBoucWen(kappa_x=0.0, kappa_xdot=Polynomial((8e4, 1.5e5)),
                                   kappa_w=Polynomial((6e4, 8e5)), rho=110.0, sigma=1.0, n=1.5,
