@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-FACADES = ["benchmark", "controllers"]
+FACADES = ["benchmark", "controllers", "damper"]
 
 
 @pytest.mark.parametrize("package", FACADES)
@@ -27,7 +27,7 @@ def test_an_unknown_name_is_an_attribute_error(package):
 
 
 def test_importing_the_facades_loads_neither_the_simulator_nor_python_control():
-    code = ("import sys, benchmark, controllers, records\n"
+    code = ("import sys, benchmark, controllers, damper, records\n"
             "bad = sorted(m for m in sys.modules if m.startswith(('benchmark.simulator', 'benchmark.applications',"
             " 'control.', 'controllers.')) or m == 'control')\n"
             "print(bad); raise SystemExit(1 if bad else 0)")
@@ -44,3 +44,13 @@ def test_the_readme_quick_start_runs_through_the_facade(records_dir):
     assert isinstance(result.peaks, sb.Peaks)
     J = sb.evaluate(result, result)
     assert J["J3"] == pytest.approx(1.0)
+
+
+def test_damper_simulate_is_the_function_not_a_module():
+    """``damper.simulate`` was shadowed by a module of the same name (issue #23)."""
+    import importlib
+
+    import damper
+
+    importlib.import_module("damper.models.response")   # importing the module must not rebind it
+    assert callable(damper.simulate) and damper.simulate.__module__ == "damper.models.response"
