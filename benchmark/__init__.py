@@ -33,7 +33,7 @@ EXPORTS = {
     "Peaks": "benchmark.simulator.peaks",
     "write_result": "benchmark.simulator.results",
     "read_result": "benchmark.simulator.results",
-    "simulate_reference": "benchmark.simulator.reference",
+    "simulate_oracle": "benchmark.simulator.oracle",
     "compare": "benchmark.applications.comparison",
     "load_benchmark_record": "records",
     "load_record": "records",

@@ -67,7 +67,7 @@ def building_model(model):
     The base model with ``stiffness`` becomes the extended Bouc-Wen model (:math:`\\kappa_x`
     added); with ``roll_off`` it becomes :class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`,
     which also carries a ``voltage_lag`` as its field time constant. The result runs on the
-    compiled kernels, in :func:`damper.models.response` and in the building alike.
+    compiled kernels, in :func:`damper.simulate` and in the building alike.
 
     Parameters
     ----------

@@ -7,7 +7,7 @@ For every benchmark record and orientation:
    each damper's displacement, velocity, commanded voltage and force are recorded, as a
    field measurement would;
 2. these inputs are replayed through each identified (voltage-dependent) model with
-   :func:`damper.models.response` — as the seed paper does, with the commanded voltage, and also
+   :func:`damper.simulate` — as the seed paper does, with the commanded voltage, and also
    through the identified field filter (:mod:`~damper.identification.voltage_lag`; names
    ending in ``+lag``) — and the force histories are compared: relative RMS error,
    peak error over peak force and dissipated-energy error, over all dampers of the run

@@ -24,7 +24,7 @@ machine are noise:
     process). Target ≤ 1.3.
 ``vs-solve_ivp``
     The same run against the scipy ``solve_ivp`` reference of the same equations
-    (:mod:`benchmark.simulator.reference`), in the same process: ratio (target ≥ 100×) and the largest
+    (:mod:`benchmark.simulator.oracle`), in the same process: ratio (target ≥ 100×) and the largest
     relative difference of the peaks (target ≤ 0.5 %). ``--quick`` compares on 5 s only.
 ``suite-warm`` / ``cold-start``
     The benchmark suite (7 records × 2 orientations) under 5 controllers with
@@ -65,7 +65,7 @@ import numpy as np
 from benchmark.foundation.errors import DataNotFoundError
 from benchmark.simulator.building import Building
 from benchmark.simulator.simulation import simulate
-from benchmark.simulator import reference as oracle
+from benchmark.simulator import oracle
 from benchmark.applications.cli import main
 from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
 from benchmark.foundation.figures import save_figure
@@ -335,7 +335,7 @@ def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration
     if reference_duration != 30.0:
         record = _record(reference_duration)
         best, _, result, _, _ = time_call(lambda: _simulate(building, record), repeat=repeat, warmup=1)
-    ref = oracle.simulate_reference(building, record, controller="clipped-optimal")
+    ref = oracle.simulate_oracle(building, record, controller="clipped-optimal")
     diff, worst = _max_relative_difference(oracle.kernel_peaks(result), ref.peaks)
     ratio = ref.elapsed_s / best
     same_voltage = float(np.mean(np.asarray(result.voltage) == ref.voltage))

@@ -3,7 +3,7 @@
 An :class:`AugmentedModel` holds a base model from :mod:`damper.models.bouc_wen` (normalized or
 extended, constant parameters or voltage laws) and a tuple of effects from
 :mod:`damper.diagnosis.effects`. It does not copy the base model: the base force comes from
-:func:`damper.models.response` (the same compiled kernels the building runs), and the effects are
+:func:`damper.simulate` (the same compiled kernels the building runs), and the effects are
 applied around it,
 
 .. math::

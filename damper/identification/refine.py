@@ -5,7 +5,7 @@ Starting from the closed-form values, minimise over :math:`p = (\\kappa_x, \\kap
 
 .. math:: \\sum_{k \\in \\mathcal{W}} c_k \\left(\\hat F_k(p) - F_k\\right)^2 / F_{rms}^2,
 
-where :math:`\\hat F(p)` is the model force simulated with :func:`damper.models.response` (the same
+where :math:`\\hat F(p)` is the model force simulated with :func:`damper.simulate` (the same
 compiled kernels the building runs) over the whole test from rest, :math:`\\mathcal W` the
 samples of the steady cycles and :math:`c_k` the multiplicity of sample :math:`k`'s cycle (1,
 or a bootstrap count). The search runs on :math:`p/p_0` with the admissible class as bounds
@@ -70,7 +70,7 @@ class RefinedFit:
     model_name : str
         ``"normalized"`` or ``"extended"``.
     model : NormalizedBoucWen or ExtendedBoucWen
-        The fitted model (constant parameters), ready for :func:`damper.models.response`.
+        The fitted model (constant parameters), ready for :func:`damper.simulate`.
     parameters, start : dict
         Fitted and starting values of the six parameters (SI; ``kappa_x`` = 0 for normalized).
     standard_error : dict

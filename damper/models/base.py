@@ -7,7 +7,7 @@ A damper model is a frozen, validated dataclass of SI parameters that subclasses
   JSON files, reports);
 * ``model_id`` — its registered integer id (unique);
 * ``kernel`` — the compiled kernel family that advances it (:data:`KERNELS`): the building's
-  stepping kernel and :func:`damper.models.response` dispatch on this number, so a model that packs
+  stepping kernel and :func:`damper.simulate` dispatch on this number, so a model that packs
   its parameters into an existing family's layout needs no kernel edit;
 * ``n_states`` and ``state_names`` — its internal states;
 * ``voltage_range`` — the admissible coil voltages ``(v_min, v_max)`` [V];

@@ -4,7 +4,7 @@ Every damper model is a frozen parameter dataclass in its own module that subcla
 :class:`damper.models.base.DamperModel` (the contract: ``name``, ``model_id``, ``kernel``,
 ``n_states``, ``to_array()``, ``initial_state()``, ``voltage_range``, plain-numpy
 ``rates``/``force``). It is registered once, by :func:`register_model`, under its ``name``.
-The building's stepping kernel and :func:`damper.models.response` call :func:`device_step` with the
+The building's stepping kernel and :func:`damper.simulate` call :func:`device_step` with the
 model's *kernel family* (:data:`damper.models.base.KERNELS`), its packed parameters and its state, so
 adding a model is one module plus one :func:`register_model` call (a test registers a toy model
 and runs it in the building: ``tests/damper/test_model_registration.py``).

@@ -127,7 +127,7 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
         Time constant :math:`\\tau` [s] of the field's first-order response to the coil input,
         :math:`\\tau\\dot u = v - u` (Spencer et al.'s :math:`\\eta = 1/\\tau`), >= 0; 0 (default):
         the field follows the input at once. The kernel updates the field exactly over each step,
-        so the model with a lag runs in the building as it does in :func:`damper.models.response` (the
+        so the model with a lag runs in the building as it does in :func:`damper.simulate` (the
         ``voltage_lag`` effect of an augmented model, made part of the model).
 
     Examples

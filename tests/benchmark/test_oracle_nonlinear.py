@@ -28,18 +28,18 @@ import pytest
 from benchmark.simulator.building import Building
 from benchmark.simulator.devices import DeviceLayout
 from benchmark.simulator.isolation.linear import LinearBearing
-from benchmark.simulator.reference import ReferenceModel, group_force_and_rates, kernel_peaks, reference_peaks
+from benchmark.simulator.oracle import OracleModel, group_force_and_rates, kernel_peaks, oracle_peaks
 from benchmark.simulator.simulation import simulate
 from records import Record, load_benchmark_record
 
 
 # ----------------------------------------------------------------------------- oracle
 
-# The oracle lives in benchmark.simulator.reference, shared with `sbib bench` (which also drives it with a
+# The oracle lives in benchmark.simulator.oracle, shared with `sbib bench` (which also drives it with a
 # controller); the names below are the ones these tests use.
-Oracle = ReferenceModel
+Oracle = OracleModel
 _group_force_and_rates = group_force_and_rates
-_peaks_oracle = reference_peaks
+_peaks_oracle = oracle_peaks
 _peaks_kernel = kernel_peaks
 
 

@@ -8,7 +8,7 @@ import inspect
 import pytest
 
 MODULES = ["benchmark.applications.ensemble", "benchmark.applications.ensemble_journal", "benchmark.applications.ensemble_simulation",
-           "benchmark.applications.fragility", "benchmark.applications.speed", "benchmark.simulator.reference", "benchmark.applications.cli_ensemble",
+           "benchmark.applications.fragility", "benchmark.applications.speed", "benchmark.simulator.oracle", "benchmark.applications.cli_ensemble",
            "benchmark.applications.cli_bench"]
 
 

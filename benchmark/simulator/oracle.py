@@ -1,6 +1,7 @@
-"""The scipy ``solve_ivp`` reference of the building's equations (the oracle of tests and ``sbib bench``).
+"""The oracle: a scipy ``solve_ivp`` integration of the building's equations (tests and ``sbib bench``).
 
-The reference integrates the continuous equations of Narasimhan et al. (2006, Part I) in the benchmark's own form
+"Reference" in this project means the uncontrolled run that J1-J9 divide by; this module is the
+*oracle*, an independent integration the compiled kernels are checked against. It integrates the continuous equations of Narasimhan et al. (2006, Part I) in the benchmark's own form
 (:math:`u_s` relative to the base, the base equation solved for :math:`\\ddot u_b`) with
 ``solve_ivp`` (RK45 by default, rtol 1e-7) and a step bounded by the record step:
 
@@ -45,8 +46,8 @@ from benchmark.simulator.simulation import _resolve_controller
 from controllers.base import ControllerSession
 from benchmark.simulator.control import control_context
 
-__all__ = ["park_wen_rates", "group_force_and_rates", "ReferenceModel", "ReferenceResult",
-           "simulate_reference", "reference_peaks", "kernel_peaks"]
+__all__ = ["park_wen_rates", "group_force_and_rates", "OracleModel", "OracleResult",
+           "simulate_oracle", "oracle_peaks", "kernel_peaks"]
 
 
 def park_wen_rates(z: np.ndarray, v: np.ndarray, Y: float, A: float, beta: float, gamma: float) -> np.ndarray:
@@ -96,7 +97,7 @@ def group_force_and_rates(bearing: Any, u: np.ndarray, v: np.ndarray, z: np.ndar
     raise NotImplementedError(f"reference: no vectorised equations for bearing type {type(b).__name__}")
 
 
-class ReferenceModel:
+class OracleModel:
     """Right-hand side of the continuous equations for ``building`` under ``record``.
 
     Parameters
@@ -281,8 +282,8 @@ class ReferenceModel:
                 "floor_acceleration": floor_acc, "floor_displacement": X[:, :self.nq], "device_force": dev}
 
 
-def reference_peaks(out: dict[str, np.ndarray], storey_heights: np.ndarray) -> dict[str, float]:
-    """Peaks of the reference's outputs ``out`` (:meth:`ReferenceModel.outputs`), named as in
+def oracle_peaks(out: dict[str, np.ndarray], storey_heights: np.ndarray) -> dict[str, float]:
+    """Peaks of the reference's outputs ``out`` (:meth:`OracleModel.outputs`), named as in
     :func:`kernel_peaks`; ``storey_heights`` (8,) [m] for the drift ratios."""
     rel = np.concatenate([np.zeros((len(out["floor_displacement"]), 1, 3)),
                           out["floor_displacement"].reshape(-1, 8, 3)], axis=1)
@@ -324,7 +325,7 @@ def kernel_peaks(result: Any) -> dict[str, float]:
 
 
 @dataclass
-class ReferenceResult:
+class OracleResult:
     """A reference run: states, outputs and peaks (SI), voltages, wall time."""
 
     states: np.ndarray
@@ -335,8 +336,8 @@ class ReferenceResult:
     info: dict = field(default_factory=dict)
 
 
-def simulate_reference(building: Any, record: Any, controller: Any = None, control_step: float = 0.005,
-                       rtol: float = 1e-7, max_step: float | None = None, method: str = "RK45") -> ReferenceResult:
+def simulate_oracle(building: Any, record: Any, controller: Any = None, control_step: float = 0.005,
+                       rtol: float = 1e-7, max_step: float | None = None, method: str = "RK45") -> OracleResult:
     """Run the ``solve_ivp`` reference of :func:`benchmark.simulator.simulation.simulate`'s equations.
 
     Parameters
@@ -356,7 +357,7 @@ def simulate_reference(building: Any, record: Any, controller: Any = None, contr
 
     Returns
     -------
-    ReferenceResult
+    OracleResult
 
     Raises
     ------
@@ -368,7 +369,7 @@ def simulate_reference(building: Any, record: Any, controller: Any = None, contr
     dt = float(record.dt)
     n = record.acceleration.shape[0]
     if controller is None:
-        model = ReferenceModel(building, record)
+        model = OracleModel(building, record)
         X = model.solve(n, max_step=max_step, rtol=rtol, method=method)
         voltage = np.zeros((n, 0))
     else:
@@ -377,7 +378,7 @@ def simulate_reference(building: Any, record: Any, controller: Any = None, contr
         context = control_context(building, control_step=ratio * dt,
                                                info={"record": getattr(record, "name", "")})
         session = ControllerSession(controller, context)
-        model = ReferenceModel(building, record, voltage=0.0)
+        model = OracleModel(building, record, voltage=0.0)
         nd = len(model.models)
         n_control = (n - 1) // ratio + 1
         _, sensor_range = noise_samples(None, n_control, nd, None)
@@ -400,8 +401,8 @@ def simulate_reference(building: Any, record: Any, controller: Any = None, contr
     # the voltage acting over the step that ends at each sample (the kernel's convention)
     held = np.vstack([voltage[:1], voltage[:-1]]) if voltage.size else None
     out = model.outputs(X, held)
-    peaks = reference_peaks(out, model.storey_heights)
-    return ReferenceResult(states=X, outputs=out, peaks=peaks, voltage=voltage,
+    peaks = oracle_peaks(out, model.storey_heights)
+    return OracleResult(states=X, outputs=out, peaks=peaks, voltage=voltage,
                            elapsed_s=_time.perf_counter() - t_start,
                            info={"controller": None if controller is None else str(getattr(controller, "name", controller)),
                                  "rtol": rtol, "max_step": max_step or dt, "method": method})

@@ -1,4 +1,4 @@
-"""The solve_ivp reference (benchmark.simulator.reference) with a controller: measurements, voltages held
+"""The solve_ivp reference (benchmark.simulator.oracle) with a controller: measurements, voltages held
 over control steps, and agreement with the compiled kernel on a strong-motion window."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from benchmark.simulator.building import Building
-from benchmark.simulator.reference import ReferenceModel, kernel_peaks, simulate_reference
+from benchmark.simulator.oracle import OracleModel, kernel_peaks, simulate_oracle
 from benchmark.simulator.sensors import n_measurements
 from benchmark.simulator.simulation import simulate
 from records import load_benchmark_record
@@ -29,7 +29,7 @@ def _window(records_dir, start: float | None, seconds: float):
 
 def test_measurement_vector_layout_and_rest(building, records_dir):
     record = _window(records_dir, 0.0, 0.1)
-    model = ReferenceModel(building, record, voltage=0.0)
+    model = OracleModel(building, record, voltage=0.0)
     x = model.initial_state()
     y = model.measurement(0.0, x)
     assert y.shape == (n_measurements(building.n_devices),)
@@ -50,7 +50,7 @@ def test_controller_path_with_constant_voltage_matches_kernel(building, records_
     integrators agree as tightly as the constant-voltage oracle test requires."""
     record = _window(records_dir, None, 0.4)
     kernel = simulate(building, record, controller="passive-on")
-    ref = simulate_reference(building, record, controller="passive-on")
+    ref = simulate_oracle(building, record, controller="passive-on")
     assert np.array_equal(kernel.voltage, ref.voltage)
     mine = kernel_peaks(kernel)
     assert mine["device_force"] > 1e4
@@ -65,7 +65,7 @@ def test_clipped_optimal_matches_kernel_on_strong_motion(building, records_dir):
     to about 1 % rather than 0.1 % (tightening either integrator does not change this)."""
     record = _window(records_dir, None, 0.6)
     kernel = simulate(building, record, controller="clipped-optimal")
-    ref = simulate_reference(building, record, controller="clipped-optimal")
+    ref = simulate_oracle(building, record, controller="clipped-optimal")
     agreement = np.mean(kernel.voltage == ref.voltage)
     assert agreement > 0.95, agreement
     mine = kernel_peaks(kernel)
