@@ -15,6 +15,7 @@ from benchmark.foundation.facade import lazy_exports
 
 #: Public name -> the module that defines it.
 EXPORTS = {
+    "register_controller": "controllers.base",
     "Controller": "controllers.base",
     "CompiledBackedController": "controllers.base",
     "FunctionController": "controllers.base",

@@ -30,6 +30,7 @@ from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 
+from benchmark.foundation.registry import Registry
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from controllers.compiled import STATUS_OK, CompiledController, controller_update
 from controllers.lqg import LinearPlant
@@ -50,6 +51,8 @@ __all__ = [
     "ControllerSession",
     "as_controller",
     "check_voltages",
+    "CONTROLLERS",
+    "register_controller",
 ]
 
 @runtime_checkable
@@ -180,6 +183,34 @@ class Controller:
     def describe(self) -> dict:
         """Parameters worth recording with the results."""
         return {"name": self.name}
+
+
+#: Registered controllers by name (filled by :func:`register_controller`; ``sbib --controller NAME``).
+CONTROLLERS: Registry = Registry("controller", Controller)
+
+
+def register_controller(cls):
+    """Register a controller class under its ``name`` (a class decorator) and return it.
+
+    A registered controller is built with no arguments (``cls()``) by
+    :func:`controllers.registry.get_controller`, so its constructor's arguments need defaults.
+
+    Parameters
+    ----------
+    cls : type
+        A :class:`Controller` subclass with a class attribute ``name``.
+
+    Returns
+    -------
+    type
+        ``cls``.
+
+    Raises
+    ------
+    InputError
+        If ``cls`` is not a :class:`Controller` subclass, has no name, or its name is taken.
+    """
+    return CONTROLLERS.register(cls)
 
 
 class CompiledBackedController(Controller):

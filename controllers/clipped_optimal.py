@@ -51,7 +51,8 @@ from typing import Any
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from controllers.base import CompiledBackedController, ControlContext, measurement_slices, n_measurements
+from controllers.base import (CompiledBackedController, ControlContext, measurement_slices, n_measurements,
+                              register_controller)
 from controllers.compiled import DEFAULT_DEAD_BAND, LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.lqg import (LinearPlant, ReducedPlant, estimator_fit, kalman_design, lqr_design,
                              modal_reduction, observer_controller, simulate_linear)
@@ -301,6 +302,7 @@ def _estimator_fit(plant: LinearPlant, design: LQGDesign, seed: int, duration: f
     return fit
 
 
+@register_controller
 class ClippedOptimal(CompiledBackedController):
     """Clipped-optimal controller with an H2/LQG design (module docstring).
 

@@ -22,6 +22,7 @@ import numpy as np
 import scipy.linalg
 
 from benchmark.foundation.errors import NumericalError
+from controllers.base import register_controller
 from controllers.clipped_optimal import ClippedOptimal, LQGDesign, regulated_outputs
 from controllers.compiled import LAW_LYAPUNOV
 from controllers.lqg import observer_controller
@@ -46,6 +47,7 @@ def lyapunov_matrix(A: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, float]:
     return P, float(residual)
 
 
+@register_controller
 class Lyapunov(ClippedOptimal):
     """Lyapunov controller (``lyapunov``): parameters as :class:`ClippedOptimal` (the weights define Q)."""
 

@@ -21,13 +21,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from controllers.base import ControlContext
+from controllers.base import ControlContext, register_controller
 from controllers.clipped_optimal import ClippedOptimal, LQGDesign
 from controllers.compiled import LAW_MODULATED
 
 __all__ = ["ModulatedClippedOptimal"]
 
 
+@register_controller
 class ModulatedClippedOptimal(ClippedOptimal):
     """Clipped-optimal with voltages proportional to the desired force (``modulated``).
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from controllers.base import CompiledBackedController, ControlContext
+from controllers.base import CompiledBackedController, ControlContext, register_controller
 from controllers.compiled import CompiledController, constant_voltage
 
 __all__ = ["ConstantVoltage", "PassiveOff", "PassiveOn"]
@@ -47,15 +47,21 @@ class ConstantVoltage(CompiledBackedController):
         return {"name": self.name, "voltage": "max" if self.voltage is None else self.voltage}
 
 
+@register_controller
 class PassiveOff(ConstantVoltage):
     """0 V on every device (``passive-off``)."""
+
+    name = "passive-off"
 
     def __init__(self) -> None:
         super().__init__(0.0, name="passive-off")
 
 
+@register_controller
 class PassiveOn(ConstantVoltage):
     """Maximum voltage on every device (``passive-on``)."""
+
+    name = "passive-on"
 
     def __init__(self, voltage: float | None = None) -> None:
         super().__init__(voltage, name="passive-on")

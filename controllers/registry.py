@@ -1,63 +1,48 @@
-"""Controller names → controller factories (the names the CLI and the study use)."""
+"""Controller names -> controller classes (the names the CLI and the study use).
+
+A controller is one class decorated with :func:`controllers.base.register_controller`; this module
+imports the built-in ones (which registers them) and builds one by name.
+"""
 
 from __future__ import annotations
 
-from typing import Any, Callable
+from typing import Any
 
 from benchmark.foundation.errors import InputError
-from controllers.passive import PassiveOff
-from controllers.passive import PassiveOn
-from controllers.clipped_optimal import ClippedOptimal
-from controllers.modulated import ModulatedClippedOptimal
-from controllers.skyhook import Skyhook
-from controllers.lyapunov import Lyapunov
+from controllers.base import CONTROLLERS, register_controller
+# Importing the built-in controllers registers them (each is one class decorated with
+# ``register_controller``).
+from controllers import passive, clipped_optimal, modulated, skyhook, lyapunov  # noqa: F401,I001
 
-__all__ = ["CONTROLLERS", "controller_names", "get_controller"]
+__all__ = ["CONTROLLERS", "register_controller", "controller_names", "get_controller", "NO_CONTROLLER"]
 
-
-def _passive_off():
-    return PassiveOff()
-
-
-def _passive_on():
-    return PassiveOn()
-
-
-def _clipped_optimal():
-    return ClippedOptimal()
-
-
-def _modulated():
-    return ModulatedClippedOptimal()
-
-
-def _skyhook():
-    return Skyhook()
-
-
-def _lyapunov():
-    return Lyapunov()
-
-
-#: Built-in controllers by name; ``none`` is the uncontrolled building (no devices).
-CONTROLLERS: dict[str, Callable[[], Any] | None] = {
-    "none": None,
-    "passive-off": _passive_off,
-    "passive-on": _passive_on,
-    "clipped-optimal": _clipped_optimal,
-    "modulated": _modulated,
-    "skyhook": _skyhook,
-    "lyapunov": _lyapunov,
-}
+#: The name of the uncontrolled building (no devices): not a controller, the reference of J1-J9.
+NO_CONTROLLER = "none"
 
 
 def controller_names() -> tuple[str, ...]:
-    """Names accepted by :func:`get_controller`."""
-    return tuple(CONTROLLERS)
+    """Names accepted by :func:`get_controller`: ``"none"`` first, then the registered controllers.
+
+    Returns
+    -------
+    tuple of str
+        The names.
+    """
+    return (NO_CONTROLLER, *CONTROLLERS)
 
 
 def get_controller(name: str) -> Any:
     """A new controller for ``name`` (``None`` for ``"none"``: the run without devices).
+
+    Parameters
+    ----------
+    name : str
+        A registered name (:func:`controller_names`, case-insensitive).
+
+    Returns
+    -------
+    Controller or None
+        A new instance of the registered class.
 
     Raises
     ------
@@ -65,7 +50,8 @@ def get_controller(name: str) -> Any:
         For an unknown name (the message lists the known ones).
     """
     key = name.strip().lower()
+    if key == NO_CONTROLLER:
+        return None
     if key not in CONTROLLERS:
-        raise InputError(f"controller {name!r} unknown; expected one of {', '.join(CONTROLLERS)}")
-    factory = CONTROLLERS[key]
-    return None if factory is None else factory()
+        raise InputError(f"controller {name!r} unknown; expected one of {', '.join(controller_names())}")
+    return CONTROLLERS[key]()

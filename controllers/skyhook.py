@@ -31,13 +31,14 @@ from __future__ import annotations
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from controllers.base import CompiledBackedController, ControlContext, measurement_slices
+from controllers.base import CompiledBackedController, ControlContext, measurement_slices, register_controller
 from controllers.compiled import DEFAULT_DEAD_BAND, LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.plant import device_force_capacity, device_geometry, device_models
 
 __all__ = ["Skyhook"]
 
 
+@register_controller
 class Skyhook(CompiledBackedController):
     """Skyhook controller (``skyhook``).
 

@@ -28,6 +28,7 @@ from benchmark.foundation.facade import lazy_exports
 
 #: Public name -> the module that defines it.
 EXPORTS = {
+    "register_model": "damper.models.base",
     "DamperModel": "damper.models.base",
     "NormalizedBoucWen": "damper.models.bouc_wen",
     "ExtendedBoucWen": "damper.models.bouc_wen",

@@ -41,7 +41,7 @@ from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import transformation
 from damper.models.virtual import VirtualBenchmarkDamper
 from damper.models.base import DamperModel
-from damper.models.registry import MODELS, get_model_class, kernel_id_of, model_id_of
+from damper.models.registry import MODELS, check_registered, get_model_class, kernel_id_of
 
 __all__ = ["DeviceSlot", "DeviceLayout", "default_damper_model", "DEFAULT_X_POSITIONS",
            "DEFAULT_Y_POSITIONS", "DIRECTION_NAMES"]
@@ -66,7 +66,7 @@ def _check_model(model: object, where: str) -> None:
     if not isinstance(model, DamperModel):
         raise InputError(f"{where}: {type(model).__name__} is not a damper model; expected a "
                          "damper.models.base.DamperModel registered in damper.models.registry")
-    model_id_of(model)
+    check_registered(model)
 
 
 @dataclass(frozen=True)

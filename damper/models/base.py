@@ -5,7 +5,6 @@ A damper model is a frozen, validated dataclass of SI parameters that subclasses
 
 * ``name`` — the one name it is registered and looked up under (``sbib damper test --model``,
   JSON files, reports);
-* ``model_id`` — its registered integer id (unique);
 * ``kernel`` — the compiled kernel family that advances it (:data:`KERNELS`): the building's
   stepping kernel and :func:`damper.simulate` dispatch on this number, so a model that packs
   its parameters into an existing family's layout needs no kernel edit;
@@ -16,9 +15,10 @@ A damper model is a frozen, validated dataclass of SI parameters that subclasses
 * ``rates(state, x, xdot, v)`` and ``force(state, x, xdot, v)`` — plain-numpy equations, for
   oracles and readers.
 
-Adding a model is one module with its class plus one :func:`damper.models.registry.register_model`
-call (see ``docs/ARCHITECTURE.md``, "Where things go"); a new kernel family also adds one
-branch to each of :func:`damper.models.registry.device_step` and :func:`damper.models.registry.device_force`.
+Adding a model is one class decorated with :func:`register_model` (see ``docs/ARCHITECTURE.md``,
+"Where things go"; the registry is :data:`MODELS`, a :class:`benchmark.foundation.registry.Registry`);
+a new kernel family also adds one branch to each of :func:`damper.models.registry.device_step` and
+:func:`damper.models.registry.device_force`.
 """
 
 from __future__ import annotations
@@ -28,7 +28,9 @@ from typing import ClassVar
 
 import numpy as np
 
-__all__ = ["DamperModel", "KERNEL_BOUC_WEN", "KERNEL_SPENCER_TYPE", "KERNEL_BINGHAM",
+from benchmark.foundation.registry import Registry
+
+__all__ = ["DamperModel", "MODELS", "register_model", "KERNEL_BOUC_WEN", "KERNEL_SPENCER_TYPE", "KERNEL_BINGHAM",
            "KERNEL_HYPERBOLIC_TANGENT", "KERNELS"]
 
 #: Bouc-Wen family (normalized, extended, Dahl): :func:`damper.models.bouc_wen.bouc_wen_step`.
@@ -49,7 +51,6 @@ class DamperModel(abc.ABC):
     """Base class of every registered damper model (module docstring)."""
 
     name: ClassVar[str]
-    model_id: ClassVar[int]
     kernel: ClassVar[int]
     n_states: ClassVar[int]
     state_names: ClassVar[tuple[str, ...]] = ()
@@ -70,3 +71,36 @@ class DamperModel(abc.ABC):
     @abc.abstractmethod
     def force(self, state: np.ndarray, x: float, xdot: float, v: float) -> float:
         """Force [N] at ``state``, displacement ``x`` [m], velocity ``xdot`` [m/s], voltage ``v`` [V]."""
+
+
+def _check_kernel(cls: type) -> str | None:
+    if getattr(cls, "kernel", None) not in KERNELS:
+        return (f"kernel {getattr(cls, 'kernel', None)!r} is not a kernel family; expected one of "
+                + ", ".join(f"{k} ({v})" for k, v in KERNELS.items()))
+    return None
+
+
+#: Registered damper models by name (filled by :func:`register_model`).
+MODELS: Registry = Registry("damper model", DamperModel, _check_kernel)
+
+
+def register_model(cls):
+    """Register a damper model class under its ``name`` (a class decorator) and return it.
+
+    Parameters
+    ----------
+    cls : type
+        A :class:`DamperModel` subclass with a ``name`` and a ``kernel`` of :data:`KERNELS`.
+
+    Returns
+    -------
+    type
+        ``cls``.
+
+    Raises
+    ------
+    InputError
+        If ``cls`` is not a :class:`DamperModel` subclass, names an unknown kernel family, or
+        its name is already taken by another class.
+    """
+    return MODELS.register(cls)

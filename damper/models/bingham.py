@@ -29,16 +29,16 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from damper.models.base import DamperModel, KERNEL_BINGHAM
+from damper.models.base import DamperModel, KERNEL_BINGHAM, register_model
 from benchmark.foundation.errors import ParameterError
 from damper.models.bouc_wen import _check_voltage_range
 from damper.models.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 
-__all__ = ["Bingham", "BINGHAM_ID", "bingham_step", "bingham_force"]
-
-BINGHAM_ID = 4
+__all__ = ["Bingham", "bingham_step", "bingham_force"]
 
 
+
+@register_model
 @dataclass(frozen=True)
 class Bingham(DamperModel):
     """Bingham model ``F = f_c sgn(xdot) + c0 xdot + f0`` (see module docstring)."""
@@ -49,7 +49,6 @@ class Bingham(DamperModel):
     voltage_range: tuple[float, float] = (0.0, 1.0)
 
     name: ClassVar[str] = "bingham"
-    model_id: ClassVar[int] = BINGHAM_ID
     kernel: ClassVar[int] = KERNEL_BINGHAM
     n_states: ClassVar[int] = 0
     state_names: ClassVar[tuple[str, ...]] = ()

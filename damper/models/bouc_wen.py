@@ -69,7 +69,7 @@ import numba
 import numpy as np
 from scipy.special import hyp2f1
 
-from damper.models.base import DamperModel, KERNEL_BOUC_WEN
+from damper.models.base import DamperModel, KERNEL_BOUC_WEN, register_model
 from benchmark.foundation.errors import InputError, ParameterError
 from damper.models.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 
@@ -83,13 +83,9 @@ __all__ = [
     "h_integral",
     "bouc_wen_step",
     "bouc_wen_force",
-    "NORMALIZED_BOUC_WEN_ID",
-    "EXTENDED_BOUC_WEN_ID",
     "DEFAULT_SUBSTEP_TOLERANCE",
 ]
 
-NORMALIZED_BOUC_WEN_ID = 1
-EXTENDED_BOUC_WEN_ID = 2
 
 #: Largest change of ``rho * n * max(1, 2 sigma - 1) * |dx|`` per RK4 sub-step.
 DEFAULT_SUBSTEP_TOLERANCE = 0.05
@@ -115,7 +111,6 @@ class _BoucWenBase(DamperModel):
     """Methods shared by the normalized and the extended model (the kernel is common)."""
 
     name: ClassVar[str]
-    model_id: ClassVar[int]
     kernel: ClassVar[int] = KERNEL_BOUC_WEN
     n_states: ClassVar[int] = 1
     state_names: ClassVar[tuple[str, ...]] = ("w",)
@@ -215,6 +210,7 @@ class _BoucWenBase(DamperModel):
                                gamma=(1.0 - c["sigma"]) * beta_plus_gamma, n=c["n"], D=D)
 
 
+@register_model
 @dataclass(frozen=True)
 class NormalizedBoucWen(_BoucWenBase):
     """Normalized Bouc-Wen model of a shear-mode MR damper (seed eq. 1-2).
@@ -251,7 +247,6 @@ class NormalizedBoucWen(_BoucWenBase):
     substep_tolerance: float = DEFAULT_SUBSTEP_TOLERANCE
 
     name: ClassVar[str] = "normalized_bouc_wen"
-    model_id: ClassVar[int] = NORMALIZED_BOUC_WEN_ID
     parameter_names: ClassVar[tuple[str, ...]] = ("kappa_xdot", "kappa_w", "rho", "sigma", "n")
 
     def __post_init__(self) -> None:
@@ -264,6 +259,7 @@ class NormalizedBoucWen(_BoucWenBase):
                                substep_tolerance=self.substep_tolerance)
 
 
+@register_model
 @dataclass(frozen=True)
 class ExtendedBoucWen(_BoucWenBase):
     """Extended normalized Bouc-Wen model (seed eq. 3-4): adds :math:`\\kappa_x(v)\\,x`.
@@ -291,7 +287,6 @@ class ExtendedBoucWen(_BoucWenBase):
     substep_tolerance: float = DEFAULT_SUBSTEP_TOLERANCE
 
     name: ClassVar[str] = "extended_bouc_wen"
-    model_id: ClassVar[int] = EXTENDED_BOUC_WEN_ID
     parameter_names: ClassVar[tuple[str, ...]] = ("kappa_x", "kappa_xdot", "kappa_w", "rho",
                                                   "sigma", "n")
 

@@ -28,15 +28,15 @@ from typing import ClassVar
 
 import numpy as np
 
-from damper.models.base import KERNEL_BOUC_WEN, DamperModel
+from damper.models.base import DamperModel, KERNEL_BOUC_WEN, register_model
 from damper.models.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, ExtendedBoucWen
 from damper.models.voltage_laws import ParameterLike
 
-__all__ = ["Dahl", "DAHL_ID"]
-
-DAHL_ID = 5
+__all__ = ["Dahl"]
 
 
+
+@register_model
 @dataclass(frozen=True)
 class Dahl(DamperModel):
     """Dahl model (normalized Bouc-Wen with sigma = 1, n = 1); see module docstring."""
@@ -49,7 +49,6 @@ class Dahl(DamperModel):
     substep_tolerance: float = DEFAULT_SUBSTEP_TOLERANCE
 
     name: ClassVar[str] = "dahl"
-    model_id: ClassVar[int] = DAHL_ID
     kernel: ClassVar[int] = KERNEL_BOUC_WEN
     n_states: ClassVar[int] = 1
     state_names: ClassVar[tuple[str, ...]] = ("w",)

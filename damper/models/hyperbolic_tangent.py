@@ -29,17 +29,17 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from damper.models.base import DamperModel, KERNEL_HYPERBOLIC_TANGENT
+from damper.models.base import DamperModel, KERNEL_HYPERBOLIC_TANGENT, register_model
 from benchmark.foundation.errors import ParameterError
 from damper.models.bouc_wen import _check_voltage_range
 from damper.models.voltage_laws import ParameterLike, VoltageLaw, as_law, check_law, law_length, law_value
 
-__all__ = ["HyperbolicTangent", "HYPERBOLIC_TANGENT_ID", "hyperbolic_tangent_step",
+__all__ = ["HyperbolicTangent", "hyperbolic_tangent_step",
            "hyperbolic_tangent_force"]
 
-HYPERBOLIC_TANGENT_ID = 6
 
 
+@register_model
 @dataclass(frozen=True)
 class HyperbolicTangent(DamperModel):
     """``F = c xdot + k x + alpha tanh(beta xdot + delta sgn x) + f0`` (see module docstring)."""
@@ -53,7 +53,6 @@ class HyperbolicTangent(DamperModel):
     voltage_range: tuple[float, float] = (0.0, 1.0)
 
     name: ClassVar[str] = "hyperbolic_tangent"
-    model_id: ClassVar[int] = HYPERBOLIC_TANGENT_ID
     kernel: ClassVar[int] = KERNEL_HYPERBOLIC_TANGENT
     kernel: ClassVar[int] = KERNEL_HYPERBOLIC_TANGENT
     n_states: ClassVar[int] = 0

@@ -1,13 +1,14 @@
-"""Registry of damper models: one name and one integer id per model, and the one dispatch kernel.
+"""The registered damper models by name, and the one dispatch kernel.
 
 Every damper model is a frozen parameter dataclass in its own module that subclasses
-:class:`damper.models.base.DamperModel` (the contract: ``name``, ``model_id``, ``kernel``,
-``n_states``, ``to_array()``, ``initial_state()``, ``voltage_range``, plain-numpy
-``rates``/``force``). It is registered once, by :func:`register_model`, under its ``name``.
-The building's stepping kernel and :func:`damper.simulate` call :func:`device_step` with the
-model's *kernel family* (:data:`damper.models.base.KERNELS`), its packed parameters and its state, so
-adding a model is one module plus one :func:`register_model` call (a test registers a toy model
-and runs it in the building: ``tests/damper/test_model_registration.py``).
+:class:`damper.models.base.DamperModel` (the contract: ``name``, ``kernel``, ``n_states``,
+``to_array()``, ``initial_state()``, ``voltage_range``, plain-numpy ``rates``/``force``) and is
+decorated with :func:`~damper.models.base.register_model`, which files it under its ``name`` in
+:data:`~damper.models.base.MODELS`. The building's stepping kernel and :func:`damper.simulate` call
+:func:`device_step` with the model's *kernel family* (:data:`damper.models.base.KERNELS`), its
+packed parameters and its state, so adding a model is one decorated class (a test registers a toy
+model and runs it in the building: ``tests/damper/test_model_registration.py``). This module imports
+the built-in model modules, which registers them.
 """
 
 from __future__ import annotations
@@ -17,22 +18,19 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from damper.models.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANGENT, KERNEL_SPENCER_TYPE,
-                         KERNELS, DamperModel)
-from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, bouc_wen_force, bouc_wen_step
-from damper.models.spencer import (MEMO_LENGTH, Spencer, spencer_type_force_kernel, spencer_type_step,
-                            spencer_type_step_memo, spencer_type_tangent, spencer_type_tangent_memo)
-from damper.models.virtual import VirtualBenchmarkDamper
-from damper.models.series_dashpot import SeriesDashpotBoucWen
-from damper.models.bingham import Bingham, bingham_force, bingham_step
-from damper.models.dahl import Dahl
-from damper.models.hyperbolic_tangent import HyperbolicTangent, hyperbolic_tangent_force, hyperbolic_tangent_step
+                                MODELS, DamperModel, register_model)
+from damper.models.bouc_wen import bouc_wen_force, bouc_wen_step
+from damper.models.spencer import (MEMO_LENGTH, spencer_type_force_kernel, spencer_type_step,
+                                   spencer_type_step_memo, spencer_type_tangent, spencer_type_tangent_memo)
+from damper.models.bingham import bingham_force, bingham_step
+from damper.models.hyperbolic_tangent import hyperbolic_tangent_force, hyperbolic_tangent_step
+from damper.models import dahl, series_dashpot, virtual  # noqa: F401  (importing registers them)
 
 __all__ = [
     "MODELS",
-    "MODELS_BY_ID",
     "register_model",
     "get_model_class",
-    "model_id_of",
+    "check_registered",
     "kernel_id_of",
     "device_step",
     "device_step_memo",
@@ -42,67 +40,61 @@ __all__ = [
     "device_force",
 ]
 
-#: Model classes by name.
-MODELS: dict[str, type[DamperModel]] = {}
-#: Model classes by integer id.
-MODELS_BY_ID: dict[int, type[DamperModel]] = {}
+def get_model_class(name: str) -> type[DamperModel]:
+    """The model class registered as ``name``.
 
+    Parameters
+    ----------
+    name : str
+        A registered name (:data:`MODELS`).
 
-def register_model(cls: type[DamperModel]) -> type[DamperModel]:
-    """Register a damper model class under its ``name`` and ``model_id`` and return it.
+    Returns
+    -------
+    type
+        The :class:`~damper.models.base.DamperModel` subclass.
 
     Raises
     ------
     InputError
-        If ``cls`` is not a :class:`~damper.models.base.DamperModel` subclass, names an unknown kernel
-        family, or its name or id is already taken by another class.
+        For an unknown name (the message lists the names).
     """
-    if not (isinstance(cls, type) and issubclass(cls, DamperModel)):
-        raise InputError(f"register_model: {cls!r} is not a damper.models.base.DamperModel subclass")
-    name, model_id, kernel = getattr(cls, "name", None), getattr(cls, "model_id", None), getattr(cls, "kernel", None)
-    if not isinstance(name, str) or not name:
-        raise InputError(f"register_model: {cls.__name__} has no name")
-    if not isinstance(model_id, int) or model_id <= 0:
-        raise InputError(f"register_model: {cls.__name__}.model_id must be a positive int, got {model_id!r}")
-    if kernel not in KERNELS:
-        raise InputError(f"register_model: {cls.__name__}.kernel {kernel!r} is not a kernel family; expected "
-                         "one of " + ", ".join(f"{k} ({v})" for k, v in KERNELS.items()))
-    taken = MODELS.get(name) or MODELS_BY_ID.get(model_id)
-    if taken is not None and taken is not cls:
-        key = name if name in MODELS else model_id
-        raise InputError(f"register_model: {cls.__name__}: {key!r} is already registered by {taken.__name__}")
-    MODELS[name] = cls
-    MODELS_BY_ID[model_id] = cls
-    return cls
+    return MODELS.get_class(name)
 
 
-for _cls in (NormalizedBoucWen, ExtendedBoucWen, Spencer, VirtualBenchmarkDamper, SeriesDashpotBoucWen,
-             Bingham, Dahl, HyperbolicTangent):
-    register_model(_cls)
+def check_registered(model: DamperModel) -> None:
+    """Check that ``model`` is an instance of a registered damper model class.
 
+    Parameters
+    ----------
+    model : DamperModel
+        A model instance.
 
-def get_model_class(name: str) -> type[DamperModel]:
-    """The model class registered as ``name`` (raises :class:`InputError` listing the names)."""
-    try:
-        return MODELS[name]
-    except KeyError:
-        raise InputError(f"damper model: unknown name {name!r}; expected one of "
-                         + ", ".join(sorted(MODELS))) from None
-
-
-def model_id_of(model: DamperModel) -> int:
-    """The registered integer id of a model instance (checks it is registered)."""
-    model_id = getattr(model, "model_id", None)
-    if model_id not in MODELS_BY_ID or not isinstance(model, MODELS_BY_ID[model_id]):
+    Raises
+    ------
+    InputError
+        If its class is not registered.
+    """
+    cls = MODELS.get(getattr(model, "name", None)) if isinstance(getattr(model, "name", None), str) else None
+    if cls is None or not isinstance(model, cls):
         raise InputError(f"damper model: {type(model).__name__} is not a registered damper model; "
                          "expected one of " + ", ".join(sorted(MODELS)))
-    return int(model_id)
 
 
 def kernel_id_of(model: DamperModel) -> int:
-    """The kernel family (:data:`damper.models.base.KERNELS`) of a registered model instance: the number
-    :func:`device_step` dispatches on."""
-    model_id_of(model)
+    """The kernel family (:data:`damper.models.base.KERNELS`) of a registered model instance: the
+    number :func:`device_step` dispatches on.
+
+    Parameters
+    ----------
+    model : DamperModel
+        A registered model instance.
+
+    Returns
+    -------
+    int
+        Its kernel family id.
+    """
+    check_registered(model)
     return int(type(model).kernel)
 
 

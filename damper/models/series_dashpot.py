@@ -47,15 +47,15 @@ from typing import ClassVar
 
 import numpy as np
 
+from damper.models.base import register_model
 from benchmark.foundation.errors import ParameterError
 from damper.models.bouc_wen import _check_voltage_range
 from damper.models.spencer import SpencerTypeModel, pack_spencer_type
 from damper.models.voltage_laws import (Constant, Exponential, ParameterLike, Polynomial, Saturating,
                                  SeedKappaW, Tabulated, VoltageLaw, _finite, as_law, check_law)
 
-__all__ = ["SeriesDashpotBoucWen", "SERIES_DASHPOT_ID", "DEFAULT_SERIES_SUBSTEP_TOLERANCE", "scaled_law"]
+__all__ = ["SeriesDashpotBoucWen", "DEFAULT_SERIES_SUBSTEP_TOLERANCE", "scaled_law"]
 
-SERIES_DASHPOT_ID = 8
 #: Default RK4 sub-step size (``lambda * h``) before the branch margin (see
 #: :meth:`SeriesDashpotBoucWen.kernel_tolerance`).
 DEFAULT_SERIES_SUBSTEP_TOLERANCE = 0.25
@@ -102,6 +102,7 @@ def _constant(value, name: str) -> float:
     return _finite(value, f"SeriesDashpotBoucWen.{name}")
 
 
+@register_model
 @dataclass(frozen=True)
 class SeriesDashpotBoucWen(SpencerTypeModel):
     """Extended Bouc-Wen element in series with a dashpot (equations in the module docstring).
@@ -149,7 +150,6 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
     field_lag: float = 0.0
 
     name: ClassVar[str] = "series_dashpot_bouc_wen"
-    model_id: ClassVar[int] = SERIES_DASHPOT_ID
     n_states: ClassVar[int] = 3
     state_names: ClassVar[tuple[str, ...]] = ("y", "w", "u")
     parameter_names: ClassVar[tuple[str, ...]] = ("kappa_x", "kappa_xdot", "kappa_w", "rho", "sigma",

@@ -59,14 +59,13 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from damper.models.base import DamperModel, KERNEL_SPENCER_TYPE
+from damper.models.base import DamperModel, KERNEL_SPENCER_TYPE, register_model
 from benchmark.foundation.errors import InputError, ParameterError
 from damper.models.bouc_wen import _abs_pow, _check_voltage_range, hermite_position, DEFAULT_SUBSTEP_TOLERANCE
 from damper.models.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value
 
 __all__ = [
     "Spencer",
-    "SPENCER_ID",
     "pack_spencer_type",
     "spencer_type_rates",
     "spencer_type_step",
@@ -78,7 +77,6 @@ __all__ = [
     "spencer_type_tangent_memo",
 ]
 
-SPENCER_ID = 3
 MAX_SUBSTEPS = 200_000
 
 
@@ -150,6 +148,7 @@ class SpencerTypeModel(DamperModel):
         return spencer_type_force(state, x, xdot, **self._kernel_parameters())
 
 
+@register_model
 @dataclass(frozen=True)
 class Spencer(SpencerTypeModel):
     """Spencer et al. (1997) phenomenological MR damper model (SI units).
@@ -200,7 +199,6 @@ class Spencer(SpencerTypeModel):
     substep_tolerance: float = DEFAULT_SUBSTEP_TOLERANCE
 
     name: ClassVar[str] = "spencer"
-    model_id: ClassVar[int] = SPENCER_ID
     n_states: ClassVar[int] = 3
     state_names: ClassVar[tuple[str, ...]] = ("y", "w", "u")
 

@@ -64,14 +64,14 @@ from typing import ClassVar
 
 import numpy as np
 
+from damper.models.base import register_model
 from benchmark.foundation.errors import ParameterError
 from damper.models.bouc_wen import DEFAULT_SUBSTEP_TOLERANCE, _check_voltage_range
 from damper.models.spencer import SpencerTypeModel
 from damper.models.voltage_laws import ParameterLike, Saturating, VoltageLaw, as_law, check_law
 
-__all__ = ["VirtualBenchmarkDamper", "VIRTUAL_DAMPER_ID"]
+__all__ = ["VirtualBenchmarkDamper"]
 
-VIRTUAL_DAMPER_ID = 7
 
 _FW_SHAPE = (0.55, 1.3)
 _FW0 = 58.0e3
@@ -83,6 +83,7 @@ def _default_yield_force() -> Saturating:
     return Saturating(_FW0, (_FW1 - _FW0) / math.tanh((1.0 / c) ** e), c, e)
 
 
+@register_model
 @dataclass(frozen=True)
 class VirtualBenchmarkDamper(SpencerTypeModel):
     """The virtual benchmark MR damper (equations and values in the module docstring).
@@ -124,7 +125,6 @@ class VirtualBenchmarkDamper(SpencerTypeModel):
     substep_tolerance: float = DEFAULT_SUBSTEP_TOLERANCE
 
     name: ClassVar[str] = "virtual"
-    model_id: ClassVar[int] = VIRTUAL_DAMPER_ID
     n_states: ClassVar[int] = 3
     state_names: ClassVar[tuple[str, ...]] = ("y", "w", "u")
 

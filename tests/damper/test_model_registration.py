@@ -1,8 +1,9 @@
-"""A new damper model is one module plus one registration (docs/ARCHITECTURE.md).
+"""A new damper model is one class decorated with ``register_model`` (docs/ARCHITECTURE.md).
 
 This module *is* the new module: it defines a toy model (a linear viscous damper whose
-coefficient grows with the coil voltage, c(v) = c0 + c1 v), registers it with one call, and
-runs it alone and inside the building.
+coefficient grows with the coil voltage, c(v) = c0 + c1 v), registers it (the decorator, applied
+in a fixture so that the last test can see an unregistered one), and runs it alone and inside
+the building.
 """
 
 from __future__ import annotations
@@ -28,7 +29,6 @@ class ToyViscousDamper(DamperModel):
     voltage_range: tuple[float, float] = (0.0, 1.0)
 
     name: ClassVar[str] = "toy_viscous"
-    model_id: ClassVar[int] = 901
     kernel: ClassVar[int] = KERNEL_BINGHAM
     n_states: ClassVar[int] = 0
 
@@ -49,10 +49,9 @@ class ToyViscousDamper(DamperModel):
 def registered():
     from damper.models import registry
 
-    cls = registry.register_model(ToyViscousDamper)  # the one registration
+    cls = registry.register_model(ToyViscousDamper)  # the decorator, applied here
     yield cls
-    registry.MODELS.pop(cls.name, None)
-    registry.MODELS_BY_ID.pop(cls.model_id, None)
+    registry.MODELS.unregister(cls.name)
 
 
 def test_the_toy_model_is_found_by_name_and_simulated(registered):
@@ -90,13 +89,12 @@ def test_registration_refuses_what_breaks_the_contract(registered):
     class NotAModel:
         name = "nope"
 
-    with pytest.raises(InputError, match="not a damper.models.base.DamperModel"):
+    with pytest.raises(InputError, match="not a subclass of damper.models.base.DamperModel"):
         registry.register_model(NotAModel)
 
     @dataclass(frozen=True)
     class Clash(ToyViscousDamper):
         name: ClassVar[str] = "virtual"
-        model_id: ClassVar[int] = 902
 
     with pytest.raises(InputError, match="already registered"):
         registry.register_model(Clash)
@@ -104,7 +102,6 @@ def test_registration_refuses_what_breaks_the_contract(registered):
     @dataclass(frozen=True)
     class BadKernel(ToyViscousDamper):
         name: ClassVar[str] = "bad_kernel"
-        model_id: ClassVar[int] = 903
         kernel: ClassVar[int] = 99
 
     with pytest.raises(InputError, match="not a kernel family"):
