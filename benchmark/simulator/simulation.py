@@ -39,6 +39,7 @@ from controllers.measurements import measurement_layout
 from benchmark.simulator.isolation.registry import LinearBearing
 from benchmark.simulator.stepping import energy_histories, total_bearing_forces
 from benchmark.foundation.kernel_cache import ensure_fresh_once
+from benchmark.simulator.authority import controller_authority_warnings
 from records.resample import interpolate_onto
 
 __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES", "choose_integration_step",
@@ -401,7 +402,8 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         Histories on the grid ``t = k h`` of the integration step ``h`` actually used:
         ``info["integration_step"]`` [s], with ``info["record_step"]`` (the record's own),
         ``info["integration_step_requested"]``, ``info["integration_step_halvings"]`` and
-        ``info["notes"]`` (lines for the user: interpolation, halvings).
+        ``info["notes"]`` (lines for the user: interpolation, halvings, a controller that
+        cannot act on the devices, :func:`benchmark.simulator.authority.controller_authority_warnings`).
 
     Raises
     ------
@@ -434,6 +436,9 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         raise InputError(f"max_iterations: expected >= 1, got {max_iterations!r}")
     controller = _resolve_controller(controller)
     notes: list[str] = []
+    if controller is not None and building.devices is not None:
+        notes.extend(controller_authority_warnings(building.devices, getattr(controller, "name", "")
+                                                   or type(controller).__name__))
     for halving in range(int(max_halvings) + 1):
         ag = ag_record if dt == record_dt else interpolate_onto(ag_record, record_dt, dt)
         try:
