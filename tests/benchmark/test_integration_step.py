@@ -56,6 +56,15 @@ def test_a_record_at_0_02_s_runs_under_clipped_optimal(kjm_14s, nonlinear):
     assert any("interpolated linearly onto the integration step 0.005 s" in n for n in out.notes)
 
 
+def test_the_result_file_states_the_time_grid(kjm_14s, nonlinear, tmp_path):
+    from benchmark.simulator.results import read_result, write_result
+
+    r = simulate(nonlinear, kjm_14s, bearing_histories=False)
+    stored = read_result(write_result(r, tmp_path / "kjm.h5"))
+    assert float(stored.attrs["integration_step_s"]) == 0.005 and float(stored.attrs["record_step_s"]) == 0.02
+    assert stored.info["integration_step"] == 0.005 and stored.info["notes"]
+
+
 def test_interpolating_inside_equals_resampling_first(kjm_14s, nonlinear):
     a = simulate(nonlinear, kjm_14s)
     b = simulate(nonlinear, resample(kjm_14s, 0.005))
