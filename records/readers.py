@@ -581,7 +581,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
     )
 
 
-def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2") -> Path:
+def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2", comments: Sequence[str] = ()) -> Path:
     """Write ``record`` as CSV (``time [s], <label> [units], ...``), atomically; :func:`read_csv` reads it back.
 
     Parameters
@@ -592,6 +592,9 @@ def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2") -> P
         Output file.
     units : str
         Units of the written values (default m/s2; see :func:`unit_factor`).
+    comments : sequence of str
+        Further comment lines (without the ``#``) written after the first, e.g. how the record
+        was processed and the provenance; :func:`read_csv` skips them.
 
     Returns
     -------
@@ -604,8 +607,9 @@ def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2") -> P
     kind = "SYNTHETIC ground motion" if record.synthetic else "ground motion"
     first = f"# {kind}: {record.name}; source: {record.source}; written by sbib"
     # read back by read_csv (_WRITTEN_BY_SBIB): a synthetic record stays synthetic, with its name and source
-    lines = [" ".join(first.splitlines()),
-             ",".join(["time [s]"] + [f"{label.replace(',', ';')} [{_canonical(units)}]" for label in record.labels])]
+    lines = [" ".join(first.splitlines())]
+    lines.extend("# " + " ".join(str(c).splitlines()) for c in comments)
+    lines += [",".join(["time [s]"] + [f"{label.replace(',', ';')} [{_canonical(units)}]" for label in record.labels])]
     data = np.column_stack([record.time, record.acceleration / factor])
     lines.extend(",".join(f"{v:.10g}" for v in row) for row in data)
     with atomic_path(path) as tmp:

@@ -5,6 +5,8 @@
                       [--synthetic --seed N] [--baseline-correct]
                       [--format auto|benchmark|at2|single|csv --dt S --units U]
     sbib records generate NAME --out FILE.csv [--orientation] [--seed N] [--plot FILE.png]
+    sbib records resample NAME|FILE --step S --out FILE.csv [--out-units U]
+                      [--format auto|benchmark|at2|single|csv --dt S --units U] [--baseline-correct]
 
 A thin layer over :mod:`records`: it parses, calls the Python API and prints.
 """
@@ -13,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 from pathlib import Path
 from typing import Any
@@ -30,8 +33,11 @@ from records.plots import plot_record
 from records.catalogue import ORIENTATION_HELP
 from records.options import add_record_options, orientation_name
 from records.options import record_kwargs
-from records.resolve import resolve_record
+from records.resolve import resolve_record, looks_like_file
+from records.resample import resample
+from records.readers import unit_factor
 from benchmark.foundation.errors import DataNotFoundError
+from benchmark.foundation.provenance import provenance
 
 __all__ = ["register"]
 
@@ -76,6 +82,25 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0, help="seed (default 0)")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="also plot it")
     p.set_defaults(func=_generate)
+
+    p = sub.add_parser(
+        "resample", help="write a record resampled onto another time step (CSV with units and provenance)",
+        description="Resample a benchmark record or a record file onto a uniform time step and write it as "
+                    "CSV: time [s] and one column per component, with the units in the header and comment "
+                    "lines saying where the record came from, how it was resampled and by which sbib. A "
+                    "finer step interpolates linearly between the samples (the motion the simulator "
+                    "integrates anyway); a coarser one low-passes first (zero-phase Butterworth at 80 %% of "
+                    "the new Nyquist frequency) so that nothing aliases. sbib run does not need it: it "
+                    "interpolates any record onto its own step. Example: sbib records resample "
+                    "KJM-000 --dt 0.02 --units g --step 0.005 --out KJM-000_0.005.csv")
+    p.add_argument("name", metavar="NAME|FILE", help="benchmark record name (erzincan accepted) or a file path")
+    p.add_argument("--step", type=float, required=True, metavar="S", help="new time step [s], e.g. 0.005")
+    p.add_argument("--out", required=True, metavar="FILE.csv", help="output CSV file (written atomically)")
+    p.add_argument("--out-units", default=None, metavar="U",
+                   help="units of the written values: g, m/s2, cm/s2 (gal), mm/s2 (default: those the "
+                        "record was read in)")
+    add_record_options(p, orientation=False)  # --records-dir, --format, --dt (of the input), --units, ...
+    p.set_defaults(func=_resample)
 
 
 # --------------------------------------------------------------------------- list
@@ -223,4 +248,32 @@ def _generate(args: argparse.Namespace) -> int:
     print(_format_recorded_comparison(record.metadata["recorded_comparison"]))
     if args.plot:
         print(f"plot written: {plot_record(record, args.plot)}")
+    return 0
+
+
+# --------------------------------------------------------------------------- resample
+def _resample(args: argparse.Namespace) -> int:
+    if not (math.isfinite(args.step) and args.step > 0):
+        raise InputError(f"--step {args.step!r}: expected a positive time step in s, e.g. 0.005")
+    out = Path(args.out).expanduser()
+    if looks_like_file(args.name) and Path(args.name).expanduser().resolve() == out.resolve():
+        raise InputError(f"--out {args.out}: is the input record itself; give another file")
+    if args.out_units is not None:
+        unit_factor(args.out_units, "--out-units")  # an unknown unit: one line before any work
+    # the source's own components, in its own order (a file is not oriented)
+    record = resolve_record(args.name, "FN-x", **record_kwargs(args))
+    if looks_like_file(args.name) and record.metadata.get("y_file_column") is None:
+        record = record.select([0])  # a one-component file: its component only, not the zero y
+    units = args.out_units or str(record.metadata.get("units_in_file") or "m/s2")
+    new = resample(record, args.step)
+    how = new.metadata.get("resampled", f"not resampled: the record's step is already {record.dt:g} s")
+    prov = provenance()
+    comments = [f"resampled by sbib records resample: {how}",
+                f"original: {record.n_samples} samples at {record.dt:g} s, values read as "
+                f"{record.metadata.get('units_assumed', 'm/s2')}",
+                "provenance: " + "; ".join(f"{k}={prov[k]}" for k in ("package", "package_version", "git_commit",
+                                                                     "created_utc", "numpy", "scipy"))]
+    path = write_csv(new, out, units=units, comments=comments)
+    print(f"{record.name}: {record.n_samples} samples at {record.dt:g} s -> {new.n_samples} samples at "
+          f"{new.dt:g} s ({how}); written to {path} in {units}")
     return 0

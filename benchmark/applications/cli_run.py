@@ -5,7 +5,7 @@
     sbib run --record NAME|PATH --orientation FN-x|FP-x|FP-y|FN-y --isolation NAME --controller NAME
              [--records-dir DIR] [--format F] [--dt S] [--units U] [--baseline-correct]
              [--out FILE.h5] [--plot DIR] [--json]
-             [--n-modes N] [--control-step S] [--substep-tolerance TOL]
+             [--n-modes N] [--control-step S] [--integration-step S] [--substep-tolerance TOL]
 
 The evaluation criteria need the uncontrolled run (same building and isolation, no devices,
 same record and orientation), so every call computes it too (``--controller none`` *is* that
@@ -15,14 +15,19 @@ components ``FN-x`` puts column 1 on x and ``FP-x`` swaps them; a one-component 
 (``FN-x``) or y (``FP-x``); the seed paper's ``FP-y`` / ``FN-y`` are ``FN-x`` / ``FP-x``. The record
 options are those of every command that takes a record (:mod:`records.options`). The record's
 implausibility flaws (:mod:`records.plausibility`: wrong units, wrong dt) are warned about on
-stderr. Without a controller the control step does not matter; with one, the default is the
-benchmark's 0.005 s when it is a whole multiple of the record step, else the nearest whole
-multiple, said on stderr (:func:`benchmark.simulator.case.choose_control_step`).
+stderr. The record's own step does not decide the integration step: the ground motion is
+interpolated onto the building's step (the benchmark's 0.005 s, ``--integration-step``; finer
+for a finer record), which divides the control step (default 0.005 s); a step whose nonlinear
+forces do not converge makes the run start again at half the step, said on stderr
+(:func:`benchmark.simulator.simulation.simulate`). Other notes of the run (a controller that
+cannot act on the devices) are printed on stderr too.
 
 ``--json`` prints exactly one JSON object on stdout::
 
     {"record", "orientation" (FN-x or FP-x), "isolation", "controller",
-     "control_step_s" (null without a controller), "units_assumed", "record_flaws": [messages],
+     "control_step_s" (null without a controller), "units_assumed", "record_step_s",
+     "integration_step_s" (the step of the results' time grid), "notes": [lines],
+     "record_flaws": [messages],
      "peaks": {peak_base_shear [N], peak_structure_shear [N], peak_base_displacement [m],
                peak_drift_ratio [-], peak_floor_acceleration [m/s²], rms_base_displacement [m],
                rms_floor_acceleration [m/s², largest floor], peak_device_force [N]},
@@ -77,7 +82,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
              plot_dir: str | None = None, n_modes: int | None = None, control_step: float | None = None,
              substep_tolerance: float | None = None, baseline_correct: bool = False,
              progress: bool = False, format: str = "auto", dt: float | None = None,
-             units: str | None = None, warn: bool = True, full_histories: bool = False) -> dict[str, Any]:
+             units: str | None = None, warn: bool = True, full_histories: bool = False,
+             integration_step: float | None = None) -> dict[str, Any]:
     """``sbib run``: run one case and its reference (:func:`benchmark.simulator.case.run_case`),
     evaluate, and optionally save and plot.
 
@@ -98,8 +104,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
     n_modes : int, optional
         Reduced superstructure (first ``n_modes`` modes); default all 24.
     control_step : float, optional
-        Controller sample time [s]; ``None`` picks one (:func:`choose_control_step`: the
-        benchmark's 0.005 s when it fits the record step). Without a controller it does not matter.
+        Controller sample time [s]; ``None``: the benchmark's 0.005 s. Without a controller it
+        sets only the time grid.
     substep_tolerance : float, optional
         Sub-step tolerance of every nonlinear bearing.
     baseline_correct : bool
@@ -109,6 +115,9 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         How to read a record file (:func:`records.resolve.resolve_record`).
     warn : bool
         Print the record's implausibility flaws and a chosen control step on stderr.
+    integration_step : float, optional
+        Longest integration step [s] (default the benchmark's 0.005 s; halved automatically while
+        the nonlinear forces do not converge, :func:`benchmark.simulator.simulation.simulate`).
     full_histories : bool
         Write ``out`` in double precision, with the per-bearing force and state histories (92
         bearings x 2 components per sample: about 30 MB more for a 30-s record), the kernel's
@@ -132,18 +141,23 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
 
     if control_step is not None and not (math.isfinite(control_step) and control_step > 0):
         raise InputError(f"--control-step {control_step!r}: expected a positive number of seconds")
+    if integration_step is not None and not (math.isfinite(integration_step) and integration_step > 0):
+        raise InputError(f"--integration-step {integration_step!r}: expected a positive number of seconds, "
+                         "e.g. 0.0025")
     record_options = {"records_dir": records_dir, "baseline_correct": baseline_correct, "format": format,
                       "dt": dt, "units": units}
     case = Case(record=record, orientation=orientation, controller=controller, isolation=isolation,
                 n_modes=n_modes, control_step=control_step, record_options=record_options,
                 options={"bearing_histories": bool(full_histories or plot_dir),
-                         **({} if substep_tolerance is None else {"substep_tolerance": substep_tolerance})})
+                         **({} if substep_tolerance is None else {"substep_tolerance": substep_tolerance}),
+                         **({} if integration_step is None else {"integration_step": integration_step})})
     run = run_case(case)  # the one way to run a case (benchmark.simulator.case)
     say(f"ran {run.record.name} ({orientation}) and its uncontrolled reference in "
         f"{time.perf_counter() - start:.1f} s")
     if warn:
         for note in run.notes:
-            print(f"sbib run: {'warning: ' if 'implausible' in note else ''}{note}", file=sys.stderr, flush=True)
+            flag = "warning: " if "implausible" in note and not note.startswith("warning: ") else ""
+            print(f"sbib run: {flag}{note}", file=sys.stderr, flush=True)
     rec, building, result, reference, J = run.record, run.building, run.result, run.reference, run.J
     orientation = rec.metadata.get("orientation", orientation)
     layer = building.isolation
@@ -158,6 +172,9 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         "controller": controller,
         "control_step_s": float(control_step) if ctrl_used else None,
         "units_assumed": rec.metadata.get("units_assumed", ""),
+        "record_step_s": float(result.info.get("record_step", rec.dt)),
+        "integration_step_s": float(result.info.get("integration_step", rec.dt)),
+        "notes": list(run.notes),
         "record_flaws": list(rec.metadata.get("flaws", [])),
         "peaks": _clean(run.peaks),
         "J": {k: v for k, v in _clean(J).items()},
@@ -200,7 +217,9 @@ def _print_table(summary: dict[str, Any]) -> None:
     print(f"{summary['record']} ({summary['orientation']}), isolation {summary['isolation']}, "
           f"controller {summary['controller']}: {summary['elapsed_s']:.1f} s")
     print(f"  record values read as {summary['units_assumed']}"
-          + (f"; control step {summary['control_step_s']:g} s" if summary.get("control_step_s") else ""))
+          + (f"; control step {summary['control_step_s']:g} s" if summary.get("control_step_s") else "")
+          + f"; record step {summary['record_step_s']:g} s, integrated and reported every "
+            f"{summary['integration_step_s']:g} s")
     for flaw in summary.get("record_flaws", []):
         print(f"  record flaw: {flaw}")
     print(f"  {'response':<26s} {'run':>12s} {'uncontrolled':>13s}  units")
@@ -225,7 +244,8 @@ def main_run(args: argparse.Namespace) -> int:
                        plot_dir=args.plot, n_modes=args.n_modes, control_step=args.control_step,
                        substep_tolerance=args.substep_tolerance,
                        baseline_correct=args.baseline_correct, progress=not args.json,
-                       format=args.format, dt=args.dt, units=args.units, full_histories=args.full_histories)
+                       format=args.format, dt=args.dt, units=args.units, full_histories=args.full_histories,
+                       integration_step=args.integration_step)
     summary.pop("result", None)
     summary.pop("reference", None)
     if args.json:
@@ -256,9 +276,12 @@ def register(subparsers: Any) -> None:
     p.add_argument("--n-modes", type=int, default=None, metavar="N",
                    help="keep the first N superstructure modes (default all 24)")
     p.add_argument("--control-step", type=float, default=None, metavar="S",
-                   help="controller sample time [s], a whole multiple of the record step (default: the "
-                        "benchmark's 0.005 s when it is one, else the multiple nearest to it, said on stderr; "
-                        "without a controller it does not matter)")
+                   help="controller sample time [s] (default 0.005, the benchmark's); any record step "
+                        "fits")
+    p.add_argument("--integration-step", type=float, default=None, metavar="S",
+                   help="longest integration step [s] (default 0.005, the benchmark's); the record is "
+                        "interpolated onto it, whatever its own step, and the step is halved (up to 3 "
+                        "times, said on stderr) where the nonlinear forces do not converge")
     p.add_argument("--substep-tolerance", type=float, default=None, metavar="TOL",
                    help="sub-step tolerance of the nonlinear bearings (default 0.75)")
     p.add_argument("--full-histories", action="store_true",

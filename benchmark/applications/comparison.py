@@ -370,8 +370,8 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     jobs : int, optional
         Worker processes (default: all cores; 1 runs in this process).
     control_step : float or None
-        [s]; ``None`` picks, per record, the benchmark's 0.005 s when it is a whole multiple of
-        the record step, else the nearest multiple (:func:`benchmark.simulator.case.choose_control_step`).
+        [s]; ``None``: the benchmark's 0.005 s, whatever the record's step (the simulator
+        integrates on a step that divides it, :func:`benchmark.simulator.case.choose_control_step`).
     noise : optional
         Measurement noise (e.g. :class:`controllers.noise.MeasurementNoise`), seeded by ``seed``.
     n_modes : int, optional

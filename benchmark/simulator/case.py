@@ -40,49 +40,37 @@ __all__ = ["Case", "CaseResult", "ReferenceCache", "REFERENCES", "run_case", "ch
 DEFAULT_CONTROL_STEP = 0.005
 
 
-def choose_control_step(record_dt: float, requested: float | None = None) -> tuple[float, str]:
-    """Return the control step [s] for a record step and why it was chosen.
+def choose_control_step(record_dt: float | None = None, requested: float | None = None) -> tuple[float, str]:
+    """Return the control step [s] and a note (always empty now; kept for the callers' loop).
+
+    The control step no longer depends on the record: the simulator integrates on a step that
+    divides it (:func:`benchmark.simulator.simulation.choose_integration_step`) and interpolates
+    the record onto that step.
 
     Parameters
     ----------
-    record_dt : float
-        The record's time step [s]; the structure steps at it, so the control step must be a
-        whole multiple of it.
+    record_dt : float, optional
+        The record's time step [s]; not used (a record at any step runs at any control step).
     requested : float, optional
-        ``--control-step`` as given; ``None`` picks one.
+        ``--control-step`` as given; ``None`` gives the benchmark's 0.005 s.
 
     Returns
     -------
     step : float
-        The requested step when it fits; otherwise the benchmark's 0.005 s when it is a whole
-        multiple of the record step, else the whole multiple of the record step nearest to
-        0.005 s (at least one step), e.g. 0.01 s for a PEER record at dt = 0.01 s.
+        The requested step, else :data:`DEFAULT_CONTROL_STEP`.
     note : str
-        Empty, or one line saying which step was picked and why.
+        Empty.
 
     Raises
     ------
     InputError
-        A requested step that is not positive or not a whole multiple of ``record_dt``; the
-        message names ``--control-step`` and a step that would work.
+        A requested step that is not a positive number of seconds (names ``--control-step``).
     """
     if requested is not None:
-        if not (math.isfinite(requested) and requested > 0):
+        if not (isinstance(requested, (int, float)) and math.isfinite(requested) and requested > 0):
             raise InputError(f"--control-step {requested!r}: expected a positive number of seconds")
-        ratio = requested / record_dt
-        if abs(ratio - round(ratio)) > 1e-6 * max(1.0, ratio) or round(ratio) < 1:
-            k = max(1, round(ratio))
-            raise InputError(f"--control-step {requested:g} s is not a whole multiple of the record step "
-                             f"{record_dt:g} s; give --control-step {k * record_dt:g} (or another multiple of "
-                             f"{record_dt:g} s), or leave it out to pick one")
         return float(requested), ""
-    ratio = DEFAULT_CONTROL_STEP / record_dt
-    k = max(1, round(ratio))
-    if abs(ratio - k) <= 1e-6 * max(1.0, ratio):
-        return DEFAULT_CONTROL_STEP, ""
-    step = k * record_dt
-    return step, (f"control step {step:g} s: the benchmark's {DEFAULT_CONTROL_STEP:g} s is not a whole multiple "
-                  f"of the record step {record_dt:g} s (give --control-step to choose another)")
+    return DEFAULT_CONTROL_STEP, ""
 
 
 @dataclass(frozen=True)
@@ -109,14 +97,14 @@ class Case:
     damper_model : DamperModel or str, optional
         Model of every device of the default layout (default: the virtual benchmark damper).
     control_step : float, optional
-        Control sample time [s]; ``None`` picks one that fits the record
-        (:func:`choose_control_step`).
+        Control sample time [s]; ``None``: the benchmark's 0.005 s (:func:`choose_control_step`).
     record_options : dict
         Keyword arguments of :func:`records.resolve.resolve_record` (``records_dir``,
         ``baseline_correct``, ``format``, ``dt``, ``units``, ``synthetic``, ``seed``).
     options : dict
         Keyword arguments of :func:`benchmark.simulator.simulation.simulate` for both runs
-        (``substep_tolerance``, ``noise``, ``seed``, ``record_states``, ...).
+        (``substep_tolerance``, ``integration_step``, ``max_halvings``, ``noise``, ``seed``,
+        ``record_states``, ...).
     label : str
         Free text carried into the results' ``info``.
     """
@@ -151,7 +139,10 @@ class CaseResult:
     control_step : float
         The control step used [s].
     notes : list of str
-        Lines for the user (the control step picked, implausible-record flags).
+        Lines for the user: implausible-record flags and the runs' own notes
+        (``result.info["notes"]``: the record interpolated onto the integration step, a step
+        halved after a fixed point that did not converge, ``"warning: ..."`` when the controller
+        cannot act on the devices).
     J : dict
         J1-J9 of :func:`benchmark.simulator.evaluation.evaluate` (``None`` where undefined).
     peaks : dict
@@ -288,12 +279,9 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
     record = resolve_case_record(case)
     controller = get_controller(case.controller) if isinstance(case.controller, str) else case.controller
     notes = [f for f in record.metadata.get("flaws", []) if "implausible" in str(f)]
-    if controller is None:  # no devices, no controller: the control step does not matter
-        control_step = case.control_step if case.control_step is not None else record.dt
-    else:
-        control_step, note = choose_control_step(record.dt, case.control_step)
-        if note:
-            notes.append(note)
+    # without a controller the control step sets only the time grid, which the reference of a
+    # controlled run shares
+    control_step, _ = choose_control_step(record.dt, case.control_step)
     building = _case_building(case, with_devices=controller is not None)
     options = dict(case.options)
     info = {"record": record.name, "orientation": record.metadata.get("orientation", case.orientation),
@@ -302,6 +290,10 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
         ref, result = _runs(case, record, building, controller, control_step, options, info, reference, cache)
     except NumericalError as exc:
         raise with_record_note(exc, [n for n in notes if "implausible" in n]) from None
+    for run in (ref, result):  # each line once (the reference's notes repeat the run's)
+        for note in (run.info.get("notes", []) if run is not None else []):
+            if note not in notes:
+                notes.append(note)
     out = CaseResult(case=case, record=record, building=building, result=result,
                      reference=ref if ref is not None else result, control_step=float(control_step), notes=notes)
     out.peaks = peaks(result)
@@ -311,16 +303,33 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
 
 
 def _runs(case, record, building, controller, control_step, options, info, reference, cache):
+    def run_reference(opts):
+        if cache is None:
+            return simulate(building.without_devices(), record, controller=None, control_step=control_step,
+                            info=info, **_reference_options(opts))
+        return cache.get(building, record, control_step, opts)
+
+    def run_controlled(opts):
+        return simulate(building, record, controller=controller, control_step=control_step, info=info, **opts)
+
     ref: SimulationResult | None = None
     if reference or controller is None:
-        if cache is None:
-            ref = simulate(building.without_devices(), record, controller=None, control_step=control_step,
-                           info=info, **_reference_options(options))
-        else:
-            ref = cache.get(building, record, control_step, options)
+        ref = run_reference(options)
     if controller is None:
         assert ref is not None
-        result = ref
-    else:
-        result = simulate(building, record, controller=controller, control_step=control_step, info=info, **options)
+        return ref, ref
+    result = run_controlled(options)
+    # J1-J9 compare the two runs sample by sample: when one of them had to halve its step
+    # (simulate's retry), the other runs again on the finer grid
+    for _ in range(4):
+        if ref is None:
+            break
+        h_ref, h_run = ref.info["integration_step"], result.info["integration_step"]
+        if math.isclose(h_ref, h_run, rel_tol=1e-9):
+            break
+        finer = dict(options, integration_step=min(h_ref, h_run))
+        if h_ref > h_run:
+            ref = run_reference(finer)
+        else:
+            result = run_controlled(finer)
     return ref, result

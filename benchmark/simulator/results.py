@@ -4,7 +4,8 @@ Layout of a file written by :func:`write_result` (format ``sbib-result``, versio
 
     /                       attrs: format, format_version, provenance (package_version,
                             git_commit, created_utc, python, numpy, scipy, numba, platform),
-                            record, orientation, isolation, controller, info_json
+                            record, orientation, isolation, controller, record_step_s and
+                            integration_step_s (the histories' time step), info_json
                             (the run's whole ``info`` dict as JSON), isolation_json (the
                             isolation layer's description, when given), plus ``extra``
     /run/time_histories/<field>   one dataset per time history; attrs ``units``,
@@ -244,6 +245,11 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
     for key in ("record", "orientation", "isolation", "controller"):
         if key in info:
             attrs[key] = str(info[key])
+    # the time grid of the histories and the record's own step, in s (the record is interpolated
+    # onto the integration step when they differ)
+    for key in ("record_step", "integration_step"):
+        if key in info:
+            attrs[f"{key}_s"] = str(info[key])
     with atomic_path(path) as tmp:
         with h5py.File(tmp, "w") as f:
             f.attrs["format"] = FORMAT_NAME

@@ -8,7 +8,11 @@ A controller with a compiled form (every built-in) runs inside the kernel; any o
 with ``step(measurements) -> voltages`` is called from Python once per control step, the
 kernel advancing one control step per call (slower, same results).
 
-All quantities are SI (m, s, N, kg, rad, V); time along axis 0, one sample per record step.
+All quantities are SI (m, s, N, kg, rad, V); time along axis 0, one sample per integration
+step. The integration step belongs to the simulator, not to the record: the benchmark's
+0.005 s by default (finer for a finer record, and halved while the fixed point of the nonlinear
+forces does not converge); the ground motion is interpolated onto it
+(:func:`choose_integration_step`).
 """
 
 from __future__ import annotations
@@ -35,16 +39,24 @@ from controllers.measurements import measurement_layout
 from benchmark.simulator.isolation.registry import LinearBearing
 from benchmark.simulator.stepping import energy_histories, total_bearing_forces
 from benchmark.foundation.kernel_cache import ensure_fresh_once
+from benchmark.simulator.authority import controller_authority_warnings
+from records.resample import interpolate_onto
 
-__all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES"]
+__all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES", "choose_integration_step",
+           "DEFAULT_INTEGRATION_STEP", "DEFAULT_MAX_HALVINGS"]
 
+#: The building's integration step [s]: the benchmark's 0.005 s (Narasimhan et al. 2006). A
+#: record at another step is interpolated onto it (:func:`choose_integration_step`).
+DEFAULT_INTEGRATION_STEP = 0.005
+#: Times a run whose fixed point does not converge is started again with half the step.
+DEFAULT_MAX_HALVINGS = 3
 ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "device")
 _DEFAULT_BLOWUP = 50.0  # m
 
 
 @dataclass(eq=False)
 class SimulationResult:
-    """Time histories of one run (SI; ``n`` samples at the record step, time along axis 0).
+    """Time histories of one run (SI; ``n`` samples at the integration step, time along axis 0).
 
     Attributes
     ----------
@@ -214,20 +226,46 @@ def _ground_acceleration(record: Any) -> np.ndarray:
     return np.ascontiguousarray(ag)
 
 
-def _control_ratio(control_step: float, dt: float, strict: bool = True) -> int:
-    """Record steps per control step. Without a controller (``strict=False``) the control step
-    does not matter: one that is not a whole multiple of ``dt`` is replaced by ``dt``."""
-    if not (np.isfinite(control_step) and control_step > 0):
+def choose_integration_step(control_step: float, record_dt: float,
+                            max_step: float | None = None) -> tuple[float, int]:
+    """The integration step [s] and the number of integration steps per control step.
+
+    The step is the longest one that divides the control step into whole steps and is no
+    longer than ``max_step`` (default :data:`DEFAULT_INTEGRATION_STEP`, the benchmark's 0.005 s)
+    nor than the record's own step (a finer record keeps its detail):
+    ``h = control_step / k``, ``k`` the smallest whole number with
+    ``h <= min(max_step, record_dt)``. A step equal to the record's (to 1e-9) is the record's
+    exactly, so the benchmark's records at 0.005 s run on their own samples.
+
+    Parameters
+    ----------
+    control_step : float
+        Control sample time [s] (without a controller: the grid the results share with the
+        controlled run).
+    record_dt : float
+        The record's sampling step [s].
+    max_step : float, optional
+        Longest integration step allowed [s].
+
+    Returns
+    -------
+    (h, k) : (float, int)
+
+    Raises
+    ------
+    InputError
+        A control step that is not a positive time.
+    """
+    if max_step is None:
+        max_step = DEFAULT_INTEGRATION_STEP
+    if not (isinstance(control_step, (int, float, np.floating)) and np.isfinite(control_step) and control_step > 0):
         raise InputError(f"control_step: expected a positive time in s, got {control_step!r}")
-    ratio = control_step / dt
-    r = int(round(ratio))
-    if r < 1 or abs(ratio - r) > 1e-6 * max(1.0, ratio):
-        if not strict:
-            return 1
-        raise InputError(f"control_step = {control_step:g} s must be a whole multiple of the record step "
-                         f"{dt:g} s (the structure steps at the record step); give --control-step "
-                         f"{max(1, r) * dt:g} or another multiple of {dt:g} s")
-    return r
+    limit = min(float(max_step), float(record_dt))
+    k = max(1, int(np.ceil(control_step / limit * (1 - 1e-9))))
+    h = control_step / k
+    if abs(h - record_dt) <= 1e-9 * record_dt:
+        h = float(record_dt)
+    return float(h), k
 
 
 _DISCRETE_CACHE: dict = {}
@@ -299,7 +337,8 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
              fixed_point_tolerance: float = 1e-6, max_iterations: int = 100,
              record_states: bool = True, blowup_limit: float = _DEFAULT_BLOWUP,
              slew_rate: Any = np.inf, info: dict | None = None,
-             bearing_histories: bool = True, newton: bool = False) -> SimulationResult:
+             bearing_histories: bool = True, newton: bool = False, integration_step: float | None = None,
+             max_halvings: int = DEFAULT_MAX_HALVINGS) -> SimulationResult:
     """Simulate the building under a record.
 
     Parameters
@@ -308,14 +347,16 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         Superstructure (full or reduced), isolation layer, device layout.
     record : records.Record
         Ground acceleration [m/s²], ``(n, 2)`` for x and y (a single component acts along x),
-        at step ``record.dt``; the structure steps at ``record.dt``.
+        at any step ``record.dt``: it is interpolated linearly onto the integration step
+        (:func:`choose_integration_step`; the record's own samples when the steps agree).
     controller : None, str or controller object
         ``None``: no devices (the uncontrolled reference). A name of
         :mod:`controllers.registry`, or an object with ``step(measurements) -> voltages``
         (``reset(context)`` and ``compiled()`` optional, see :mod:`controllers.base`).
     control_step : float
-        Control sample time [s], a whole multiple of ``record.dt``; voltages are held between.
-        Without a controller it does not matter (one that does not fit is replaced by ``record.dt``).
+        Control sample time [s], any positive time; voltages are held between. The integration
+        step divides it (:func:`choose_integration_step`). Without a controller it sets only
+        the time grid (the uncontrolled reference of a controlled run shares its grid).
     substep_tolerance : float, optional
         Replace the sub-step tolerance of every nonlinear bearing and device (smaller = more
         sub-steps, more accurate); ``None`` keeps each model's own value.
@@ -347,38 +388,103 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         (:mod:`benchmark.simulator.stepping`). Newton takes fewer iterations (2.03 instead of 2.39 per
         step on 30 s of Kobe with clipped-optimal control) but, with the tangents' cost, was
         9-15 % slower when measured (docs/performance.md).
+    integration_step : float, optional
+        Longest integration step [s] (default :data:`DEFAULT_INTEGRATION_STEP`, 0.005 s); the
+        step used also divides the control step and is no longer than the record's step.
+    max_halvings : int
+        When the fixed-point iteration of a step does not converge, the whole run is started
+        again with half the integration step, at most this many times (default 3), before a
+        :class:`NumericalError` whose hint names what helps.
 
     Returns
     -------
     SimulationResult
+        Histories on the grid ``t = k h`` of the integration step ``h`` actually used:
+        ``info["integration_step"]`` [s], with ``info["record_step"]`` (the record's own),
+        ``info["integration_step_requested"]``, ``info["integration_step_halvings"]`` and
+        ``info["notes"]`` (lines for the user: interpolation, halvings, a controller that
+        cannot act on the devices, :func:`benchmark.simulator.authority.controller_authority_warnings`).
 
     Raises
     ------
     InputError
         Bad record, control step or controller output.
     NumericalError
-        NaN, blow-up or a fixed point that does not converge; carries time, state and a hint.
+        NaN, blow-up or a fixed point that does not converge even at the smallest step tried;
+        carries time, state and a hint.
     """
     ensure_fresh_once()  # numba caches consistent with the kernels they call (kernel_cache)
 
     t_start = _time.perf_counter()
-    ag = _ground_acceleration(record)
-    dt = float(record.dt)
-    if not (np.isfinite(dt) and dt > 0):
-        raise InputError(f"record {getattr(record, 'name', '?')!r}: dt = {dt!r}; expected a positive step in s")
-    n = ag.shape[0]
-    # no controller, no devices: the control step does not matter (a PEER record at 0.01 s runs
-    # with the default 0.005 s)
-    no_controller = controller is None or (isinstance(controller, str) and controller.strip().lower() == "none")
-    ratio = _control_ratio(control_step, dt, strict=not no_controller)
-    if n - 1 < ratio:
-        raise InputError(f"record {getattr(record, 'name', '?')!r}: {n} samples ({(n - 1) * dt:g} s) is shorter "
-                         f"than one control step ({ratio * dt:g} s); expected at least {ratio + 1} samples")
+    ag_record = _ground_acceleration(record)
+    record_dt = float(record.dt)
+    name = getattr(record, "name", "?")
+    if not (np.isfinite(record_dt) and record_dt > 0):
+        raise InputError(f"record {name!r}: dt = {record_dt!r}; expected a positive step in s")
+    max_step = DEFAULT_INTEGRATION_STEP if integration_step is None else integration_step
+    if not (isinstance(max_step, (int, float)) and np.isfinite(max_step) and max_step > 0):
+        raise InputError(f"integration_step: expected a positive time in s, got {integration_step!r}")
+    if int(max_halvings) != max_halvings or max_halvings < 0:
+        raise InputError(f"max_halvings: expected a whole number >= 0, got {max_halvings!r}")
+    dt, ratio = choose_integration_step(control_step, record_dt, float(max_step))
+    if (ag_record.shape[0] - 1) * record_dt < ratio * dt * (1 - 1e-9):
+        raise InputError(f"record {name!r}: {ag_record.shape[0]} samples ({(ag_record.shape[0] - 1) * record_dt:g} s) "
+                         f"is shorter than one control step ({ratio * dt:g} s)")
     if not (np.isfinite(fixed_point_tolerance) and fixed_point_tolerance > 0):
         raise InputError(f"fixed_point_tolerance: expected > 0, got {fixed_point_tolerance!r}")
     if int(max_iterations) < 1:
         raise InputError(f"max_iterations: expected >= 1, got {max_iterations!r}")
+    controller = _resolve_controller(controller)
+    notes: list[str] = []
+    if controller is not None and building.devices is not None:
+        notes.extend(controller_authority_warnings(building.devices, getattr(controller, "name", "")
+                                                   or type(controller).__name__))
+    for halving in range(int(max_halvings) + 1):
+        ag = ag_record if dt == record_dt else interpolate_onto(ag_record, record_dt, dt)
+        try:
+            result = _simulate_once(building, record, ag, dt, ratio, controller, substep_tolerance, noise, seed,
+                                    fixed_point_tolerance, max_iterations, record_states, blowup_limit, slew_rate,
+                                    info, bearing_histories, newton)
+            break
+        except _NotConverged as exc:
+            if halving == int(max_halvings):
+                raise exc.error(halving) from None
+            notes.append(f"the fixed-point iteration of the nonlinear forces did not converge at t = "
+                         f"{exc.error(0).time:.6g} s with the integration step {dt:g} s; ran again with "
+                         f"{dt / 2:g} s")
+            dt, ratio = dt / 2, ratio * 2
+    if dt != record_dt:
+        notes.insert(0, f"record {name}: sampled at {record_dt:g} s; its ground motion is interpolated "
+                        f"linearly onto the integration step {dt:g} s (results are reported every {dt:g} s)")
+    result.info["record_step"] = record_dt
+    result.info["integration_step"] = dt
+    result.info["integration_step_requested"] = float(max_step)
+    result.info["integration_step_halvings"] = halving
+    result.info["notes"] = notes
+    result.info["elapsed_s"] = _time.perf_counter() - t_start
+    return result
 
+
+class _NotConverged(Exception):
+    """The kernel's fixed point did not converge: carries the :class:`NumericalError` to raise
+    (through :meth:`error`) if no smaller step is tried."""
+
+    def __init__(self, status, k, dt, z_out, nq, nv, session):
+        super().__init__()
+        self.failure = (status, k, dt, z_out, nq, nv, session)
+
+    def error(self, halvings: int) -> NumericalError:
+        return _numerical_error(*self.failure, halvings=halvings)
+
+
+def _simulate_once(building, record, ag, dt, ratio, controller, substep_tolerance, noise, seed,
+                   fixed_point_tolerance, max_iterations, record_states, blowup_limit, slew_rate, info,
+                   bearing_histories, newton) -> SimulationResult:
+    """One run at the integration step ``dt`` [s] with ``ratio`` steps per control step; ``ag``
+    the ground acceleration on that grid. Raises :class:`_NotConverged` for a fixed point that
+    does not converge, :class:`NumericalError` for the other failures."""
+    t_start = _time.perf_counter()
+    n = ag.shape[0]
     isolation = building.isolation
     if substep_tolerance is not None:
         if not (np.isfinite(substep_tolerance) and substep_tolerance > 0):
@@ -504,8 +610,10 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         status, k_fail = stepping.run_steps(0, n - 1, plant, ag, bearings, dev, sensors, control, settings, out)
     if nd:
         out.v[n - 1] = control.voltage
+    if status == STATUS_NOT_CONVERGED:
+        raise _NotConverged(status, k_fail, dt, out.z, nq, nv, session)
     if status:
-        _raise_numerical(status, k_fail, dt, out.z, nq, nv, session)
+        raise _numerical_error(status, k_fail, dt, out.z, nq, nv, session)
 
     result = _build_result(building, record, ag, dt, out, mats, Kb, Cb, plant_extra, packed, d_infl, isolation,
                            session, dict(info or {}), bearing_histories=settings.record_bearings,
@@ -515,21 +623,27 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     return result
 
 
-def _raise_numerical(status, k, dt, z_out, nq, nv, session):
+def _numerical_error(status, k, dt, z_out, nq, nv, session, halvings: int = 0) -> NumericalError:
+    """The :class:`NumericalError` of a kernel failure at the end of step ``k`` (integration step
+    ``dt`` [s], reached after ``halvings`` halvings of the requested one), with the base's state
+    and a hint naming what helps."""
     z = z_out[k]
     state = {"u_b_x [m]": float(z[nq]), "u_b_y [m]": float(z[nq + 1]), "u_b_theta [rad]": float(z[nq + 2]),
              "v_b_x [m/s]": float(z[nv + nq]), "v_b_y [m/s]": float(z[nv + nq + 1])}
     if status == STATUS_NOT_CONVERGED:
-        hint = ("the bearings or devices are too stiff for the record step; soften their parameters, "
-                "or resample the record to a smaller step")
+        tried = f" (after {halvings} halvings of the step, down to {dt:g} s)" if halvings else f" (step {dt:g} s)"
+        hint = (f"the bearings or devices are too stiff for the integration step{tried}; tighten the "
+                "sub-step tolerance (--substep-tolerance 0.1, or substep_tolerance=0.1), give a smaller "
+                "step (--integration-step, or integration_step=), allow more halvings (max_halvings=), or "
+                "soften the bearing and device parameters")
     elif status == STATUS_CONTROLLER:
         hint = f"check the design of controller {getattr(session, 'name', '?')!r} (unstable estimator?)"
     else:
         hint = ("check the isolation and device parameters (a negative or zero stiffness?) and the "
                 "controller; a bearing or damper whose hysteresis would need more than 200 000 "
-                "sub-steps in one record step also stops here: soften it or loosen substep_tolerance")
-    raise NumericalError(STATUS_MESSAGES.get(status, f"kernel status {status}"), time=(k + 1) * dt,
-                         state=state, hint=hint)
+                "sub-steps in one integration step also stops here: soften it or loosen substep_tolerance")
+    return NumericalError(STATUS_MESSAGES.get(status, f"kernel status {status}"), time=(k + 1) * dt,
+                          state=state, hint=hint)
 
 
 #: the histories :func:`_derived_histories` derives (one pass) and the energy terms, derived
@@ -633,7 +747,7 @@ def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_
     info["controller"] = "none" if session is None else session.name
     info["n_devices"] = d_infl.shape[0]
     info["n_modes"] = sup.n_modes if sup.is_reduced else 24
-    info["record_step"] = dt
+    info["integration_step"] = dt
     info["settings"] = {k: (v if isinstance(v, (int, float, str, type(None))) else repr(v))
                         for k, v in settings.items()}
     info["mean_iterations"] = float(iters[1:].mean()) if n > 1 else 0.0

@@ -4,9 +4,10 @@ Method
 ------
 State :math:`z = [q, u_b, \\dot q, \\dot u_b]` of :mod:`benchmark.simulator.linear_model`, whose linear
 part (superstructure, base, and the *linear parts* :math:`k_i, c_i` of every bearing) is
-discretised exactly at the record step :math:`h` with a first-order hold on its inputs
+discretised exactly at the integration step :math:`h` with a first-order hold on its inputs
 :math:`w = [\\ddot u_{g,x}, \\ddot u_{g,y}, g_x, g_y, g_\\theta]` (ground acceleration
-interpolated linearly, as the record's samples imply; :math:`g` the generalised base force of
+interpolated linearly between the samples, which :mod:`benchmark.simulator.simulation` puts on
+this step's grid; :math:`g` the generalised base force of
 the bearings' hysteretic forces and of the devices):
 
 .. math::
@@ -302,7 +303,7 @@ def _compiled_control(k, plant, ag, devices, sensors, control, out, y, g_tot, fc
 
 @numba.njit(cache=True, fastmath=_FASTMATH)
 def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, settings, out):
-    """Advance the building from step ``k_start`` to ``k_stop`` (record samples, k_stop ≤ n − 1).
+    """Advance the building from step ``k_start`` to ``k_stop`` (integration steps, k_stop ≤ n − 1).
 
     Arguments are the objects of :mod:`benchmark.simulator.kernel_args`: ``plant`` (:class:`Plant`),
     ``ag`` the ground acceleration ``(n, 2)`` [m/s²], ``bearings``, ``devices`` (states

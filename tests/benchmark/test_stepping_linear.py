@@ -161,8 +161,8 @@ def test_bad_inputs_raise_clear_errors(building):
         simulate(building, SimpleNamespace(name="nan", dt=0.005, acceleration=acc))
     with pytest.raises(InputError, match="acceleration"):
         simulate(building, object())
-    with pytest.raises(InputError, match="whole multiple"):  # without a controller it would not matter
-        simulate(building, _record(np.zeros((100, 2))), control_step=0.0075, controller="passive-off")
+    with pytest.raises(InputError, match="positive time"):  # any positive control step fits (issue 22)
+        simulate(building, _record(np.zeros((100, 2))), control_step=-0.005)
     with pytest.raises(InputError, match="shape"):
         simulate(building, SimpleNamespace(name="3c", dt=0.005, acceleration=np.zeros((100, 3))))
     with pytest.raises(InputError, match="no devices"):

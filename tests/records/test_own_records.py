@@ -62,43 +62,51 @@ def test_at2_at_dt_001_runs_without_controller(capsys, kobe_files):
     assert s["peaks"]["peak_base_displacement"] > 0
 
 
-def test_control_step_does_not_matter_without_controller(kobe_files):
+def test_the_integration_step_does_not_come_from_the_record(kobe_files):
+    # issue 22: a record at 0.01 s is interpolated onto the building's 0.005 s; a control step
+    # that does not fit that step makes the simulator take one that divides it
     from benchmark.simulator.building import Building
     from benchmark.simulator.simulation import simulate
     from records import load_record
 
     rec = load_record(kobe_files["at2"])
     building = Building.default(isolation="linear", n_modes=3)
-    a = simulate(building, rec, controller=None, control_step=0.005)  # not a multiple of 0.01 s
+    a = simulate(building, rec, controller=None, control_step=0.005)
     b = simulate(building, rec, controller=None, control_step=0.01)
     c = simulate(building, rec, controller="none", control_step=0.0073)
+    assert a.info["integration_step"] == b.info["integration_step"] == 0.005 and a.info["record_step"] == 0.01
     assert np.array_equal(a.base_displacement, b.base_displacement)
-    assert np.array_equal(c.base_displacement, b.base_displacement)
+    assert c.info["integration_step"] == pytest.approx(0.00365)
+    # the same piecewise-linear ground motion on another grid (0.005 s holds every breakpoint of the
+    # record's samples, 0.00365 s does not): the exact linear step leaves only that difference
+    peak = np.max(np.abs(b.base_displacement[:, 0]))
+    assert np.max(np.abs(c.base_displacement[:, 0])) == pytest.approx(peak, rel=5e-4)  # 5e-5 measured
 
 
-def test_with_a_controller_a_compatible_step_is_picked_and_said(capsys, kobe_files):
+def test_with_a_controller_the_benchmark_control_step_runs_and_the_grid_is_said(capsys, kobe_files):
     s, err = _run_json(capsys, "--record", str(kobe_files["at2"]), "--controller", "passive-on", *FAST)
-    assert s["control_step_s"] == pytest.approx(0.01)
-    assert "control step 0.01 s" in err and "--control-step" in err
+    assert s["control_step_s"] == pytest.approx(0.005)
+    assert s["record_step_s"] == pytest.approx(0.01) and s["integration_step_s"] == pytest.approx(0.005)
+    assert "interpolated linearly onto the integration step 0.005 s" in err
     assert s["peaks"]["peak_device_force"] > 0
 
 
-def test_an_incompatible_explicit_control_step_names_the_option(capsys, kobe_files):
+def test_a_control_step_that_is_not_a_time_names_the_option(capsys, kobe_files):
     status, out, err = _run(capsys, ["run", "--record", str(kobe_files["at2"]), "--controller", "passive-on",
-                                     "--control-step", "0.005", *FAST])
+                                     "--control-step", "-0.005", *FAST])
     assert status == 2 and out == ""
-    assert "--control-step" in err and "0.01" in err and len(err.strip().splitlines()) == 1
+    assert "--control-step" in err and len(err.strip().splitlines()) == 1
 
 
-def test_simulate_error_names_the_option(kobe_files):
+def test_simulate_runs_a_record_at_0_01_s_with_the_benchmark_control_step(kobe_files):
     from benchmark.simulator.building import Building
     from benchmark.simulator.simulation import simulate
     from records import load_record
 
     rec = load_record(kobe_files["at2"])
     building = Building.default(isolation="linear", n_modes=3, devices="default")
-    with pytest.raises(InputError, match="--control-step"):
-        simulate(building, rec, controller="passive-on", control_step=0.005)
+    r = simulate(building, rec, controller="passive-on", control_step=0.005)
+    assert r.info["integration_step"] == 0.005 and r.t[-1] == pytest.approx((rec.n_samples - 1) * rec.dt)
 
 
 # --------------------------------------------------------------------------- item 2: record options
@@ -325,12 +333,12 @@ def test_fig11_title_gives_the_seed_orientation_name(tmp_path, monkeypatch):
         assert f"kobe {orientation} (seed: {seed_name})" in titles[-1]
 
 
-def test_compare_api_picks_the_control_step_per_record(kobe_files):
+def test_compare_api_gives_the_control_step_per_record(kobe_files):
     from benchmark.applications.comparison import compare
 
     result = compare(records=[str(kobe_files["at2"])], orientations="FN-x", controllers="passive-on",
                      isolation="linear", n_modes=3, jobs=1, progress=False, warn=False)
-    assert result.settings["control_step_by_record"] == {"KJM000": pytest.approx(0.01)}
+    assert result.settings["control_step_by_record"] == {"KJM000": pytest.approx(0.005)}
     assert result.settings["record_units"]["KJM000"].startswith("g")
 
 

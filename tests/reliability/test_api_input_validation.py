@@ -285,8 +285,10 @@ def test_building_rejects_a_layer_of_the_wrong_size(linear_building):
 
 
 SIM_CASES = {
-    # with a controller: without one the control step does not matter (issue #16)
-    "control step not a multiple": (dict(control_step=0.0073, controller="passive-off"), "multiple"),
+    # any positive control step fits: the integration step divides it (issue 22)
+    "integration step negative": (dict(integration_step=-0.005), "integration_step"),
+    "integration step NaN": (dict(integration_step=math.nan), "integration_step"),
+    "halvings negative": (dict(max_halvings=-1), "max_halvings"),
     "control step NaN": (dict(control_step=math.nan), "control_step"),
     "control step negative": (dict(control_step=-0.005), "control_step"),
     "record shorter than one control step": (dict(control_step=0.5), "shorter than one control step"),

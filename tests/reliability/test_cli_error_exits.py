@@ -95,9 +95,9 @@ CASES = {
     "run: control step 0": (["run", "--record", "kobe", "--control-step", "0", "--json"], "--control-step"),
     "run: control step NaN": (["run", "--record", "kobe", "--control-step", "nan", "--json"], "--control-step"),
     "run: control step text": (["run", "--record", "kobe", "--control-step", "abc"], "--control-step"),
-    # without a controller the control step does not matter (issue #16), so a controller is given
-    "run: control step not a multiple": (["run", "--record", "kobe", "--controller", "passive-on",
-                                          "--control-step", "0.0073", "--json"], "multiple"),
+    # any positive control step fits a record (issue 22); the integration step must be positive
+    "run: integration step negative": (["run", "--record", "kobe", "--integration-step", "-0.005", "--json"],
+                                       "--integration-step"),
     "run: record shorter than a control step": (["run", "--record", "@two.txt", "--control-step", "0.01",
                                                  "--json"], "shorter than one control step"),
     "run: n-modes 0": (["run", "--record", "kobe", "--n-modes", "0", "--json"], "n_modes"),
