@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from benchmark.foundation.errors import NumericalError
-from damper.simulate import simulate as simulate_damper
+from damper.models.response import simulate as simulate_damper
 
 __all__ = ["command_changes_force", "controller_authority_warnings", "PROBE_AMPLITUDE", "PROBE_FREQUENCY",
            "PROBE_CYCLES", "PROBE_STEP", "PROBE_RTOL"]
@@ -48,7 +48,7 @@ def command_changes_force(model) -> bool:
 
     Parameters
     ----------
-    model : damper.base.DamperModel
+    model : damper.models.base.DamperModel
         A registered damper model.
 
     Returns

@@ -10,9 +10,9 @@ from benchmark.simulator.building import Building
 from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.devices import DeviceLayout, DeviceSlot
 from benchmark.simulator.simulation import simulate
-from damper.bingham import Bingham
-from damper.virtual import VirtualBenchmarkDamper
-from damper.voltage_laws import Polynomial
+from damper.models.bingham import Bingham
+from damper.models.virtual import VirtualBenchmarkDamper
+from damper.models.voltage_laws import Polynomial
 from records import load_benchmark_record
 
 # the virtual benchmark damper with its parameters frozen at their 0-V values (no voltage laws)
