@@ -55,7 +55,13 @@ class PassiveOff(ConstantVoltage):
 
 
 class PassiveOn(ConstantVoltage):
-    """Maximum voltage on every device (``passive-on``)."""
+    """Maximum voltage on every device (``passive-on``).
+
+    Parameters
+    ----------
+    voltage : float, optional
+        Voltage [V] applied to every device; default: each device's maximum.
+    """
 
     def __init__(self, voltage: float | None = None) -> None:
         super().__init__(voltage, name="passive-on")

@@ -59,6 +59,12 @@ def controller_names() -> tuple[str, ...]:
 def get_controller(name: str) -> Any:
     """A new controller for ``name`` (``None`` for ``"none"``: the run without devices).
 
+    Parameters
+    ----------
+    name : str
+        A controller name (:data:`controllers.registry.CONTROLLERS` keys, e.g. ``"clipped-optimal"``) or
+        ``"none"``.
+
     Raises
     ------
     InputError
