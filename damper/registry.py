@@ -82,7 +82,13 @@ for _cls in (NormalizedBoucWen, ExtendedBoucWen, Spencer, VirtualBenchmarkDamper
 
 
 def get_model_class(name: str) -> type[DamperModel]:
-    """The model class registered as ``name`` (raises :class:`InputError` listing the names)."""
+    """The model class registered as ``name`` (raises :class:`InputError` listing the names).
+
+    Parameters
+    ----------
+    name : str
+        A registered model name (e.g. ``"normalized_bouc_wen"``, ``"spencer"``).
+    """
     try:
         return MODELS[name]
     except KeyError:
@@ -91,7 +97,13 @@ def get_model_class(name: str) -> type[DamperModel]:
 
 
 def model_id_of(model: DamperModel) -> int:
-    """The registered integer id of a model instance (checks it is registered)."""
+    """The registered integer id of a model instance (checks it is registered).
+
+    Parameters
+    ----------
+    model : DamperModel
+        A damper model instance.
+    """
     model_id = getattr(model, "model_id", None)
     if model_id not in MODELS_BY_ID or not isinstance(model, MODELS_BY_ID[model_id]):
         raise InputError(f"damper model: {type(model).__name__} is not a registered damper model; "
@@ -101,7 +113,13 @@ def model_id_of(model: DamperModel) -> int:
 
 def kernel_id_of(model: DamperModel) -> int:
     """The kernel family (:data:`damper.base.KERNELS`) of a registered model instance: the number
-    :func:`device_step` dispatches on."""
+    :func:`device_step` dispatches on.
+
+    Parameters
+    ----------
+    model : DamperModel
+        A damper model instance.
+    """
     model_id_of(model)
     return int(type(model).kernel)
 
@@ -150,7 +168,32 @@ def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
     any initial content) in which a model may keep values that depend only on the step's start
     state and voltage (the Spencer-type voltage laws), reused when the same device is advanced
     again from the same state, as the building's fixed-point iteration does. Same results as
-    :func:`device_step`; models without such values ignore ``memo``."""
+    :func:`device_step`; models without such values ignore ``memo``.
+
+    Parameters
+    ----------
+    kernel_id
+        Kernel family of the device (:data:`damper.base.KERNELS`).
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x0
+        Displacement at the start of the step [m].
+    x1
+        Displacement at the end of the step [m].
+    xd0
+        Velocity at the start of the step [m/s].
+    xd1
+        Velocity at the end of the step [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    dt
+        Step length [s].
+    memo
+        Per-device scratch array (float64, :data:`damper.registry.MEMO_LENGTH` entries) shared by the step
+        and tangent calls of one device.
+    """
     if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
     return device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt)
@@ -159,7 +202,23 @@ def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
 @numba.njit(cache=True)
 def device_force(kernel_id, params, state, x, xd, v):
     """Force [N] of a device at its current state, displacement ``x`` [m], velocity ``xd`` [m/s]
-    and voltage ``v`` [V] (no state change); NaN for an unknown ``kernel_id``."""
+    and voltage ``v`` [V] (no state change); NaN for an unknown ``kernel_id``.
+
+    Parameters
+    ----------
+    kernel_id
+        Kernel family of the device (:data:`damper.base.KERNELS`).
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    """
     if kernel_id == KERNEL_BOUC_WEN:
         return bouc_wen_force(params, state, x, xd, v)
     if kernel_id == KERNEL_SPENCER_TYPE:
@@ -178,6 +237,21 @@ def device_tangent(kernel_id, params, state, x, xd, v):
     The building's Newton iteration on the base uses them at the end of a step. Models without
     a tangent return ``(0, 0)``: the iteration then treats their force as given, which only
     slows its convergence (the fixed point and the convergence test are unchanged).
+
+    Parameters
+    ----------
+    kernel_id
+        Kernel family of the device (:data:`damper.base.KERNELS`).
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
     """
     if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_tangent(params, state, x, xd)
@@ -188,7 +262,26 @@ def device_tangent(kernel_id, params, state, x, xd, v):
 def device_tangent_memo(kernel_id, params, state, x, xd, v, memo):
     """:func:`device_tangent` after :func:`device_step_memo` with the same ``memo``: a model that
     stored its end-of-step tangent there (the Spencer types) returns it without evaluating its
-    voltage laws again."""
+    voltage laws again.
+
+    Parameters
+    ----------
+    kernel_id
+        Kernel family of the device (:data:`damper.base.KERNELS`).
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    memo
+        Per-device scratch array (float64, :data:`damper.registry.MEMO_LENGTH` entries) shared by the step
+        and tangent calls of one device.
+    """
     if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_tangent_memo(params, memo)
     return device_tangent(kernel_id, params, state, x, xd, v)

@@ -347,6 +347,13 @@ def g_integral(w: np.ndarray | float, n: float) -> np.ndarray:
     Closed form :math:`w\\,{}_2F_1(1, 1/n; 1 + 1/n; w^n)` (term-wise integration of the
     geometric series). On the loading branch of the normalized Bouc-Wen model,
     :math:`G_n(\\bar w(x)) = \\rho (x - x^*)` for :math:`x \\ge x^*`.
+
+    Parameters
+    ----------
+    w : np.ndarray | float
+        Normalized hysteretic variable w.
+    n : float
+        Bouc-Wen exponent n (≥ 1).
     """
     w = np.asarray(w, dtype=float)
     return w * hyp2f1(1.0, 1.0 / n, 1.0 + 1.0 / n, np.abs(w) ** n)
@@ -357,6 +364,15 @@ def h_integral(w: np.ndarray | float, sigma: float, n: float) -> np.ndarray:
 
     On the loading branch for :math:`x < x^*` (where :math:`\\bar w < 0`),
     :math:`H_{\\sigma,n}(-\\bar w(x)) = \\rho (x^* - x)`.
+
+    Parameters
+    ----------
+    w : np.ndarray | float
+        Normalized hysteretic variable w.
+    sigma : float
+        Normalized Bouc-Wen shape parameter σ (≥ 1/2).
+    n : float
+        Bouc-Wen exponent n (≥ 1).
     """
     w = np.asarray(w, dtype=float)
     return w * hyp2f1(1.0, 1.0 / n, 1.0 + 1.0 / n, -(2.0 * sigma - 1.0) * np.abs(w) ** n)
@@ -367,6 +383,15 @@ def limit_cycle_peak(rho_stroke: float, sigma: float, n: float) -> float:
 
     Solves :math:`H_{\\sigma,n}(w_0) + G_n(w_0) = \\rho (X_{max} - X_{min})` for
     :math:`w_0 \\in (0, 1)`.
+
+    Parameters
+    ----------
+    rho_stroke : float
+        Product ρ(X_max − X_min) (dimensionless).
+    sigma : float
+        Normalized Bouc-Wen shape parameter σ (≥ 1/2).
+    n : float
+        Bouc-Wen exponent n (≥ 1).
     """
     if not rho_stroke > 0.0:
         return 0.0
@@ -386,6 +411,19 @@ def plastic_distance(rho: float, sigma: float, n: float, w0: float, level: float
     :math:`(H_{\\sigma,n}(w_0) + G_n(\\mathrm{level}))/\\rho`: from :math:`-w_0` to 0, then to
     ``level``. Beyond it the branch is "plastic" (:math:`\\bar w \\approx 1`) and the force is
     :math:`\\kappa_x x + \\kappa_{\\dot x}\\dot x \\pm \\kappa_w`.
+
+    Parameters
+    ----------
+    rho : float
+        Normalized Bouc-Wen rate parameter ρ [1/m] (> 0).
+    sigma : float
+        Normalized Bouc-Wen shape parameter σ (≥ 1/2).
+    n : float
+        Bouc-Wen exponent n (≥ 1).
+    w0 : float
+        Peak w₀ of the limit cycle.
+    level : float, optional
+        Level of w̄ that counts as plastic.
     """
     return float(h_integral(w0, sigma, n) + g_integral(min(level, w0), n)) / rho
 
