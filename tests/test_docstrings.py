@@ -211,12 +211,7 @@ def all_problems(packages: tuple[str, ...] = PACKAGES) -> list[str]:
     return [p for p in problems if p.split(":", 1)[0] not in ALLOWED]
 
 
-# Packages whose docstrings are still being brought in line (strict: fails once they pass).
-NOT_YET = {"benchmark"}
-
-
-@pytest.mark.parametrize("package", [pytest.param(p, marks=pytest.mark.xfail(strict=True)) if p in NOT_YET else p
-                                     for p in PACKAGES])
+@pytest.mark.parametrize("package", PACKAGES)
 def test_every_public_docstring_documents_exactly_its_parameters(package):
     problems = all_problems((package,))
     assert not problems, f"{len(problems)} docstring problems:\n" + "\n".join(problems)
