@@ -74,8 +74,8 @@ class DesignModel(Protocol):
         Parameters
         ----------
         isolation : str, optional
-            Linearisation of the bearings: ``"equivalent"`` (harmonic, at 0.1 m and 3 s) or ``"linear-
-            part"`` (the bearings' linear branch only).
+            Linearisation of the bearings: ``"equivalent"`` (harmonic, at 0.1 m and 3 s) or ``"linear-part"``
+            (the bearings' linear branch only).
         """
         ...
 

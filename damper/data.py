@@ -412,7 +412,7 @@ def utfsm_files(shared_dir=None) -> list[Path]:
 
     Parameters
     ----------
-    shared_dir : optional
+    shared_dir : str or path-like, optional
         The shared data directory; None: the default (:mod:`benchmark.foundation.paths`).
     """
     if shared_dir is None:

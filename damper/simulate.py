@@ -66,9 +66,9 @@ def prepare_motion(model, t, x, xdot=None, v=0.0):
         Sample times [s], increasing.
     x
         Displacement history [m] at ``t``.
-    xdot : optional
+    xdot : ndarray, optional
         Velocity history [m/s]; None: ``np.gradient(x, t)``.
-    v : optional
+    v : float or ndarray, optional
         Voltage [V], a number or a history at ``t``.
     """
     t = _as_1d("t", t)

@@ -96,7 +96,7 @@ def public_objects(module: Any) -> Iterator[Any]:
 
 def _documented(section: list[Any]) -> list[str]:
     """The names of a parsed numpydoc section's entries, ``a, b`` split into both names."""
-    names = []
+    names: list[str] = []
     for entry in section:
         names.extend(part.strip() for part in entry.name.split(",") if part.strip())
     return names
@@ -158,8 +158,9 @@ def _docstring(target: Any) -> str | None:
     for base in owner.__mro__[1:]:
         member = vars(base).get(target.__name__)
         member = getattr(member, "__func__", member)
-        if getattr(member, "__doc__", None):
-            return inspect.cleandoc(member.__doc__)
+        inherited = getattr(member, "__doc__", None)
+        if isinstance(inherited, str) and inherited.strip():
+            return inspect.cleandoc(inherited)
     return doc
 
 

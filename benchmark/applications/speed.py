@@ -96,15 +96,15 @@ class Timing(NamedTuple):
 
     Parameters
     ----------
-    best : ForwardRef('float')
+    best : float
         Shortest wall-clock time [s].
-    times : ForwardRef('list')
+    times : list
         Wall-clock time of each repeat [s].
-    result : ForwardRef('Any')
+    result : Any
         What the last call returned.
-    cpu_best : ForwardRef('float')
+    cpu_best : float
         Shortest CPU time [s].
-    cpu_times : ForwardRef('list')
+    cpu_times : list
         CPU time of each repeat [s].
     """
 

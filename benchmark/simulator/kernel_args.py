@@ -46,17 +46,17 @@ class Plant(NamedTuple):
 
     Parameters
     ----------
-    dt : ForwardRef('float')
+    dt : float
         Record (structural) step [s].
-    nq : ForwardRef('int')
+    nq : int
         Number of superstructure coordinates.
-    Phi : ForwardRef('np.ndarray')
+    Phi : np.ndarray
         State transition matrix (nz, nz).
-    G0 : ForwardRef('np.ndarray')
+    G0 : np.ndarray
         Input matrix of the inputs at the step's start (nz, 5).
-    G1 : ForwardRef('np.ndarray')
+    G1 : np.ndarray
         Input matrix of the inputs at the step's end (nz, 5).
-    Gb : ForwardRef('np.ndarray')
+    Gb : np.ndarray
         Rows of ``G1`` for the base displacement and velocity, nonlinear-force columns (6, 3).
     """
 
@@ -75,15 +75,15 @@ class Bearings(NamedTuple):
 
     Parameters
     ----------
-    index : ForwardRef('np.ndarray')
+    index : np.ndarray
         Position of each bearing in the layer (the output's bearing axis), int64 (nb,).
-    xy : ForwardRef('np.ndarray')
+    xy : np.ndarray
         Plan positions (nb, 2) [m].
-    type_id : ForwardRef('np.ndarray')
+    type_id : np.ndarray
         Bearing type ids, int64 (nb,).
-    params : ForwardRef('np.ndarray')
+    params : np.ndarray
         Packed parameters (nb, MAX_PARAMS).
-    state : ForwardRef('np.ndarray')
+    state : np.ndarray
         States (nb, MAX_STATES), advanced in place.
     """
 
@@ -99,13 +99,13 @@ class Devices(NamedTuple):
 
     Parameters
     ----------
-    influence : ForwardRef('np.ndarray')
+    influence : np.ndarray
         Stroke per base motion (x [m], y [m], θ [rad]) of each device (nd, 3).
-    model_id : ForwardRef('np.ndarray')
+    model_id : np.ndarray
         Model ids, int64 (nd,).
-    params : ForwardRef('np.ndarray')
+    params : np.ndarray
         Packed parameters (nd, n_params).
-    state : ForwardRef('np.ndarray')
+    state : np.ndarray
         States (nd, n_states), advanced in place.
     """
 
@@ -120,17 +120,17 @@ class Sensors(NamedTuple):
 
     Parameters
     ----------
-    C_acc : ForwardRef('np.ndarray')
+    C_acc : np.ndarray
         Acceleration rows of the measurement on the state (n_acc, nz).
-    D_acc_g : ForwardRef('np.ndarray')
+    D_acc_g : np.ndarray
         Acceleration rows on the generalised nonlinear forces (n_acc, 3).
-    D_acc_ag : ForwardRef('np.ndarray')
+    D_acc_ag : np.ndarray
         Acceleration rows on the ground acceleration (n_acc, 2).
-    noise : ForwardRef('np.ndarray')
+    noise : np.ndarray
         Noise of every control step (n_control, n_meas), added before clipping (SI).
-    ranges : ForwardRef('np.ndarray')
+    ranges : np.ndarray
         Sensor ranges (n_meas,): measurements clipped to ±range.
-    layout : ForwardRef('MeasurementLayout')
+    layout : MeasurementLayout
         The measurement vector's layout.
     """
 
@@ -147,31 +147,31 @@ class Control(NamedTuple):
 
     Parameters
     ----------
-    mode : ForwardRef('int')
+    mode : int
         0 no controller or voltages held, 1 compiled controller, 2 voltages set by the caller between calls.
-    ratio : ForwardRef('int')
+    ratio : int
         Record steps per control step.
-    dt : ForwardRef('float')
+    dt : float
         Control step [s].
-    Ac : ForwardRef('np.ndarray')
+    Ac : np.ndarray
         Compiled controller's state matrix.
-    Bc : ForwardRef('np.ndarray')
+    Bc : np.ndarray
         Compiled controller's input matrix (measurements).
-    Cc : ForwardRef('np.ndarray')
+    Cc : np.ndarray
         Compiled controller's output matrix (desired forces).
-    Dc : ForwardRef('np.ndarray')
+    Dc : np.ndarray
         Compiled controller's feedthrough.
-    law_id : ForwardRef('int')
+    law_id : int
         Voltage law id (:mod:`controllers.compiled`).
-    law_params : ForwardRef('np.ndarray')
+    law_params : np.ndarray
         Parameters of the voltage law (e.g. dead band [N]).
-    v_max : ForwardRef('np.ndarray')
+    v_max : np.ndarray
         Largest voltage per device [V].
-    slew_rate : ForwardRef('np.ndarray')
+    slew_rate : np.ndarray
         Largest voltage rate per device [V/s].
-    xc : ForwardRef('np.ndarray')
+    xc : np.ndarray
         Controller state, updated in place.
-    voltage : ForwardRef('np.ndarray')
+    voltage : np.ndarray
         Commanded voltages [V], updated in place.
     """
 
@@ -195,17 +195,17 @@ class Settings(NamedTuple):
 
     Parameters
     ----------
-    fp_tol : ForwardRef('float')
+    fp_tol : float
         Tolerance of the fixed-point (or Newton) iteration of each step.
-    max_iter : ForwardRef('int')
+    max_iter : int
         Iteration cap per step.
-    blowup_limit : ForwardRef('float')
+    blowup_limit : float
         Base displacement [m] beyond which the run is stopped as diverged.
-    record_bearings : ForwardRef('bool')
+    record_bearings : bool
         Keep the per-bearing hysteretic forces.
-    record_states : ForwardRef('bool')
+    record_states : bool
         Keep the per-bearing hysteretic states.
-    newton : ForwardRef('bool')
+    newton : bool
         Newton iteration on the base's 3 DOF (else plain fixed-point iteration).
     """
 
@@ -222,25 +222,25 @@ class Outputs(NamedTuple):
 
     Parameters
     ----------
-    z : ForwardRef('np.ndarray')
+    z : np.ndarray
         State history (n, nz).
-    gb : ForwardRef('np.ndarray')
+    gb : np.ndarray
         Generalised hysteretic bearing force at the base centre of mass (n, 3) [N, N, N·m].
-    gd : ForwardRef('np.ndarray')
+    gd : np.ndarray
         Generalised device force (n, 3) [N, N, N·m].
-    fb : ForwardRef('np.ndarray')
+    fb : np.ndarray
         Hysteretic force of each bearing (n or 1, nb, 2) [N].
-    bstate : ForwardRef('np.ndarray')
+    bstate : np.ndarray
         Bearing states (n or 1, nb, n_states).
-    fd : ForwardRef('np.ndarray')
+    fd : np.ndarray
         Device forces (n, nd) [N].
-    v : ForwardRef('np.ndarray')
+    v : np.ndarray
         Voltages (n, nd) [V].
-    meas : ForwardRef('np.ndarray')
+    meas : np.ndarray
         Measurement vector at each control step (n_control, n_meas), SI.
-    desired : ForwardRef('np.ndarray')
+    desired : np.ndarray
         Desired device forces at each control step (n_control, nd) [N].
-    iters : ForwardRef('np.ndarray')
+    iters : np.ndarray
         Iterations per step, int64 (n,).
     """
 

@@ -225,7 +225,7 @@ class ReferenceModel:
             Time [s].
         x : np.ndarray
             State vector.
-        forces : optional
+        forces : tuple, optional
             The result of :meth:`forces` at ``x``; None: computed.
         """
         us, _, vs, _ = self._split(x)

@@ -263,7 +263,7 @@ def model_jacobian(model: AugmentedModel, data: DiagnosisData, nodes=None,
         The current (augmented) model.
     data : DiagnosisData
         The prepared tests (:class:`damper.diagnosis.dataset.DiagnosisData`).
-    nodes : optional
+    nodes : ndarray, optional
         Coil-input nodes [V] of the piecewise-linear voltage laws (:meth:`DiagnosisData.nodes`); None:
         parameters constant.
     relative_step : float, optional
@@ -297,7 +297,7 @@ def with_candidate(model: AugmentedModel, effect: Effect, nodes=None) -> Augment
         The current (augmented) model.
     effect : Effect
         The candidate effect.
-    nodes : optional
+    nodes : ndarray, optional
         Coil-input nodes [V] of the piecewise-linear voltage laws (:meth:`DiagnosisData.nodes`); None:
         parameters constant.
     """
@@ -325,7 +325,7 @@ def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Seque
         Names of the effects to screen.
     scales : dict
         Typical parameter size of each candidate (:meth:`damper.effects.Effect.scale`).
-    nodes : optional
+    nodes : ndarray, optional
         Coil-input nodes [V] of the piecewise-linear voltage laws (:meth:`DiagnosisData.nodes`); None:
         parameters constant.
     """

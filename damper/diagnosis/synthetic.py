@@ -100,7 +100,7 @@ class PlayDevice:
             Velocity [m/s].
         xddot
             Acceleration [m/s²].
-        v : optional
+        v : float or ndarray, optional
             Coil input [V], a number or a history at ``t``.
         """
         xp, contact = play_operator(np.asarray(x, dtype=float), self.gap)
@@ -146,7 +146,7 @@ class HeatedDevice:
             Velocity [m/s].
         xddot
             Acceleration [m/s²].
-        v : optional
+        v : float or ndarray, optional
             Coil input [V], a number or a history at ``t``.
         """
         t = np.asarray(t, dtype=float)

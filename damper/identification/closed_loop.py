@@ -238,9 +238,9 @@ def start_loops(device, executor=None, campaign=None, campaign_scale: float = 0.
     ----------
     device
         The virtual damper (model instance or name).
-    executor : optional
+    executor : concurrent.futures.Executor, optional
         Process pool to run on (:func:`damper.identification.parallel.make_executor`); None: run inline.
-    campaign : optional
+    campaign : Campaign, optional
         The test campaign; None: the default campaign.
     campaign_scale : float, optional
         Scale of the campaign's amplitudes (1: as designed).
@@ -275,7 +275,7 @@ def finish_loops(job: dict, executor=None) -> ClosedLoopResult:
     ----------
     job : dict
         What :func:`start_loops` returned.
-    executor : optional
+    executor : concurrent.futures.Executor, optional
         The pool the loops were submitted to; None: they ran inline.
     """
 

@@ -178,7 +178,7 @@ def plot_parameters_vs_voltage(grid, path, comparison=None) -> Path:
         The voltage-grid result (:class:`damper.identification.voltage_grid.VoltageGridResult`).
     path
         Image file to write (format from the suffix).
-    comparison : optional
+    comparison : dict, optional
         Reference parameters to draw beside; None: none.
     """
     v = grid.voltages
