@@ -29,6 +29,7 @@ import enum
 import importlib
 import inspect
 import pkgutil
+import re
 import sys
 import warnings
 from collections.abc import Callable, Iterator
@@ -223,6 +224,44 @@ def test_packages_are_all_walked():
     for package in PACKAGES:
         assert sum(name.startswith(package + ".") for name in modules) >= 3, package
     assert not any(name.endswith("__main__") for name in modules)
+
+
+_XREF = re.compile(r":(?:func|class|data|mod|meth|attr|exc):`~?((?:%s)\.[\w.]+)`" % "|".join(PACKAGES))
+
+
+def resolves(target: str) -> bool:
+    """Whether a dotted cross-reference names a module, or an attribute or dataclass field inside one."""
+    parts = target.split(".")
+    for i in range(len(parts), 0, -1):
+        try:
+            obj: Any = importlib.import_module(".".join(parts[:i]))
+        except ImportError:
+            continue
+        for part in parts[i:]:
+            if hasattr(obj, part):
+                obj = getattr(obj, part)
+            elif part in getattr(obj, "__dataclass_fields__", {}) or part in getattr(obj, "__annotations__", {}):
+                return part == parts[-1]  # a field without a class-level default: nothing further to look up
+            else:
+                return False
+        return True
+    return False
+
+
+def test_cross_references_in_docstrings_resolve():
+    """``:func:`damper.x.y``` and the like name something that exists (modules move: #23)."""
+    problems = []
+    for name in project_modules():
+        source = inspect.getsource(importlib.import_module(name))
+        for target in sorted(set(_XREF.findall(source))):
+            if not resolves(target):
+                problems.append(f"{name}: cross-reference {target!r} does not resolve")
+    assert not problems, "\n".join(problems)
+
+
+def test_cross_reference_check_can_fail():
+    assert resolves("damper") and resolves("records.record.Record") and resolves("records.catalogue.CatalogueEntry.pgv_m_s")
+    assert not resolves("damper.no_such_module.f") and not resolves("records.record.Record.no_such_method")
 
 
 # --- the checker itself can fail ------------------------------------------------------------------
