@@ -72,7 +72,14 @@ class DesignModel(Protocol):
 
     def linear_plant(self, isolation: str = "equivalent") -> LinearPlant:
         """The building's continuous linear plant with linearised isolation (``"equivalent"``:
-        harmonic linearisation at 0.1 m and 3 s; ``"linear-part"``)."""
+        harmonic linearisation at 0.1 m and 3 s; ``"linear-part"``).
+
+        Parameters
+        ----------
+        isolation : str, optional
+            Linearisation of the bearings: ``"equivalent"`` (harmonic, at 0.1 m and 3 s) or ``"linear-part"``
+            (the bearings' linear branch only).
+        """
         ...
 
 
@@ -148,7 +155,14 @@ class ControllerProtocol(Protocol):
     """What the simulation calls on a controller: ``step``. ``reset(context)``, ``compiled()`` and
     ``name`` are optional (:class:`ControllerSession` uses them when present)."""
 
-    def step(self, measurements: np.ndarray) -> np.ndarray: ...
+    def step(self, measurements: np.ndarray) -> np.ndarray:
+        """Return the voltages [V] for the coming control step, one per device.
+
+        Parameters
+        ----------
+        measurements : np.ndarray
+            Measurement vector of this control step (:class:`controllers.measurements.MeasurementLayout`, SI).
+        """
 
 
 class Controller:
@@ -169,11 +183,25 @@ class Controller:
         self.context: ControlContext | None = None
 
     def reset(self, context: ControlContext) -> None:
-        """Store the context and reset the controller's state."""
+        """Store the context and reset the controller's state.
+
+        Parameters
+        ----------
+        context : ControlContext
+            The run's control context (:class:`controllers.base.ControlContext`: design model, device count,
+            control step).
+        """
         self.context = context
 
     def step(self, measurements: np.ndarray) -> np.ndarray:
-        """Return the voltages [V] for the coming control step."""
+        """Return the voltages [V] for the coming control step.
+
+        Parameters
+        ----------
+        measurements : np.ndarray
+            Measurement vector of this control step, laid out by
+            :class:`controllers.measurements.MeasurementLayout` (SI: m/s², m, N).
+        """
         raise NotImplementedError(f"controller {self.name!r} does not implement step(measurements)")
 
     def compiled(self) -> CompiledController | None:
@@ -218,7 +246,14 @@ class CompiledBackedController(Controller):
     :meth:`step` runs the same numba kernel the stepping loop runs, so both paths agree."""
 
     def build(self, context: ControlContext) -> CompiledController:
-        """Return the compiled representation for ``context`` (subclasses implement it)."""
+        """Return the compiled representation for ``context`` (subclasses implement it).
+
+        Parameters
+        ----------
+        context : ControlContext
+            The run's control context (:class:`controllers.base.ControlContext`: design model, device count,
+            control step).
+        """
         raise NotImplementedError
 
     def reset(self, context: ControlContext) -> None:
@@ -261,7 +296,17 @@ class CompiledBackedController(Controller):
 
 
 class FunctionController(Controller):
-    """Wrap a plain function ``f(measurements) -> voltages`` (or ``f(t, measurements)``) as a controller."""
+    """Wrap a plain function ``f(measurements) -> voltages`` (or ``f(t, measurements)``) as a controller.
+
+    Parameters
+    ----------
+    function : Callable
+        The control law, ``f(measurements) -> voltages`` [V], or ``f(t, measurements)`` with ``with_time``.
+    name : str | None, optional
+        Name shown in results and errors; default: the function's ``__name__``.
+    with_time : bool, optional
+        Pass the time [s] as first argument.
+    """
 
     def __init__(self, function: Callable, name: str | None = None, with_time: bool = False) -> None:
         super().__init__()
@@ -285,6 +330,11 @@ class FunctionController(Controller):
 def as_controller(obj: ControllerProtocol | Callable[..., Any]) -> ControllerProtocol:
     """Return ``obj`` as a controller: objects with ``step`` pass through, callables are wrapped.
 
+    Parameters
+    ----------
+    obj : ControllerProtocol | Callable[..., Any]
+        A controller (anything with ``step``) or a callable ``f(measurements) -> voltages``.
+
     Raises
     ------
     InputError
@@ -304,6 +354,17 @@ def _controller_name(controller: ControllerProtocol) -> str:
 
 def check_voltages(voltages: Any, n_devices: int, name: str, time: float) -> np.ndarray:
     """Validate a controller's output and return it as a float array of shape ``(n_devices,)``.
+
+    Parameters
+    ----------
+    voltages : Any
+        The controller's output, one voltage [V] per device.
+    n_devices : int
+        Number of controlled devices (MR dampers) in the building.
+    name : str
+        Controller name, for the error message.
+    time : float
+        Time of the control step [s], for the error message.
 
     Raises
     ------
@@ -354,7 +415,16 @@ class ControllerSession:
 
     def step(self, measurements: np.ndarray, time: float | None = None) -> np.ndarray:
         """Call the controller, validate its voltages, saturate to ``[0, voltage_max]``, apply
-        the slew limit, and return the voltages for the coming control step [V]."""
+        the slew limit, and return the voltages for the coming control step [V].
+
+        Parameters
+        ----------
+        measurements : np.ndarray
+            Measurement vector of this control step, laid out by
+            :class:`controllers.measurements.MeasurementLayout` (SI: m/s², m, N).
+        time : float | None, optional
+            Time of the control step [s]; None: the session counts steps times the control step.
+        """
         ctx = self.context
         t = self._k * ctx.control_step if time is None else float(time)
         raw = self.controller.step(np.array(measurements, dtype=np.float64))

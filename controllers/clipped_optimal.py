@@ -133,7 +133,17 @@ class LQGWeights:
 
 def regulated_outputs(plant: LinearPlant, n_devices: int, weights: LQGWeights) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Return ``(C_z, D_z, W_z)`` of the regulated outputs (module docstring) for a plant whose
-    outputs are the benchmark's measurement vector."""
+    outputs are the benchmark's measurement vector.
+
+    Parameters
+    ----------
+    plant : LinearPlant
+        Full linear model whose outputs are the measurement vector.
+    n_devices : int
+        Number of controlled devices (MR dampers) in the building.
+    weights : LQGWeights
+        Weights of the regulated outputs (drifts, accelerations, base displacement).
+    """
     s = measurement_slices(n_devices)
     rot = np.ones(3)
     rot[2] = weights.rotation_radius
@@ -153,7 +163,36 @@ def regulated_outputs(plant: LinearPlant, n_devices: int, weights: LQGWeights) -
 
 @dataclass
 class LQGDesign:
-    """Result of :func:`design_lqg`: reduced plant, gains, estimator, compiled matrices, checks."""
+    """Result of :func:`design_lqg`: reduced plant, gains, estimator, compiled matrices, checks.
+
+    Parameters
+    ----------
+    reduced : ReducedPlant
+        The modally reduced design plant.
+    weights : LQGWeights
+        The weights the design used.
+    control_step : float
+        Control (sampling) step [s].
+    force_scale : np.ndarray
+        Force scale f₀ per device [N] (``W_f = r / f_0²``).
+    lqr : dict
+        Result of :func:`controllers.lqg.lqr_design` (gain ``K``, Riccati solution, closed-loop poles,
+        residual).
+    kalman : dict
+        Result of :func:`controllers.lqg.kalman_design` (filter gains, covariance, poles, residual).
+    sensor_rows : np.ndarray
+        Rows of the measurement vector the estimator reads (the noisy sensors).
+    force_rows : np.ndarray
+        Rows of the measurement vector holding the device forces [N].
+    n_meas : int
+        Length of the measurement vector (``30 + 2 n_devices``).
+    gain : np.ndarray
+        Gain G of the desired forces ``f_c = G x̂[k|k]`` [N per state unit].
+    matrices : tuple
+        ``(Ac, Bc, Cc, Dc)``: the compiled discrete observer-controller.
+    fit : dict, optional
+        Estimator fit per state [%] (:func:`controllers.lqg.estimator_fit`), empty without ``check_fit``.
+    """
 
     reduced: ReducedPlant
     weights: LQGWeights
@@ -233,6 +272,8 @@ def design_lqg(plant: LinearPlant, n_devices: int, control_step: float, weights:
         Run the estimator on a noise-free linear simulation of the full model driven by a
         seeded broadband ground motion and random device forces, and store the fit of the
         estimated base displacement, base velocity and roof acceleration.
+    seed : int, optional
+        Seed of the random ground motion and device forces of the estimator-fit check.
     """
     n_meas = n_measurements(n_devices)
     if plant.C.shape[0] != n_meas or plant.B.shape[1] != n_devices:
@@ -355,7 +396,14 @@ class ClippedOptimal(CompiledBackedController):
         return np.full(context.n_devices, float(self.voltage))
 
     def make_design(self, context: ControlContext) -> LQGDesign:
-        """Run the design for ``context`` (building, device count, control step)."""
+        """Run the design for ``context`` (building, device count, control step).
+
+        Parameters
+        ----------
+        context : ControlContext
+            The run's control context (:class:`controllers.base.ControlContext`: design model, device count,
+            control step).
+        """
         plant = self.plant if self.plant is not None else building_plant(context.design_model)
         return design_lqg(plant, context.n_devices, context.control_step, self.weights,
                           self._force_scale(context), check_fit=self.check_fit)
@@ -376,11 +424,26 @@ class ClippedOptimal(CompiledBackedController):
 
     def law_parameters(self, design: LQGDesign, context: ControlContext) -> np.ndarray:
         """``law_params`` of the compiled controller: the dead band [N] of the bang-bang law,
-        ``dead_band`` times the force scale :math:`f_0` of each device."""
+        ``dead_band`` times the force scale :math:`f_0` of each device.
+
+        Parameters
+        ----------
+        design : LQGDesign
+            The LQG design this controller made (:meth:`make_design`).
+        context : ControlContext
+            The run's control context (:class:`controllers.base.ControlContext`: design model, device count,
+            control step).
+        """
         return self.dead_band * self._force_scale(context)
 
     def controller_matrices(self, design: LQGDesign) -> tuple:
-        """``(Ac, Bc, Cc, Dc)`` of the compiled controller (the LQG observer with f_c = −K x̂)."""
+        """``(Ac, Bc, Cc, Dc)`` of the compiled controller (the LQG observer with f_c = −K x̂).
+
+        Parameters
+        ----------
+        design : LQGDesign
+            The LQG design this controller made (:meth:`make_design`).
+        """
         return design.matrices
 
     def build(self, context: ControlContext) -> CompiledController:

@@ -74,7 +74,16 @@ class LinearPlant:
 
     Parameters
     ----------
-    A : (n, n), B : (n, n_dev), E : (n, n_g), C : (n_meas, n), D : (n_meas, n_dev)
+    A : ndarray (n, n)
+        State matrix [1/s, 1/s² per state unit].
+    B : ndarray (n, n_dev)
+        Input matrix of the device forces f [N].
+    E : ndarray (n, n_g)
+        Input matrix of the ground accelerations ü_g [m/s²].
+    C : ndarray (n_meas, n)
+        Output matrix of the measurement vector.
+    D : ndarray (n_meas, n_dev)
+        Feedthrough of the device forces to the measurements.
     """
 
     A: np.ndarray
@@ -107,7 +116,13 @@ class LinearPlant:
         return self.B.shape[1]
 
     def discretise(self, dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Zero-order-hold discretisation ``(A_d, B_d, E_d)`` at step ``dt`` [s]."""
+        """Zero-order-hold discretisation ``(A_d, B_d, E_d)`` at step ``dt`` [s].
+
+        Parameters
+        ----------
+        dt : float
+            Sampling step [s].
+        """
         n, m, g = self.n_states, self.B.shape[1], self.E.shape[1]
         big = np.zeros((n + m + g, n + m + g))
         big[:n, :n] = self.A
@@ -124,6 +139,17 @@ class ReducedPlant:
     ``plant`` is the reduced plant; full states are approximately ``T_r @ x_r`` and
     ``x_r = W_r @ x`` projects a full state onto the retained modes. ``eigenvalues`` are the
     retained continuous eigenvalues.
+
+    Parameters
+    ----------
+    plant : LinearPlant
+        The reduced plant (real modal coordinates).
+    T_r : np.ndarray
+        Map from reduced to full states, ``x ≈ T_r x_r`` (n, n_r).
+    W_r : np.ndarray
+        Projection of a full state onto the retained modes, ``x_r = W_r x`` (n_r, n).
+    eigenvalues : np.ndarray, optional
+        Retained continuous eigenvalues [rad/s] (complex pairs count once).
     """
 
     plant: LinearPlant
@@ -139,6 +165,15 @@ def modal_reduction(plant: LinearPlant, n_modes: int, static_correction: bool = 
     columns ``Re v, Im v``); the retained block is kept and, with ``static_correction``, the
     truncated modes' static contribution :math:`-C_t A_t^{-1} B_t` is added to ``D`` (so that
     absolute accelerations keep their instantaneous response to device forces).
+
+    Parameters
+    ----------
+    plant : LinearPlant
+        Full linear plant.
+    n_modes : int
+        Number of modes kept (1 to the number of modes of ``plant``).
+    static_correction : bool, optional
+        Add the truncated modes' static contribution to ``D``.
 
     Raises
     ------
@@ -182,14 +217,44 @@ def modal_reduction(plant: LinearPlant, n_modes: int, static_correction: bool = 
 
 
 def continuous_riccati_residual(A, B, Q, R, N, P) -> float:
-    """Relative residual ‖AᵀP + PA − (PB+N)R⁻¹(BᵀP+Nᵀ) + Q‖ / ‖Q‖ (Frobenius) of the LQR equation."""
+    """Relative residual ‖AᵀP + PA − (PB+N)R⁻¹(BᵀP+Nᵀ) + Q‖ / ‖Q‖ (Frobenius) of the LQR equation.
+
+    Parameters
+    ----------
+    A : ndarray (n, n)
+        State matrix.
+    B : ndarray (n, m)
+        Input matrix.
+    Q : ndarray (n, n)
+        State weight.
+    R : ndarray (m, m)
+        Input weight.
+    N : ndarray (n, m)
+        Cross weight.
+    P : ndarray (n, n)
+        Candidate Riccati solution.
+    """
     res = A.T @ P + P @ A - (P @ B + N) @ np.linalg.solve(R, B.T @ P + N.T) + Q
     return float(np.linalg.norm(res) / max(np.linalg.norm(Q), np.finfo(float).tiny))
 
 
 def discrete_riccati_residual(A, C, Qd, V, P) -> float:
     """Relative residual of the filter Riccati equation
-    ‖A P Aᵀ − A P Cᵀ(C P Cᵀ + V)⁻¹ C P Aᵀ + Q_d − P‖ / ‖P‖."""
+    ‖A P Aᵀ − A P Cᵀ(C P Cᵀ + V)⁻¹ C P Aᵀ + Q_d − P‖ / ‖P‖.
+
+    Parameters
+    ----------
+    A : ndarray (n, n)
+        Discrete state matrix.
+    C : ndarray (n_s, n)
+        Sensor output matrix.
+    Qd : ndarray (n, n)
+        Process-noise covariance E_d W E_dᵀ.
+    V : ndarray (n_s, n_s)
+        Sensor-noise covariance.
+    P : ndarray (n, n)
+        Candidate a-priori covariance.
+    """
     S = C @ P @ C.T + V
     res = A @ P @ A.T - A @ P @ C.T @ np.linalg.solve(S, C @ P @ A.T) + Qd - P
     return float(np.linalg.norm(res) / max(np.linalg.norm(P), np.finfo(float).tiny))
@@ -197,6 +262,21 @@ def discrete_riccati_residual(A, C, Qd, V, P) -> float:
 
 def lqr_design(A, B, Cz, Dz, Wz, Wf) -> dict:
     """Continuous LQR on regulated outputs (see the module docstring).
+
+    Parameters
+    ----------
+    A : ndarray (n, n)
+        Continuous state matrix.
+    B : ndarray (n, n_dev)
+        Input matrix of the device forces.
+    Cz : ndarray (n_z, n)
+        Regulated outputs' state matrix C_z.
+    Dz : ndarray (n_z, n_dev)
+        Regulated outputs' feedthrough D_z.
+    Wz : ndarray (n_z, n_z)
+        Weight of the regulated outputs W_z.
+    Wf : ndarray (n_dev, n_dev)
+        Weight of the device forces W_f [1/N²].
 
     Returns
     -------
@@ -228,6 +308,19 @@ def lqr_design(A, B, Cz, Dz, Wz, Wf) -> dict:
 
 def kalman_design(Ad, Ed, Cs, W, V) -> dict:
     """Stationary discrete Kalman filter for :math:`x[k+1] = A_d x + E_d w`, :math:`y_s = C_s x + v`.
+
+    Parameters
+    ----------
+    Ad : ndarray (n, n)
+        Discrete state matrix A_d.
+    Ed : ndarray (n, n_g)
+        Discrete ground-acceleration input matrix E_d.
+    Cs : ndarray (n_s, n)
+        Rows of the output matrix read by the sensors, C_s.
+    W : ndarray (n_g, n_g)
+        Covariance of the ground acceleration modelled as white noise [(m/s²)²].
+    V : ndarray (n_s, n_s)
+        Covariance of the sensor noise (SI units squared).
 
     Returns
     -------
@@ -288,6 +381,19 @@ def simulate_linear(plant: LinearPlant, dt: float, ground: np.ndarray, forces: n
     """Exact ZOH simulation of ``plant`` with inputs held over each step.
 
     Returns ``(x, y)`` with ``x[k]``, ``y[k] = C x[k] + D f[k]`` for ``k = 0..n-1``.
+
+    Parameters
+    ----------
+    plant : LinearPlant
+        The plant to simulate.
+    dt : float
+        Time step [s].
+    ground : np.ndarray
+        Ground acceleration, shape (n, n_g) [m/s²].
+    forces : np.ndarray | None, optional
+        Device forces, shape (n, n_dev) [N]; None: zero.
+    x0 : np.ndarray | None, optional
+        Initial state; None: at rest.
     """
     Ad, Bd, Ed = plant.discretise(dt)
     n = ground.shape[0]
@@ -302,7 +408,15 @@ def simulate_linear(plant: LinearPlant, dt: float, ground: np.ndarray, forces: n
 
 
 def estimator_fit(true: np.ndarray, estimate: np.ndarray) -> np.ndarray:
-    """Fit per column, 100·(1 − ‖x − x̂‖/‖x − mean x‖) [%] (100 % = perfect)."""
+    """Fit per column, 100·(1 − ‖x − x̂‖/‖x − mean x‖) [%] (100 % = perfect).
+
+    Parameters
+    ----------
+    true : np.ndarray
+        True states, shape (n_steps, n_states).
+    estimate : np.ndarray
+        Estimated states, same shape.
+    """
     err = np.linalg.norm(true - estimate, axis=0)
     spread = np.linalg.norm(true - true.mean(axis=0), axis=0)
     return 100.0 * (1.0 - err / np.where(spread > 0, spread, np.inf))

@@ -33,6 +33,13 @@ __all__ = ["Lyapunov", "lyapunov_matrix"]
 def lyapunov_matrix(A: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, float]:
     """Solve :math:`A^T P + P A = -Q`; return ``P`` and the relative residual.
 
+    Parameters
+    ----------
+    A : ndarray (n, n)
+        Hurwitz state matrix.
+    Q : ndarray (n, n)
+        Positive-definite weight.
+
     Raises
     ------
     NumericalError
@@ -49,7 +56,22 @@ def lyapunov_matrix(A: np.ndarray, Q: np.ndarray) -> tuple[np.ndarray, float]:
 
 @register_controller
 class Lyapunov(ClippedOptimal):
-    """Lyapunov controller (``lyapunov``): parameters as :class:`ClippedOptimal` (the weights define Q)."""
+    """Lyapunov controller (``lyapunov``): parameters as :class:`ClippedOptimal` (the weights define Q).
+
+    Parameters
+    ----------
+    weights : LQGWeights, optional
+        Design weights (defaults in :class:`~controllers.clipped_optimal.LQGWeights`); they also define Q.
+    plant : LinearPlant, optional
+        Design model; default: :func:`controllers.plant.building_plant` of the run's building.
+    voltage : float, optional
+        Commanded "on" voltage [V]; default: each device's maximum.
+    check_fit : bool, optional
+        Compute the estimator fit at design time (shown in :meth:`LQGDesign.report`).
+    dead_band : float, optional
+        Dead band on the desired force as a fraction of the force scale f₀, in [0, 1) (default
+        :data:`~controllers.clipped_optimal.DEFAULT_DEAD_BAND`).
+    """
 
     name = "lyapunov"
     law_id = LAW_LYAPUNOV

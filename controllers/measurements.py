@@ -74,7 +74,13 @@ class MeasurementLayout(NamedTuple):
 
 
 def measurement_layout(n_devices: int) -> MeasurementLayout:
-    """The layout for ``n_devices`` devices (``n_devices >= 0``)."""
+    """The layout for ``n_devices`` devices (``n_devices >= 0``).
+
+    Parameters
+    ----------
+    n_devices : int
+        Number of controlled devices (MR dampers) in the building.
+    """
     n = int(n_devices)
     if n < 0:
         raise InputError(f"measurement layout: n_devices must be >= 0, got {n_devices!r}")
@@ -86,17 +92,35 @@ def measurement_layout(n_devices: int) -> MeasurementLayout:
 
 
 def measurement_slices(n_devices: int) -> dict[str, slice]:
-    """Slices of the measurement vector by quantity (:meth:`MeasurementLayout.slices`)."""
+    """Slices of the measurement vector by quantity (:meth:`MeasurementLayout.slices`).
+
+    Parameters
+    ----------
+    n_devices : int
+        Number of controlled devices (MR dampers) in the building.
+    """
     return measurement_layout(n_devices).slices()
 
 
 def n_measurements(n_devices: int) -> int:
-    """Length of the measurement vector for ``n_devices`` devices (``30 + 2 n_devices``)."""
+    """Length of the measurement vector for ``n_devices`` devices (``30 + 2 n_devices``).
+
+    Parameters
+    ----------
+    n_devices : int
+        Number of controlled devices (MR dampers) in the building.
+    """
     return measurement_layout(n_devices).n_measurements
 
 
 def measurement_names(n_devices: int) -> list[str]:
-    """Names of the measurement vector entries (units in brackets)."""
+    """Names of the measurement vector entries (units in brackets).
+
+    Parameters
+    ----------
+    n_devices : int
+        Number of controlled devices (MR dampers) in the building.
+    """
     dofs = (("x", "m/s2"), ("y", "m/s2"), ("theta", "rad/s2"))
     names = [f"a_base_{d} [{u}]" for d, u in dofs]
     names += [f"a_floor{f}_{d} [{u}]" for f in range(1, 9) for d, u in dofs]

@@ -35,11 +35,34 @@ class ModulatedClippedOptimal(ClippedOptimal):
     Parameters are those of :class:`~controllers.clipped_optimal.ClippedOptimal`; the force
     capacity :math:`f_0` is the design's force scale (``LQGWeights.force_scale`` or the device's
     peak force at maximum voltage).
+
+    Parameters
+    ----------
+    weights : LQGWeights, optional
+        Design weights (defaults in :class:`~controllers.clipped_optimal.LQGWeights`); they also define Q.
+    plant : LinearPlant, optional
+        Design model; default: :func:`controllers.plant.building_plant` of the run's building.
+    voltage : float, optional
+        Commanded "on" voltage [V]; default: each device's maximum.
+    check_fit : bool, optional
+        Compute the estimator fit at design time (shown in :meth:`LQGDesign.report`).
+    dead_band : float, optional
+        Dead band on the desired force as a fraction of the force scale f₀, in [0, 1) (default
+        :data:`~controllers.clipped_optimal.DEFAULT_DEAD_BAND`).
     """
 
     name = "modulated"
     law_id = LAW_MODULATED
 
     def law_parameters(self, design: LQGDesign, context: ControlContext) -> np.ndarray:
-        """Force capacity per device [N]."""
+        """Force capacity per device [N].
+
+        Parameters
+        ----------
+        design : LQGDesign
+            The LQG design this controller made (:meth:`make_design`).
+        context : ControlContext
+            The run's control context (:class:`controllers.base.ControlContext`: design model, device count,
+            control step).
+        """
         return design.force_scale.copy()

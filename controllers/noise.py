@@ -72,7 +72,13 @@ class MeasurementNoise:
         return self.acceleration_rms == 0 and self.displacement_rms == 0 and self.force_rms == 0
 
     def rms_vector(self, n_devices: int) -> np.ndarray:
-        """RMS of each entry of the measurement vector (SI)."""
+        """RMS of each entry of the measurement vector (SI).
+
+        Parameters
+        ----------
+        n_devices : int
+            Number of controlled devices (MR dampers) in the building.
+        """
         rms = np.zeros(n_measurements(n_devices))
         slices = measurement_slices(n_devices)
         for field_name, groups in _GROUPS.items():
@@ -83,7 +89,13 @@ class MeasurementNoise:
         return rms
 
     def range_vector(self, n_devices: int) -> np.ndarray:
-        """Sensor range of each entry (``inf``: unlimited)."""
+        """Sensor range of each entry (``inf``: unlimited).
+
+        Parameters
+        ----------
+        n_devices : int
+            Number of controlled devices (MR dampers) in the building.
+        """
         rng = np.full(n_measurements(n_devices), np.inf)
         slices = measurement_slices(n_devices)
         for field_name, groups in _GROUPS.items():
@@ -96,13 +108,32 @@ class MeasurementNoise:
         """Draw the noise of a whole run, shape ``(n_steps, 30 + 2 n_devices)`` (SI units).
 
         The same seed gives the same array; pass ``rng`` to draw from a caller's generator.
+
+        Parameters
+        ----------
+        n_steps : int
+            Number of control steps of the run.
+        n_devices : int
+            Number of controlled devices (MR dampers) in the building.
+        rng : np.random.Generator | None, optional
+            Generator to draw from; None: a new one seeded with the noise model's seed.
         """
         generator = rng if rng is not None else np.random.default_rng(self.seed)
         rms = self.rms_vector(n_devices)
         return generator.standard_normal((int(n_steps), rms.size)) * rms
 
     def apply(self, measurements: np.ndarray, noise: np.ndarray | None, n_devices: int) -> np.ndarray:
-        """Return ``measurements + noise`` clipped to the sensor ranges."""
+        """Return ``measurements + noise`` clipped to the sensor ranges.
+
+        Parameters
+        ----------
+        measurements : np.ndarray
+            Clean measurement vector (SI).
+        noise : np.ndarray | None
+            Noise for this step (a row of :meth:`sample`), or None for none.
+        n_devices : int
+            Number of controlled devices (MR dampers) in the building.
+        """
         y = measurements if noise is None else measurements + noise
         limits = self.range_vector(n_devices)
         if np.all(np.isinf(limits)):

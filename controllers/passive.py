@@ -59,7 +59,13 @@ class PassiveOff(ConstantVoltage):
 
 @register_controller
 class PassiveOn(ConstantVoltage):
-    """Maximum voltage on every device (``passive-on``)."""
+    """Maximum voltage on every device (``passive-on``).
+
+    Parameters
+    ----------
+    voltage : float, optional
+        Voltage [V] applied to every device; default: each device's maximum.
+    """
 
     name = "passive-on"
 

@@ -28,6 +28,14 @@ def building_plant(design_model: DesignModel | None, isolation: str = "equivalen
     ``isolation`` selects the bearings' linearisation (``"equivalent"``: harmonic, at 0.1 m and
     3 s; ``"linear-part"``). The simulator supplies it through the context's
     :class:`~controllers.base.DesignModel` (built by :mod:`benchmark.simulator.control`).
+
+    Parameters
+    ----------
+    design_model : DesignModel | None
+        The building's design model from the control context (devices, positions, linear plant); None: no
+        devices.
+    isolation : str, optional
+        Linearisation of the bearings: ``"equivalent"`` (harmonic, at 0.1 m and 3 s) or ``"linear-part"``.
     """
     if design_model is None:
         raise InputError("model-based controller: the run's ControlContext carries no design model; "
@@ -36,14 +44,28 @@ def building_plant(design_model: DesignModel | None, isolation: str = "equivalen
 
 
 def device_models(design_model: DesignModel | None) -> list:
-    """Damper model of every device, in device order."""
+    """Damper model of every device, in device order.
+
+    Parameters
+    ----------
+    design_model : DesignModel | None
+        The building's design model from the control context (devices, positions, linear plant); None: no
+        devices.
+    """
     if design_model is None:
         raise InputError("the run's ControlContext carries no design model (device models)")
     return list(design_model.device_models)
 
 
 def device_geometry(design_model: DesignModel | None) -> tuple[np.ndarray, np.ndarray]:
-    """Plan positions (n_dev, 2) [m] relative to the base centre of mass, and directions (0 = x, 1 = y)."""
+    """Plan positions (n_dev, 2) [m] relative to the base centre of mass, and directions (0 = x, 1 = y).
+
+    Parameters
+    ----------
+    design_model : DesignModel | None
+        The building's design model from the control context (devices, positions, linear plant); None: no
+        devices.
+    """
     if design_model is None:
         raise InputError("the run's ControlContext carries no design model (device positions)")
     return (np.asarray(design_model.device_positions, dtype=float),
@@ -54,7 +76,19 @@ def device_force_capacity(model: Any, voltage: float | None = None, amplitude: f
                           frequency: float = 0.5) -> float:
     """Peak force [N] of a damper model at ``voltage`` (default its maximum) under a sinusoidal
     stroke of ``amplitude`` [m] at ``frequency`` [Hz] (peak velocity 0.16 m/s by default), read
-    from the second cycle. It sets the force scale of the designs and the modulated law."""
+    from the second cycle. It sets the force scale of the designs and the modulated law.
+
+    Parameters
+    ----------
+    model : Any
+        A damper model (:class:`damper.models.base.DamperModel`).
+    voltage : float, optional
+        Voltage [V]; default: the model's maximum.
+    amplitude : float, optional
+        Stroke amplitude [m].
+    frequency : float, optional
+        Stroke frequency [Hz].
+    """
     v = float(model.voltage_range[1]) if voltage is None else float(voltage)
     try:
         return _capacity_cached(model, v, float(amplitude), float(frequency))

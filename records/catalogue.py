@@ -197,6 +197,11 @@ ALIASES: dict[str, str] = {"erzincan": "erzikan", "el_centro": "elcentro", "el-c
 def canonical_name(name: str) -> str:
     """Return the catalogue name for ``name`` (case-insensitive, aliases such as ``erzincan`` accepted).
 
+    Parameters
+    ----------
+    name : str
+        A record name or alias, any case (``"Erzincan"``, ``erzincan``).
+
     Raises
     ------
     InputError
@@ -227,6 +232,11 @@ def canonical_orientation(orientation: str) -> str:
 
     The seed paper's names are aliases (:data:`ORIENTATION_ALIASES`): ``FP-y`` (fault-parallel
     component on y) is ``FN-x``, ``FN-y`` is ``FP-x``.
+
+    Parameters
+    ----------
+    orientation : str
+        ``FN-x``, ``FP-x``, ``FP-y`` or ``FN-y``, any case.
 
     Raises
     ------
@@ -329,6 +339,12 @@ def _flaw_dicts(flaws: list[Flaw], entry: CatalogueEntry) -> list[dict[str, Any]
 
 def check_catalogue(records_dir: str | os.PathLike | None = None) -> dict[str, Any]:
     """Check a records directory against the catalogue; never raises for absent data.
+
+    Parameters
+    ----------
+    records_dir : str | os.PathLike | None, optional
+        Directory holding the benchmark record files; None: the default records directory
+        (:mod:`benchmark.foundation.paths`).
 
     Returns
     -------

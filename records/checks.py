@@ -43,14 +43,14 @@ __all__ = [
 def identical_spans(acceleration: np.ndarray, min_length: int = 20) -> list[tuple[int, int]]:
     """Half-open sample ranges ``[start, stop)`` of at least ``min_length`` samples where all components are equal.
 
+    Samples where every component is exactly zero (quiet padding) do not count as identical.
+
     Parameters
     ----------
     acceleration : ndarray, shape (n, m)
         The components (fewer than two: no spans).
     min_length : int
         Shortest span reported.
-
-    Samples where every component is exactly zero (quiet padding) do not count as identical.
     """
     a = np.asarray(acceleration, dtype=float)
     if a.ndim != 2 or a.shape[1] < 2:

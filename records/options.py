@@ -26,7 +26,13 @@ __all__ = ["add_record_options", "record_kwargs", "orientation_name"]
 
 
 def orientation_name(text: str) -> str:
-    """``argparse`` type: an orientation name, returned canonical (``FP-y`` → ``FN-x``, ``FN-y`` → ``FP-x``)."""
+    """``argparse`` type: an orientation name, returned canonical (``FP-y`` → ``FN-x``, ``FN-y`` → ``FP-x``).
+
+    Parameters
+    ----------
+    text : str
+        Orientation as typed on the command line (``FN-x``, ``FP-x``, ``FP-y``, ``FN-y``, any case).
+    """
 
     try:
         return canonical_orientation(text)
@@ -69,7 +75,13 @@ def add_record_options(parser: argparse.ArgumentParser, orientation: bool = True
 
 def record_kwargs(args: argparse.Namespace) -> dict[str, Any]:
     """Keyword arguments of :func:`records.resolve.resolve_record` from parsed options
-    (``orientation`` excluded)."""
+    (``orientation`` excluded).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Options parsed by a parser that :func:`records.options.add_record_options` filled.
+    """
     return {"records_dir": getattr(args, "records_dir", None),
             "baseline_correct": bool(getattr(args, "baseline_correct", False)),
             "format": getattr(args, "format", "auto") or "auto",

@@ -85,12 +85,24 @@ class PulseParameters:
         return self.t_peak - half, self.t_peak + half
 
     def velocity(self, t: np.ndarray) -> np.ndarray:
-        """Pulse velocity [m/s] at times ``t`` [s]."""
+        """Pulse velocity [m/s] at times ``t`` [s].
+
+        Parameters
+        ----------
+        t : np.ndarray
+            Times [s] from the record's start.
+        """
         return _mp_velocity(np.asarray(t, float), self.amplitude, 1.0 / self.period, self.gamma,
                             self.phase, self.t_peak)
 
     def acceleration(self, t: np.ndarray) -> np.ndarray:
-        """Pulse acceleration [m/s²] at times ``t`` [s] (the exact derivative of :meth:`velocity`)."""
+        """Pulse acceleration [m/s²] at times ``t`` [s] (the exact derivative of :meth:`velocity`).
+
+        Parameters
+        ----------
+        t : np.ndarray
+            Times [s] from the record's start.
+        """
         t = np.asarray(t, float)
         fp = 1.0 / self.period
         tau = t - self.t_peak

@@ -164,11 +164,24 @@ class Record:
 
     # ----------------------------------------------------------------- new records
     def replace(self, **changes: Any) -> "Record":
-        """Return a copy with some fields changed (validated again)."""
+        """Return a copy with some fields changed (validated again).
+
+        Parameters
+        ----------
+        **changes
+            Field names and their new values (any field of :class:`Record`); the copy is validated like a
+            new record.
+        """
         return dataclasses.replace(self, **changes)
 
     def scaled(self, factor: float) -> "Record":
-        """Return the record with its acceleration multiplied by ``factor`` (noted in the metadata)."""
+        """Return the record with its acceleration multiplied by ``factor`` (noted in the metadata).
+
+        Parameters
+        ----------
+        factor : float
+            Dimensionless multiplier of the acceleration (e.g. 1.5 for a record scaled to 150 %).
+        """
         factor = float(factor)
         if not math.isfinite(factor):
             raise InputError(f"record {self.name!r}: scale factor {factor} is not finite")
@@ -177,7 +190,13 @@ class Record:
         return self.replace(acceleration=self.acceleration * factor, metadata=meta)
 
     def select(self, components: tuple[int, ...] | list[int]) -> "Record":
-        """Return a record holding the given components in the given order."""
+        """Return a record holding the given components in the given order.
+
+        Parameters
+        ----------
+        components : tuple[int, ...] | list[int]
+            0-based indices of the components to keep, in the order they will have.
+        """
         idx = [int(i) for i in components]
         for i in idx:
             if not -self.n_components <= i < self.n_components:
@@ -219,6 +238,11 @@ def units_assumed(record: Record) -> str:
 
     ``"cm/s2 (benchmark default cm/s2 (not in the header))"``, ``"g (file header)"``,
     ``"m/s2 (generated)"``; records built in Python without a reader give ``"m/s2 (given in SI)"``.
+
+    Parameters
+    ----------
+    record : Record
+        The record whose metadata (``units``, ``units_source``) is read.
     """
     meta = record.metadata
     if "units_assumed" in meta:

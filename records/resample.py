@@ -33,15 +33,44 @@ STEP_RTOL = 1e-9
 
 
 def resampled_grid(n_samples: int, dt: float, step: float) -> np.ndarray:
-    """Times [s] of the new grid ``k * step`` covering ``(n_samples - 1) * dt`` (see module docstring)."""
+    """Times [s] of the new grid ``k * step`` covering ``(n_samples - 1) * dt`` (see module docstring).
+
+    Parameters
+    ----------
+    n_samples : int
+        Samples of the original record.
+    dt : float
+        The original sampling step [s].
+    step : float
+        The new step [s].
+
+    Returns
+    -------
+    ndarray
+        ``0, step, 2 step, ...`` up to the record's end (to :data:`STEP_RTOL`).
+    """
     end = (n_samples - 1) * dt
     n_new = int(math.floor(end / step * (1 + STEP_RTOL) + STEP_RTOL)) + 1
     return np.arange(n_new) * step
 
 
 def interpolate_onto(acceleration: np.ndarray, dt: float, step: float) -> np.ndarray:
-    """Linear interpolation of ``acceleration`` (n, m) sampled at ``dt`` onto the grid of ``step``
-    [s] (:func:`resampled_grid`); returns a C-contiguous (n_new, m) array, same units."""
+    """Linear interpolation of ``acceleration`` sampled at ``dt`` onto the grid of ``step``.
+
+    Parameters
+    ----------
+    acceleration : ndarray, shape (n,) or (n, m)
+        Ground acceleration, any units (kept).
+    dt : float
+        Its sampling step [s].
+    step : float
+        The new step [s] (:func:`resampled_grid`).
+
+    Returns
+    -------
+    ndarray, shape (n_new, m)
+        C-contiguous, same units.
+    """
     acc = _acc_2d(acceleration)
     t_old = np.arange(acc.shape[0]) * dt
     t_new = resampled_grid(acc.shape[0], dt, step)

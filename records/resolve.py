@@ -40,7 +40,13 @@ RECORD_SUFFIXES = frozenset({".txt", ".at2", ".csv", ".dat", ".acc", ".tsv"})
 
 def looks_like_file(spec: str | os.PathLike) -> bool:
     """True when ``spec`` names a file rather than a benchmark record (it exists, has a
-    directory part or a record suffix such as ``.AT2``)."""
+    directory part or a record suffix such as ``.AT2``).
+
+    Parameters
+    ----------
+    spec : str | os.PathLike
+        A record name (``"kobe"``) or a file path, as given by the user.
+    """
     text = str(spec)
     path = Path(text).expanduser()
     return path.exists() or "/" in text or "\\" in text or path.suffix.lower() in RECORD_SUFFIXES

@@ -47,7 +47,17 @@ _MAX_SUBSTEPS = 64
 
 
 def default_periods(n: int = 120, t_min: float = 0.02, t_max: float = 10.0) -> np.ndarray:
-    """``n`` periods [s] spaced logarithmically from ``t_min`` to ``t_max``."""
+    """``n`` periods [s] spaced logarithmically from ``t_min`` to ``t_max``.
+
+    Parameters
+    ----------
+    n : int, optional
+        Number of periods.
+    t_min : float, optional
+        Shortest period [s] (> 0).
+    t_max : float, optional
+        Longest period [s].
+    """
     if not (0 < t_min < t_max) or n < 2:
         raise InputError(f"periods: need 0 < t_min < t_max and n >= 2, got t_min={t_min}, t_max={t_max}, n={n}")
     return np.logspace(math.log10(t_min), math.log10(t_max), int(n))
@@ -84,7 +94,13 @@ class ResponseSpectrum:
     labels: tuple[str, ...] = ()
 
     def peak_period(self, component: int = 0) -> float:
-        """Period [s] of the largest pseudo-acceleration of a component."""
+        """Period [s] of the largest pseudo-acceleration of a component.
+
+        Parameters
+        ----------
+        component : int, optional
+            0-based component index.
+        """
         return float(self.periods[int(np.argmax(self.psa[:, component]))])
 
 

@@ -99,7 +99,17 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Envelope:
-    """Trapezoidal time envelope: rise (t/t_rise)² over ``t_rise`` [s], plateau ``t_strong`` [s], decay rate ``decay`` [1/s]."""
+    """Trapezoidal time envelope: rise (t/t_rise)² over ``t_rise`` [s], plateau ``t_strong`` [s], decay rate ``decay`` [1/s].
+
+    Parameters
+    ----------
+    t_rise : float
+        Rise time [s]: the envelope grows as (t/t_rise)² from 0 to 1.
+    t_strong : float
+        Duration [s] of the plateau at 1 (strong motion).
+    decay : float
+        Exponential decay rate [1/s] after the plateau.
+    """
 
     t_rise: float
     t_strong: float
@@ -182,7 +192,13 @@ class GroundMotionModel:
         return int(round(self.duration / self.dt))
 
     def psd_shape(self, omega: np.ndarray) -> np.ndarray:
-        """Kanai–Tajimi × Clough–Penzien spectral shape S(ω)/S₀ (module docstring)."""
+        """Kanai–Tajimi × Clough–Penzien spectral shape S(ω)/S₀ (module docstring).
+
+        Parameters
+        ----------
+        omega : np.ndarray
+            Circular frequencies ω [rad/s].
+        """
         return _psd_shape(np.asarray(omega, float), self.omega_g, self.zeta_g, self.omega_f, self.zeta_f, self.f_max)
 
     def peak_frequency(self) -> float:

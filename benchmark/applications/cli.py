@@ -80,7 +80,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``sbib`` command line and return its exit status."""
+    """Run the ``sbib`` command line and return its exit status.
+
+    Parameters
+    ----------
+    argv : Sequence[str] | None, optional
+        Command-line arguments without the program name; None: ``sys.argv[1:]``.
+    """
     ensure_fresh_once()  # before any kernel is loaded from numba's cache (kernel_cache)
     parser = build_parser()
     args = parser.parse_args(argv)

@@ -10,7 +10,14 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``bench`` sub-command to ``subparsers``."""
+    """Add the ``bench`` sub-command to ``subparsers``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
     p = subparsers.add_parser(
         "bench", help="measure speed, memory and scaling against targets and the solve_ivp reference",
         description="Time one 30-s run, compare it with the scipy solve_ivp reference, time the "

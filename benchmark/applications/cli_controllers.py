@@ -14,7 +14,14 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``compare`` sub-command."""
+    """Add the ``compare`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
 
     p = subparsers.add_parser(
         "compare", help="compare controllers over the benchmark records (J1-J9)",

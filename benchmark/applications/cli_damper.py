@@ -43,7 +43,15 @@ _DEFAULT_FACTORIES = {
 
 
 def default_model(name: str, overrides: dict[str, float] | None = None):
-    """The model ``name`` with its documented default parameters, updated by ``overrides``."""
+    """The model ``name`` with its documented default parameters, updated by ``overrides``.
+
+    Parameters
+    ----------
+    name : str
+        A registered damper model name (:data:`damper.models.registry.MODELS`).
+    overrides : dict[str, float] | None, optional
+        Parameters to change, by name (SI); None: none.
+    """
     from dataclasses import replace
 
     cls = get_model_class(name)
@@ -80,6 +88,11 @@ def responds_to_voltage(model) -> bool:
 
     Measured, not read off the parameters, so that it holds for any model: one period of a
     sine (10 mm, 1 Hz, 200 Hz sampling) at each end of the range; the forces must differ.
+
+    Parameters
+    ----------
+    model
+        A damper model instance.
     """
 
     lo, hi = getattr(model, "voltage_range", (0.0, 1.0))
@@ -93,6 +106,15 @@ def check_voltage_effect(model, name: str, voltage: float | None) -> float:
     A model whose force does not depend on the voltage (:func:`responds_to_voltage`) runs at
     the low end of its range; any other voltage is rejected (the low end itself is accepted, it
     is what runs anyway). A model that does depend on the voltage needs one.
+
+    Parameters
+    ----------
+    model
+        The damper model tested.
+    name : str
+        Its name, for the error message.
+    voltage : float | None
+        Voltage [V] asked for; None: the model's maximum.
     """
     responds = responds_to_voltage(model)
     low = float(getattr(model, "voltage_range", (0.0, 1.0))[0])
@@ -108,7 +130,13 @@ def check_voltage_effect(model, name: str, voltage: float | None) -> float:
 
 
 def run_test(args: argparse.Namespace) -> int:
-    """Run the test described by the parsed arguments; write the CSV and the plot."""
+    """Run the test described by the parsed arguments; write the CSV and the plot.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed command-line options of the sub-command.
+    """
 
     model = default_model(args.model, dict(args.param or []))
     voltage = check_voltage_effect(model, args.model, args.voltage)
@@ -126,7 +154,14 @@ def run_test(args: argparse.Namespace) -> int:
 
 
 def register(subparsers) -> None:
-    """Add ``sbib damper test``."""
+    """Add ``sbib damper test``.
+
+    Parameters
+    ----------
+    subparsers
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
     damper_parser = subparsers.add_parser("damper", help="damper models and virtual laboratory tests")
     damper_sub = damper_parser.add_subparsers(dest="damper_command", metavar="SUBCOMMAND")
     damper_parser.set_defaults(func=lambda args: (damper_parser.print_help(), 2)[1])

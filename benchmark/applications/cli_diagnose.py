@@ -38,7 +38,13 @@ __all__ = ["register", "run", "read_test_file"]
 
 def read_test_file(path: str):
     """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern), a Dyke record (CSV
-    with columns t, D [cm], Y [V], V [cm/s], F [N]; :mod:`damper.io.dyke`) or damper CSV."""
+    with columns t, D [cm], Y [V], V [cm/s], F [N]; :mod:`damper.io.dyke`) or damper CSV.
+
+    Parameters
+    ----------
+    path : str
+        Test file: UTFSM ``.txt``, Dyke CSV or a plain CSV.
+    """
     p = Path(path)
     if p.suffix.lower() == ".txt":
         try:
@@ -63,7 +69,14 @@ def _fraction(text: str) -> float:
 
 
 def register(subparsers) -> None:
-    """Add the ``diagnose`` sub-command."""
+    """Add the ``diagnose`` sub-command.
+
+    Parameters
+    ----------
+    subparsers
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
     p = subparsers.add_parser(
         "diagnose", help="residual loop: find the effects a damper model lacks in test data",
         description="Fit a Bouc-Wen base model to damper tests, trace the held-out residual, add "
@@ -90,7 +103,13 @@ def register(subparsers) -> None:
 
 
 def run(args) -> int:
-    """Execute ``sbib diagnose`` with parsed ``args``; return the exit status."""
+    """Execute ``sbib diagnose`` with parsed ``args``; return the exit status.
+
+    Parameters
+    ----------
+    args
+        Parsed command-line options of the sub-command.
+    """
 
     tests = [read_test_file(f) for f in args.data]
     validate = [read_test_file(f) for f in args.validate] if args.validate else None

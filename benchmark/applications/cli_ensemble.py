@@ -13,7 +13,14 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``ensemble`` sub-command to ``subparsers``."""
+    """Add the ``ensemble`` sub-command to ``subparsers``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
     p = subparsers.add_parser(
         "ensemble", help="run an ensemble (records x controllers x grids x seeds) into one HDF5 file",
         description="Run the cases of an ensemble described in a TOML file (see examples/ensemble.toml) "

@@ -73,7 +73,13 @@ def _check_out(path) -> None:
 
 
 def run_fit(args: argparse.Namespace) -> int:
-    """Identify the model from ``args.data``; write ``args.out``; print a summary."""
+    """Identify the model from ``args.data``; write ``args.out``; print a summary.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed command-line options of the sub-command.
+    """
     _check_out(args.out)
     data = read_data(args.data, need_displacement=True, group=args.group)
     n = data.force.size
@@ -136,7 +142,13 @@ def _text_summary(fit, summary: dict, out) -> str:
 
 
 def run_predict(args: argparse.Namespace) -> int:
-    """Simulate the model of ``args.model`` under the force of ``args.input``; write ``args.out``."""
+    """Simulate the model of ``args.model`` under the force of ``args.input``; write ``args.out``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed command-line options of the sub-command.
+    """
     _check_out(args.out)
     model, doc = load_model(args.model)
     data = read_data(args.input, need_displacement=False)
@@ -152,7 +164,13 @@ def run_predict(args: argparse.Namespace) -> int:
 
 
 def run_test_signals(args: argparse.Namespace) -> int:
-    """Write the regenerated benchmark test sets as CSV files in ``args.out``."""
+    """Write the regenerated benchmark test sets as CSV files in ``args.out``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed command-line options of the sub-command.
+    """
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     for name, (u, y) in noel_schoukens.test_sets(seed=args.seed).items():
@@ -165,7 +183,14 @@ def run_test_signals(args: argparse.Namespace) -> int:
 
 
 def register(subparsers) -> None:
-    """Add ``sbib hysteresis fit|predict|test-signals``."""
+    """Add ``sbib hysteresis fit|predict|test-signals``.
+
+    Parameters
+    ----------
+    subparsers
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
     parser = subparsers.add_parser("hysteresis", help="identify/run a hysteretic (Bouc-Wen) oscillator "
                                    "from force/displacement data (Bouc-Wen benchmark)",
                                    description=__doc__,

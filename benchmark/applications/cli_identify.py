@@ -24,7 +24,14 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``identify`` sub-command."""
+    """Add the ``identify`` sub-command.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
     p = subparsers.add_parser(
         "identify", help="identify normalized/extended Bouc-Wen MR damper models (seed paper study)",
         description="Without --data: identify the virtual benchmark damper over 0-1 V through the "

@@ -43,7 +43,14 @@ __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``records`` command and its sub-commands to the ``sbib`` parser."""
+    """Add the ``records`` command and its sub-commands to the ``sbib`` parser.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
 
     parser = subparsers.add_parser(
         "records", help="ground-motion records: catalogue, show, synthetic",

@@ -238,7 +238,13 @@ def _print_table(summary: dict[str, Any]) -> None:
 
 
 def main_run(args: argparse.Namespace) -> int:
-    """Entry point of ``sbib run``: run :func:`run_command` with the parsed ``args``; return the exit status."""
+    """Entry point of ``sbib run``: run :func:`run_command` with the parsed ``args``; return the exit status.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed command-line options of the sub-command.
+    """
     summary = run_command(args.record, orientation=args.orientation, isolation=args.isolation,
                        controller=args.controller, records_dir=args.records_dir, out=args.out,
                        plot_dir=args.plot, n_modes=args.n_modes, control_step=args.control_step,
@@ -256,7 +262,14 @@ def main_run(args: argparse.Namespace) -> int:
 
 
 def register(subparsers: Any) -> None:
-    """Add ``sbib run`` to the ``sbib`` command line (``subparsers`` of :mod:`benchmark.applications.cli`)."""
+    """Add ``sbib run`` to the ``sbib`` command line (``subparsers`` of :mod:`benchmark.applications.cli`).
+
+    Parameters
+    ----------
+    subparsers : Any
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
 
     p = subparsers.add_parser(
         "run", help="simulate one record with one isolation and controller (and its uncontrolled reference)",

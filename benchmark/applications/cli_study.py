@@ -12,6 +12,14 @@ from benchmark.applications.study import run_study
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``study`` sub-command (the main job) to ``subparsers``.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The sub-command action of the ``sbib`` parser (``add_subparsers()`` in
+        :func:`benchmark.applications.cli.main`) to add the sub-command to.
+    """
     p = subparsers.add_parser("study", help="run the main job: records, benchmark suite, controllers, identification",
                               description="Run everything end to end and write results and plots to --out.")
     p.add_argument("--out", default="results", help="output directory (default: results)")

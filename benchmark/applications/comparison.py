@@ -48,7 +48,27 @@ _HISTORY_STEP = 0.02  # [s] sampling of the stored histories
 
 @dataclass
 class ComparisonRun:
-    """One controlled run: J's, peaks, down-sampled histories (SI), wall time."""
+    """One controlled run: J's, peaks, down-sampled histories (SI), wall time.
+
+    Parameters
+    ----------
+    record : str
+        Record name.
+    orientation : str
+        ``FN-x`` or ``FP-x``.
+    controller : str
+        Controller name.
+    J : dict
+        Evaluation criteria J1–J9 by key (ratios to the uncontrolled run).
+    peaks : dict
+        Peak responses by name (SI).
+    histories : dict, optional
+        Down-sampled histories by name (SI), for the plots.
+    elapsed_s : float, optional
+        Wall time of the run [s].
+    synthetic : bool, optional
+        Whether the record was a synthetic stand-in (record files absent).
+    """
 
     record: str
     orientation: str
@@ -65,13 +85,26 @@ class ComparisonRun:
         return f"{self.record} (synthetic)" if self.synthetic else self.record
 
     def to_json(self) -> dict:
+        """The run without its histories as a JSON-ready dict (record, orientation, controller, J's, peaks)."""
         return {"record": self.record, "label": self.label, "synthetic": self.synthetic,
                 "orientation": self.orientation, "controller": self.controller, "J": self.J, "peaks": self.peaks}
 
 
 @dataclass
 class ComparisonResult:
-    """All runs of a comparison, the references' peaks and the settings."""
+    """All runs of a comparison, the references' peaks and the settings.
+
+    Parameters
+    ----------
+    runs : list
+        The :class:`ComparisonRun` of every record × orientation × controller.
+    references : dict
+        Peaks of the uncontrolled run, by ``(record, orientation)`` key.
+    reference_histories : dict, optional
+        Down-sampled histories of the uncontrolled runs, for the plots.
+    settings : dict, optional
+        The comparison's settings (records, controllers, isolation, control step, seed, …).
+    """
 
     runs: list
     references: dict          # (record, orientation) -> peaks of the uncontrolled run
@@ -125,7 +158,13 @@ class ComparisonResult:
         return "\n".join(lines)
 
     def write_hdf5(self, path: str | os.PathLike) -> Path:
-        """Write every run (J's and peaks as attributes, histories as datasets) atomically."""
+        """Write every run (J's and peaks as attributes, histories as datasets) atomically.
+
+        Parameters
+        ----------
+        path : str | os.PathLike
+            HDF5 file to write (replaced atomically).
+        """
         import h5py
         import json
 
@@ -160,7 +199,16 @@ class ComparisonResult:
     def plot(self, directory: str | os.PathLike, part: tuple[int, int] = (0, 1)) -> list[Path]:
         """Draw the figures into ``directory`` (PNG) and return their paths.
 
-        ``part = (i, n)``: only the i-th of n shares (:func:`comparison_plots.plot_all`)."""
+        ``part = (i, n)``: only the i-th of n shares (:func:`comparison_plots.plot_all`).
+
+        Parameters
+        ----------
+        directory : str | os.PathLike
+            Directory to draw the figures into (created).
+        part : tuple[int, int], optional
+            ``(index, count)``: draw only this share of the per-record figures (for parallel drawing); ``(0, 1)``:
+            all.
+        """
 
         return comparison_plots.plot_all(self, Path(directory), part)
 
@@ -168,6 +216,17 @@ class ComparisonResult:
 def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: str,
                all_words: tuple[str, ...] = ("all",)) -> list[str]:
     """Split a comma list and check every entry against ``allowed`` (``all`` → everything).
+
+    Parameters
+    ----------
+    value : str | Sequence[str] | None
+        Comma-separated text or a sequence of names; None: all.
+    allowed : Sequence[str]
+        The admissible names.
+    what : str
+        What the names are (``"record"``), for the error message.
+    all_words : tuple[str, ...], optional
+        Words that stand for every allowed name.
 
     Raises
     ------
@@ -389,6 +448,8 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     warn : bool
         Print each record's implausibility flaws (:mod:`records.plausibility`) and any chosen
         control step on stderr after the runs.
+    seed : int, optional
+        Seed of the measurement noise (and of synthetic records), so that runs are reproducible.
     """
     record_list = _parse_records(records, BENCHMARK_RECORDS)
     orientation_list = parse_list(_canonical_orientations(orientations), ORIENTATIONS, "orientations",

@@ -65,6 +65,15 @@ def _save(fig, path: Path) -> Path:
 
 
 def plot_J_by_record(result: Any, path: Path) -> Path:
+    """One panel per criterion J1–J9: its value for every record and orientation, bars by controller.
+
+    Parameters
+    ----------
+    result : ComparisonResult
+        The comparison's result.
+    path : Path
+        Image file to write (format from the suffix).
+    """
     plt = _pyplot()
     cases = result.cases
     labels = [f"{r}\n{o}" for r, o in cases]
@@ -94,6 +103,15 @@ def plot_J_by_record(result: Any, path: Path) -> Path:
 
 
 def plot_J_summary(result: Any, path: Path) -> Path:
+    """Every criterion by controller: mean over the records (bar) and maximum (tick).
+
+    Parameters
+    ----------
+    result : ComparisonResult
+        The comparison's result.
+    path : Path
+        Image file to write (format from the suffix).
+    """
     plt = _pyplot()
     summary = result.summary()
     names = list(summary)
@@ -126,6 +144,19 @@ def plot_J_summary(result: Any, path: Path) -> Path:
 
 
 def plot_histories(result: Any, record: str, orientation: str, path: Path) -> Path:
+    """Base displacement, total device force and mean voltage against time, one line per controller.
+
+    Parameters
+    ----------
+    result : ComparisonResult
+        The comparison's result (with down-sampled histories).
+    record : str
+        Record name.
+    orientation : str
+        ``FN-x`` or ``FP-x``.
+    path : Path
+        Image file to write (format from the suffix).
+    """
     plt = _pyplot()
     fig, axes = plt.subplots(3, 1, figsize=(12, 10), sharex=True)
     ref = result.reference_histories.get((record, orientation))
@@ -160,7 +191,18 @@ def plot_all(result: Any, directory: Path, part: tuple[int, int] = (0, 1)) -> li
     """All figures of the comparison into ``directory`` (created).
 
     ``part = (i, n)`` draws only the i-th of n interleaved shares of the figures (the summaries
-    belong to share 0), so that n processes can draw them side by side."""
+    belong to share 0), so that n processes can draw them side by side.
+
+    Parameters
+    ----------
+    result : Any
+        The comparison's result (:class:`benchmark.applications.comparison.ComparisonResult`).
+    directory : Path
+        Directory to draw into (created).
+    part : tuple[int, int], optional
+        ``(index, count)``: draw only this share of the per-record figures (for parallel drawing); ``(0, 1)``:
+        all.
+    """
     i, n = part
     directory.mkdir(parents=True, exist_ok=True)
     paths = [plot_J_by_record(result, directory / "J_by_record.png"),

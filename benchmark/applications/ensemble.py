@@ -111,6 +111,13 @@ def derive_seed(base_seed: int, key: str) -> int:
     Uses ``SeedSequence(base_seed, spawn_key=words)`` with ``words`` the first 16 bytes of
     SHA-256(``key``) as four 32-bit words: independent streams for different keys, the same
     seed for the same key on any machine and in any process.
+
+    Parameters
+    ----------
+    base_seed : int
+        The ensemble's seed.
+    key : str
+        Text naming the case (its key), so that each case has its own seed.
     """
     digest = hashlib.sha256(key.encode("utf-8")).digest()[:16]
     words = tuple(int.from_bytes(digest[i:i + 4], "little") for i in range(0, 16, 4))
@@ -271,6 +278,11 @@ class EnsembleConfig:
     def from_toml(cls, path: str | os.PathLike) -> "EnsembleConfig":
         """Read and validate a TOML ensemble description (see ``examples/ensemble.toml``).
 
+        Parameters
+        ----------
+        path : str | os.PathLike
+            TOML file.
+
         Raises
         ------
         DataNotFoundError
@@ -291,7 +303,17 @@ class EnsembleConfig:
 
     @classmethod
     def from_dict(cls, data: Mapping[str, Any], source: str = "<dict>", text: str = "") -> "EnsembleConfig":
-        """Validate a parsed TOML document; every error names ``source`` and the field."""
+        """Validate a parsed TOML document; every error names ``source`` and the field.
+
+        Parameters
+        ----------
+        data : Mapping[str, Any]
+            The parsed TOML document.
+        source : str, optional
+            Where it came from, for error messages (a file name).
+        text : str, optional
+            The TOML text, to quote lines in error messages; empty: none.
+        """
         orientations_allowed = _orientations()
         unknown = sorted(set(data) - _TOP_LEVEL_KEYS)
         if unknown:
@@ -461,6 +483,11 @@ def probe_case(case: Case) -> dict[str, Any]:
     ``probe.fail_above`` makes runs whose first draw exceeds it fail with a
     :class:`~benchmark.foundation.errors.NumericalError` (to test failure handling).
 
+    Parameters
+    ----------
+    case : Case
+        One case of the ensemble (:class:`benchmark.simulator.case.Case`).
+
     Returns
     -------
     dict
@@ -493,6 +520,11 @@ def simulate_case(case: Case) -> dict[str, Any]:
     when given; the controller is ``case.controller``; grid parameters override the building
     and controller settings (see :func:`benchmark.applications.ensemble_simulation.run_ensemble_case`).
 
+    Parameters
+    ----------
+    case : Case
+        One case of the ensemble (:class:`benchmark.simulator.case.Case`).
+
     Returns
     -------
     dict
@@ -504,6 +536,11 @@ def simulate_case(case: Case) -> dict[str, Any]:
 
 def simulate_peaks_case(case: Case) -> dict[str, Any]:
     """Run function ``"peaks"``: like :func:`simulate_case` without the uncontrolled run (no J's).
+
+    Parameters
+    ----------
+    case : Case
+        One case of the ensemble (:class:`benchmark.simulator.case.Case`).
 
     Returns
     -------
@@ -519,7 +556,29 @@ def simulate_peaks_case(case: Case) -> dict[str, Any]:
 # ---------------------------------------------------------------------------------------------
 @dataclass
 class EnsembleSummary:
-    """What :func:`run_ensemble` did."""
+    """What :func:`run_ensemble` did.
+
+    Parameters
+    ----------
+    path : Path
+        The ensemble's HDF5 file.
+    journal : Path
+        Its journal file (finished runs, for resuming).
+    n_cases : int
+        Number of cases.
+    n_resumed : int
+        Cases taken from the journal of an earlier, interrupted run.
+    n_run : int
+        Cases run now.
+    n_failed : int
+        Cases that failed (recorded with their error).
+    complete : bool
+        Whether every case has a result.
+    elapsed_s : float
+        Wall time [s].
+    workers : str
+        What ran the cases (e.g. ``"4 processes"``, a Dask scheduler address).
+    """
 
     path: Path
     journal: Path
@@ -532,13 +591,20 @@ class EnsembleSummary:
     workers: str
 
     def as_dict(self) -> dict[str, Any]:
+        """The summary as a JSON-ready dict (paths as strings)."""
         d = dataclasses.asdict(self)
         d["path"], d["journal"] = str(self.path), str(self.journal)
         return d
 
 
 def journal_path(out: str | os.PathLike) -> Path:
-    """The journal file of an ensemble whose HDF5 file is ``out`` (``<out>.journal``)."""
+    """The journal file of an ensemble whose HDF5 file is ``out`` (``<out>.journal``).
+
+    Parameters
+    ----------
+    out : str | os.PathLike
+        The ensemble's HDF5 file.
+    """
     out = Path(out)
     return out.with_name(out.name + ".journal")
 
@@ -854,6 +920,11 @@ class EnsembleResults:
         """Boolean mask of the cases whose case fields or parameters equal the given values.
 
         Example: ``res.mask(controller="clipped-optimal", status="ok")``.
+
+        Parameters
+        ----------
+        **criteria
+            Case fields or parameters and the values they must equal (e.g. ``record="kobe"``).
         """
         m = np.ones(self.n_cases, dtype=bool)
         for name, value in criteria.items():

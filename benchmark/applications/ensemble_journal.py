@@ -65,7 +65,13 @@ class JournalEntry:
 
 
 def encode_result(result: dict[str, Any]) -> dict[str, Any]:
-    """Encode a ``result`` dict (metric → number or array) for JSON so that decoding gives bit-identical values."""
+    """Encode a ``result`` dict (metric → number or array) for JSON so that decoding gives bit-identical values.
+
+    Parameters
+    ----------
+    result : dict[str, Any]
+        Metric name → number or array.
+    """
     encoded: dict[str, Any] = {}
     for name, value in result.items():
         if isinstance(value, np.ndarray) and value.ndim > 0:
@@ -82,7 +88,13 @@ def encode_result(result: dict[str, Any]) -> dict[str, Any]:
 
 
 def decode_result(encoded: dict[str, Any]) -> dict[str, Any]:
-    """Inverse of :func:`encode_result`: ``encoded`` (the JSON object of one run) → result dict."""
+    """Inverse of :func:`encode_result`: ``encoded`` (the JSON object of one run) → result dict.
+
+    Parameters
+    ----------
+    encoded : dict[str, Any]
+        The JSON object of one run (:func:`encode_result`).
+    """
     result: dict[str, Any] = {}
     for name, value in encoded.items():
         if isinstance(value, dict) and "__ndarray__" in value:
@@ -220,14 +232,26 @@ class Journal:
             os.close(fd)
 
     def append(self, entry: JournalEntry) -> None:
-        """Write one finished run and fsync it; it will not be redone after an interruption."""
+        """Write one finished run and fsync it; it will not be redone after an interruption.
+
+        Parameters
+        ----------
+        entry : JournalEntry
+            The finished run.
+        """
         self.open()
         self._write({"key": entry.key, "status": entry.status, "result": encode_result(entry.result),
                      "error": entry.error, "elapsed_s": float(entry.elapsed_s)})
         self.entries[entry.key] = entry
 
     def extend(self, entries: Iterable[JournalEntry]) -> None:
-        """Append several entries."""
+        """Append several entries.
+
+        Parameters
+        ----------
+        entries : Iterable[JournalEntry]
+            The finished runs.
+        """
         for entry in entries:
             self.append(entry)
 

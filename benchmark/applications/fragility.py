@@ -94,7 +94,13 @@ class LognormalFragility:
     message: str = ""
 
     def probability(self, pga: np.ndarray | float) -> np.ndarray:
-        """:math:`\\Phi(\\ln(a/\\theta)/\\beta)` at PGA ``a`` [m/s²]."""
+        """:math:`\\Phi(\\ln(a/\\theta)/\\beta)` at PGA ``a`` [m/s²].
+
+        Parameters
+        ----------
+        pga : np.ndarray | float
+            Peak ground acceleration a [m/s²].
+        """
         from scipy.special import ndtr
 
         a = np.asarray(pga, dtype=float)
@@ -204,6 +210,7 @@ class FragilityCurve:
     n_failed: np.ndarray | None = None
 
     def as_dict(self) -> dict[str, Any]:
+        """The curve as a JSON-ready dict: PGA levels [m/s², g], exceedance counts and the fit."""
         return {"controller": self.controller, "pga_m_s2": self.pga.tolist(),
                 "pga_g": (self.pga / STANDARD_GRAVITY).tolist(),
                 "n_exceed": self.n_exceed.tolist(), "n_total": self.n_total.tolist(),
@@ -386,6 +393,9 @@ def run_fragility(out: str | os.PathLike, limit: float = DEFAULT_LIMIT, metric: 
         Show a progress bar.
     config : EnsembleConfig, optional
         The ensemble; default :func:`fragility_config` with ``config_options``.
+    **config_options
+        Fields of the ensemble configuration (:class:`~benchmark.applications.ensemble.EnsembleConfig`) when
+        ``config`` is not given (e.g. ``records``, ``scales``, ``seed``).
 
     Returns
     -------

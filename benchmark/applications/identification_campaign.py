@@ -85,6 +85,19 @@ def random_motion(t: np.ndarray, rms: float, band: tuple[float, float], seed: in
     A sum of ``components`` sines with frequencies spread over ``band`` [Hz] (random within each
     sub-band), random phases and amplitudes falling as 1/f (so the velocity spectrum is flat),
     scaled to the displacement RMS ``rms`` [m] and started from rest by a one-second smooth ramp.
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s], increasing.
+    rms : float
+        RMS displacement [m].
+    band : tuple[float, float]
+        Frequency band ``(low, high)`` [Hz].
+    seed : int
+        Seed of the random generator (the same seed gives the same result).
+    components : int, optional
+        Number of sinusoids summed.
     """
     lo, hi = band
     if not (0 < lo < hi):
@@ -105,18 +118,52 @@ def random_motion(t: np.ndarray, rms: float, band: tuple[float, float], seed: in
 
 
 def staircase_voltage(t: np.ndarray, levels: Sequence[float], hold: float) -> np.ndarray:
-    """The voltage held at each of ``levels`` for ``hold`` seconds in turn (cycling)."""
+    """The voltage held at each of ``levels`` for ``hold`` seconds in turn (cycling).
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s], increasing.
+    levels : Sequence[float]
+        Voltages [V] in turn.
+    hold : float
+        Holding time [s] of each level.
+    """
     k = (np.floor(t / hold).astype(int)) % len(levels)
     return np.asarray(levels, dtype=float)[k]
 
 
 def square_voltage(t: np.ndarray, low: float, high: float, period: float) -> np.ndarray:
-    """A square wave between ``low`` and ``high`` [V] of ``period`` [s], starting low."""
+    """A square wave between ``low`` and ``high`` [V] of ``period`` [s], starting low.
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s], increasing.
+    low : float
+        Low voltage [V].
+    high : float
+        High voltage [V].
+    period : float
+        Period [s].
+    """
     return np.where(np.mod(t, period) < 0.5 * period, low, high)
 
 
 def random_voltage(t: np.ndarray, levels: Sequence[float], hold: tuple[float, float], seed: int) -> np.ndarray:
-    """The voltage jumping to a random level of ``levels`` after each random hold in ``hold`` [s]."""
+    """The voltage jumping to a random level of ``levels`` after each random hold in ``hold`` [s].
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s], increasing.
+    levels : Sequence[float]
+        Voltages [V] to choose from.
+    hold : tuple[float, float]
+        Shortest and longest holding time ``(min, max)`` [s].
+    seed : int
+        Seed of the random generator (the same seed gives the same result).
+    """
     rng = np.random.default_rng(seed)
     levels = np.asarray(levels, dtype=float)
     v = np.empty_like(t)

@@ -80,11 +80,18 @@ class CeilingEntry:
     note: str = ""
 
     def to_dict(self) -> dict:
+        """The entry as a JSON-ready dict (field names as keys, SI values)."""
         return asdict(self)
 
 
 def pick_damper(displacement: np.ndarray) -> int:
-    """The damper with the largest RMS displacement (columns of ``displacement``)."""
+    """The damper with the largest RMS displacement (columns of ``displacement``).
+
+    Parameters
+    ----------
+    displacement : np.ndarray
+        Displacement histories [m], one column per damper.
+    """
     x = np.asarray(displacement, dtype=float)
     if x.ndim != 2 or x.shape[1] == 0:
         raise InputError(f"displacement: expected (n_samples, n_devices), got shape {x.shape}")
@@ -173,7 +180,15 @@ def structural_ceiling(device, t: np.ndarray, displacement: np.ndarray, velocity
 def summarize_ceiling(entries: Sequence[CeilingEntry], pair: tuple[str, str] = ("normalized", "extended")
                       ) -> dict:
     """Per voltage: mean identified and best errors of each model, and the extended/normalized
-    ratios of both over the motions (mean and range)."""
+    ratios of both over the motions (mean and range).
+
+    Parameters
+    ----------
+    entries : Sequence[CeilingEntry]
+        The ceiling entries of all runs.
+    pair : tuple[str, str], optional
+        The two model keys compared (``(normalized, extended)``).
+    """
     nor, ext = pair
     out: dict = {}
     for v in sorted({e.voltage for e in entries}):

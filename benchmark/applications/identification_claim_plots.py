@@ -26,7 +26,13 @@ SEED_NAMES = {"FN-x": "FP-y", "FP-x": "FN-y"}
 
 
 def seed_orientation_label(orientation: str) -> str:
-    """``"FP-y (= FN-x)"`` for ``"FN-x"``: the seed's name with the package's in brackets."""
+    """``"FP-y (= FN-x)"`` for ``"FN-x"``: the seed's name with the package's in brackets.
+
+    Parameters
+    ----------
+    orientation : str
+        The package's orientation name (``FN-x`` or ``FP-x``).
+    """
     seed = SEED_NAMES.get(orientation)
     return orientation if seed is None else f"{seed} (= {orientation})"
 
@@ -72,7 +78,15 @@ def plot_seed_fig11(run, path, proposed: str = "proposed", original: str = "orig
 
 def plot_claim_ratios(summary: dict, path) -> Path:
     """Extended/normalized relative RMS error ratio per run, for each pair of ``summary``
-    (:func:`~benchmark.applications.identification_closed_loop.claim_summary`), with the targets 1 and 1/3."""
+    (:func:`~benchmark.applications.identification_closed_loop.claim_summary`), with the targets 1 and 1/3.
+
+    Parameters
+    ----------
+    summary : dict
+        Result of :func:`benchmark.applications.identification_closed_loop.claim_summary`.
+    path
+        Image file to write (format from the suffix).
+    """
     fig, ax = plt.subplots(figsize=(10, 4))
     colors = {"seed": "tab:gray", "closed_loop": "tab:red"}
     labels_done = None

@@ -233,6 +233,21 @@ def start_loops(device, executor=None, campaign=None, campaign_scale: float = 0.
 
     Returns the job description :func:`finish_loops` completes. Without an executor the loops
     run in :func:`finish_loops`.
+
+    Parameters
+    ----------
+    device
+        The virtual damper (model instance or name).
+    executor : concurrent.futures.Executor, optional
+        Process pool to run on (:func:`benchmark.foundation.pool.make_executor`); None: run inline.
+    campaign : Campaign, optional
+        The test campaign; None: the default campaign.
+    campaign_scale : float, optional
+        Scale of the campaign's amplitudes (1: as designed).
+    max_nfev : int, optional
+        Most function evaluations of each fit.
+    progress : Callable[[str], None] | None, optional
+        Called with one line of text per finished step; None: silent.
     """
 
     say = progress or (lambda msg: None)
@@ -254,7 +269,15 @@ _KINDS = ("extended", "normalized")
 
 def finish_loops(job: dict, executor=None) -> ClosedLoopResult:
     """Gather the loops of :func:`start_loops`, build the claim's normalized counterpart and the
-    building models (second half of :func:`close_the_loop`)."""
+    building models (second half of :func:`close_the_loop`).
+
+    Parameters
+    ----------
+    job : dict
+        What :func:`start_loops` returned.
+    executor : concurrent.futures.Executor, optional
+        The pool the loops were submitted to; None: they ran inline.
+    """
 
     say, campaign, timings = job["say"], job["campaign"], dict(job["timings"])
     if job["futures"] is None:
@@ -314,6 +337,11 @@ def claim_object(names: dict | None = None) -> dict:
     """The ``claim`` object of ``validation.json``: the model keys of the seed's comparison.
 
     ``{"original": ..., "proposed": ..., "closed_loop": {"normalized": ..., "extended": ...}}``.
+
+    Parameters
+    ----------
+    names : dict | None, optional
+        Model keys of the two models compared; None: the seed's.
     """
     names = names or {}
     return {"original": names.get("original", ORIGINAL), "proposed": names.get("proposed", PROPOSED),
@@ -327,6 +355,15 @@ def claim_summary(validation_json: dict, claim: dict, mean_target: float = 1.0 /
     For the seed's pair (``proposed``/``original``) and the closed loop's pair: the ratio of the
     relative RMS force errors on every run, its mean and maximum, whether it is below 1 on every
     run and at most ``mean_target`` on average.
+
+    Parameters
+    ----------
+    validation_json : dict
+        A validation document (``validation.json``) as a dict.
+    claim : dict
+        The claim object (:func:`claim_object`).
+    mean_target : float, optional
+        The mean ratio the seed claims.
     """
     errors = validation_json["errors"]
     out = {}

@@ -101,7 +101,15 @@ FIG6_PROTOCOL = TestProtocol(amplitude=0.03, frequency=1.0, cycles=10.0, sample_
 
 
 def write_parameters_csv(rows: Sequence[dict], path) -> Path:
-    """Write one row per (model, voltage) with parameters [SI], standard errors and fit errors."""
+    """Write one row per (model, voltage) with parameters [SI], standard errors and fit errors.
+
+    Parameters
+    ----------
+    rows : Sequence[dict]
+        One dict per (model, voltage): parameters [SI], standard errors, fit errors.
+    path
+        CSV file to write (replaced atomically).
+    """
     if not rows:
         raise ValueError("no rows")
     buf = io.StringIO()

@@ -64,6 +64,15 @@ def run_errors(measured: np.ndarray, predicted: np.ndarray, displacement: np.nda
     ``peak_error`` :math:`= \\max|F - \\hat F| / \\max|F|`; ``energy_error``
     :math:`= |\\sum_d \\hat E_d - \\sum_d E_d| / \\sum_d |E_d|` with :math:`E_d = \\int F_d\\,dx_d`
     the energy dissipated by damper :math:`d`.
+
+    Parameters
+    ----------
+    measured : np.ndarray
+        Measured (simulated) device forces [N], shape (n_samples, n_devices).
+    predicted : np.ndarray
+        Forces of the identified model [N], same shape.
+    displacement : np.ndarray
+        Device displacements [m], same shape.
     """
     f = np.asarray(measured, dtype=float)
     g = np.asarray(predicted, dtype=float)
@@ -90,6 +99,21 @@ def replay(model, t: np.ndarray, displacement: np.ndarray, velocity: np.ndarray,
     With ``tau > 0`` the commanded voltage first passes the identified field filter
     :math:`\\tau\\dot u = v - u` (:mod:`~damper.identification.voltage_lag`). ``model`` may be a
     registered damper model or an augmented model (:class:`damper.diagnosis.augmented.AugmentedModel`).
+
+    Parameters
+    ----------
+    model
+        The identified damper model.
+    t : np.ndarray
+        Sample times [s].
+    displacement : np.ndarray
+        Device displacements [m], same shape.
+    velocity : np.ndarray
+        Device velocities [m/s], shape (n_samples, n_devices).
+    voltage : np.ndarray
+        Commanded voltages [V], shape (n_samples, n_devices).
+    tau : float, optional
+        Time constant τ [s] of the field's first-order lag (0: none).
     """
     x = np.asarray(displacement, dtype=float)
     out = np.empty_like(x)
@@ -156,7 +180,17 @@ REGIMES = ("low", "high", "transition")
 def field_estimate(t: np.ndarray, voltage: np.ndarray, tau: float) -> np.ndarray:
     """The field the fluid sees, estimated from the commanded voltage [V]: each column through the
     identified first-order field filter :math:`\\tau\\dot u = v - u` (the commanded voltage
-    itself when ``tau`` is 0)."""
+    itself when ``tau`` is 0).
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s].
+    voltage : np.ndarray
+        Commanded voltages [V], shape (n_samples, n_devices).
+    tau : float
+        Time constant τ [s] of the field's first-order lag (0: none).
+    """
     v = np.asarray(voltage, dtype=float)
     if tau <= 0.0:
         return v.copy()
@@ -167,7 +201,17 @@ def field_estimate(t: np.ndarray, voltage: np.ndarray, tau: float) -> np.ndarray
 
 def regime_masks(field_: np.ndarray, voltage_range: tuple[float, float] = (0.0, 1.0),
                  margin: float = REGIME_MARGIN) -> dict[str, np.ndarray]:
-    """Boolean masks of the low-field, high-field and transition samples of ``field_``."""
+    """Boolean masks of the low-field, high-field and transition samples of ``field_``.
+
+    Parameters
+    ----------
+    field_ : np.ndarray
+        Estimated field (:func:`field_estimate`) [V].
+    voltage_range : tuple[float, float], optional
+        ``(min, max)`` voltages [V] of the device.
+    margin : float, optional
+        Fraction of the voltage range that counts as low or high field.
+    """
     lo, hi = voltage_range
     span = hi - lo
     low = field_ <= lo + margin * span
@@ -177,7 +221,17 @@ def regime_masks(field_: np.ndarray, voltage_range: tuple[float, float] = (0.0, 
 
 def regime_errors(measured: np.ndarray, predicted: np.ndarray, masks: dict[str, np.ndarray]) -> dict:
     """Relative RMS force error over each regime's samples, with the regime's share of the samples
-    and of the measured force's energy (so a reader sees which regime dominates the run's error)."""
+    and of the measured force's energy (so a reader sees which regime dominates the run's error).
+
+    Parameters
+    ----------
+    measured : np.ndarray
+        Measured (simulated) device forces [N], shape (n_samples, n_devices).
+    predicted : np.ndarray
+        Forces of the identified model [N], same shape.
+    masks : dict[str, np.ndarray]
+        Boolean masks by regime (:func:`regime_masks`).
+    """
     f = np.asarray(measured, dtype=float)
     g = np.asarray(predicted, dtype=float)
     total = float(np.sum(f ** 2))
@@ -193,7 +247,17 @@ def regime_errors(measured: np.ndarray, predicted: np.ndarray, masks: dict[str, 
 
 @dataclass
 class ValidationResult:
-    """All runs of :func:`validate_in_building`."""
+    """All runs of :func:`validate_in_building`.
+
+    Parameters
+    ----------
+    runs : list
+        The runs (:class:`MeasuredRun` with the replayed forces and errors).
+    controller : str
+        Controller of the runs.
+    models : tuple
+        Keys of the identified models compared.
+    """
 
     runs: list
     controller: str
@@ -291,6 +355,21 @@ def measure_run(building, record_name: str, orientation: str, controller: str = 
 
     Returns the dampers' recorded histories, the run's J1–J9 and a compact copy of the
     reference (see :class:`MeasuredRun`).
+
+    Parameters
+    ----------
+    building
+        The building with its dampers (the "true" devices).
+    record_name : str
+        Record name.
+    orientation : str
+        ``FN-x`` or ``FP-x``.
+    controller : str, optional
+        Controller name.
+    records_dir : str | None, optional
+        Directory of the record files; None: the default.
+    synthetic : bool, optional
+        Use a synthetic stand-in for the record.
     """
 
     record = resolve_record(record_name, orientation, records_dir=records_dir, synthetic=synthetic)

@@ -53,7 +53,13 @@ def linear_floor_steps(Phi, G0, G1, w, z_out):
 
 
 def linear_floor_inputs(ground_acceleration: np.ndarray) -> np.ndarray:
-    """Inputs ``(n, 5)`` of the floor loop: the ground acceleration ``(n, 2)`` [m/s²] and zero forces."""
+    """Inputs ``(n, 5)`` of the floor loop: the ground acceleration ``(n, 2)`` [m/s²] and zero forces.
+
+    Parameters
+    ----------
+    ground_acceleration : np.ndarray
+        Ground acceleration (x, y) [m/s²], shape (n, 2).
+    """
     ag = np.asarray(ground_acceleration, dtype=np.float64)
     w = np.zeros((ag.shape[0], 5))
     w[:, :ag.shape[1]] = ag

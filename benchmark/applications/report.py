@@ -295,7 +295,13 @@ def _records_section(root: Path) -> str:
 
 
 def build_report_html(results: str | Path) -> str:
-    """Return the HTML text of the report of the results directory ``results``."""
+    """Return the HTML text of the report of the results directory ``results``.
+
+    Parameters
+    ----------
+    results : str | Path
+        The results directory (of ``sbib study``).
+    """
     root = Path(results)
     summary = _read_json(root / "summary.json")
     steps = summary.get("steps", {}) if isinstance(summary, dict) else {}

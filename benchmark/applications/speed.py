@@ -92,7 +92,21 @@ _PACKAGES = ("benchmark", "damper", "controllers", "records")
 
 
 class Timing(NamedTuple):
-    """Result of :func:`time_call`: wall-clock and CPU times [s] of the repeats, and the last result."""
+    """Result of :func:`time_call`: wall-clock and CPU times [s] of the repeats, and the last result.
+
+    Parameters
+    ----------
+    best : float
+        Shortest wall-clock time [s].
+    times : list
+        Wall-clock time of each repeat [s].
+    result : Any
+        What the last call returned.
+    cpu_best : float
+        Shortest CPU time [s].
+    cpu_times : list
+        CPU time of each repeat [s].
+    """
 
     best: float
     times: list
@@ -107,6 +121,15 @@ def time_call(function: Callable[[], Any], repeat: int = 5, warmup: int = 1) -> 
     Returns a :class:`Timing` (unpacks as ``best, times, result, cpu_best, cpu_times``): the
     minimum and every wall-clock time, the last result, and the process CPU times (which other
     processes' load on a shared machine does not inflate).
+
+    Parameters
+    ----------
+    function : Callable[[], Any]
+        The call to time, without arguments.
+    repeat : int, optional
+        Number of timed calls.
+    warmup : int, optional
+        Untimed calls first (numba compilation, caches).
     """
     result = None
     for _ in range(warmup):
@@ -572,7 +595,10 @@ def bench_scaling(quick: bool = False, repeat: int = 3, jobs: int = 2) -> dict[s
     jobs : int
         Processes of the ensemble-size runs.
 
-    Returns a dict of tables: name → ``{"x": [...], "time_s": [...], "x_label": ..., "fit": ...}``.
+    Returns
+    -------
+    dict
+        Tables by name: ``{"x": [...], "time_s": [...], "x_label": ..., "fit": ...}``.
     """
     tables: dict[str, Any] = {}
 
@@ -635,7 +661,13 @@ def _fmt_s(value: float | None) -> str:
 
 
 def format_table(cases: Sequence[BenchCase]) -> str:
-    """Text table of ``cases``: case, project time, reference time, ratio, max relative difference, target, met."""
+    """Text table of ``cases``: case, project time, reference time, ratio, max relative difference, target, met.
+
+    Parameters
+    ----------
+    cases : Sequence[BenchCase]
+        The timed cases.
+    """
     head = (f"{'case':<17} {'project':>10} {'x floor':>8} {'reference':>10} {'ratio':>8} {'max rel diff':>12}  "
             f"{'target':<32} met")
     lines = [head, "-" * len(head)]
@@ -653,7 +685,15 @@ def format_table(cases: Sequence[BenchCase]) -> str:
 
 def plot_scaling(tables: dict[str, Any], path: str | os.PathLike) -> Path:
     """Plot the scaling ``tables`` (:func:`bench_scaling`): time versus size with the least-squares line,
-    one panel each, to the PNG file ``path`` (atomic)."""
+    one panel each, to the PNG file ``path`` (atomic).
+
+    Parameters
+    ----------
+    tables : dict[str, Any]
+        The tables of :func:`bench_scaling`.
+    path : str | os.PathLike
+        Image file to write (format from the suffix).
+    """
     import matplotlib
 
     matplotlib.use("Agg")

@@ -87,7 +87,15 @@ def _deferred_sigint() -> Iterator[Callable[[], bool]]:
 
 
 def atomic_write_text(destination: str | os.PathLike, text: str) -> Path:
-    """Write ``text`` to ``destination`` atomically and return the path."""
+    """Write ``text`` to ``destination`` atomically and return the path.
+
+    Parameters
+    ----------
+    destination : str | os.PathLike
+        File to write (replaced atomically).
+    text : str
+        The text (UTF-8).
+    """
     with atomic_path(destination) as tmp:
         tmp.write_text(text, encoding="utf-8")
     return Path(destination)

@@ -20,7 +20,15 @@ __all__ = ["Beside", "run_beside"]
 
 
 class Beside:
-    """Handle of a function running beside the caller (:func:`run_beside`)."""
+    """Handle of a function running beside the caller (:func:`run_beside`).
+
+    Parameters
+    ----------
+    fn : Callable[..., Any]
+        The function running in the child.
+    args : tuple
+        Its arguments.
+    """
 
     def __init__(self, fn: Callable[..., Any], args: tuple) -> None:
         self._value: Any = None
@@ -71,5 +79,13 @@ def _child(conn: Any, fn: Callable[..., Any], args: tuple) -> None:
 
 
 def run_beside(fn: Callable[..., Any], *args: Any) -> Beside:
-    """Start ``fn(*args)`` in a forked child and return its handle; ``.result()`` waits."""
+    """Start ``fn(*args)`` in a forked child and return its handle; ``.result()`` waits.
+
+    Parameters
+    ----------
+    fn : Callable[..., Any]
+        A function whose result can be pickled.
+    *args
+        Its positional arguments.
+    """
     return Beside(fn, args)

@@ -76,19 +76,39 @@ def _check(kind: str) -> None:
 
 
 def display_unit(kind: str) -> str:
-    """The unit a figure shows quantities of ``kind`` in (e.g. ``"kN"`` for ``"force"``)."""
+    """The unit a figure shows quantities of ``kind`` in (e.g. ``"kN"`` for ``"force"``).
+
+    Parameters
+    ----------
+    kind : str
+        Quantity kind (e.g. ``"force"``, ``"displacement"``, ``"acceleration"``).
+    """
     _check(kind)
     return DISPLAY_UNITS[kind][0]
 
 
 def si_unit(kind: str) -> str:
-    """The SI unit of ``kind`` (e.g. ``"N"`` for ``"force"``)."""
+    """The SI unit of ``kind`` (e.g. ``"N"`` for ``"force"``).
+
+    Parameters
+    ----------
+    kind : str
+        Quantity kind (e.g. ``"force"``, ``"displacement"``, ``"acceleration"``).
+    """
     _check(kind)
     return SI_UNITS[kind]
 
 
 def to_display(value: Any, kind: str) -> Any:
-    """``value`` (SI) converted to the display unit of ``kind`` (arrays stay arrays)."""
+    """``value`` (SI) converted to the display unit of ``kind`` (arrays stay arrays).
+
+    Parameters
+    ----------
+    value : Any
+        A number or array in SI units.
+    kind : str
+        Quantity kind (e.g. ``"force"``, ``"displacement"``, ``"acceleration"``).
+    """
     _check(kind)
     factor = DISPLAY_UNITS[kind][1]
     if np.ndim(value) == 0:
@@ -97,17 +117,41 @@ def to_display(value: Any, kind: str) -> Any:
 
 
 def axis_label(text: str, kind: str) -> str:
-    """``"text [unit]"`` with the display unit of ``kind``, e.g. ``"force [kN]"``."""
+    """``"text [unit]"`` with the display unit of ``kind``, e.g. ``"force [kN]"``.
+
+    Parameters
+    ----------
+    text : str
+        The axis text without the unit.
+    kind : str
+        Quantity kind (e.g. ``"force"``, ``"displacement"``, ``"acceleration"``).
+    """
     return f"{text} [{display_unit(kind)}]"
 
 
 def parameter_kind(name: str) -> str:
-    """The quantity kind of a model parameter (``"dimensionless"`` when unknown)."""
+    """The quantity kind of a model parameter (``"dimensionless"`` when unknown).
+
+    Parameters
+    ----------
+    name : str
+        A model parameter name (e.g. ``"kappa_x"``).
+    """
     return PARAMETER_KINDS.get(name, "dimensionless")
 
 
 def format_si(name: str, value: float, digits: int = 4) -> str:
-    """``"name = value unit"`` in SI for a model parameter, e.g. ``"kappa_x = 4.156e-10 N/m"``."""
+    """``"name = value unit"`` in SI for a model parameter, e.g. ``"kappa_x = 4.156e-10 N/m"``.
+
+    Parameters
+    ----------
+    name : str
+        A model parameter name (e.g. ``"kappa_x"``).
+    value : float
+        A number or array in SI units.
+    digits : int, optional
+        Significant digits.
+    """
     unit = si_unit(parameter_kind(name))
     text = f"{name} = {value:.{digits}g}"
     return text if unit == "-" else f"{text} {unit}"

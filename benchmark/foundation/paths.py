@@ -59,6 +59,12 @@ def records_dir(explicit: str | os.PathLike | None = None) -> Path:
 
     Order: ``explicit`` (``--records-dir``), ``SBIB_RECORDS_DIR``, ``<shared>/records/raw/FDZ``.
 
+    Parameters
+    ----------
+    explicit : str | os.PathLike | None, optional
+        A path given by the user (option or argument); None: the environment variable, then the default
+        location.
+
     Raises
     ------
     DataNotFoundError
@@ -81,6 +87,12 @@ def records_dir(explicit: str | os.PathLike | None = None) -> Path:
 
 def structure_file(explicit: str | os.PathLike | None = None) -> Path:
     """Return the path of ``benchmark/structure.json`` (the benchmark's mode data).
+
+    Parameters
+    ----------
+    explicit : str | os.PathLike | None, optional
+        A path given by the user (option or argument); None: the environment variable, then the default
+        location.
 
     Raises
     ------

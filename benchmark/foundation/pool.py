@@ -72,7 +72,15 @@ def _init_worker() -> None:
 
 
 def worker_count(jobs: int | None, n_tasks: int | None = None) -> int:
-    """Number of worker processes for ``jobs`` (``None`` or 0: all cores), at most ``n_tasks``."""
+    """Number of worker processes for ``jobs`` (``None`` or 0: all cores), at most ``n_tasks``.
+
+    Parameters
+    ----------
+    jobs : int | None
+        Requested workers; None or 0: all cores.
+    n_tasks : int | None, optional
+        Number of tasks; None: no cap.
+    """
     if jobs is not None and (not isinstance(jobs, int) or isinstance(jobs, bool) or jobs < 0):
         raise InputError(f"jobs: expected a whole number >= 0 (0 or None: all cores), got {jobs!r}")
     n = jobs or os.cpu_count() or 1
@@ -82,7 +90,13 @@ def worker_count(jobs: int | None, n_tasks: int | None = None) -> int:
 
 
 def make_executor(jobs: int | None) -> Executor | None:
-    """A process pool of :func:`worker_count` workers, or ``None`` when that is 1 (run inline)."""
+    """A process pool of :func:`worker_count` workers, or ``None`` when that is 1 (run inline).
+
+    Parameters
+    ----------
+    jobs : int | None
+        Requested workers; None or 0: all cores.
+    """
     n = worker_count(jobs)
     return None if n == 1 else _pool(n)
 
@@ -103,6 +117,17 @@ def run_tasks(fn: Callable, tasks: Sequence[tuple], executor: Executor | None = 
     """``[fn(*task) for task in tasks]``, on ``executor`` when given; results in task order.
 
     ``progress`` is called with each result as it is gathered (in task order).
+
+    Parameters
+    ----------
+    fn : Callable
+        A picklable function.
+    tasks : Sequence[tuple]
+        Argument tuples, one per call.
+    executor : Executor | None, optional
+        Process pool to run on (:func:`benchmark.foundation.pool.make_executor`); None: run inline.
+    progress : Callable[[Any], None] | None, optional
+        Called with each result as it arrives; None: silent.
     """
     out = []
     results: Iterable

@@ -20,7 +20,13 @@ __all__ = ["progress_bar", "progress_lines", "LineProgress", "is_terminal"]
 
 
 def is_terminal(stream: TextIO | None) -> bool:
-    """Whether ``stream`` is an interactive terminal (False for files, pipes and closed streams)."""
+    """Whether ``stream`` is an interactive terminal (False for files, pipes and closed streams).
+
+    Parameters
+    ----------
+    stream : TextIO | None
+        Stream to write to; None: standard error.
+    """
     try:
         return bool(stream is not None and stream.isatty())
     except (AttributeError, ValueError, OSError):
@@ -41,6 +47,19 @@ class LineProgress:
 
     Has the part of tqdm's interface the project uses (``update``, ``set_postfix_str``,
     ``write``, ``close``, use as a context manager), so callers do not care which they got.
+
+    Parameters
+    ----------
+    total : int | None
+        Number of steps expected; None: unknown.
+    desc : str, optional
+        Text at the start of each line.
+    unit : str, optional
+        Name of a step (``"step"``, ``"run"``).
+    initial : int, optional
+        Steps already done (a resumed run).
+    stream : TextIO | None, optional
+        Stream to write to; None: standard error.
     """
 
     def __init__(self, total: int | None, desc: str = "", unit: str = "step", initial: int = 0,
@@ -60,15 +79,35 @@ class LineProgress:
         return self._stream if self._stream is not None else sys.stderr
 
     def set_postfix_str(self, text: str = "", refresh: bool = True) -> None:  # noqa: ARG002 - tqdm's signature
-        """Text appended to the next line (what the step was)."""
+        """Text appended to the next line (what the step was).
+
+        Parameters
+        ----------
+        text : str, optional
+            Text to append.
+        refresh : bool, optional
+            Accepted for tqdm compatibility; the line is printed at the next update anyway.
+        """
         self._postfix = str(text)
 
     def write(self, message: str) -> None:
-        """A message line of its own."""
+        """A message line of its own.
+
+        Parameters
+        ----------
+        message : str
+            The line.
+        """
         print(message, file=self.stream, flush=True)
 
     def update(self, n: int = 1) -> None:
-        """Count ``n`` more steps and print one line."""
+        """Count ``n`` more steps and print one line.
+
+        Parameters
+        ----------
+        n : int, optional
+            Steps done since the last call.
+        """
         self.n += int(n)
         elapsed = time.monotonic() - self._start
         units = self.unit if self.unit.endswith("s") else self.unit + "s"
@@ -86,6 +125,7 @@ class LineProgress:
         self.write(line)
 
     def close(self) -> None:
+        """Stop printing (later updates are ignored)."""
         self._closed = True
 
     def __enter__(self) -> "LineProgress":
@@ -144,6 +184,13 @@ def progress_lines(prefix: str = "", stream: TextIO | None = None) -> Callable[[
 
     Each line starts with ``prefix`` and the time since the callable was made, e.g.
     ``diagnosis [12 s]: round 1: tried ...``.
+
+    Parameters
+    ----------
+    prefix : str, optional
+        Text put before each message.
+    stream : TextIO | None, optional
+        Stream to write to; None: standard error.
     """
     start = time.monotonic()
 

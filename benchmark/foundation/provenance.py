@@ -29,6 +29,11 @@ def provenance(**extra: object) -> dict[str, str]:
 
     Keys: ``package``, ``package_version``, ``git_commit``, ``created_utc``, ``python``,
     ``numpy``, ``scipy``, ``numba``, ``platform``, plus ``extra`` converted to ``str``.
+
+    Parameters
+    ----------
+    **extra
+        Further attributes (converted to strings).
     """
     import numba
     import numpy

@@ -1,9 +1,8 @@
 """One registration pattern: a name -> class table filled by a class decorator.
 
-Damper models (:data:`damper.models.base.MODELS`), controllers
-(:data:`controllers.registry.CONTROLLERS`), effects (:data:`damper.diagnosis.effects.EFFECTS`)
-and bearings (:data:`benchmark.simulator.isolation.registry.BEARINGS`) are each a
-:class:`Registry`; a new one is *one decorated class*::
+Damper models (:data:`damper.models.base.MODELS`) and controllers
+(:data:`controllers.base.CONTROLLERS`) are each a :class:`Registry`; a new one is *one decorated
+class*::
 
     @register_model
     @dataclass(frozen=True)

@@ -97,15 +97,35 @@ class Building:
         return replace(self, devices=None)
 
     def with_devices(self, devices: DeviceLayout | None) -> "Building":
+        """The same building with another device layout.
+
+        Parameters
+        ----------
+        devices : DeviceLayout or None
+            The devices (models, positions, directions); None: no devices.
+        """
         return replace(self, devices=devices)
 
     def with_isolation(self, isolation: IsolationLayer) -> "Building":
+        """The same building on another isolation layer.
+
+        Parameters
+        ----------
+        isolation : IsolationLayer or str or path-like
+            The layer, the name of a configuration, or a JSON file (:func:`get_isolation`).
+        """
         if isinstance(isolation, (str, os.PathLike)):
             isolation = get_isolation(str(isolation))
         return replace(self, isolation=isolation)
 
     def reduced(self, n_modes: int | None) -> "Building":
-        """The same building with a reduced (``n_modes``) or, for ``None``, full superstructure."""
+        """The same building with a reduced (``n_modes``) or, for ``None``, full superstructure.
+
+        Parameters
+        ----------
+        n_modes : int | None
+            Number of superstructure modes kept; None: the full superstructure.
+        """
         sup = self.superstructure.full() if n_modes is None else self.superstructure.reduced(n_modes)
         return replace(self, superstructure=sup)
 

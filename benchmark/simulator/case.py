@@ -187,6 +187,11 @@ class ReferenceCache:
 
     A building is keyed by identity and kept alive by the cache while its entry lives, so a
     caller that reuses one building (a comparison, an ensemble, a study) runs each reference once.
+
+    Parameters
+    ----------
+    size : int, optional
+        Number of runs kept (least recently used dropped).
     """
 
     def __init__(self, size: int = 8) -> None:
@@ -197,7 +202,19 @@ class ReferenceCache:
         """The run of ``building`` without devices under ``record`` (computed on a miss).
 
         Buildings that differ only in their devices share the entry (the reference has none),
-        and so do options that only concern sensors (``noise``, ``seed``)."""
+        and so do options that only concern sensors (``noise``, ``seed``).
+
+        Parameters
+        ----------
+        building : Building
+            The building (its devices are ignored).
+        record : Record
+            The ground motion.
+        control_step : float
+            Control step [s].
+        options : dict
+            Further simulation options that change the run.
+        """
         options = _reference_options(options)
         key = (id(building.superstructure), id(building.isolation), _record_key(record), float(control_step),
                _options_key(options))
@@ -226,7 +243,13 @@ REFERENCES = ReferenceCache()
 
 def resolve_case_record(case: Case) -> Record:
     """The case's record: given, or through :func:`records.resolve.resolve_record` (the one
-    resolver of a benchmark name or a file with an orientation)."""
+    resolver of a benchmark name or a file with an orientation).
+
+    Parameters
+    ----------
+    case : Case
+        The case.
+    """
     if isinstance(case.record, Record):
         return case.record
     if not isinstance(case.record, str) or not case.record:
@@ -245,7 +268,15 @@ def _case_building(case: Case, with_devices: bool) -> Building:
 
 def with_record_note(exc: NumericalError, implausible: list[str]) -> NumericalError:
     """``exc`` with the record's first implausibility flag appended (one line), or ``exc`` itself:
-    a run that blows up on a record read in the wrong units says so in its one error line."""
+    a run that blows up on a record read in the wrong units says so in its one error line.
+
+    Parameters
+    ----------
+    exc : NumericalError
+        The error of the run.
+    implausible : list[str]
+        The record's implausibility flags (:func:`records.plausibility.check_plausibility`).
+    """
     if not implausible:
         return exc
     extra = f" ({len(implausible) - 1} more)" if len(implausible) > 1 else ""

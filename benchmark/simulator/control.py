@@ -28,7 +28,21 @@ _DESIGN_MODELS: "weakref.WeakKeyDictionary[Building, BuildingDesignModel]" = wea
 
 @dataclass(eq=False)
 class BuildingDesignModel:
-    """A building as a model-based design sees it (:class:`controllers.base.DesignModel`)."""
+    """A building as a model-based design sees it (:class:`controllers.base.DesignModel`).
+
+    Parameters
+    ----------
+    building : Building
+        The building.
+    device_models : tuple
+        Damper model of every device, in device order.
+    device_positions : np.ndarray
+        Plan positions of the devices relative to the base centre of mass (n_dev, 2) [m].
+    device_directions : np.ndarray
+        Direction of each device (0 = x, 1 = y).
+    _plants : dict, optional
+        Cache of the linear plants by isolation linearisation (filled on use).
+    """
 
     building: Building = field(repr=False)
     device_models: tuple
@@ -37,7 +51,13 @@ class BuildingDesignModel:
     _plants: dict = field(default_factory=dict, repr=False)
 
     def linear_plant(self, isolation: str = "equivalent") -> LinearPlant:
-        """Continuous linear plant with linearised isolation (:func:`~.linear_model.linear_model`)."""
+        """Continuous linear plant with linearised isolation (:func:`~.linear_model.linear_model`).
+
+        Parameters
+        ----------
+        isolation : str, optional
+            Linearisation of the bearings: ``"equivalent"`` (harmonic, at 0.1 m and 3 s) or ``"linear-part"``.
+        """
         if isolation not in self._plants:
             model = linear_model(self.building, isolation=isolation)
             self._plants[isolation] = LinearPlant(A=model.A, B=model.B, E=model.E, C=model.C, D=model.D)
@@ -45,7 +65,13 @@ class BuildingDesignModel:
 
 
 def design_model(building: Building) -> BuildingDesignModel:
-    """The (cached) design model of ``building``; it needs a device layout."""
+    """The (cached) design model of ``building``; it needs a device layout.
+
+    Parameters
+    ----------
+    building : Building
+        The building (with a device layout).
+    """
     devices = building.devices
     if devices is None:
         raise InputError("the building has no device layout (building.devices); a controller needs "
@@ -68,7 +94,19 @@ def control_context(building: Building, control_step: float = 0.005,
                     slew_rate: float | np.ndarray = np.inf, info: dict | None = None) -> ControlContext:
     """The :class:`~controllers.base.ControlContext` of a run on ``building``: device count,
     control step [s], each damper model's largest voltage [V], the slew limit [V/s] and the
-    design model."""
+    design model.
+
+    Parameters
+    ----------
+    building : Building
+        The building (with a device layout).
+    control_step : float, optional
+        Control step [s].
+    slew_rate : float | np.ndarray, optional
+        Largest voltage rate [V/s] per device (a number for all); inf: none.
+    info : dict | None, optional
+        Extra information handed to the controller; None: none.
+    """
     dm = design_model(building)
     vmax = np.array([float(m.voltage_range[1]) for m in dm.device_models])
     return ControlContext(n_devices=len(dm.device_models), control_step=control_step, voltage_max=vmax,

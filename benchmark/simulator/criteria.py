@@ -30,7 +30,23 @@ RATIO_TO_UNCONTROLLED = "ratio to uncontrolled (1 = no change)"
 
 @dataclass(frozen=True)
 class Criterion:
-    """One evaluation criterion (see the module docstring)."""
+    """One evaluation criterion (see the module docstring).
+
+    Parameters
+    ----------
+    key : str
+        Criterion key (``"J1"`` … ``"J9"``).
+    name : str
+        Short name (e.g. ``"peak base shear"``).
+    formula : str
+        Its formula, as text.
+    normalised_by : str
+        What it is divided by (the uncontrolled run's peak, …).
+    source : str
+        Where it is defined (paper, section).
+    choice : str, optional
+        A choice this project made in computing it, if any.
+    """
 
     key: str
     name: str
@@ -77,18 +93,36 @@ J_NAMES: tuple[str, ...] = tuple(CRITERIA)
 
 
 def is_ratio(key: str) -> bool:
-    """Whether criterion ``key`` is a ratio to the uncontrolled run (1 = no change)."""
+    """Whether criterion ``key`` is a ratio to the uncontrolled run (1 = no change).
+
+    Parameters
+    ----------
+    key : str
+        Criterion key (``"J1"`` … ``"J9"``).
+    """
     return CRITERIA[key].normalised_by == "uncontrolled run"
 
 
 def axis_label(key: str) -> str:
-    """What the values of criterion ``key`` mean on a plot axis."""
+    """What the values of criterion ``key`` mean on a plot axis.
+
+    Parameters
+    ----------
+    key : str
+        Criterion key (``"J1"`` … ``"J9"``).
+    """
     c = CRITERIA[key]
     return RATIO_TO_UNCONTROLLED if is_ratio(key) else f"{c.name} [-]"
 
 
 def key_lines(formulas: bool = True) -> list[str]:
-    """The key as text lines, one per criterion (for tables and figure captions)."""
+    """The key as text lines, one per criterion (for tables and figure captions).
+
+    Parameters
+    ----------
+    formulas : bool, optional
+        Include each criterion's formula.
+    """
     lines = []
     for c in CRITERIA.values():
         norm = "ratio to uncontrolled" if is_ratio(c.key) else "controlled run only"
@@ -101,7 +135,13 @@ def key_lines(formulas: bool = True) -> list[str]:
 
 
 def key_text(formulas: bool = True) -> str:
-    """:func:`key_lines` joined by newlines."""
+    """:func:`key_lines` joined by newlines.
+
+    Parameters
+    ----------
+    formulas : bool, optional
+        Include each criterion's formula.
+    """
     return "\n".join(key_lines(formulas))
 
 

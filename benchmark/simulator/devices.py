@@ -163,7 +163,19 @@ class DeviceLayout:
     @classmethod
     def from_positions(cls, positions: Sequence[Sequence[float]], directions: Iterable[int | str],
                        model: DamperModel | str, name: str = "custom") -> "DeviceLayout":
-        """Build a layout of identical devices from positions (n, 2) [m] and directions (n,)."""
+        """Build a layout of identical devices from positions (n, 2) [m] and directions (n,).
+
+        Parameters
+        ----------
+        positions : Sequence[Sequence[float]]
+            Plan positions (n, 2) [m] relative to the base centre of mass.
+        directions : Iterable[int | str]
+            Direction of each device: 0/``"x"`` or 1/``"y"``.
+        model : DamperModel | str
+            A damper model instance, or a registered model name.
+        name : str, optional
+            Name of the layout.
+        """
         xy = np.asarray(positions, dtype=float)
         dirs = list(directions)
         if xy.ndim != 2 or xy.shape[1] != 2 or len(dirs) != len(xy):
@@ -173,12 +185,24 @@ class DeviceLayout:
                          for i, ((x, y), d) in enumerate(zip(xy, dirs))), name=name)
 
     def with_model(self, model: DamperModel | str) -> "DeviceLayout":
-        """The same slots with every device's model replaced by ``model``."""
+        """The same slots with every device's model replaced by ``model``.
+
+        Parameters
+        ----------
+        model : DamperModel | str
+            A damper model instance, or a registered model name.
+        """
         return DeviceLayout(tuple(DeviceSlot(s.x, s.y, s.direction, model, s.label) for s in self.slots),
                             name=self.name)
 
     def with_substep_tolerance(self, tolerance: float) -> "DeviceLayout":
-        """A copy whose models have ``substep_tolerance`` replaced (models without the field are kept)."""
+        """A copy whose models have ``substep_tolerance`` replaced (models without the field are kept).
+
+        Parameters
+        ----------
+        tolerance : float
+            The new ``substep_tolerance`` of the models (see each model).
+        """
         import dataclasses
 
         slots = []

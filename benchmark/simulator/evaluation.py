@@ -213,6 +213,11 @@ def plan_corners(plan_xy: np.ndarray) -> np.ndarray:
 
     For the benchmark's bearing positions these are the five outer corners of the L-shaped
     plan, (−17.25, 30.69), (−17.25, −47.79), (12.53, −47.79), (32.83, −11.16), (32.83, 30.69) m.
+
+    Parameters
+    ----------
+    plan_xy : np.ndarray
+        Plan points (n, 2) [m].
     """
     from scipy.spatial import ConvexHull
 

@@ -42,7 +42,23 @@ __all__ = ["Plant", "Bearings", "Devices", "Sensors", "Control", "Settings", "Ou
 
 
 class Plant(NamedTuple):
-    """Exact first-order-hold step of the linear part: ``z1 = Phi z0 + G0 w0 + G1 w1`` (SI)."""
+    """Exact first-order-hold step of the linear part: ``z1 = Phi z0 + G0 w0 + G1 w1`` (SI).
+
+    Parameters
+    ----------
+    dt : float
+        Record (structural) step [s].
+    nq : int
+        Number of superstructure coordinates.
+    Phi : np.ndarray
+        State transition matrix (nz, nz).
+    G0 : np.ndarray
+        Input matrix of the inputs at the step's start (nz, 5).
+    G1 : np.ndarray
+        Input matrix of the inputs at the step's end (nz, 5).
+    Gb : np.ndarray
+        Rows of ``G1`` for the base displacement and velocity, nonlinear-force columns (6, 3).
+    """
 
     dt: float
     nq: int
@@ -55,7 +71,21 @@ class Plant(NamedTuple):
 class Bearings(NamedTuple):
     """The isolation layer's bearings with a hysteretic force, packed
     (:meth:`benchmark.simulator.isolation.configurations.IsolationLayer.pack`). Linear bearings are left
-    out: their force is all in the plant's exact linear step."""
+    out: their force is all in the plant's exact linear step.
+
+    Parameters
+    ----------
+    index : np.ndarray
+        Position of each bearing in the layer (the output's bearing axis), int64 (nb,).
+    xy : np.ndarray
+        Plan positions (nb, 2) [m].
+    type_id : np.ndarray
+        Bearing type ids, int64 (nb,).
+    params : np.ndarray
+        Packed parameters (nb, MAX_PARAMS).
+    state : np.ndarray
+        States (nb, MAX_STATES), advanced in place.
+    """
 
     index: np.ndarray    # (nb,) int64: position of each in the layer (the output's bearing axis)
     xy: np.ndarray       # (nb, 2) [m]
@@ -65,7 +95,19 @@ class Bearings(NamedTuple):
 
 
 class Devices(NamedTuple):
-    """The devices, packed (:meth:`benchmark.simulator.devices.DeviceLayout.pack`)."""
+    """The devices, packed (:meth:`benchmark.simulator.devices.DeviceLayout.pack`).
+
+    Parameters
+    ----------
+    influence : np.ndarray
+        Stroke per base motion (x [m], y [m], θ [rad]) of each device (nd, 3).
+    model_id : np.ndarray
+        Model ids, int64 (nd,).
+    params : np.ndarray
+        Packed parameters (nd, n_params).
+    state : np.ndarray
+        States (nd, n_states), advanced in place.
+    """
 
     influence: np.ndarray  # (nd, 3): stroke per base (x [m], y [m], θ [rad])
     model_id: np.ndarray   # (nd,) int64
@@ -74,7 +116,23 @@ class Devices(NamedTuple):
 
 
 class Sensors(NamedTuple):
-    """What forms the measurement vector (:mod:`benchmark.simulator.sensors`)."""
+    """What forms the measurement vector (:mod:`benchmark.simulator.sensors`).
+
+    Parameters
+    ----------
+    C_acc : np.ndarray
+        Acceleration rows of the measurement on the state (n_acc, nz).
+    D_acc_g : np.ndarray
+        Acceleration rows on the generalised nonlinear forces (n_acc, 3).
+    D_acc_ag : np.ndarray
+        Acceleration rows on the ground acceleration (n_acc, 2).
+    noise : np.ndarray
+        Noise of every control step (n_control, n_meas), added before clipping (SI).
+    ranges : np.ndarray
+        Sensor ranges (n_meas,): measurements clipped to ±range.
+    layout : MeasurementLayout
+        The measurement vector's layout.
+    """
 
     C_acc: np.ndarray       # (n_acc, nz)
     D_acc_g: np.ndarray     # (n_acc, 3)
@@ -85,7 +143,37 @@ class Sensors(NamedTuple):
 
 
 class Control(NamedTuple):
-    """The controller seen by the kernel (:func:`controllers.compiled.controller_update`)."""
+    """The controller seen by the kernel (:func:`controllers.compiled.controller_update`).
+
+    Parameters
+    ----------
+    mode : int
+        0 no controller or voltages held, 1 compiled controller, 2 voltages set by the caller between calls.
+    ratio : int
+        Record steps per control step.
+    dt : float
+        Control step [s].
+    Ac : np.ndarray
+        Compiled controller's state matrix.
+    Bc : np.ndarray
+        Compiled controller's input matrix (measurements).
+    Cc : np.ndarray
+        Compiled controller's output matrix (desired forces).
+    Dc : np.ndarray
+        Compiled controller's feedthrough.
+    law_id : int
+        Voltage law id (:mod:`controllers.compiled`).
+    law_params : np.ndarray
+        Parameters of the voltage law (e.g. dead band [N]).
+    v_max : np.ndarray
+        Largest voltage per device [V].
+    slew_rate : np.ndarray
+        Largest voltage rate per device [V/s].
+    xc : np.ndarray
+        Controller state, updated in place.
+    voltage : np.ndarray
+        Commanded voltages [V], updated in place.
+    """
 
     mode: int               # 0 none/held, 1 compiled, 2 set by the caller between calls
     ratio: int              # record steps per control step
@@ -103,7 +191,23 @@ class Control(NamedTuple):
 
 
 class Settings(NamedTuple):
-    """Iteration and output settings of one run."""
+    """Iteration and output settings of one run.
+
+    Parameters
+    ----------
+    fp_tol : float
+        Tolerance of the fixed-point (or Newton) iteration of each step.
+    max_iter : int
+        Iteration cap per step.
+    blowup_limit : float
+        Base displacement [m] beyond which the run is stopped as diverged.
+    record_bearings : bool
+        Keep the per-bearing hysteretic forces.
+    record_states : bool
+        Keep the per-bearing hysteretic states.
+    newton : bool
+        Newton iteration on the base's 3 DOF (else plain fixed-point iteration).
+    """
 
     fp_tol: float
     max_iter: int
@@ -114,7 +218,31 @@ class Settings(NamedTuple):
 
 
 class Outputs(NamedTuple):
-    """Histories the kernel writes (time along axis 0, ``n`` record samples)."""
+    """Histories the kernel writes (time along axis 0, ``n`` record samples).
+
+    Parameters
+    ----------
+    z : np.ndarray
+        State history (n, nz).
+    gb : np.ndarray
+        Generalised hysteretic bearing force at the base centre of mass (n, 3) [N, N, N·m].
+    gd : np.ndarray
+        Generalised device force (n, 3) [N, N, N·m].
+    fb : np.ndarray
+        Hysteretic force of each bearing (n or 1, nb, 2) [N].
+    bstate : np.ndarray
+        Bearing states (n or 1, nb, n_states).
+    fd : np.ndarray
+        Device forces (n, nd) [N].
+    v : np.ndarray
+        Voltages (n, nd) [V].
+    meas : np.ndarray
+        Measurement vector at each control step (n_control, n_meas), SI.
+    desired : np.ndarray
+        Desired device forces at each control step (n_control, nd) [N].
+    iters : np.ndarray
+        Iterations per step, int64 (n,).
+    """
 
     z: np.ndarray         # (n, nz) state
     gb: np.ndarray        # (n, 3) generalised hysteretic bearing force at the base centre of mass
@@ -130,7 +258,29 @@ class Outputs(NamedTuple):
 
 def make_outputs(n: int, nz: int, nb: int, n_bstates: int, nd: int, n_control: int, n_meas: int,
                  record_bearings: bool, record_states: bool) -> Outputs:
-    """Zeroed output arrays (per-bearing histories of one sample only when not kept)."""
+    """Zeroed output arrays (per-bearing histories of one sample only when not kept).
+
+    Parameters
+    ----------
+    n : int
+        Number of record samples.
+    nz : int
+        State size.
+    nb : int
+        Number of bearings with a hysteretic force.
+    n_bstates : int
+        States per bearing.
+    nd : int
+        Number of devices.
+    n_control : int
+        Number of control steps.
+    n_meas : int
+        Length of the measurement vector.
+    record_bearings : bool
+        Keep the per-bearing forces at every sample.
+    record_states : bool
+        Keep the per-bearing states at every sample.
+    """
     return Outputs(z=np.zeros((n, nz)), gb=np.zeros((n, 3)), gd=np.zeros((n, 3)),
                    fb=np.zeros((n if record_bearings else 1, nb, 2)),
                    bstate=np.zeros((n if record_states else 1, nb, n_bstates)),

@@ -72,7 +72,15 @@ __all__ = ["LinearModel", "linear_model", "state_space_matrices", "equivalent_li
 
 
 def state_names(n_q: int, reduced: bool) -> list[str]:
-    """Names of the state vector entries ``[q, u_b, q̇, u̇_b]``."""
+    """Names of the state vector entries ``[q, u_b, q̇, u̇_b]``.
+
+    Parameters
+    ----------
+    n_q : int
+        Number of superstructure coordinates.
+    reduced : bool
+        Whether they are modal coordinates (reduced superstructure).
+    """
     if reduced:
         q = [f"q{i + 1}" for i in range(n_q)]
     else:
@@ -83,6 +91,15 @@ def state_names(n_q: int, reduced: bool) -> list[str]:
 
 def state_space_matrices(superstructure, Kb: np.ndarray, Cb: np.ndarray) -> dict[str, np.ndarray]:
     """First-order matrices of the building for base stiffness ``Kb`` and damping ``Cb`` (3×3).
+
+    Parameters
+    ----------
+    superstructure
+        The superstructure (:class:`benchmark.simulator.structure.Superstructure`).
+    Kb : np.ndarray
+        Base stiffness (3×3) [N/m, N·m/rad].
+    Cb : np.ndarray
+        Base damping (3×3) [N·s/m, N·m·s/rad].
 
     Returns
     -------
@@ -217,6 +234,11 @@ def _isolation_coefficients(isolation, method: str, amplitude: float, period: fl
 @dataclass(frozen=True, eq=False)
 class LinearModel:
     """Continuous state space :math:`\\dot z = A z + B F + E \\ddot u_g`, :math:`y = C z + D F + D_g \\ddot u_g`.
+
+    Parameters
+    ----------
+    settings : dict, optional
+        How the isolation was linearised (``isolation``, ``amplitude`` [m], ``period`` [s]).
 
     Attributes
     ----------

@@ -100,15 +100,17 @@ def group_force_and_rates(bearing: Any, u: np.ndarray, v: np.ndarray, z: np.ndar
 class OracleModel:
     """Right-hand side of the continuous equations for ``building`` under ``record``.
 
+    The state is ``[u_s (n_q), u_b (3), u̇_s (n_q), u̇_b (3), bearing states, device states]``
+    with the full superstructure (``n_q = 24``).
+
     Parameters
     ----------
     building : benchmark.simulator.building.Building
+        The building (a reduced superstructure is replaced by the full one).
     record : records.Record
+        The ground motion (linear between samples).
     voltage : float or array, optional
         Device voltages [V] (held until changed through :attr:`voltage`); ``None``: no devices.
-
-    The state is ``[u_s (n_q), u_b (3), u̇_s (n_q), u̇_b (3), bearing states, device states]``
-    with the full superstructure (``n_q = 24``).
     """
 
     def __init__(self, building: Any, record: Any, voltage: float | np.ndarray | None = None) -> None:
@@ -163,7 +165,13 @@ class OracleModel:
         return x
 
     def ground(self, t: float) -> np.ndarray:
-        """Ground acceleration (x, y) at time ``t`` (linear between samples) [m/s²]."""
+        """Ground acceleration (x, y) at time ``t`` (linear between samples) [m/s²].
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        """
         s = t / self.dt
         k = min(int(s), len(self.ag) - 2)
         a = s - k
@@ -174,7 +182,13 @@ class OracleModel:
         return x[:nq], x[nq:nq + 3], x[nq + 3:2 * nq + 3], x[2 * nq + 3:2 * nq + 6]
 
     def forces(self, x: np.ndarray):
-        """Bearing forces (n_b, 2), bearing-state rates, device forces and device-state rates."""
+        """Bearing forces (n_b, 2), bearing-state rates, device forces and device-state rates.
+
+        Parameters
+        ----------
+        x : np.ndarray
+            State vector.
+        """
         _, ub, _, vb = self._split(x)
         u = np.column_stack([ub[0] - self.xy[:, 1] * ub[2], ub[1] + self.xy[:, 0] * ub[2]])
         v = np.column_stack([vb[0] - self.xy[:, 1] * vb[2], vb[1] + self.xy[:, 0] * vb[2]])
@@ -204,7 +218,17 @@ class OracleModel:
                          (-self.xy[:, 1] * f[:, 0] + self.xy[:, 0] * f[:, 1]).sum()]) + self.G.T @ F
 
     def accelerations(self, t: float, x: np.ndarray, forces=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Relative accelerations of the base (3) and superstructure (n_q), and ground (3)."""
+        """Relative accelerations of the base (3) and superstructure (n_q), and ground (3).
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        x : np.ndarray
+            State vector.
+        forces : tuple, optional
+            The result of :meth:`forces` at ``x``; None: computed.
+        """
         us, _, vs, _ = self._split(x)
         f, _, F, _ = self.forces(x) if forces is None else forces
         fb = self._base_force(f, F)
@@ -226,6 +250,15 @@ class OracleModel:
 
         Absolute accelerations of the base (3) and floors 1..8 (24), base displacement (3),
         device displacements and forces (at the voltages held so far), clipped to ``sensor_range``.
+
+        Parameters
+        ----------
+        t : float
+            Time [s].
+        x : np.ndarray
+            State vector.
+        sensor_range : np.ndarray | None, optional
+            Sensor ranges to clip to; None: no clipping.
         """
         forces = self.forces(x)
         ab, as_, ag3 = self.accelerations(t, x, forces)
@@ -245,6 +278,21 @@ class OracleModel:
         system (fastest Park–Wen relaxation about 2·10³ s⁻¹, highest mode 133 rad/s) and is about
         fifty times faster than LSODA with its finite-difference Jacobian of ~240 states, with
         the same peaks to 1e-5.
+
+        Parameters
+        ----------
+        n_samples : int
+            Number of record samples to integrate over.
+        max_step : float | None, optional
+            Largest step of the integrator [s]; None: the record step.
+        rtol : float, optional
+            Relative tolerance of :func:`scipy.integrate.solve_ivp`.
+        t0 : float, optional
+            Start time [s].
+        x0 : np.ndarray | None, optional
+            Initial state; None: at rest.
+        method : str, optional
+            Integration method of :func:`scipy.integrate.solve_ivp`.
         """
         t_eval = t0 + np.arange(n_samples) * self.dt
         atol = np.full(self.n_states, 1e-9)
@@ -262,6 +310,13 @@ class OracleModel:
 
         ``voltages`` (n, n_devices): the voltage that acted over the step ending at each sample
         (default: the current :attr:`voltage` throughout).
+
+        Parameters
+        ----------
+        X : np.ndarray
+            States (n_samples, n_states) of :meth:`solve`.
+        voltages : np.ndarray | None, optional
+            Device voltages at each sample [V]; None: the current ones.
         """
         ub = X[:, self.nq:self.nq + 3]
         elastic = X[:, :self.nq] @ self.K.T + X[:, self.nq + 3:2 * self.nq + 3] @ self.C.T
@@ -284,7 +339,15 @@ class OracleModel:
 
 def oracle_peaks(out: dict[str, np.ndarray], storey_heights: np.ndarray) -> dict[str, float]:
     """Peaks of the reference's outputs ``out`` (:meth:`OracleModel.outputs`), named as in
-    :func:`kernel_peaks`; ``storey_heights`` (8,) [m] for the drift ratios."""
+    :func:`kernel_peaks`; ``storey_heights`` (8,) [m] for the drift ratios.
+
+    Parameters
+    ----------
+    out : dict[str, np.ndarray]
+        The reference's outputs.
+    storey_heights : np.ndarray
+        Storey heights [m], for the drift ratios.
+    """
     rel = np.concatenate([np.zeros((len(out["floor_displacement"]), 1, 3)),
                           out["floor_displacement"].reshape(-1, 8, 3)], axis=1)
     drift = (rel[:, 1:, :2] - rel[:, :-1, :2]) / np.asarray(storey_heights)[None, :, None]
@@ -308,6 +371,11 @@ def kernel_peaks(result: Any) -> dict[str, float]:
     ``floor_acceleration`` here is the superstructure's acceleration relative to the base frame
     :math:`-M^{-1}(K u_s + C \\dot u_s)` as the reference computes it (the kernel's absolute floor
     accelerations equal it: :math:`\\ddot u_s + R(\\ddot u_b + \\ddot u_g)`).
+
+    Parameters
+    ----------
+    result : Any
+        The kernel's result.
     """
     r = result
     peaks = {
@@ -326,7 +394,23 @@ def kernel_peaks(result: Any) -> dict[str, float]:
 
 @dataclass
 class OracleResult:
-    """A reference run: states, outputs and peaks (SI), voltages, wall time."""
+    """A reference run: states, outputs and peaks (SI), voltages, wall time.
+
+    Parameters
+    ----------
+    states : np.ndarray
+        States (n_samples, n_states).
+    outputs : dict
+        Output histories (:meth:`OracleModel.outputs`), SI.
+    peaks : dict
+        Peaks by name (SI).
+    voltage : np.ndarray
+        Device voltages [V].
+    elapsed_s : float
+        Wall time [s].
+    info : dict, optional
+        Settings of the run (method, tolerances, …).
+    """
 
     states: np.ndarray
     outputs: dict

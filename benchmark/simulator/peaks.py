@@ -107,6 +107,11 @@ def peaks_of(result: Any) -> Peaks:
     The resultant peaks are those of :func:`benchmark.simulator.evaluation.peaks` (the numerators of the
     J's), so ``peaks_of(r).base_displacement == evaluation.peaks(r)["peak_base_displacement"]``.
 
+    Parameters
+    ----------
+    result : Any
+        A simulation result, or a run holding one.
+
     Raises
     ------
     InputError

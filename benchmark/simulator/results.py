@@ -340,7 +340,13 @@ def read_result(path: str | os.PathLike, which: str = "run") -> StoredResult:
 
 
 def read_evaluation(path: str | os.PathLike) -> dict[str, float | None]:
-    """J1–J9 stored in the result file ``path`` (``None`` where undefined); empty if none were stored."""
+    """J1–J9 stored in the result file ``path`` (``None`` where undefined); empty if none were stored.
+
+    Parameters
+    ----------
+    path : str | os.PathLike
+        Result HDF5 file.
+    """
     with _open(path) as f:
         if "evaluation" not in f:
             return {}

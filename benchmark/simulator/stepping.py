@@ -103,6 +103,15 @@ _V_FLOOR = 1.0e-5   # m/s
 def discretize_foh(A: np.ndarray, B: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Exact discretisation of :math:`\\dot z = Az + Bw` with ``w`` linear over each step.
 
+    Parameters
+    ----------
+    A : np.ndarray
+        State matrix (n, n).
+    B : np.ndarray
+        Input matrix (n, m).
+    h : float
+        Step [s].
+
     Returns
     -------
     Phi, G0, G1 : arrays
@@ -129,6 +138,27 @@ def measure(nq, z, g, ag, fd, devices, sensors, noise_row, y):
     ``sensors`` the :class:`benchmark.simulator.kernel_args.Devices` and
     :class:`benchmark.simulator.kernel_args.Sensors` of the run (the sensors' ``layout`` places the
     blocks); ``noise_row`` the noise of this control step.
+
+    Parameters
+    ----------
+    nq
+        Number of superstructure coordinates.
+    z
+        State at the sample (n_z,).
+    g
+        Total generalised nonlinear force (3,) [N, N, N·m].
+    ag
+        Ground acceleration (2,) [m/s²].
+    fd
+        Device forces (n_dev,) [N].
+    devices
+        The run's devices (:class:`benchmark.simulator.kernel_args.Devices`).
+    sensors
+        The run's sensors (:class:`benchmark.simulator.kernel_args.Sensors`).
+    noise_row
+        Noise of this control step (n_meas,).
+    y
+        Array the measurement vector is written into.
     """
     nz = z.shape[0]
     lay = sensors.layout
@@ -166,6 +196,25 @@ def initial_forces(dt, bearings, devices, voltage, fb, fd, gb, gd):
 
     Evaluated by one zero-motion step on copies of the states (the states are not changed).
     ``bearings``, ``devices``: :class:`benchmark.simulator.kernel_args.Bearings`, ``Devices``.
+
+    Parameters
+    ----------
+    dt
+        Record step [s].
+    bearings
+        The run's bearings (:class:`benchmark.simulator.kernel_args.Bearings`).
+    devices
+        The run's devices (:class:`benchmark.simulator.kernel_args.Devices`).
+    voltage
+        Initial device voltages [V].
+    fb
+        Array (n_b, 2) the bearings' hysteretic forces [N] are written into.
+    fd
+        Array (n_dev,) the device forces [N] are written into.
+    gb
+        Array (3,) the generalised bearing force is written into.
+    gd
+        Array (3,) the generalised device force is written into.
     """
     out = np.zeros(2)
     gb[:] = 0.0
@@ -197,6 +246,21 @@ def total_bearing_forces(z, nq, b_xy, k_lin, c_lin, fb):
     :math:`u_i = (u_x - y_i\theta,\ u_y + x_i\theta)`; its total force is
     :math:`k_i u_i + c_i \dot u_i + f_{h,i}` [N] (``z`` the state history, base at ``nq:nq+3``
     and velocities at ``2nq+3+...``).
+
+    Parameters
+    ----------
+    z
+        State history (n, n_z) (or the state at one sample).
+    nq
+        Number of superstructure coordinates.
+    b_xy
+        Bearing plan positions (n_b, 2) [m].
+    k_lin
+        Linear stiffness of each bearing [N/m].
+    c_lin
+        Linear damping of each bearing [N·s/m].
+    fb
+        Hysteretic bearing forces (n, n_b, 2) [N], made total in place.
     """
     nv = nq + 3
     for k in range(z.shape[0]):
@@ -222,6 +286,33 @@ def energy_histories(z: np.ndarray, gb: np.ndarray, gd: np.ndarray, ag: np.ndarr
     Columns ``input, kinetic, strain, damping, hysteretic, device``; the powers at every sample
     are dense products over the whole history (one BLAS call each) and the integrals the
     trapezoid rule on consecutive samples, starting from zero at rest.
+
+    Parameters
+    ----------
+    z : np.ndarray
+        State history (n, n_z) (or the state at one sample).
+    gb : np.ndarray
+        Generalised hysteretic bearing force history (n, 3).
+    gd : np.ndarray
+        Generalised device force history (n, 3).
+    ag : np.ndarray
+        Ground acceleration history (n, 2) [m/s²].
+    dt : float
+        Record step [s].
+    nq : int
+        Number of superstructure coordinates.
+    Mg : np.ndarray
+        Mass matrix of the generalised velocities (kinetic energy).
+    Kq : np.ndarray
+        Superstructure stiffness (n_q, n_q).
+    Cq : np.ndarray
+        Superstructure damping (n_q, n_q).
+    Kb : np.ndarray
+        Linear base stiffness (3, 3).
+    Cb : np.ndarray
+        Linear base damping (3, 3).
+    momentum : np.ndarray
+        Rows (2, n_v) giving the x, y momentum from the velocities.
     """
     nv = nq + 3
     q = z[:, :nq]
@@ -313,6 +404,29 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
     for this chunk), ``settings`` and ``out`` (:class:`Outputs`). On entry ``out.z[k_start]``,
     ``out.gb[k_start]``, ``out.gd[k_start]``, ``out.fd[k_start]`` hold the state at
     ``k_start``.
+
+    Parameters
+    ----------
+    k_start
+        First record sample (its state is given in ``out``).
+    k_stop
+        Last record sample to reach.
+    plant
+        The exact linear step (:class:`benchmark.simulator.kernel_args.Plant`).
+    ag
+        Ground acceleration (n, 2) [m/s²].
+    bearings
+        The run's bearings (:class:`benchmark.simulator.kernel_args.Bearings`).
+    devices
+        The run's devices (:class:`benchmark.simulator.kernel_args.Devices`).
+    sensors
+        The run's sensors (:class:`benchmark.simulator.kernel_args.Sensors`).
+    control
+        The controller (:class:`benchmark.simulator.kernel_args.Control`), updated in place.
+    settings
+        Iteration and output settings (:class:`benchmark.simulator.kernel_args.Settings`).
+    out
+        The histories written (:class:`benchmark.simulator.kernel_args.Outputs`).
 
     Returns
     -------

@@ -104,6 +104,13 @@ def location_matrix(xy: np.ndarray, weights: np.ndarray | None = None) -> np.nda
 
     With unit weights this is the benchmark's location matrix (``STRUC.H``); with per-bearing
     stiffnesses as weights it is the base's stiffness matrix.
+
+    Parameters
+    ----------
+    xy : np.ndarray
+        Plan positions (n, 2) [m].
+    weights : np.ndarray | None, optional
+        Weight of each position; None: all 1.
     """
     T = transformation(xy)
     w = np.ones(len(T)) if weights is None else np.asarray(weights, dtype=float)
@@ -113,6 +120,13 @@ def location_matrix(xy: np.ndarray, weights: np.ndarray | None = None) -> np.nda
 @dataclass(frozen=True, eq=False)
 class Superstructure:
     """The benchmark's superstructure, base and bearing plan, in SI units.
+
+    Parameters
+    ----------
+    n_modes : int | None, optional
+        Number of modes kept when reduced (:meth:`reduced`); None: the full 24-DOF model.
+    _modes : tuple, optional
+        Cache of the undamped modes (filled on use).
 
     Attributes
     ----------
@@ -274,7 +288,13 @@ class Superstructure:
         return replace(self, basis=np.eye(self.n_dof), n_modes=None, _modes=self._modes)
 
     def floor_slice(self, floor: int) -> slice:
-        """Rows of floor ``floor`` (1..8) in the 24-DOF vectors."""
+        """Rows of floor ``floor`` (1..8) in the 24-DOF vectors.
+
+        Parameters
+        ----------
+        floor : int
+            Floor number, 1..8.
+        """
         if not 1 <= floor <= N_FLOORS:
             raise InputError(f"floor: expected 1..{N_FLOORS}, got {floor}")
         return slice(3 * (floor - 1), 3 * floor)

@@ -99,6 +99,15 @@ def make_base(kind: str, parameters: dict, voltage_range: tuple[float, float] = 
 
     Values may be numbers or :class:`~damper.models.voltage_laws.VoltageLaw` objects; extra keys
     (``kappa_x`` for the normalized model) are ignored.
+
+    Parameters
+    ----------
+    kind : str
+        ``"normalized"`` or ``"extended"``.
+    parameters : dict
+        Parameter values by name (SI): numbers or :class:`~damper.models.voltage_laws.VoltageLaw` objects.
+    voltage_range : tuple[float, float], optional
+        Admissible coil inputs ``(min, max)`` [V] (or [A]); the voltage laws are checked over it.
     """
     try:
         cls = BASE_MODELS[kind]
@@ -175,7 +184,13 @@ class AugmentedModel:
         return " + ".join((self.base_kind, *self.effect_names))
 
     def effect(self, name: str) -> Effect | None:
-        """The effect named ``name``, or ``None``."""
+        """The effect named ``name``, or ``None``.
+
+        Parameters
+        ----------
+        name : str
+            Effect name (:data:`damper.diagnosis.effects.EFFECTS`).
+        """
         get_effect(name)
         for e in self.effects:
             if e.name == name:
@@ -183,12 +198,24 @@ class AugmentedModel:
         return None
 
     def with_effect(self, effect: Effect) -> "AugmentedModel":
-        """A copy with ``effect`` added (replacing an effect of the same name)."""
+        """A copy with ``effect`` added (replacing an effect of the same name).
+
+        Parameters
+        ----------
+        effect : Effect
+            The effect to add.
+        """
         kept = tuple(e for e in self.effects if e.name != effect.name)
         return AugmentedModel(self.base, kept + (effect,))
 
     def with_base(self, base) -> "AugmentedModel":
-        """A copy with another base model."""
+        """A copy with another base model.
+
+        Parameters
+        ----------
+        base
+            The new base model (normalized or extended Bouc-Wen).
+        """
         return AugmentedModel(base, self.effects)
 
     def base_parameters(self) -> dict:
@@ -210,6 +237,12 @@ class AugmentedModel:
     # -- simulation ---------------------------------------------------------------------------
     def response(self, motion: Motion) -> AugmentedResponse:
         """Force history under the prescribed ``motion`` (base force, input and terms too).
+
+        Parameters
+        ----------
+        motion : Motion
+            The prescribed motion of one test (:class:`damper.diagnosis.effects.Motion`: time, displacement, velocity,
+            acceleration, coil input; SI).
 
         Raises
         ------
@@ -241,7 +274,14 @@ class AugmentedModel:
         return AugmentedResponse(force=force, base_force=base_force, model_input=u, terms=terms)
 
     def force(self, motion: Motion) -> np.ndarray:
-        """Total force [N] under ``motion``."""
+        """Total force [N] under ``motion``.
+
+        Parameters
+        ----------
+        motion : Motion
+            The prescribed motion of one test (:class:`damper.diagnosis.effects.Motion`: time, displacement, velocity,
+            acceleration, coil input; SI).
+        """
         return self.response(motion).force
 
     def simulate(self, t, x, xdot=None, xddot=None, v=0.0) -> AugmentedResponse:
@@ -366,7 +406,13 @@ class Parametrization:
         return sum(1 if p in self.shared else per for p in self.base_names)
 
     def vector(self, model: AugmentedModel) -> np.ndarray:
-        """The free parameters of ``model`` (same base kind and effect names as the template)."""
+        """The free parameters of ``model`` (same base kind and effect names as the template).
+
+        Parameters
+        ----------
+        model : AugmentedModel
+            An augmented model of the template's form.
+        """
         if model.base_kind != self.kind or tuple(type(e) for e in model.effects) != self.effect_classes:
             raise InputError(f"parametrization: model {model.name!r} does not match "
                              f"{self.template.name!r}")
@@ -391,6 +437,13 @@ class Parametrization:
         voltage laws over the whole voltage range: the bounds keep every node value in the
         admissible class, and a PCHIP law stays between its node values, so the check cannot fail
         there; it costs more than a simulation. Constant parameters are always checked.
+
+        Parameters
+        ----------
+        vector : np.ndarray
+            Free parameters, in the order of :meth:`vector`.
+        validate : bool, optional
+            Check the base model's voltage laws over the whole voltage range (False inside the optimiser).
         """
         vector = np.asarray(vector, dtype=float)
         if vector.shape != (self.size,):

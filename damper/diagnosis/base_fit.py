@@ -44,7 +44,15 @@ START_NFEV = 4
 
 
 def hat_weights(v: np.ndarray, nodes: np.ndarray | None) -> np.ndarray:
-    """Piecewise-linear interpolation weights :math:`\\varphi_j(v)`, shape (len(v), len(nodes))."""
+    """Piecewise-linear interpolation weights :math:`\\varphi_j(v)`, shape (len(v), len(nodes)).
+
+    Parameters
+    ----------
+    v : np.ndarray
+        Coil inputs [V].
+    nodes : np.ndarray | None
+        Increasing nodes [V]; None: one constant weight.
+    """
     v = np.asarray(v, dtype=float)
     if nodes is None:
         return np.ones((v.size, 1))
@@ -68,7 +76,13 @@ def _half_stroke(data: DiagnosisData) -> float:
 
 
 def shape_grid(data: DiagnosisData) -> list[tuple[float, float, float]]:
-    """The (rho, sigma, n) grid scanned for the start."""
+    """The (rho, sigma, n) grid scanned for the start.
+
+    Parameters
+    ----------
+    data : DiagnosisData
+        The prepared tests (:class:`damper.diagnosis.dataset.DiagnosisData`).
+    """
     x_ref = _half_stroke(data)
     return [(c / x_ref, s, n) for c, s, n in itertools.product(RHO_STROKE_GRID, SIGMA_GRID, N_GRID)]
 

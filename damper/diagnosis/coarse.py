@@ -88,6 +88,13 @@ def decimate(data: DiagnosisData, q: int) -> DiagnosisData:
     The motion signals (the acceleration already smoothed on the full rate), the forces and the
     training and held-out masks are sampled alike; the coil-input levels (hence the law nodes
     and the input range) stay those of ``data``. ``q = 1`` returns ``data`` itself.
+
+    Parameters
+    ----------
+    data : DiagnosisData
+        The prepared tests (:class:`damper.diagnosis.dataset.DiagnosisData`).
+    q : int
+        Keep one sample in ``q`` (≥ 1).
     """
     if q <= 1:
         return data

@@ -57,6 +57,15 @@ def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
     The window spans about 1/20 of the dominant period of the displacement (at least 5 samples),
     so the derivative follows the motion but not the noise. Non-uniform sampling falls back to
     :func:`numpy.gradient`.
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s].
+    velocity : np.ndarray
+        Velocity [m/s] at ``t``.
+    displacement : np.ndarray | None, optional
+        Displacement [m] at ``t``, to find the dominant period; None: from the velocity.
     """
     t = np.asarray(t, dtype=float)
     velocity = np.asarray(velocity, dtype=float)
@@ -80,6 +89,13 @@ def first_reversal(x: np.ndarray, hysteresis: float = 0.25) -> int:
 
     A reversal is confirmed once the displacement has come back by ``hysteresis`` times the
     stroke from its running extreme (a Schmitt trigger, insensitive to noise).
+
+    Parameters
+    ----------
+    x : np.ndarray
+        Displacement history [m].
+    hysteresis : float, optional
+        Fraction of the stroke the displacement must come back to confirm a reversal.
     """
     x = np.asarray(x, dtype=float)
     stroke = float(np.ptp(x))
@@ -108,6 +124,14 @@ def _input_of(test: DamperTest) -> tuple[str, np.ndarray]:
 @dataclass(frozen=True)
 class DiagnosisData:
     """Tests prepared for the loop (build with :meth:`from_tests`).
+
+    Parameters
+    ----------
+    source_levels : np.ndarray | None, optional
+        Coil-input levels of the full tests, kept by a decimated copy
+        (:func:`damper.diagnosis.coarse.decimate`); None: from ``motions``.
+    _source_nodes : np.ndarray | None, optional
+        Law nodes of the full tests, kept by a decimated copy; None: from ``motions``.
 
     Attributes
     ----------
@@ -253,7 +277,15 @@ class DiagnosisData:
         return lo, hi
 
     def concat(self, arrays: Sequence[np.ndarray], which: str = "heldout") -> np.ndarray:
-        """Concatenate per-test arrays over the ``which`` samples ("train", "heldout", "all")."""
+        """Concatenate per-test arrays over the ``which`` samples ("train", "heldout", "all").
+
+        Parameters
+        ----------
+        arrays : Sequence[np.ndarray]
+            One array per test, sample by sample.
+        which : str, optional
+            Samples to use: ``"train"``, ``"heldout"`` or ``"all"``.
+        """
         masks = self._masks(which)
         return np.concatenate([np.asarray(a)[k] for a, k in zip(arrays, masks)])
 
@@ -267,14 +299,26 @@ class DiagnosisData:
         raise InputError(f"which: expected 'train', 'heldout' or 'all', got {which!r}")
 
     def measured(self, which: str = "heldout") -> np.ndarray:
-        """Measured force [N] over the ``which`` samples."""
+        """Measured force [N] over the ``which`` samples.
+
+        Parameters
+        ----------
+        which : str, optional
+            Samples to use: ``"train"``, ``"heldout"`` or ``"all"``.
+        """
         return self.concat(self.forces, which)
 
     def signals(self, which: str = "heldout") -> dict[str, np.ndarray]:
         """The variables a residual is traced against, over the ``which`` samples (SI):
         displacement, velocity, acceleration, voltage (the coil input), voltage_rate, time (since
         the start of each test), and cycle (an integer label of each period of the dominant
-        frequency of each test, so that the time dependence is read cycle by cycle)."""
+        frequency of each test, so that the time dependence is read cycle by cycle).
+
+        Parameters
+        ----------
+        which : str, optional
+            Samples to use: ``"train"``, ``"heldout"`` or ``"all"``.
+        """
         rate = [np.gradient(m.v, m.t, edge_order=2) for m in self.motions]
         cycles = []
         for i, m in enumerate(self.motions):
@@ -291,6 +335,12 @@ class DiagnosisData:
         }
 
     def force_rms(self, which: str = "train") -> float:
-        """RMS of the measured force over the ``which`` samples [N]."""
+        """RMS of the measured force over the ``which`` samples [N].
+
+        Parameters
+        ----------
+        which : str, optional
+            Samples to use: ``"train"``, ``"heldout"`` or ``"all"``.
+        """
         f = self.measured(which)
         return float(np.sqrt(np.mean(f ** 2)))

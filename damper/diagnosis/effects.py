@@ -208,7 +208,13 @@ class Effect:
 
     @classmethod
     def from_value(cls, value: float) -> "Effect":
-        """The effect with parameter ``value`` (clipped into ``[lower, upper]``)."""
+        """The effect with parameter ``value`` (clipped into ``[lower, upper]``).
+
+        Parameters
+        ----------
+        value : float
+            Parameter value of the effect (SI), clipped into ``[lower, upper]``.
+        """
         return cls(float(min(max(float(value), cls.lower), cls.upper)))
 
     @classmethod
@@ -221,29 +227,73 @@ class Effect:
         """A typical parameter size for these data: the value whose term is about the force RMS.
 
         Used to scale the optimiser's variables and finite-difference steps.
+
+        Parameters
+        ----------
+        motions : 'list[Motion]'
+            The prescribed motions of the tests (:class:`damper.diagnosis.effects.Motion`).
+        force_rms : float
+            RMS of the measured force [N].
         """
         raise NotImplementedError
 
     @classmethod
     def not_identifiable(cls, motions: "list[Motion]") -> str | None:
-        """Why the effect cannot be seen in these data (``None`` when it can)."""
+        """Why the effect cannot be seen in these data (``None`` when it can).
+
+        Parameters
+        ----------
+        motions : 'list[Motion]'
+            The prescribed motions of the tests (:class:`damper.diagnosis.effects.Motion`).
+        """
         return None
 
     # -- the term ---------------------------------------------------------------------------
     def series_base(self, base):
-        """Series role: the model simulated in place of the base model ``base``."""
+        """Series role: the model simulated in place of the base model ``base``.
+
+        Parameters
+        ----------
+        base
+            The base model.
+        """
         raise NotImplementedError
 
     def transform_input(self, motion: Motion, v: np.ndarray) -> np.ndarray:
-        """Input role: the coil input the base model sees."""
+        """Input role: the coil input the base model sees.
+
+        Parameters
+        ----------
+        motion : Motion
+            The prescribed motion of one test (:class:`damper.diagnosis.effects.Motion`: time, displacement, velocity,
+            acceleration, coil input; SI).
+        v : np.ndarray
+            Coil input the test gives [V] (or [A]).
+        """
         raise NotImplementedError
 
     def factor(self, motion: Motion, base_force: np.ndarray) -> np.ndarray:
-        """Factor role: the multiplier of the base force."""
+        """Factor role: the multiplier of the base force.
+
+        Parameters
+        ----------
+        motion : Motion
+            The prescribed motion of one test (:class:`damper.diagnosis.effects.Motion`: time, displacement, velocity,
+            acceleration, coil input; SI).
+        base_force : np.ndarray
+            Force of the base model [N] under ``motion``.
+        """
         raise NotImplementedError
 
     def force(self, motion: Motion) -> np.ndarray:
-        """Additive role: the added force [N]."""
+        """Additive role: the added force [N].
+
+        Parameters
+        ----------
+        motion : Motion
+            The prescribed motion of one test (:class:`damper.diagnosis.effects.Motion`: time, displacement, velocity,
+            acceleration, coil input; SI).
+        """
         raise NotImplementedError
 
     def __str__(self) -> str:
@@ -573,7 +623,13 @@ class RollOff(Effect):
         return _zero_throughout(motions, "xdot", "velocity")
 
     def series_base(self, base):
-        """The model simulated in place of ``base``: ``base`` itself at ``velocity = 0``."""
+        """The model simulated in place of ``base``: ``base`` itself at ``velocity = 0``.
+
+        Parameters
+        ----------
+        base
+            The base model.
+        """
         if self.velocity == 0.0:
             return base
         return SeriesDashpotBoucWen.from_bouc_wen(base, self.velocity)
@@ -587,7 +643,13 @@ EFFECT_NAMES: tuple[str, ...] = tuple(EFFECTS)
 
 
 def get_effect(name: str) -> type[Effect]:
-    """The effect class named ``name`` (raises :class:`InputError` listing the library)."""
+    """The effect class named ``name`` (raises :class:`InputError` listing the library).
+
+    Parameters
+    ----------
+    name : str
+        Effect name (:data:`damper.diagnosis.effects.EFFECTS`).
+    """
     try:
         return EFFECTS[name]
     except KeyError:

@@ -56,6 +56,17 @@ def unexplained_structure(trace: ResidualTrace, force_rms: float,
     ``level`` is the RMS of the part of the residual the variable explains over ``force_rms``:
     :math:`\\sqrt{\\eta^2\\,\\mathrm{var}(r)}/F_{rms}`; for ``mean`` the constant part
     :math:`|\\bar r|/F_{rms}`.
+
+    Parameters
+    ----------
+    trace : ResidualTrace
+        The residual trace.
+    force_rms : float
+        RMS of the measured force [N].
+    min_share : float, optional
+        Smallest share of the residual variance that counts as structure.
+    min_level : float, optional
+        Smallest level (explained RMS over ``force_rms``) that counts.
     """
     if not force_rms > 0:
         raise InputError("unexplained_structure: force_rms must be > 0")
@@ -74,6 +85,11 @@ def unexplained_structure(trace: ResidualTrace, force_rms: float,
 @dataclass(frozen=True)
 class Diagnosis:
     """Result of :func:`diagnose`.
+
+    Parameters
+    ----------
+    settings : dict, optional
+        The loop's settings (hold-out, validation, minimum gain, trials, …), as written to the JSON report.
 
     Attributes
     ----------

@@ -70,7 +70,19 @@ def _forces(diagnosis):
 
 def plot_residual_trace(diagnosis, path, max_points: int = _MAX_POINTS, dpi: int = 90) -> Path:
     """Residual against each traced variable, before and after (held-out samples; at most
-    ``max_points`` random samples are drawn as dots, the binned means use all)."""
+    ``max_points`` random samples are drawn as dots, the binned means use all).
+
+    Parameters
+    ----------
+    diagnosis
+        Result of :func:`damper.diagnosis.loop.diagnose`.
+    path
+        Image file to write (format from the suffix).
+    max_points : int, optional
+        At most this many random samples are drawn as dots.
+    dpi : int, optional
+        Resolution of the image [dots per inch].
+    """
     plt = _pyplot()
     data = diagnosis.data
     before, after = _forces(diagnosis)
@@ -126,7 +138,17 @@ def _grid(n: int):
 
 
 def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
-    """Measured force and both models over the held-out part of each test."""
+    """Measured force and both models over the held-out part of each test.
+
+    Parameters
+    ----------
+    diagnosis
+        Result of :func:`damper.diagnosis.loop.diagnose`.
+    path
+        Image file to write (format from the suffix).
+    max_tests : int, optional
+        At most this many tests are drawn (the first ones).
+    """
     plt = _pyplot()
     data = diagnosis.data
     before, after = _forces(diagnosis)
@@ -154,7 +176,19 @@ def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
 
 
 def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
-    """Force-displacement and force-velocity loops of each test (held-out part)."""
+    """Force-displacement and force-velocity loops of each test (held-out part).
+
+    Parameters
+    ----------
+    diagnosis
+        Result of :func:`damper.diagnosis.loop.diagnose`.
+    path
+        Image file to write (format from the suffix).
+    max_tests : int, optional
+        At most this many tests are drawn (the first ones).
+    dpi : int, optional
+        Resolution of the image [dots per inch].
+    """
     plt = _pyplot()
     data = diagnosis.data
     before, after = _forces(diagnosis)
@@ -183,7 +217,15 @@ def _fmt_params(params: dict) -> str:
 
 
 def report_markdown(diagnosis, plots: dict | None = None) -> str:
-    """The Markdown text of the report."""
+    """The Markdown text of the report.
+
+    Parameters
+    ----------
+    diagnosis
+        Result of :func:`damper.diagnosis.loop.diagnose`.
+    plots : dict | None, optional
+        Plot paths by kind to link (:func:`write_report`); None: no plots.
+    """
     d = diagnosis
     data = d.data
     unit = data.input_unit
@@ -262,7 +304,15 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
 
 
 def write_report(diagnosis, out_dir) -> dict[str, Path]:
-    """Write the report, plots and JSON into ``out_dir`` (created); return the paths by kind."""
+    """Write the report, plots and JSON into ``out_dir`` (created); return the paths by kind.
+
+    Parameters
+    ----------
+    diagnosis
+        Result of :func:`damper.diagnosis.loop.diagnose`.
+    out_dir
+        Directory to write into (created).
+    """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     plots = {"residual trace": plot_residual_trace(diagnosis, out / "residual_trace.png"),

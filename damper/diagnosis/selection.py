@@ -95,6 +95,17 @@ def effects_for_trace(shares: dict, mean_share: float, names, min_share: float =
     (:attr:`damper.diagnosis.effects.Effect.traces`: displacement, velocity, acceleration, voltage,
     voltage_rate, time, sign, loop, mean); a variable holding at least ``min_share`` of the
     residual's variance names every effect that depends on it.
+
+    Parameters
+    ----------
+    shares : dict
+        Share of the residual variance per trace variable.
+    mean_share : float
+        Share of the constant part of the residual.
+    names
+        Effect names considered.
+    min_share : float, optional
+        Smallest share of a variable that names its effects.
     """
     held = {k for k, v in shares.items() if v >= min_share}
     if mean_share >= min_share:
@@ -108,7 +119,15 @@ def effects_for_trace(shares: dict, mean_share: float, names, min_share: float =
 
 
 def relative_rms_error(measured: np.ndarray, predicted: np.ndarray) -> float:
-    """:math:`\\|F - \\hat F\\|_2/\\|F\\|_2`."""
+    """:math:`\\|F - \\hat F\\|_2/\\|F\\|_2`.
+
+    Parameters
+    ----------
+    measured : np.ndarray
+        Measured force [N].
+    predicted : np.ndarray
+        Model force [N] at the same samples.
+    """
     measured = np.asarray(measured, dtype=float)
     norm = float(np.linalg.norm(measured))
     if not norm > 0:
@@ -117,7 +136,19 @@ def relative_rms_error(measured: np.ndarray, predicted: np.ndarray) -> float:
 
 
 def heldout_bic(rss: float, n_samples: int, n_effective: float, n_parameters: int) -> float:
-    """:math:`N_\\text{eff}\\ln(\\mathrm{RSS}/N) + k\\ln N_\\text{eff}` (see the module docstring)."""
+    """:math:`N_\\text{eff}\\ln(\\mathrm{RSS}/N) + k\\ln N_\\text{eff}` (see the module docstring).
+
+    Parameters
+    ----------
+    rss : float
+        Residual sum of squares [N²].
+    n_samples : int
+        Number of samples N.
+    n_effective : float
+        Effective number of independent samples (:func:`damper.diagnosis.trace.effective_sample_size`).
+    n_parameters : int
+        Number of free parameters k.
+    """
     if not (rss > 0 and n_samples > 0 and n_effective >= 1):
         raise InputError(f"heldout_bic: expected rss > 0, n > 0, n_eff >= 1; got {rss}, "
                          f"{n_samples}, {n_effective}")
@@ -125,7 +156,19 @@ def heldout_bic(rss: float, n_samples: int, n_effective: float, n_parameters: in
 
 
 def bic_delta(rss_old: float, rss_new: float, n_effective: float, added_parameters: int) -> float:
-    """Change of :func:`heldout_bic` when ``added_parameters`` bring the RSS from old to new."""
+    """Change of :func:`heldout_bic` when ``added_parameters`` bring the RSS from old to new.
+
+    Parameters
+    ----------
+    rss_old : float
+        Residual sum of squares before [N²].
+    rss_new : float
+        Residual sum of squares after [N²].
+    n_effective : float
+        Effective number of independent samples (:func:`damper.diagnosis.trace.effective_sample_size`).
+    added_parameters : int
+        Number of parameters added.
+    """
     if not (rss_old > 0 and rss_new > 0):
         return -math.inf if rss_new <= 0 < rss_old else math.inf
     return float(n_effective * math.log(rss_new / rss_old) + added_parameters * math.log(n_effective))
@@ -134,7 +177,19 @@ def bic_delta(rss_old: float, rss_new: float, n_effective: float, added_paramete
 @dataclass(frozen=True)
 class ScreenScore:
     """Screening of one candidate: ``score`` (share of the training RSS it can remove to first
-    order), ``estimate`` (its parameter at that first order), ``reason`` when it scores 0."""
+    order), ``estimate`` (its parameter at that first order), ``reason`` when it scores 0.
+
+    Parameters
+    ----------
+    name : str
+        Effect name (:data:`damper.diagnosis.effects.EFFECTS`).
+    score : float
+        Share of the training RSS the candidate can remove, to first order.
+    estimate : float
+        Its parameter at that first order (SI).
+    reason : str, optional
+        Why it scores 0, when it does.
+    """
 
     name: str
     score: float
@@ -200,7 +255,20 @@ def _train_forces(model: AugmentedModel, data: DiagnosisData) -> np.ndarray:
 
 def model_jacobian(model: AugmentedModel, data: DiagnosisData, nodes=None,
                    relative_step: float = 1e-4) -> np.ndarray:
-    """Forward-difference sensitivities of the training force to every free parameter, (N, p)."""
+    """Forward-difference sensitivities of the training force to every free parameter, (N, p).
+
+    Parameters
+    ----------
+    model : AugmentedModel
+        The current (augmented) model.
+    data : DiagnosisData
+        The prepared tests (:class:`damper.diagnosis.dataset.DiagnosisData`).
+    nodes : ndarray, optional
+        Coil-input nodes [V] of the piecewise-linear voltage laws (:meth:`DiagnosisData.nodes`); None:
+        parameters constant.
+    relative_step : float, optional
+        Forward-difference step relative to each parameter's size.
+    """
     par = Parametrization(model, nodes=nodes)
     p0 = par.vector(model)
     f0 = _train_forces(model, data)
@@ -221,7 +289,18 @@ def with_candidate(model: AugmentedModel, effect: Effect, nodes=None) -> Augment
     """``model`` with ``effect`` added; for a ``series`` effect (``roll_off``) on a base whose
     shape parameters vary with the coil input, those are first replaced by their mean over the
     ``nodes`` (the series model needs them independent of the input, see
-    :class:`~damper.diagnosis.augmented.Parametrization`), so that the effect can be tried at all."""
+    :class:`~damper.diagnosis.augmented.Parametrization`), so that the effect can be tried at all.
+
+    Parameters
+    ----------
+    model : AugmentedModel
+        The current (augmented) model.
+    effect : Effect
+        The candidate effect.
+    nodes : ndarray, optional
+        Coil-input nodes [V] of the piecewise-linear voltage laws (:meth:`DiagnosisData.nodes`); None:
+        parameters constant.
+    """
     trial = model.with_effect(effect)
     if effect.role != "series" or nodes is None:
         return trial
@@ -235,6 +314,20 @@ def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Seque
 
     Returns a dict of :class:`ScreenScore`; a candidate that cannot be seen in these data
     (e.g. ``voltage_lag`` at constant voltage) scores 0 with the reason.
+
+    Parameters
+    ----------
+    model : AugmentedModel
+        The current (augmented) model.
+    data : DiagnosisData
+        The prepared tests (:class:`damper.diagnosis.dataset.DiagnosisData`).
+    candidates : Sequence[str]
+        Names of the effects to screen.
+    scales : dict
+        Typical parameter size of each candidate (:meth:`damper.diagnosis.effects.Effect.scale`).
+    nodes : ndarray, optional
+        Coil-input nodes [V] of the piecewise-linear voltage laws (:meth:`DiagnosisData.nodes`); None:
+        parameters constant.
     """
     f0 = _train_forces(model, data)
     residual = data.measured("train") - f0
@@ -266,7 +359,25 @@ def screen_effects(model: AugmentedModel, data: DiagnosisData, candidates: Seque
 
 @dataclass(frozen=True)
 class Trial:
-    """One candidate refitted in a round: its held-out error and BIC change."""
+    """One candidate refitted in a round: its held-out error and BIC change.
+
+    Parameters
+    ----------
+    name : str
+        Effect name (:data:`damper.diagnosis.effects.EFFECTS`).
+    score : float
+        Screening score of the candidate.
+    error : float
+        Held-out relative RMS force error after the refit.
+    bic_delta : float
+        Change of the held-out BIC (negative: better).
+    parameters : dict
+        Fitted parameter values of the effect, by name (SI).
+    accepted : bool, optional
+        Whether the effect was added.
+    note : str, optional
+        Why it was refused or failed, when it was.
+    """
 
     name: str
     score: float
@@ -279,7 +390,26 @@ class Trial:
 
 @dataclass(frozen=True)
 class Step:
-    """One effect added: the model after it and the held-out errors around it."""
+    """One effect added: the model after it and the held-out errors around it.
+
+    Parameters
+    ----------
+    name : str
+        Effect name (:data:`damper.diagnosis.effects.EFFECTS`).
+    parameters : dict
+        Fitted parameter values of the effect, by name (SI).
+    error_before : float
+        Held-out relative RMS force error before the step.
+    error_after : float
+        Held-out relative RMS force error after the step.
+    bic_delta : float
+        Change of the held-out BIC (negative: better).
+    effective_samples : float
+        Effective number of independent held-out samples
+        (:func:`damper.diagnosis.trace.effective_sample_size`).
+    model : AugmentedModel
+        The model after the step.
+    """
 
     name: str
     parameters: dict
@@ -292,7 +422,17 @@ class Step:
 
 @dataclass(frozen=True)
 class SelectionResult:
-    """Outcome of :func:`select_effects`: the steps taken, the rounds' trials and screens."""
+    """Outcome of :func:`select_effects`: the steps taken, the rounds' trials and screens.
+
+    Parameters
+    ----------
+    model : AugmentedModel
+        The final model.
+    steps : tuple
+        The :class:`Step` of each effect added, in order.
+    rounds : tuple
+        Each round's trials and screens.
+    """
 
     model: AugmentedModel
     steps: tuple

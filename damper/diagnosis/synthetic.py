@@ -54,7 +54,15 @@ def _play(x, gap, out, contact):
 
 
 def play_operator(x: np.ndarray, gap: float) -> tuple[np.ndarray, np.ndarray]:
-    """Play (backlash) operator of half-width ``gap`` [m]: the output and the contact flags."""
+    """Play (backlash) operator of half-width ``gap`` [m]: the output and the contact flags.
+
+    Parameters
+    ----------
+    x : np.ndarray
+        Input displacement history [m].
+    gap : float
+        Half-width of the play [m].
+    """
     x = np.ascontiguousarray(x, dtype=np.float64)
     if not (math.isfinite(gap) and gap >= 0):
         raise ParameterError(f"play gap: expected a finite value >= 0 m, got {gap!r}")
@@ -80,7 +88,21 @@ class PlayDevice:
     gap: float
 
     def simulate(self, t, x, xdot, xddot, v=0.0) -> AugmentedResponse:
-        """Force history [N]: the inner damper driven by the play output, zero out of contact."""
+        """Force history [N]: the inner damper driven by the play output, zero out of contact.
+
+        Parameters
+        ----------
+        t
+            Sample times [s], increasing.
+        x
+            Displacement [m].
+        xdot
+            Velocity [m/s].
+        xddot
+            Acceleration [m/s²].
+        v : float or ndarray, optional
+            Coil input [V], a number or a history at ``t``.
+        """
         xp, contact = play_operator(np.asarray(x, dtype=float), self.gap)
         t = np.asarray(t, dtype=float)
         xpd = np.gradient(xp, t, edge_order=2)
@@ -112,7 +134,21 @@ class HeatedDevice:
     conductance: float
 
     def simulate(self, t, x, xdot, xddot, v=0.0) -> AugmentedResponse:
-        """Force history [N] with the temperature integrated alongside (semi-implicit Euler)."""
+        """Force history [N] with the temperature integrated alongside (semi-implicit Euler).
+
+        Parameters
+        ----------
+        t
+            Sample times [s], increasing.
+        x
+            Displacement [m].
+        xdot
+            Velocity [m/s].
+        xddot
+            Acceleration [m/s²].
+        v : float or ndarray, optional
+            Coil input [V], a number or a history at ``t``.
+        """
         t = np.asarray(t, dtype=float)
         r = self.inner.response(Motion(t, x, xdot, xddot, v))
         f0 = r.force
@@ -193,7 +229,30 @@ def step_voltage_tests(device, amplitude: float = 0.01, frequency: float = 1.0,
                        cycles: float = 6.0, samples_per_cycle: int = 400, noise: float = 0.01,
                        seed: int = 0) -> list[DamperTest]:
     """A sinusoid with the voltage switched between ``levels`` every ``switch_period`` [s]
-    (one test; the steps make a voltage lag visible)."""
+    (one test; the steps make a voltage lag visible).
+
+    Parameters
+    ----------
+    device
+        The damper tested: a model instance, or the name of a parameterless model
+        (:func:`damper.lab.laboratory.resolve_device`).
+    amplitude : float, optional
+        Displacement amplitude [m].
+    frequency : float, optional
+        Frequency of the motion [Hz].
+    levels : Sequence[float], optional
+        Voltages [V] switched between.
+    switch_period : float, optional
+        Time [s] between switches.
+    cycles : float, optional
+        Number of periods of the sinusoid.
+    samples_per_cycle : int, optional
+        Samples per period.
+    noise : float, optional
+        Relative RMS measurement noise on the force (0: none).
+    seed : int, optional
+        Seed of the random generator (the same seed gives the same result).
+    """
     rng = np.random.default_rng(seed)
     duration = cycles / frequency
     t = np.linspace(0.0, duration, int(round(cycles * samples_per_cycle)) + 1)

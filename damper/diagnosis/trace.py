@@ -113,6 +113,13 @@ def correlation_ratio(residual: np.ndarray, groups: np.ndarray) -> float:
     """Bias-adjusted correlation ratio of ``residual`` on integer ``groups`` (0 if it explains nothing).
 
     See the module docstring; clipped to [0, 1].
+
+    Parameters
+    ----------
+    residual : np.ndarray
+        Force residual, measured minus model [N], in sample order.
+    groups : np.ndarray
+        Integer group label of each sample (a binned variable).
     """
     r = np.asarray(residual, dtype=float)
     g = np.asarray(groups)
@@ -142,7 +149,15 @@ def _profile(variable, residual, z, groups, branch_of_group=None) -> Profile:
 
 
 def autocorrelation(residual: np.ndarray, max_lag: int | None = None) -> np.ndarray:
-    """Sample autocorrelation :math:`\\hat\\rho_0 = 1, \\hat\\rho_1, \\ldots` (FFT, biased estimator)."""
+    """Sample autocorrelation :math:`\\hat\\rho_0 = 1, \\hat\\rho_1, \\ldots` (FFT, biased estimator).
+
+    Parameters
+    ----------
+    residual : np.ndarray
+        Force residual, measured minus model [N], in sample order.
+    max_lag : int | None, optional
+        Largest lag returned; None: all.
+    """
     r = np.asarray(residual, dtype=float) - np.mean(residual)
     n = r.size
     max_lag = n - 1 if max_lag is None else min(int(max_lag), n - 1)
@@ -157,7 +172,15 @@ def autocorrelation(residual: np.ndarray, max_lag: int | None = None) -> np.ndar
 
 
 def ljung_box(residual: np.ndarray, lags: int = DEFAULT_LAGS) -> tuple[float, float, int]:
-    """Ljung-Box statistic, its :math:`\\chi^2_h` p-value and the number of lags ``h`` used."""
+    """Ljung-Box statistic, its :math:`\\chi^2_h` p-value and the number of lags ``h`` used.
+
+    Parameters
+    ----------
+    residual : np.ndarray
+        Force residual, measured minus model [N], in sample order.
+    lags : int, optional
+        Number of lags h (fewer for a short residual).
+    """
     n = int(np.size(residual))
     h = int(max(1, min(lags, n // 5)))
     rho = autocorrelation(residual, h)[1:h + 1]
@@ -171,6 +194,11 @@ def effective_sample_size(residual: np.ndarray) -> float:
 
     For white noise about :math:`N`; for a smooth, periodic residual about four per period.
     Clipped to [1, N].
+
+    Parameters
+    ----------
+    residual : np.ndarray
+        Force residual, measured minus model [N], in sample order.
     """
     r = np.asarray(residual, dtype=float)
     n = r.size
@@ -186,6 +214,11 @@ def effective_sample_size(residual: np.ndarray) -> float:
 @dataclass(frozen=True)
 class ResidualTrace:
     """Where a residual lives (see the module docstring).
+
+    Parameters
+    ----------
+    lags : int
+        Number of lags of the Ljung-Box statistic.
 
     Attributes
     ----------

@@ -66,7 +66,17 @@ class ForceData:
 
 
 def read_data(path, need_displacement: bool = True, group: str | None = None) -> ForceData:
-    """Read a CSV or HDF5 data file (chosen by content, not by name)."""
+    """Read a CSV or HDF5 data file (chosen by content, not by name).
+
+    Parameters
+    ----------
+    path
+        CSV or HDF5 data file.
+    need_displacement : bool, optional
+        Fail when the file has no displacement column.
+    group : str | None, optional
+        HDF5 group to read; None: the file's root or its only group.
+    """
     path = Path(path)
     if not path.is_file():
         raise DataNotFoundError(f"{path}: data file not found")
@@ -91,6 +101,13 @@ def _column(cell: str, path: Path, line: int) -> str:
 
 def read_csv(path, need_displacement: bool = True) -> ForceData:
     """Read a ``time, force[, displacement]`` CSV file (module docstring).
+
+    Parameters
+    ----------
+    path
+        CSV file.
+    need_displacement : bool, optional
+        Fail when the file has no displacement column.
 
     Raises
     ------
@@ -213,7 +230,17 @@ def read_hdf5(path, group: str | None = None, need_displacement: bool = True) ->
 
 
 def write_displacement_csv(path, time: np.ndarray, displacement: np.ndarray) -> Path:
-    """Write ``time [s], displacement [m]`` atomically (full double precision)."""
+    """Write ``time [s], displacement [m]`` atomically (full double precision).
+
+    Parameters
+    ----------
+    path
+        CSV file to write (replaced atomically).
+    time : np.ndarray
+        Sample times [s].
+    displacement : np.ndarray
+        Displacement [m] at ``time``.
+    """
     lines = ["time [s],displacement [m]"]
     lines += [f"{t:.17g},{y:.17g}" for t, y in zip(time, displacement)]
     return atomic_write_text(path, "\n".join(lines) + "\n")
@@ -221,7 +248,21 @@ def write_displacement_csv(path, time: np.ndarray, displacement: np.ndarray) -> 
 
 def save_model(path, model: HystereticOscillator, fs: float, upsample: int = DEFAULT_UPSAMPLE,
                extra: dict | None = None) -> Path:
-    """Write the model as JSON (parameters in SI, the integration settings, ``extra`` fields)."""
+    """Write the model as JSON (parameters in SI, the integration settings, ``extra`` fields).
+
+    Parameters
+    ----------
+    path
+        JSON file to write (replaced atomically).
+    model : HystereticOscillator
+        The identified oscillator.
+    fs : float
+        Sampling rate [Hz] of the data it was identified on.
+    upsample : int, optional
+        Integration steps per sample.
+    extra : dict | None, optional
+        Further JSON fields (e.g. errors, settings); None: none.
+    """
     doc = {"kind": MODEL_KIND, "parameters": model.parameters(),
            "standard_form": model.to_standard(beta=1.0), "sampling_rate_hz": float(fs),
            "upsample": int(upsample)}
@@ -238,7 +279,13 @@ def _jsonable(x):
 
 
 def load_model(path) -> tuple[HystereticOscillator, dict]:
-    """Read a model JSON written by :func:`save_model`; returns the model and the whole document."""
+    """Read a model JSON written by :func:`save_model`; returns the model and the whole document.
+
+    Parameters
+    ----------
+    path
+        Model JSON file.
+    """
     path = Path(path)
     if not path.is_file():
         raise DataNotFoundError(f"{path}: model file not found")

@@ -184,6 +184,15 @@ def _check(force, displacement, fs) -> tuple[np.ndarray, np.ndarray, float]:
 def linear_start(force: np.ndarray, displacement: np.ndarray, fs: float) -> dict:
     """Best linear approximation :math:`1/H = k_e - m\\omega^2 + jc_e\\omega` (step 1).
 
+    Parameters
+    ----------
+    force : np.ndarray
+        Input force [N].
+    displacement : np.ndarray
+        Output displacement [m].
+    fs : float
+        Sampling rate [Hz].
+
     Returns
     -------
     dict

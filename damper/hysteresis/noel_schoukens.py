@@ -60,6 +60,23 @@ def multisine(n: int = PERIOD, fs: float = FS, upsample: int = UPSAMPLE, f_min: 
     \\lceil f_{max}/f_0\\rceil` gets unit amplitude and a uniform random phase; the signal is
     scaled to RMS ``rms`` [N].
 
+    Parameters
+    ----------
+    n : int, optional
+        Number of samples of one period at ``fs``.
+    fs : float, optional
+        Sampling rate of the data [Hz] (750 Hz in the benchmark).
+    upsample : int, optional
+        Integration steps per sample.
+    f_min : float, optional
+        Lowest excited frequency [Hz].
+    f_max : float, optional
+        Highest excited frequency [Hz].
+    rms : float, optional
+        RMS of the force [N].
+    seed : int | None, optional
+        Seed of the random phases; None: fresh entropy.
+
     Returns
     -------
     ndarray, shape (n * upsample,)
@@ -84,6 +101,21 @@ def sine_sweep(duration: float = 180.0, fs: float = FS, upsample: int = UPSAMPLE
 
     The defaults are the benchmark's test sweep: 40 N, 20 Hz upwards at 10 Hz/min for 180 s
     (to 50 Hz).
+
+    Parameters
+    ----------
+    duration : float, optional
+        Length [s].
+    fs : float, optional
+        Sampling rate of the data [Hz] (750 Hz in the benchmark).
+    upsample : int, optional
+        Integration steps per sample.
+    amplitude : float, optional
+        Force amplitude A [N].
+    f_start : float, optional
+        Start frequency f₀ [Hz].
+    rate : float, optional
+        Sweep rate r [Hz/s].
 
     Returns
     -------
@@ -177,6 +209,19 @@ def test_sets(system: HystereticOscillator | None = None, seed: int = 2016, fs: 
               ) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """The benchmark's two noiseless test sets, regenerated (see the module docstring).
 
+    Parameters
+    ----------
+    system : HystereticOscillator | None, optional
+        The oscillator; None: the benchmark's true system.
+    seed : int, optional
+        Seed of the multisine's phases.
+    fs : float, optional
+        Sampling rate of the data [Hz] (750 Hz in the benchmark).
+    upsample : int, optional
+        Integration steps per sample.
+    sweep_duration : float, optional
+        Length of the sine sweep [s].
+
     Returns
     -------
     dict
@@ -197,7 +242,15 @@ def test_sets(system: HystereticOscillator | None = None, seed: int = 2016, fs: 
 
 
 def rms_error(y_model: np.ndarray, y_true: np.ndarray) -> float:
-    """The benchmark's figure of merit (its eq. 6): :math:`\\sqrt{\\frac1{N}\\sum(y_{mod}-y)^2}` [m]."""
+    """The benchmark's figure of merit (its eq. 6): :math:`\\sqrt{\\frac1{N}\\sum(y_{mod}-y)^2}` [m].
+
+    Parameters
+    ----------
+    y_model : np.ndarray
+        Model displacement [m].
+    y_true : np.ndarray
+        Measured displacement [m], same samples.
+    """
     y_model = np.asarray(y_model, dtype=float)
     y_true = np.asarray(y_true, dtype=float)
     if y_model.shape != y_true.shape:

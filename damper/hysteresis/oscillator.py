@@ -161,7 +161,25 @@ class HystereticOscillator:
     @classmethod
     def from_kernel(cls, mass: float, damping: float, stiffness: float, alpha: float, bg: float,
                     bd: float, nu: float) -> "HystereticOscillator":
-        """The model with :math:`\\alpha`, :math:`\\beta\\gamma`, :math:`\\beta\\delta`, :math:`\\nu` (SI)."""
+        """The model with :math:`\\alpha`, :math:`\\beta\\gamma`, :math:`\\beta\\delta`, :math:`\\nu` (SI).
+
+        Parameters
+        ----------
+        bg : float
+            Product βγ [1/m^ν].
+        bd : float
+            Product βδ [1/m^ν].
+        mass : float
+            Mass m [kg].
+        damping : float
+            Viscous damping c [N·s/m].
+        stiffness : float
+            Stiffness k [N/m].
+        alpha : float
+            Hysteretic stiffness α [N/m].
+        nu : float
+            Exponent ν (≥ 1).
+        """
         alpha, bg, bd, nu = (_finite(k, v) for k, v in
                              (("alpha", alpha), ("beta*gamma", bg), ("beta*delta", bd), ("nu", nu)))
         if not alpha > 0:
@@ -181,6 +199,25 @@ class HystereticOscillator:
                       beta: float, gamma: float, delta: float, nu: float) -> "HystereticOscillator":
         """The model with the benchmark's parameters (:math:`\\alpha, \\beta, \\gamma, \\delta, \\nu`), SI.
 
+        Parameters
+        ----------
+        beta : float
+            Scale β of the hysteretic variable.
+        gamma : float
+            Coefficient γ [1/m^ν].
+        delta : float
+            Coefficient δ [1/m^ν].
+        mass : float
+            Mass m [kg].
+        damping : float
+            Viscous damping c [N·s/m].
+        stiffness : float
+            Stiffness k [N/m].
+        alpha : float
+            Hysteretic stiffness α [N/m].
+        nu : float
+            Exponent ν (≥ 1).
+
         Examples
         --------
         >>> bw = HystereticOscillator.from_standard(2.0, 10.0, 5e4, 5e4, 1e3, 0.8, -1.1, 1.0)
@@ -193,6 +230,11 @@ class HystereticOscillator:
 
     def to_standard(self, beta: float = 1.0) -> dict[str, float]:
         """The benchmark's form with the chosen free scale :math:`\\beta` (> 0 or < 0, SI).
+
+        Parameters
+        ----------
+        beta : float, optional
+            The free scale β (≠ 0).
 
         Returns
         -------

@@ -70,6 +70,23 @@ class DesignPoints:
     """Design points on the loading branch [m] and the levels of :math:`\\bar w` they were chosen at.
 
     ``x_star`` is the zero of :math:`\\theta`; ``x1 < x2`` lie above it, ``x3`` below it.
+
+    Parameters
+    ----------
+    x_star : float
+        Displacement [m] on the loading branch from which w̄ is taken as plastic.
+    x1 : float
+        First design point [m].
+    x2 : float
+        Second design point [m].
+    x3 : float
+        Third design point [m].
+    w1 : float
+        Level of w̄ at ``x1``.
+    w2 : float
+        Level of w̄ at ``x2``.
+    w3 : float
+        Level of w̄ at ``x3``.
     """
 
     x_star: float

@@ -343,6 +343,19 @@ def plastic_distance(rho: float, sigma: float, n: float, w0: float, level: float
     :math:`(H_{\\sigma,n}(w_0) + G_n(\\mathrm{level}))/\\rho`: from :math:`-w_0` to 0, then to
     ``level``. Beyond it the branch is "plastic" (:math:`\\bar w \\approx 1`) and the force is
     :math:`\\kappa_x x + \\kappa_{\\dot x}\\dot x \\pm \\kappa_w`.
+
+    Parameters
+    ----------
+    rho : float
+        Normalized Bouc-Wen rate parameter ρ [1/m] (> 0).
+    sigma : float
+        Normalized Bouc-Wen shape parameter σ (≥ 1/2).
+    n : float
+        Bouc-Wen exponent n (≥ 1).
+    w0 : float
+        Peak w₀ of the limit cycle.
+    level : float, optional
+        Level of w̄ that counts as plastic.
     """
     return float(h_integral(w0, sigma, n) + g_integral(min(level, w0), n)) / rho
 

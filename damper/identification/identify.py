@@ -244,6 +244,15 @@ def identify(test, model: str = "extended", **options) -> Identification:
     The test's ``velocity`` is used when present; its constant ``voltage`` [V] (or ``current``
     [A]) labels the result. ``options`` are those of :func:`identify_arrays`.
 
+    Parameters
+    ----------
+    test
+        The test (:class:`damper.io.data.DamperTest`) at one voltage or current.
+    model : str, optional
+        ``"normalized"`` or ``"extended"``.
+    **options
+        Passed to :func:`damper.identification.refine.refine` (e.g. ``max_nfev``, ``kappa_x``).
+
     Raises
     ------
     InputError

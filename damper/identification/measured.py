@@ -29,7 +29,13 @@ __all__ = ["read_test", "identify_files", "held_out_errors"]
 
 
 def read_test(path):
-    """Read one test file: UTFSM name pattern → :func:`damper.io.data.read_utfsm`, else CSV."""
+    """Read one test file: UTFSM name pattern → :func:`damper.io.data.read_utfsm`, else CSV.
+
+    Parameters
+    ----------
+    path
+        Test file (UTFSM name pattern or CSV).
+    """
 
     path = Path(path)
     try:
@@ -47,6 +53,11 @@ def held_out_errors(identifications: Sequence[Identification]) -> dict[str, dict
     """Errors of each file's model on the other files at the same level.
 
     Returns ``{trained_on: {predicted_file: force_errors over its steady cycles}}``.
+
+    Parameters
+    ----------
+    identifications : Sequence[Identification]
+        The identifications of the files.
     """
     groups: dict[tuple, list[Identification]] = {}
     for ident in identifications:

@@ -51,27 +51,61 @@ def _pair(measured, predicted) -> tuple[np.ndarray, np.ndarray]:
 
 
 def relative_rms_error(measured: np.ndarray, predicted: np.ndarray) -> float:
-    """:math:`\\|F - \\hat F\\|_2 / \\|F\\|_2` (NaN if the measured force is identically zero)."""
+    """:math:`\\|F - \\hat F\\|_2 / \\|F\\|_2` (NaN if the measured force is identically zero).
+
+    Parameters
+    ----------
+    measured : np.ndarray
+        Measured force [N].
+    predicted : np.ndarray
+        Model force [N] at the same samples.
+    """
     f, g = _pair(measured, predicted)
     norm = np.linalg.norm(f)
     return float(np.linalg.norm(f - g) / norm) if norm > 0 else float("nan")
 
 
 def peak_error(measured: np.ndarray, predicted: np.ndarray) -> float:
-    """:math:`\\max_t |F - \\hat F| / \\max_t |F|`."""
+    """:math:`\\max_t |F - \\hat F| / \\max_t |F|`.
+
+    Parameters
+    ----------
+    measured : np.ndarray
+        Measured force [N].
+    predicted : np.ndarray
+        Model force [N] at the same samples.
+    """
     f, g = _pair(measured, predicted)
     peak = np.max(np.abs(f))
     return float(np.max(np.abs(f - g)) / peak) if peak > 0 else float("nan")
 
 
 def dissipated_energy(force: np.ndarray, displacement: np.ndarray) -> float:
-    """:math:`\\int F\\,dx` along the history [J] (trapezoidal rule)."""
+    """:math:`\\int F\\,dx` along the history [J] (trapezoidal rule).
+
+    Parameters
+    ----------
+    force : np.ndarray
+        Force [N].
+    displacement : np.ndarray
+        Displacement [m] at the same samples.
+    """
     f, x = _pair(force, displacement)
     return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(x)))
 
 
 def energy_error(measured: np.ndarray, predicted: np.ndarray, displacement: np.ndarray) -> float:
-    """Relative error of the dissipated energy :math:`|\\int \\hat F dx - \\int F dx| / |\\int F dx|`."""
+    """Relative error of the dissipated energy :math:`|\\int \\hat F dx - \\int F dx| / |\\int F dx|`.
+
+    Parameters
+    ----------
+    measured : np.ndarray
+        Measured force [N].
+    predicted : np.ndarray
+        Model force [N] at the same samples.
+    displacement : np.ndarray
+        Displacement [m] at the same samples.
+    """
     e_meas = dissipated_energy(measured, displacement)
     e_pred = dissipated_energy(predicted, displacement)
     return float(abs(e_pred - e_meas) / abs(e_meas)) if e_meas != 0 else float("nan")
@@ -79,7 +113,21 @@ def energy_error(measured: np.ndarray, predicted: np.ndarray, displacement: np.n
 
 def spencer_errors(t: np.ndarray, measured: np.ndarray, predicted: np.ndarray,
                    displacement: np.ndarray, velocity: np.ndarray) -> dict[str, float]:
-    """Spencer et al.'s error norms ``E_t``, ``E_x``, ``E_xdot`` (see the module docstring)."""
+    """Spencer et al.'s error norms ``E_t``, ``E_x``, ``E_xdot`` (see the module docstring).
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s].
+    measured : np.ndarray
+        Measured force [N].
+    predicted : np.ndarray
+        Model force [N] at the same samples.
+    displacement : np.ndarray
+        Displacement [m] at the same samples.
+    velocity : np.ndarray
+        Velocity [m/s] at the same samples.
+    """
     f, g = _pair(measured, predicted)
     t = np.asarray(t, dtype=float)
     x = np.asarray(displacement, dtype=float)
@@ -100,7 +148,21 @@ def spencer_errors(t: np.ndarray, measured: np.ndarray, predicted: np.ndarray,
 
 def force_errors(t: np.ndarray, measured: np.ndarray, predicted: np.ndarray,
                  displacement: np.ndarray, velocity: np.ndarray) -> dict[str, float]:
-    """All measures at once: ``rel_rms_error``, ``peak_error``, ``energy_error``, ``E_t``, ``E_x``, ``E_xdot``."""
+    """All measures at once: ``rel_rms_error``, ``peak_error``, ``energy_error``, ``E_t``, ``E_x``, ``E_xdot``.
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s].
+    measured : np.ndarray
+        Measured force [N].
+    predicted : np.ndarray
+        Model force [N] at the same samples.
+    displacement : np.ndarray
+        Displacement [m] at the same samples.
+    velocity : np.ndarray
+        Velocity [m/s] at the same samples.
+    """
     out = {"rel_rms_error": relative_rms_error(measured, predicted),
            "peak_error": peak_error(measured, predicted),
            "energy_error": energy_error(measured, predicted, displacement)}

@@ -54,6 +54,15 @@ def plot_loops(identifications: dict, path, title: str = "") -> Path:
     """Fig. 1: loops of the test (dashed) and of each identified model (solid), kN vs m, m/s.
 
     ``identifications``: ``model name -> Identification`` of the same test.
+
+    Parameters
+    ----------
+    identifications : dict
+        Identifications by model key.
+    path
+        Image file to write (format from the suffix).
+    title : str, optional
+        Figure title.
     """
     first = next(iter(identifications.values()))
     w = first.window
@@ -73,7 +82,15 @@ def plot_loops(identifications: dict, path, title: str = "") -> Path:
 
 
 def plot_inclination(ident, path) -> Path:
-    """Fig. 2: force–displacement loop and its average inclination (the closed-form :math:`\\kappa_x`)."""
+    """Fig. 2: force–displacement loop and its average inclination (the closed-form :math:`\\kappa_x`).
+
+    Parameters
+    ----------
+    ident
+        One identification (:class:`damper.identification.identify.Identification`).
+    path
+        Image file to write (format from the suffix).
+    """
     w = ident.window
     cf = ident.closed_form
     x = ident.x[w]
@@ -98,7 +115,15 @@ def plot_inclination(ident, path) -> Path:
 
 
 def plot_elastic_removed(ident, path) -> Path:
-    """Fig. 3: force–velocity loop of :math:`F` (dashed) and :math:`F - \\kappa_x x` (solid)."""
+    """Fig. 3: force–velocity loop of :math:`F` (dashed) and :math:`F - \\kappa_x x` (solid).
+
+    Parameters
+    ----------
+    ident
+        One identification (:class:`damper.identification.identify.Identification`).
+    path
+        Image file to write (format from the suffix).
+    """
     w = ident.window
     kx = ident.parameters["kappa_x"]
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
@@ -115,7 +140,17 @@ def plot_elastic_removed(ident, path) -> Path:
 
 
 def plot_test_signals(tests: Sequence, path, title: str = "Test signals (cf. seed Fig. 6)") -> Path:
-    """Fig. 6: force (left) and displacement (right) against time for each test."""
+    """Fig. 6: force (left) and displacement (right) against time for each test.
+
+    Parameters
+    ----------
+    tests : Sequence
+        The tests (:class:`damper.io.data.DamperTest`).
+    path
+        Image file to write (format from the suffix).
+    title : str, optional
+        Figure title.
+    """
     fig, axes = plt.subplots(len(tests), 2, figsize=(11, 3.0 * len(tests)), squeeze=False)
     for (a_f, a_x), test in zip(axes, tests):
         a_f.plot(test.time, test.force * 1e-3, "k-", lw=0.8)
@@ -136,6 +171,15 @@ def plot_parameters_vs_voltage(grid, path, comparison=None) -> Path:
 
     ``comparison``: another grid (e.g. the extended model with :math:`\\kappa_x` free at each
     voltage), drawn as open grey markers.
+
+    Parameters
+    ----------
+    grid
+        The voltage-grid result (:class:`damper.identification.voltage_grid.VoltageGridResult`).
+    path
+        Image file to write (format from the suffix).
+    comparison : dict, optional
+        Reference parameters to draw beside; None: none.
     """
     v = grid.voltages
     vf = np.linspace(v.min(), v.max(), 301)
@@ -177,6 +221,15 @@ def plot_force_errors(run, path, device: int | None = None) -> Path:
     """Fig. 11: force error of one damper, extended model (above) and normalized model (below).
 
     ``device`` defaults to the damper with the largest peak force in the run.
+
+    Parameters
+    ----------
+    run
+        A closed-loop run with the forces of both models.
+    path
+        Image file to write (format from the suffix).
+    device : int | None, optional
+        Damper index; None: the one with the largest displacement.
     """
     if device is None:
         device = int(np.argmax(np.max(np.abs(run.force), axis=0)))
@@ -221,7 +274,17 @@ def plot_force_errors(run, path, device: int | None = None) -> Path:
 
 
 def plot_fit(ident, path, held_out: Sequence = ()) -> Path:
-    """A test, the fitted model and the force error; ``held_out``: (name, t, force, predicted) tuples."""
+    """A test, the fitted model and the force error; ``held_out``: (name, t, force, predicted) tuples.
+
+    Parameters
+    ----------
+    ident
+        One identification (:class:`damper.identification.identify.Identification`).
+    path
+        Image file to write (format from the suffix).
+    held_out : Sequence, optional
+        ``(name, t, force, predicted)`` tuples of held-out tests.
+    """
     w = ident.window
     rows = 2 if not held_out else 3
     fig = plt.figure(figsize=(12, 3.4 * rows))
@@ -264,7 +327,17 @@ def plot_fit(ident, path, held_out: Sequence = ()) -> Path:
 
 
 def plot_parameters_vs_level(summaries: Sequence[dict], path, unit: str = "A") -> Path:
-    """Parameters of many tests against their current/voltage (``Identification.summary()`` dicts)."""
+    """Parameters of many tests against their current/voltage (``Identification.summary()`` dicts).
+
+    Parameters
+    ----------
+    summaries : Sequence[dict]
+        ``Identification.summary()`` dicts.
+    path
+        Image file to write (format from the suffix).
+    unit : str, optional
+        Unit of the level: ``"A"`` or ``"V"``.
+    """
     fig, axes = plt.subplots(2, 3, figsize=(13, 7))
     for ax, name in zip(axes.ravel(), PARAMETER_NAMES):
         unit, scale = _UNITS[name]
@@ -294,6 +367,17 @@ def plot_error_anatomy(validation_json: dict, ceiling_entries: Sequence, path,
     at constant 0 V and 1 V on each run's most-moving damper, the identified models' error
     (filled) against the best the same model form reaches when fitted to that very motion
     (hollow; :mod:`~benchmark.applications.identification_ceiling`).
+
+    Parameters
+    ----------
+    validation_json : dict
+        A validation document as a dict.
+    ceiling_entries : Sequence
+        The ceiling entries of the runs.
+    path
+        Image file to write (format from the suffix).
+    pair : tuple[str, str], optional
+        The two model keys compared.
     """
     nor, ext = pair
     regimes = validation_json.get("regimes", {})

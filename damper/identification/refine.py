@@ -45,7 +45,13 @@ _LOWER = {"kappa_x": 0.0, "sigma": 0.5, "n": 1.0}
 
 
 def free_parameters(model: str) -> tuple[str, ...]:
-    """Names of the parameters identified for ``model`` ("normalized": no ``kappa_x``)."""
+    """Names of the parameters identified for ``model`` ("normalized": no ``kappa_x``).
+
+    Parameters
+    ----------
+    model : str
+        ``"normalized"`` or ``"extended"``.
+    """
     if model not in MODEL_FORMS:
         raise InputError(f"model: expected one of {MODEL_FORMS}, got {model!r}")
     return PARAMETER_NAMES if model == "extended" else PARAMETER_NAMES[1:]
@@ -53,7 +59,17 @@ def free_parameters(model: str) -> tuple[str, ...]:
 
 def make_model(model: str, parameters: dict[str, float], **options):
     """The :class:`~damper.models.bouc_wen.ExtendedBoucWen` or :class:`~damper.models.bouc_wen.NormalizedBoucWen`
-    with constant ``parameters`` (SI); ``options`` go to the class (e.g. ``substep_tolerance``)."""
+    with constant ``parameters`` (SI); ``options`` go to the class (e.g. ``substep_tolerance``).
+
+    Parameters
+    ----------
+    model : str
+        ``"normalized"`` or ``"extended"``.
+    parameters : dict[str, float]
+        Parameter values by name (SI).
+    **options
+        Further model fields (e.g. ``voltage_range``, ``substep_tolerance``).
+    """
     if model == "extended":
         return ExtendedBoucWen(*(parameters[k] for k in PARAMETER_NAMES), **options)
     if model == "normalized":
@@ -169,6 +185,15 @@ def fit_scaled(problem, q0: np.ndarray, max_nfev: int | None):
     finite-difference Jacobian with relative step 1e-5, tolerances 1e-10) of
     ``problem.residuals(q)`` within ``problem.lower <= q <= problem.upper``, where ``q`` is the
     parameter vector scaled to order one. Used by :mod:`damper.hysteresis.identification` as well.
+
+    Parameters
+    ----------
+    problem
+        The fitting problem (residuals of scaled parameters, bounds).
+    q0 : np.ndarray
+        Start, scaled parameters.
+    max_nfev : int | None
+        Most function evaluations; None: the optimiser's default.
     """
     return _fit(problem, q0, max_nfev)
 

@@ -75,6 +75,21 @@ class TestProtocol:
     discarded as transient), 1 kHz sampling. The seed paper's large loop (±0.4 m, 0.8 Hz,
     Fig. 1–3) is :data:`benchmark.applications.identification_study.LARGE_LOOP_PROTOCOL`; identified on it the
     models reproduce that loop better and the earthquake runs worse (see the study's report).
+
+    Parameters
+    ----------
+    amplitude : float, optional
+        Displacement amplitude [m].
+    frequency : float, optional
+        Frequency of the motion [Hz].
+    cycles : float, optional
+        Number of periods.
+    sample_rate : float, optional
+        Samples per second [Hz].
+    noise : float, optional
+        Relative RMS measurement noise on the force (0: none).
+    seed : int, optional
+        Seed of the random generator (the same seed gives the same result).
     """
 
     __test__ = False  # not a pytest class
@@ -87,7 +102,16 @@ class TestProtocol:
     seed: int = 0
 
     def run(self, device, voltage: float):
-        """Run the test on ``device`` at ``voltage`` [V] through the virtual laboratory."""
+        """Run the test on ``device`` at ``voltage`` [V] through the virtual laboratory.
+
+        Parameters
+        ----------
+        device
+            The damper tested: a model instance, or the name of a parameterless model
+            (:func:`damper.lab.laboratory.resolve_device`).
+        voltage : float
+            Constant voltage [V].
+        """
         return periodic_test(device, self.amplitude, self.frequency, voltage, cycles=self.cycles,
                              sample_rate=self.sample_rate, noise=self.noise, seed=self.seed)
 
@@ -148,6 +172,16 @@ def estimate_kappa_x(device, protocol: TestProtocol = LARGE_LOOP_PROTOCOL,
     ``kappa_x_inclination``); if that slope leaves no dry friction the joint plastic
     regression's value is used instead and a note says so.
 
+    Parameters
+    ----------
+    device
+        The damper tested: a model instance, or the name of a parameterless model
+        (:func:`damper.lab.laboratory.resolve_device`).
+    protocol : TestProtocol, optional
+        The large-stroke test.
+    voltage : float, optional
+        Voltage of the test [V].
+
     Returns
     -------
     (KappaXEstimate, DamperTest)
@@ -197,6 +231,7 @@ class LawFit:
     max_error: float
 
     def to_dict(self) -> dict:
+        """The fit as a JSON-ready dict: family, formula, coefficients, RMS and largest error."""
         return {"family": self.family, "formula": self.formula, "coefficients": self.coefficients,
                 "rms_error": self.rms_error, "max_error": self.max_error}
 
@@ -231,12 +266,24 @@ class VoltageGridResult:
     kappa_x: KappaXEstimate | None = None
 
     def table(self, model: str) -> np.ndarray:
-        """Parameters per voltage, shape (n_voltages, 6), columns :data:`PARAMETER_NAMES`."""
+        """Parameters per voltage, shape (n_voltages, 6), columns :data:`PARAMETER_NAMES`.
+
+        Parameters
+        ----------
+        model : str
+            ``"normalized"`` or ``"extended"``.
+        """
         return np.array([[ident.parameters[k] for k in PARAMETER_NAMES]
                          for ident in self.identifications[model]])
 
     def standard_errors(self, model: str) -> np.ndarray:
-        """Jacobian standard errors, same shape as :meth:`table`."""
+        """Jacobian standard errors, same shape as :meth:`table`.
+
+        Parameters
+        ----------
+        model : str
+            ``"normalized"`` or ``"extended"``.
+        """
         return np.array([[ident.fit.standard_error[k] for k in PARAMETER_NAMES]
                          for ident in self.identifications[model]])
 
@@ -361,6 +408,19 @@ def voltage_model(model: str, laws: dict[str, LawFit], fallback: dict[str, LawFi
     A law that leaves the admissible class somewhere in ``voltage_range`` (checked with
     :func:`damper.models.voltage_laws.check_law`) is replaced by the same parameter's ``fallback`` law,
     and a note is appended to ``notes``.
+
+    Parameters
+    ----------
+    model : str
+        ``"normalized"`` or ``"extended"``.
+    laws : dict[str, LawFit]
+        Fitted law of each parameter.
+    fallback : dict[str, LawFit] | None, optional
+        Laws used where ``laws`` has none; None: none.
+    notes : list | None, optional
+        List that receives a note for each fallback used; None: none.
+    voltage_range : tuple[float, float], optional
+        Admissible coil inputs ``(min, max)`` [V] (or [A]); the voltage laws are checked over it.
     """
     names = free_parameters(model)
     chosen = {}

@@ -51,6 +51,26 @@ def switching_test(device, amplitude: float = 0.1, frequency: float = 0.5, switc
 
     Displacement :math:`X\\sin(2\\pi f t)`; voltage a square wave 0 V / 1 V of period
     ``switch_period`` [s] (the device's own voltage range is used).
+
+    Parameters
+    ----------
+    device
+        The damper tested: a model instance, or the name of a parameterless model
+        (:func:`damper.lab.laboratory.resolve_device`).
+    amplitude : float, optional
+        Displacement amplitude [m].
+    frequency : float, optional
+        Frequency of the motion [Hz].
+    switch_period : float, optional
+        Time [s] between voltage switches.
+    duration : float, optional
+        Length [s].
+    sample_rate : float, optional
+        Samples per second [Hz].
+    noise : float, optional
+        Relative RMS measurement noise on the force (0: none).
+    seed : int, optional
+        Seed of the random generator (the same seed gives the same result).
     """
 
     model = resolve_device(device)
@@ -64,7 +84,23 @@ def switching_test(device, amplitude: float = 0.1, frequency: float = 0.5, switc
 
 def filtered_force(model, t: np.ndarray, x: np.ndarray, xdot: np.ndarray, v: np.ndarray,
                    tau: float) -> np.ndarray:
-    """Force of ``model`` driven by the filtered voltage :math:`u` (:math:`\\tau\\dot u = v - u`) [N]."""
+    """Force of ``model`` driven by the filtered voltage :math:`u` (:math:`\\tau\\dot u = v - u`) [N].
+
+    Parameters
+    ----------
+    model
+        The damper model.
+    t : np.ndarray
+        Sample times [s], increasing.
+    x : np.ndarray
+        Displacement [m].
+    xdot : np.ndarray
+        Velocity [m/s].
+    v : np.ndarray
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    tau : float
+        Time constant τ [s] of the filter.
+    """
     lo, hi = model.voltage_range
     u = np.clip(first_order_filter(t, np.asarray(v, dtype=float), tau), lo, hi)
     return simulate(model, t, x, xdot, u).force

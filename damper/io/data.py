@@ -121,7 +121,15 @@ class DamperTest:
         return float(self.voltage[0])
 
     def select(self, t_start: float = -math.inf, t_end: float = math.inf) -> "DamperTest":
-        """The samples with ``t_start <= time <= t_end`` (e.g. to drop the transient)."""
+        """The samples with ``t_start <= time <= t_end`` (e.g. to drop the transient).
+
+        Parameters
+        ----------
+        t_start : float, optional
+            First time kept [s].
+        t_end : float, optional
+            Last time kept [s].
+        """
         keep = (self.time >= t_start) & (self.time <= t_end)
         if keep.sum() < 2:
             raise InputError(f"{self.name or 'DamperTest'}: select({t_start}, {t_end}) keeps "
@@ -306,7 +314,15 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
 
 
 def write_csv(test: DamperTest, path) -> Path:
-    """Write ``test`` as CSV (atomically), with ``# name:`` and ``# source:`` comment lines."""
+    """Write ``test`` as CSV (atomically), with ``# name:`` and ``# source:`` comment lines.
+
+    Parameters
+    ----------
+    test : DamperTest
+        The test to write.
+    path
+        CSV file to write (replaced atomically).
+    """
     path = Path(path)
     columns = [("time", test.time), ("displacement", test.displacement), ("force", test.force),
                ("velocity", test.velocity)]
@@ -333,6 +349,11 @@ def parse_utfsm_name(path) -> dict[str, float]:
     """Amplitude [m], frequency [Hz] and current [A] from a UTFSM file name.
 
     ``25mm0x1Hz0x75A.txt`` -> ``{"amplitude": 0.025, "frequency": 0.1, "current": 0.75}``.
+
+    Parameters
+    ----------
+    path
+        A UTFSM file name or path (``25mm0x1Hz0x75A.txt``).
     """
     stem = Path(path).stem
     m = _UTFSM_NAME.match(stem)
@@ -349,6 +370,11 @@ def read_utfsm(path) -> DamperTest:
     The current [A] comes from the file name (:func:`parse_utfsm_name`); displacement and
     velocity are converted from mm to m. Raises :class:`InputError` naming the file and
     line for a malformed file.
+
+    Parameters
+    ----------
+    path
+        A preprocessed UTFSM file (name pattern ``25mm0x1Hz0x75A.txt``).
     """
     path = Path(path)
     if not path.is_file():
@@ -382,7 +408,13 @@ def read_utfsm(path) -> DamperTest:
 
 
 def utfsm_files(shared_dir=None) -> list[Path]:
-    """The preprocessed UTFSM test files, sorted by name (raises :class:`DataNotFoundError`)."""
+    """The preprocessed UTFSM test files, sorted by name (raises :class:`DataNotFoundError`).
+
+    Parameters
+    ----------
+    shared_dir : str or path-like, optional
+        The shared data directory; None: the default (:mod:`benchmark.foundation.paths`).
+    """
     if shared_dir is None:
         shared_dir = _shared()
     folder = Path(shared_dir) / "hysteresis_data" / "quiroz_utfsm_mr_damper_sinusoidal" / "Preprocesados"

@@ -58,7 +58,13 @@ def _header(path: Path) -> list[str] | None:
 
 
 def is_dyke_file(path) -> bool:
-    """Whether ``path`` is a CSV whose header carries the Dyke columns (t, D, Y, V, F)."""
+    """Whether ``path`` is a CSV whose header carries the Dyke columns (t, D, Y, V, F).
+
+    Parameters
+    ----------
+    path
+        File to look at.
+    """
     header = _header(Path(path))
     return header is not None and all(c in header for c in DYKE_COLUMNS)
 

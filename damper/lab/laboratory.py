@@ -31,7 +31,13 @@ WAVEFORMS = ("sine", "triangle")
 
 
 def resolve_device(device):
-    """A model instance from ``device`` (an instance, or the name of a parameterless model)."""
+    """A model instance from ``device`` (an instance, or the name of a parameterless model).
+
+    Parameters
+    ----------
+    device
+        A model instance, or the name of a parameterless model.
+    """
     if isinstance(device, str):
         cls = get_model_class(device)
         try:
@@ -156,6 +162,24 @@ def general_test(device, t, x, v, noise: float = 0.0, seed: int | None = None,
 
     ``xdot`` defaults to the second-order finite difference of ``x``; ``v`` may be a number.
     Voltage is held from each sample to the next. Noise as in :func:`periodic_test`.
+
+    Parameters
+    ----------
+    device
+        The damper tested: a model instance, or the name of a parameterless model
+        (:func:`damper.lab.laboratory.resolve_device`).
+    t
+        Sample times [s], increasing.
+    x
+        Displacement history [m] at ``t``.
+    v
+        Voltage [V]: a number, or a history at ``t`` (held from each sample to the next).
+    noise : float, optional
+        Relative RMS measurement noise on the force (0: none).
+    seed : int | None, optional
+        Seed of the noise generator; None: fresh entropy.
+    xdot : optional
+        Velocity history [m/s]; None: second-order finite difference of ``x``.
     """
     model = resolve_device(device)
     noise = _positive("noise", noise, strict=False)

@@ -21,7 +21,17 @@ __all__ = ["last_cycles", "midline_slope", "plastic_branch_fit", "dissipated_ene
 
 
 def last_cycles(test: DamperTest, cycles: float = 1.0, frequency: float | None = None) -> DamperTest:
-    """The last ``cycles`` periods of ``test`` (frequency [Hz] from its metadata unless given)."""
+    """The last ``cycles`` periods of ``test`` (frequency [Hz] from its metadata unless given).
+
+    Parameters
+    ----------
+    test : DamperTest
+        The test.
+    cycles : float, optional
+        Number of periods kept.
+    frequency : float | None, optional
+        Frequency [Hz]; None: from the test's metadata.
+    """
     frequency = frequency if frequency is not None else test.metadata.get("frequency")
     if frequency is None:
         raise InputError(f"{test.name}: frequency unknown; pass frequency=<Hz>")
@@ -42,6 +52,13 @@ def midline_slope(test: DamperTest, fraction: float = 0.8) -> float:
     displacement grid covering ``fraction`` of the stroke about its centre; their mean (the
     loop's mid-line, where the odd-in-velocity viscous and hysteretic forces cancel) is fitted
     with a straight line.
+
+    Parameters
+    ----------
+    test : DamperTest
+        A steady loop.
+    fraction : float, optional
+        Central fraction of the stroke used.
     """
     x, f, xd = test.displacement, test.force, test.velocity
     centre, half = 0.5 * (x.max() + x.min()), 0.5 * np.ptp(x)
@@ -62,6 +79,13 @@ def plastic_branch_fit(test: DamperTest, kappa_x: float = 0.0) -> tuple[float, f
     Samples past the centre of the stroke in the direction of motion (where the hysteretic
     variable has saturated in a large-amplitude test) are fitted with
     :math:`F - \\kappa_x x = c\\,\\dot x + f\\,\\mathrm{sgn}(\\dot x)` by least squares.
+
+    Parameters
+    ----------
+    test : DamperTest
+        A steady loop.
+    kappa_x : float, optional
+        Elastic coefficient [N/m] removed first.
     """
     x, xd = test.displacement, test.velocity
     centre = 0.5 * (x.max() + x.min())
@@ -74,6 +98,12 @@ def plastic_branch_fit(test: DamperTest, kappa_x: float = 0.0) -> tuple[float, f
 
 
 def dissipated_energy(test: DamperTest) -> float:
-    """Energy dissipated over the record, :math:`\\int F\\,\\dot x\\,dt` [J] (trapezoidal)."""
+    """Energy dissipated over the record, :math:`\\int F\\,\\dot x\\,dt` [J] (trapezoidal).
+
+    Parameters
+    ----------
+    test : DamperTest
+        The test.
+    """
     power = test.force * test.velocity
     return float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(test.time)))

@@ -46,7 +46,19 @@ def _positive(name: str, value) -> float:
 
 def random_voltage_levels(t: np.ndarray, hold: float, levels: tuple[float, float],
                           rng: np.random.Generator) -> np.ndarray:
-    """Piecewise-constant voltage [V] on ``t``: uniform levels, exponential holding times."""
+    """Piecewise-constant voltage [V] on ``t``: uniform levels, exponential holding times.
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s], increasing.
+    hold : float
+        Mean holding time [s] of a level.
+    levels : tuple[float, float]
+        ``(low, high)`` voltages [V] the levels are drawn between.
+    rng : np.random.Generator
+        The random generator.
+    """
     hold = _positive("hold", hold)
     lo, hi = (float(levels[0]), float(levels[1]))
     if not hi >= lo:

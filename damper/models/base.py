@@ -66,11 +66,35 @@ class DamperModel(abc.ABC):
 
     @abc.abstractmethod
     def rates(self, state: np.ndarray, x: float, xdot: float, v: float) -> np.ndarray:
-        """Time derivatives of the internal states."""
+        """Time derivatives of the internal states.
+
+        Parameters
+        ----------
+        state : np.ndarray
+            Internal states of the model (``n_states`` entries, see the model's docstring).
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
 
     @abc.abstractmethod
     def force(self, state: np.ndarray, x: float, xdot: float, v: float) -> float:
-        """Force [N] at ``state``, displacement ``x`` [m], velocity ``xdot`` [m/s], voltage ``v`` [V]."""
+        """Force [N] at ``state``, displacement ``x`` [m], velocity ``xdot`` [m/s], voltage ``v`` [V].
+
+        Parameters
+        ----------
+        state : np.ndarray
+            Internal states of the model (``n_states`` entries, see the model's docstring).
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
 
 
 def _check_kernel(cls: type) -> str | None:

@@ -41,7 +41,19 @@ __all__ = ["Bingham", "bingham_step", "bingham_force"]
 @register_model
 @dataclass(frozen=True)
 class Bingham(DamperModel):
-    """Bingham model ``F = f_c sgn(xdot) + c0 xdot + f0`` (see module docstring)."""
+    """Bingham model ``F = f_c sgn(xdot) + c0 xdot + f0`` (see module docstring).
+
+    Parameters
+    ----------
+    f_c : ParameterLike
+        Friction force f_c [N], a number or a voltage law.
+    c0 : ParameterLike
+        Viscous coefficient c₀ [N·s/m], a number or a voltage law.
+    f0 : float, optional
+        Force offset f₀ [N] (accumulator).
+    voltage_range : tuple[float, float], optional
+        Admissible coil inputs ``(min, max)`` [V] (or [A]); the voltage laws are checked over it.
+    """
 
     f_c: ParameterLike
     c0: ParameterLike
@@ -82,17 +94,55 @@ class Bingham(DamperModel):
         return np.zeros(0)
 
     def rates(self, state, x: float, xdot: float, v: float) -> np.ndarray:
-        """No internal state: an empty array."""
+        """No internal state: an empty array.
+
+        Parameters
+        ----------
+        state
+            Internal states of the model (``n_states`` entries, see the model's docstring).
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
         return np.zeros(0)
 
     def force(self, state, x: float, xdot: float, v: float) -> float:
-        """Force [N]."""
+        """Force [N].
+
+        Parameters
+        ----------
+        state
+            Internal states of the model (``n_states`` entries, see the model's docstring).
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
         return float(as_law(self.f_c)(v) * np.sign(xdot) + as_law(self.c0)(v) * xdot + self.f0)
 
 
 @numba.njit(cache=True)
 def bingham_force(params, state, x, xd, v):
-    """Force [N] of the packed Bingham model."""
+    """Force [N] of the packed Bingham model.
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    """
     fc = law_value(params, 0, v)
     off = law_length(params, 0)
     c0 = law_value(params, off, v)
@@ -103,5 +153,25 @@ def bingham_force(params, state, x, xd, v):
 
 @numba.njit(cache=True)
 def bingham_step(params, state, x0, x1, xd0, xd1, v, dt):
-    """Stateless: the force at the end of the step."""
+    """Stateless: the force at the end of the step.
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x0
+        Displacement at the start of the step [m].
+    x1
+        Displacement at the end of the step [m].
+    xd0
+        Velocity at the start of the step [m/s].
+    xd1
+        Velocity at the end of the step [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    dt
+        Step length [s].
+    """
     return bingham_force(params, state, x1, xd1, v)

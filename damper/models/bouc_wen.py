@@ -253,7 +253,13 @@ class NormalizedBoucWen(_BoucWenBase):
         self._validate()
 
     def extended(self, kappa_x: ParameterLike = 0.0) -> "ExtendedBoucWen":
-        """The extended model with this normalized part and elastic coefficient ``kappa_x``."""
+        """The extended model with this normalized part and elastic coefficient ``kappa_x``.
+
+        Parameters
+        ----------
+        kappa_x : ParameterLike, optional
+            Elastic coefficient κ_x [N/m] (≥ 0), a number or a voltage law.
+        """
         return ExtendedBoucWen(kappa_x, self.kappa_xdot, self.kappa_w, self.rho, self.sigma, self.n,
                                voltage_range=self.voltage_range,
                                substep_tolerance=self.substep_tolerance)
@@ -313,6 +319,25 @@ class StandardBoucWen:
     normalized form is simulated: use :meth:`to_normalized`. Units: ``c0`` [N·s/m], ``k0``
     [N/m], ``alpha`` [N per unit z], ``A`` and ``D`` dimensionless (z in metres when
     ``A = D = 1``), ``beta``, ``gamma`` [1/m^n].
+
+    Parameters
+    ----------
+    c0 : float
+        Viscous coefficient c₀ [N·s/m] (> 0).
+    k0 : float
+        Elastic coefficient k₀ [N/m] (≥ 0).
+    alpha : float
+        Hysteretic coefficient α [N per unit z] (> 0).
+    A : float
+        Dimensionless gain A of the evolution equation (> 0).
+    beta : float
+        Coefficient β [1/m^n] (β ≥ γ, β + γ > 0).
+    gamma : float
+        Coefficient γ [1/m^n].
+    n : float
+        Exponent n (≥ 1).
+    D : float, optional
+        Dimensionless scale D of ż (> 0; z in metres when A = D = 1).
     """
 
     c0: float
@@ -351,21 +376,51 @@ class StandardBoucWen:
         return (self.A / (self.beta + self.gamma)) ** (1.0 / self.n)
 
     def to_normalized(self, voltage_range: tuple[float, float] = (0.0, 1.0)) -> ExtendedBoucWen:
-        """The unique normalized (extended) model with the same input-output behaviour."""
+        """The unique normalized (extended) model with the same input-output behaviour.
+
+        Parameters
+        ----------
+        voltage_range : tuple[float, float], optional
+            Admissible voltages ``(min, max)`` [V] of the normalized model.
+        """
         z0 = self.z0
         return ExtendedBoucWen(kappa_x=self.k0, kappa_xdot=self.c0, kappa_w=self.alpha * z0,
                                rho=self.A / (self.D * z0), sigma=self.beta / (self.beta + self.gamma),
                                n=self.n, voltage_range=voltage_range)
 
     def rates(self, state, x: float, xdot: float, v: float = 0.0) -> np.ndarray:
-        """:math:`\\dot z` (plain numpy, for checks of the conversion)."""
+        """:math:`\\dot z` (plain numpy, for checks of the conversion).
+
+        Parameters
+        ----------
+        state
+            ``[z]``, the standard hysteretic variable.
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float, optional
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
         z = float(state[0])
         az = abs(z)
         return np.array([(self.A * xdot - self.beta * abs(xdot) * az ** (self.n - 1.0) * z
                           - self.gamma * xdot * az ** self.n) / self.D])
 
     def force(self, state, x: float, xdot: float, v: float = 0.0) -> float:
-        """Force [N] for the standard state ``[z]``."""
+        """Force [N] for the standard state ``[z]``.
+
+        Parameters
+        ----------
+        state
+            ``[z]``, the standard hysteretic variable.
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float, optional
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
         return float(self.c0 * xdot + self.k0 * x + self.alpha * float(state[0]))
 
 
@@ -655,7 +710,27 @@ def bouc_wen_integrate(w, x0, x1, xd0, xd1, dt, rho, sigma, n, tol):
 
 @numba.njit(cache=True)
 def bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt):
-    """Advance ``state = [w]`` over one step along the path (x0, xd0) -> (x1, xd1); return F(end) [N]."""
+    """Advance ``state = [w]`` over one step along the path (x0, xd0) -> (x1, xd1); return F(end) [N].
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x0
+        Displacement at the start of the step [m].
+    x1
+        Displacement at the end of the step [m].
+    xd0
+        Velocity at the start of the step [m/s].
+    xd1
+        Velocity at the end of the step [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    dt
+        Step length [s].
+    """
     tol, kx, kxd, kw, rho, sigma, n = _coefficients(params, v)
     w = bouc_wen_integrate(state[0], x0, x1, xd0, xd1, dt, rho, sigma, n, tol)
     state[0] = w
@@ -664,6 +739,20 @@ def bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt):
 
 @numba.njit(cache=True)
 def bouc_wen_force(params, state, x, xd, v):
-    """Force [N] of the (extended) Bouc-Wen model at the current state."""
+    """Force [N] of the (extended) Bouc-Wen model at the current state.
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    """
     tol, kx, kxd, kw, rho, sigma, n = _coefficients(params, v)
     return kx * x + kxd * xd + kw * state[0]

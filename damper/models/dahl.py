@@ -39,7 +39,23 @@ __all__ = ["Dahl"]
 @register_model
 @dataclass(frozen=True)
 class Dahl(DamperModel):
-    """Dahl model (normalized Bouc-Wen with sigma = 1, n = 1); see module docstring."""
+    """Dahl model (normalized Bouc-Wen with sigma = 1, n = 1); see module docstring.
+
+    Parameters
+    ----------
+    kappa_x : ParameterLike
+        Elastic coefficient κ_x [N/m], a number or a voltage law.
+    kappa_xdot : ParameterLike
+        Viscous coefficient κ_ẋ [N·s/m], a number or a voltage law.
+    kappa_w : ParameterLike
+        Hysteretic force scale κ_w [N], a number or a voltage law.
+    rho : ParameterLike
+        Normalized Bouc-Wen rate parameter ρ [1/m] (> 0).
+    voltage_range : tuple[float, float], optional
+        Admissible coil inputs ``(min, max)`` [V] (or [A]); the voltage laws are checked over it.
+    substep_tolerance : float, optional
+        Sub-step size control of the integrator (``0 < tol <= 1``; smaller: more sub-steps, error O(tol⁴)).
+    """
 
     kappa_x: ParameterLike
     kappa_xdot: ParameterLike
@@ -78,15 +94,45 @@ class Dahl(DamperModel):
         return np.zeros(1)
 
     def rates(self, state, x: float, xdot: float, v: float) -> np.ndarray:
-        """``[wdot]`` (plain numpy)."""
+        """``[wdot]`` (plain numpy).
+
+        Parameters
+        ----------
+        state
+            Internal states of the model (``n_states`` entries, see the model's docstring).
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
         return self.as_bouc_wen().rates(state, x, xdot, v)
 
     def force(self, state, x: float, xdot: float, v: float) -> float:
-        """Force [N]."""
+        """Force [N].
+
+        Parameters
+        ----------
+        state
+            Internal states of the model (``n_states`` entries, see the model's docstring).
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
         return self.as_bouc_wen().force(state, x, xdot, v)
 
     def at_voltage(self, v: float) -> "Dahl":
-        """Parameters frozen at voltage ``v``."""
+        """Parameters frozen at voltage ``v``.
+
+        Parameters
+        ----------
+        v : float
+            Voltage [V].
+        """
         c = self.as_bouc_wen().coefficients(v)
         return replace(self, kappa_x=c["kappa_x"], kappa_xdot=c["kappa_xdot"],
                        kappa_w=c["kappa_w"], rho=c["rho"])

@@ -42,7 +42,25 @@ __all__ = ["HyperbolicTangent", "hyperbolic_tangent_step",
 @register_model
 @dataclass(frozen=True)
 class HyperbolicTangent(DamperModel):
-    """``F = c xdot + k x + alpha tanh(beta xdot + delta sgn x) + f0`` (see module docstring)."""
+    """``F = c xdot + k x + alpha tanh(beta xdot + delta sgn x) + f0`` (see module docstring).
+
+    Parameters
+    ----------
+    c : ParameterLike
+        Viscous coefficient c [N·s/m], a number or a voltage law.
+    k : ParameterLike
+        Stiffness k [N/m], a number or a voltage law.
+    alpha : ParameterLike
+        Hysteretic force scale α [N], a number or a voltage law.
+    beta : float
+        Velocity scale β [s/m] of the tanh.
+    delta : float, optional
+        Displacement term δ (dimensionless) of the tanh argument.
+    f0 : float, optional
+        Force offset f₀ [N].
+    voltage_range : tuple[float, float], optional
+        Admissible coil inputs ``(min, max)`` [V] (or [A]); the voltage laws are checked over it.
+    """
 
     c: ParameterLike
     k: ParameterLike
@@ -92,11 +110,35 @@ class HyperbolicTangent(DamperModel):
         return np.zeros(0)
 
     def rates(self, state, x: float, xdot: float, v: float) -> np.ndarray:
-        """No internal state: an empty array."""
+        """No internal state: an empty array.
+
+        Parameters
+        ----------
+        state
+            Internal states of the model (``n_states`` entries, see the model's docstring).
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
         return np.zeros(0)
 
     def force(self, state, x: float, xdot: float, v: float) -> float:
-        """Force [N]."""
+        """Force [N].
+
+        Parameters
+        ----------
+        state
+            Internal states of the model (``n_states`` entries, see the model's docstring).
+        x : float
+            Displacement [m].
+        xdot : float
+            Velocity [m/s].
+        v : float
+            Coil input: voltage [V] (or current [A] for a model identified on currents).
+        """
         return float(as_law(self.c)(v) * xdot + as_law(self.k)(v) * x
                      + as_law(self.alpha)(v) * np.tanh(self.beta * xdot + self.delta * np.sign(x))
                      + self.f0)
@@ -104,7 +146,21 @@ class HyperbolicTangent(DamperModel):
 
 @numba.njit(cache=True)
 def hyperbolic_tangent_force(params, state, x, xd, v):
-    """Force [N] of the packed hyperbolic-tangent model."""
+    """Force [N] of the packed hyperbolic-tangent model.
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    """
     c = law_value(params, 0, v)
     off = law_length(params, 0)
     k = law_value(params, off, v)
@@ -117,5 +173,25 @@ def hyperbolic_tangent_force(params, state, x, xd, v):
 
 @numba.njit(cache=True)
 def hyperbolic_tangent_step(params, state, x0, x1, xd0, xd1, v, dt):
-    """Stateless: the force at the end of the step."""
+    """Stateless: the force at the end of the step.
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x0
+        Displacement at the start of the step [m].
+    x1
+        Displacement at the end of the step [m].
+    xd0
+        Velocity at the start of the step [m/s].
+    xd1
+        Velocity at the end of the step [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    dt
+        Step length [s].
+    """
     return hyperbolic_tangent_force(params, state, x1, xd1, v)

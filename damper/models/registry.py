@@ -142,7 +142,32 @@ def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
     any initial content) in which a model may keep values that depend only on the step's start
     state and voltage (the Spencer-type voltage laws), reused when the same device is advanced
     again from the same state, as the building's fixed-point iteration does. Same results as
-    :func:`device_step`; models without such values ignore ``memo``."""
+    :func:`device_step`; models without such values ignore ``memo``.
+
+    Parameters
+    ----------
+    kernel_id
+        Kernel family of the device (:data:`damper.models.base.KERNELS`).
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x0
+        Displacement at the start of the step [m].
+    x1
+        Displacement at the end of the step [m].
+    xd0
+        Velocity at the start of the step [m/s].
+    xd1
+        Velocity at the end of the step [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    dt
+        Step length [s].
+    memo
+        Per-device scratch array (float64, :data:`damper.models.registry.MEMO_LENGTH` entries) shared by the step
+        and tangent calls of one device.
+    """
     if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
     return device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt)
@@ -151,7 +176,23 @@ def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
 @numba.njit(cache=True)
 def device_force(kernel_id, params, state, x, xd, v):
     """Force [N] of a device at its current state, displacement ``x`` [m], velocity ``xd`` [m/s]
-    and voltage ``v`` [V] (no state change); NaN for an unknown ``kernel_id``."""
+    and voltage ``v`` [V] (no state change); NaN for an unknown ``kernel_id``.
+
+    Parameters
+    ----------
+    kernel_id
+        Kernel family of the device (:data:`damper.models.base.KERNELS`).
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    """
     if kernel_id == KERNEL_BOUC_WEN:
         return bouc_wen_force(params, state, x, xd, v)
     if kernel_id == KERNEL_SPENCER_TYPE:
@@ -170,6 +211,21 @@ def device_tangent(kernel_id, params, state, x, xd, v):
     The building's Newton iteration on the base uses them at the end of a step. Models without
     a tangent return ``(0, 0)``: the iteration then treats their force as given, which only
     slows its convergence (the fixed point and the convergence test are unchanged).
+
+    Parameters
+    ----------
+    kernel_id
+        Kernel family of the device (:data:`damper.models.base.KERNELS`).
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
     """
     if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_tangent(params, state, x, xd)
@@ -180,7 +236,26 @@ def device_tangent(kernel_id, params, state, x, xd, v):
 def device_tangent_memo(kernel_id, params, state, x, xd, v, memo):
     """:func:`device_tangent` after :func:`device_step_memo` with the same ``memo``: a model that
     stored its end-of-step tangent there (the Spencer types) returns it without evaluating its
-    voltage laws again."""
+    voltage laws again.
+
+    Parameters
+    ----------
+    kernel_id
+        Kernel family of the device (:data:`damper.models.base.KERNELS`).
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    memo
+        Per-device scratch array (float64, :data:`damper.models.registry.MEMO_LENGTH` entries) shared by the step
+        and tangent calls of one device.
+    """
     if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_tangent_memo(params, memo)
     return device_tangent(kernel_id, params, state, x, xd, v)

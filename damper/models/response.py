@@ -57,6 +57,19 @@ def prepare_motion(model, t, x, xdot=None, v=0.0):
 
     Raises :class:`InputError` for mismatched lengths, non-finite values, a time axis that is
     not strictly increasing, or a voltage outside ``model.voltage_range``.
+
+    Parameters
+    ----------
+    model
+        The damper model (its voltage range is checked).
+    t
+        Sample times [s], increasing.
+    x
+        Displacement history [m] at ``t``.
+    xdot : ndarray, optional
+        Velocity history [m/s]; None: ``np.gradient(x, t)``.
+    v : float or ndarray, optional
+        Voltage [V], a number or a history at ``t``.
     """
     t = _as_1d("t", t)
     if t.size < 2:

@@ -70,6 +70,13 @@ def scaled_law(law: VoltageLaw, factor: float) -> VoltageLaw:
     (constant, polynomial and seed-κ_w coefficients, tabulated values, ``a`` and ``b`` of the
     exponential and saturating laws), so the scaled law is exact.
 
+    Parameters
+    ----------
+    law : VoltageLaw
+        The law.
+    factor : float
+        Dimensionless multiplier.
+
     Raises
     ------
     ParameterError
@@ -188,6 +195,17 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
         ``base`` keeps its parameters (``kappa_x = 0`` for the normalized model) and its
         voltage laws; its ρ, σ and n must not depend on the coil input. (The base's own
         sub-step tolerance belongs to another kernel and is not carried over.)
+
+        Parameters
+        ----------
+        base
+            A normalized or extended Bouc-Wen model.
+        roll_off_velocity : float
+            v_r = κ_w / c_s [m/s] (> 0).
+        substep_tolerance : float, optional
+            RK4 sub-step size as ``lambda * h``.
+        field_lag : float, optional
+            Time constant τ [s] of the field's response to the coil input (0: none).
         """
         return cls(kappa_x=getattr(base, "kappa_x", 0.0), kappa_xdot=base.kappa_xdot,
                    kappa_w=base.kappa_w, rho=base.rho, sigma=base.sigma, n=base.n,
@@ -195,7 +213,13 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
                    substep_tolerance=substep_tolerance, field_lag=field_lag)
 
     def series_damping(self, v: float) -> float:
-        """:math:`c_s(v) = \\kappa_w(v) / v_r` [N·s/m]."""
+        """:math:`c_s(v) = \\kappa_w(v) / v_r` [N·s/m].
+
+        Parameters
+        ----------
+        v : float
+            Coil input [V].
+        """
         return float(as_law(self.kappa_w)(float(v))) / self.roll_off_velocity
 
     def kernel_tolerance(self) -> float:

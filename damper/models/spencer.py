@@ -94,6 +94,33 @@ def pack_spencer_type(tol: float, k0: float, k1: float, x0: float, eta: float, r
     ``tol`` is the sub-step size ``lambda * h`` under the bound that covers both branches;
     ``loading_tol`` (default ``tol``) the one of a step that stays on the loading branch, which
     the kernel tries first when ``sigma > 1`` (see :func:`spencer_type_step`).
+
+    Parameters
+    ----------
+    tol : float
+        Sub-step tolerance of the integrator.
+    k0 : float
+        Stiffness k₀ at large velocities [N/m].
+    k1 : float
+        Accumulator stiffness k₁ [N/m].
+    x0 : float
+        Initial displacement x₀ of the accumulator spring [m].
+    eta : float
+        Rate η [1/s] of the field's first-order filter.
+    rho : float
+        Normalized Bouc-Wen rate parameter ρ [1/m] (> 0).
+    sigma : float
+        Normalized Bouc-Wen shape parameter σ (≥ 1/2).
+    n : float
+        Bouc-Wen exponent n (≥ 1).
+    alpha_w : VoltageLaw
+        Law of the hysteretic force scale α_w(u) = α z₀ [N] of the filtered voltage u.
+    c0 : VoltageLaw
+        Viscous coefficient law c₀(u) [N·s/m] (high velocity).
+    c1 : VoltageLaw
+        Viscous coefficient law c₁(u) [N·s/m] (low velocity).
+    loading_tol : float | None, optional
+        Sub-step tolerance on the loading branch; None: ``tol``.
     """
     head = np.array([tol, k0, k1, x0, eta, rho, sigma, n, tol if loading_tol is None else loading_tol],
                     dtype=np.float64)
@@ -102,7 +129,39 @@ def pack_spencer_type(tol: float, k0: float, k1: float, x0: float, eta: float, r
 
 
 def spencer_type_rates(state, x, xdot, v, *, k0, k1, x0, eta, rho, sigma, n, alpha_w, c0, c1):
-    """Plain-numpy time derivatives ``[ydot, wdot, udot]`` (laws evaluated at the state's u)."""
+    """Plain-numpy time derivatives ``[ydot, wdot, udot]`` (laws evaluated at the state's u).
+
+    Parameters
+    ----------
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xdot
+        Velocity [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    k0
+        Stiffness k₀ at large velocities [N/m].
+    k1
+        Accumulator stiffness k₁ [N/m].
+    x0
+        Initial displacement x₀ of the accumulator spring [m].
+    eta
+        Rate η [1/s] of the field's first-order filter.
+    rho
+        Normalized Bouc-Wen rate parameter ρ [1/m] (> 0).
+    sigma
+        Normalized Bouc-Wen shape parameter σ (≥ 1/2).
+    n
+        Bouc-Wen exponent n (≥ 1).
+    alpha_w
+        Law of the hysteretic force scale α_w(u) = α z₀ [N] of the filtered voltage u.
+    c0
+        Viscous coefficient law c₀(u) [N·s/m] (high velocity).
+    c1
+        Viscous coefficient law c₁(u) [N·s/m] (low velocity).
+    """
     y, w, u = (float(s) for s in state)
     a, d0, d1 = float(alpha_w(u)), float(c0(u)), float(c1(u))
     ydot = (a * w + d0 * xdot + k0 * (x - y)) / (d0 + d1)
@@ -113,7 +172,37 @@ def spencer_type_rates(state, x, xdot, v, *, k0, k1, x0, eta, rho, sigma, n, alp
 
 
 def spencer_type_force(state, x, xdot, *, k0, k1, x0, rho, sigma, n, alpha_w, c0, c1, **_):
-    """Plain-numpy force [N] ``c1 ydot + k1 (x - x0)``."""
+    """Plain-numpy force [N] ``c1 ydot + k1 (x - x0)``.
+
+    Parameters
+    ----------
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xdot
+        Velocity [m/s].
+    k0
+        Stiffness k₀ at large velocities [N/m].
+    k1
+        Accumulator stiffness k₁ [N/m].
+    x0
+        Initial displacement x₀ of the accumulator spring [m].
+    rho
+        Normalized Bouc-Wen rate parameter ρ [1/m] (> 0).
+    sigma
+        Normalized Bouc-Wen shape parameter σ (≥ 1/2).
+    n
+        Bouc-Wen exponent n (≥ 1).
+    alpha_w
+        Law of the hysteretic force scale α_w(u) = α z₀ [N] of the filtered voltage u.
+    c0
+        Viscous coefficient law c₀(u) [N·s/m] (high velocity).
+    c1
+        Viscous coefficient law c₁(u) [N·s/m] (low velocity).
+    **_
+        Other packed parameters, ignored.
+    """
     y, w, u = (float(s) for s in state)
     a, d0, d1 = float(alpha_w(u)), float(c0(u)), float(c1(u))
     ydot = (a * w + d0 * xdot + k0 * (x - y)) / (d0 + d1)
@@ -232,7 +321,13 @@ class Spencer(SpencerTypeModel):
 
     @classmethod
     def prototype_1997(cls, **overrides) -> "Spencer":
-        """The 1.5 kN prototype of Spencer et al. (1997) in SI units (see module docstring)."""
+        """The 1.5 kN prototype of Spencer et al. (1997) in SI units (see module docstring).
+
+        Parameters
+        ----------
+        **overrides
+            Fields to change from the prototype (SI).
+        """
         values = dict(alpha_a=140.0e2, alpha_b=695.0e2, c0a=21.0e2, c0b=3.50e2, k0=46.9e2,
                       c1a=283.0e2, c1b=2.95e2, k1=5.00e2, x0=0.143, gamma=363.0e4, beta=363.0e4,
                       A=301.0, n=2.0, eta=190.0)
@@ -292,7 +387,27 @@ _TANGENT_SLOT = MEMO_LENGTH - 2
 
 @numba.njit(cache=True)
 def spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt):
-    """Advance ``state = [y, w, u]`` over one step; return the force at its end [N]."""
+    """Advance ``state = [y, w, u]`` over one step; return the force at its end [N].
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x0
+        Displacement at the start of the step [m].
+    x1
+        Displacement at the end of the step [m].
+    xd0
+        Velocity at the start of the step [m/s].
+    xd1
+        Velocity at the end of the step [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    dt
+        Step length [s].
+    """
     return _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, state, False)  # no memo
 
 
@@ -301,7 +416,30 @@ def spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo):
     """:func:`spencer_type_step` that keeps the voltage laws' values in ``memo`` (float64, length
     :data:`MEMO_LENGTH`, any initial content, one per device) and reuses them while the step's field
     (start value, commanded voltage, step length) and sub-step count are the same: the building's
-    fixed-point iteration advances every device several times from the same state. Same results."""
+    fixed-point iteration advances every device several times from the same state. Same results.
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x0
+        Displacement at the start of the step [m].
+    x1
+        Displacement at the end of the step [m].
+    xd0
+        Velocity at the start of the step [m/s].
+    xd1
+        Velocity at the end of the step [m/s].
+    v
+        Coil input: voltage [V] (or current [A] for a model identified on currents).
+    dt
+        Step length [s].
+    memo
+        Per-device scratch array (float64, :data:`damper.models.registry.MEMO_LENGTH` entries) shared by the step
+        and tangent calls of one device.
+    """
     return _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, memo.shape[0] >= MEMO_LENGTH)
 
 
@@ -468,7 +606,21 @@ def _force(params, state, x, xd):
 
 @numba.njit(cache=True)
 def spencer_type_force_kernel(params, state, x, xd, v):
-    """Force [N] at the current state (the filtered voltage is ``state[2]``; ``v`` unused)."""
+    """Force [N] at the current state (the filtered voltage is ``state[2]``; ``v`` unused).
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
+    v
+        Voltage [V] (unused: the filtered voltage is ``state[2]``).
+    """
     return _force(params, state, x, xd)
 
 
@@ -480,6 +632,17 @@ def spencer_type_tangent(params, state, x, xd):
     :math:`\partial F/\partial x = k_1 + c_1 k_0/(c_0 + c_1)`,
     :math:`\partial F/\partial \dot x = c_1 c_0/(c_0 + c_1)` (the two dashpots in series).
     The building's Newton iteration uses them at the end of a step (:mod:`benchmark.simulator.stepping`).
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    state
+        Internal states of the model (``n_states`` entries, see the model's docstring).
+    x
+        Displacement [m].
+    xd
+        Velocity [m/s].
     """
     a, d0, d1 = _laws(params, state[2])
     s = d1 / (d0 + d1)
@@ -489,6 +652,15 @@ def spencer_type_tangent(params, state, x, xd):
 @numba.njit(cache=True)
 def spencer_type_tangent_memo(params, memo):
     """:func:`spencer_type_tangent` at the end of the last :func:`spencer_type_step_memo` with this
-    ``memo``, from the end field's laws that step stored (no law evaluated again)."""
+    ``memo``, from the end field's laws that step stored (no law evaluated again).
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    memo
+        Per-device scratch array (float64, :data:`damper.models.registry.MEMO_LENGTH` entries) shared by the step
+        and tangent calls of one device.
+    """
     s = memo[_TANGENT_SLOT]
     return params[2] + s * params[1], s * memo[_TANGENT_SLOT + 1]

@@ -107,7 +107,13 @@ class VoltageLaw:
 
 @dataclass(frozen=True)
 class Constant(VoltageLaw):
-    """:math:`p(v) = c`."""
+    """:math:`p(v) = c`.
+
+    Parameters
+    ----------
+    value : float
+        The constant value c (units of the parameter).
+    """
 
     value: float
     kind: ClassVar[int] = LAW_CONSTANT
@@ -128,7 +134,13 @@ class Constant(VoltageLaw):
 
 @dataclass(frozen=True)
 class Polynomial(VoltageLaw):
-    """:math:`p(v) = a_0 + a_1 v + a_2 v^2 + \\dots` (``coefficients`` in ascending powers)."""
+    """:math:`p(v) = a_0 + a_1 v + a_2 v^2 + \\dots` (``coefficients`` in ascending powers).
+
+    Parameters
+    ----------
+    coefficients : tuple[float, ...]
+        a₀, a₁, … in ascending powers of v (units of the parameter per V^k).
+    """
 
     coefficients: tuple[float, ...]
     kind: ClassVar[int] = LAW_POLYNOMIAL
@@ -153,7 +165,17 @@ class Polynomial(VoltageLaw):
 
 @dataclass(frozen=True)
 class Exponential(VoltageLaw):
-    """:math:`p(v) = a + b\\,e^{-c v}` (seed eq. 7-9 with c = 13 or 14 V⁻¹)."""
+    """:math:`p(v) = a + b\\,e^{-c v}` (seed eq. 7-9 with c = 13 or 14 V⁻¹).
+
+    Parameters
+    ----------
+    a : float
+        Value approached at high voltage (units of the parameter).
+    b : float
+        Amplitude of the exponential part (units of the parameter); ``a + b`` at 0 V.
+    c : float
+        Decay rate c [1/V].
+    """
 
     a: float
     b: float
@@ -181,6 +203,11 @@ class SeedKappaW(VoltageLaw):
 
     Regions: ``v <= 0.3`` power law :math:`k_1 + k_2 v^{1.15}`; ``0.3 <= v <= 0.7`` two sines;
     ``v >= 0.7`` odd polynomial :math:`k_6 + k_7 v + k_8 v^3 + k_9 v^5` [N, v in V].
+
+    Parameters
+    ----------
+    k : tuple[float, ...]
+        The nine coefficients k₁…k₉ of eq. (10) of the seed paper (κ_w in N, v in V).
     """
 
     k: tuple[float, ...]
@@ -217,6 +244,13 @@ def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     secants change sign or one vanishes), end slopes the shape-preserving three-point formula
     (Fritsch F.N., Carlson R.E. (1980), *Monotone piecewise cubic interpolation*, SIAM J.
     Numer. Anal. 17(2); the same slopes as :class:`scipy.interpolate.PchipInterpolator`).
+
+    Parameters
+    ----------
+    x : np.ndarray
+        Increasing nodes.
+    y : np.ndarray
+        Values at the nodes.
     """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
@@ -243,6 +277,13 @@ class Tabulated(VoltageLaw):
     Constant extrapolation outside the grid. The slopes at the nodes follow Fritsch &
     Carlson (as :class:`scipy.interpolate.PchipInterpolator`), so the law is monotone
     between nodes wherever the data are monotone, and C¹.
+
+    Parameters
+    ----------
+    voltages : tuple[float, ...]
+        Increasing voltage nodes [V].
+    values : tuple[float, ...]
+        Parameter values at the nodes (units of the parameter).
     """
 
     voltages: tuple[float, ...]
@@ -291,6 +332,17 @@ class Saturating(VoltageLaw):
     """:math:`p(v) = a + b\\tanh((v/c)^e)` for ``v >= 0`` (``a`` at 0 V, ``a + b`` when saturated).
 
     ``c`` [V] > 0 sets the voltage scale, ``e`` > 0 the initial shape (``e > 1``: slow start).
+
+    Parameters
+    ----------
+    a : float
+        Value at 0 V (units of the parameter).
+    b : float
+        Increase when saturated (units of the parameter).
+    c : float
+        Voltage scale c [V] (> 0).
+    e : float, optional
+        Dimensionless exponent e of v/c.
     """
 
     a: float
@@ -320,7 +372,15 @@ ParameterLike = Union[float, int, VoltageLaw]
 
 
 def as_law(value: ParameterLike, field: str = "parameter") -> VoltageLaw:
-    """Return ``value`` as a :class:`VoltageLaw` (a number becomes :class:`Constant`)."""
+    """Return ``value`` as a :class:`VoltageLaw` (a number becomes :class:`Constant`).
+
+    Parameters
+    ----------
+    value : ParameterLike
+        A number or a :class:`VoltageLaw`.
+    field : str, optional
+        Parameter name, for error messages.
+    """
     if isinstance(value, VoltageLaw):
         return value
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
@@ -333,6 +393,19 @@ def check_law(law: VoltageLaw, field: str, voltage_range: Sequence[float], *,
     """Raise :class:`ParameterError` unless ``law(v) > lower`` (or ``>=``) over ``voltage_range``.
 
     The law is sampled at 1001 voltages across the range and at its grid nodes.
+
+    Parameters
+    ----------
+    law : VoltageLaw
+        The law to check.
+    field : str
+        Parameter name, for the error message.
+    voltage_range : Sequence[float]
+        ``(min, max)`` voltages [V] over which the law is checked.
+    lower : float | None, optional
+        Lower bound of the law's values; None: no check of the bound.
+    strict : bool, optional
+        Require ``law(v) > lower`` (True) or ``>= lower`` (False).
     """
     v_lo, v_hi = float(voltage_range[0]), float(voltage_range[1])
     if law.is_constant:
@@ -371,7 +444,15 @@ def _finite(value, field: str) -> float:
 
 @numba.njit(cache=True)
 def law_length(params, offset):
-    """Number of array entries of the law packed at ``params[offset]``."""
+    """Number of array entries of the law packed at ``params[offset]``.
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    offset
+        Index in ``params`` where the packed law starts.
+    """
     return int(params[offset + 1])
 
 
@@ -387,7 +468,17 @@ def _seed_kappa_w(k, v):
 
 @numba.njit(cache=True)
 def law_value(params, offset, v):
-    """Evaluate the law packed at ``params[offset]`` at voltage ``v`` [V]."""
+    """Evaluate the law packed at ``params[offset]`` at voltage ``v`` [V].
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    offset
+        Index in ``params`` where the packed law starts.
+    v
+        Voltage [V].
+    """
     kind = int(params[offset])
     p = offset + 2
     if kind == 0:
@@ -433,7 +524,17 @@ def law_value(params, offset, v):
 
 @numba.njit(cache=True)
 def law_values(params, offset, v):
-    """:func:`law_value` at each voltage of the array ``v`` [V]."""
+    """:func:`law_value` at each voltage of the array ``v`` [V].
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    offset
+        Index in ``params`` where the packed law starts.
+    v
+        Voltages [V], an array.
+    """
     out = np.empty(v.size)
     for i in range(v.size):
         out[i] = law_value(params, offset, v[i])

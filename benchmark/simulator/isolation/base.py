@@ -34,14 +34,30 @@ def _check_number(cls_name: str, field: str, value: object) -> float:
 
 
 def require_positive(obj: object, field: str) -> None:
-    """Raise :class:`ParameterError` unless ``obj.field`` is a finite number > 0."""
+    """Raise :class:`ParameterError` unless ``obj.field`` is a finite number > 0.
+
+    Parameters
+    ----------
+    obj : object
+        The parameter object checked.
+    field : str
+        Name of its field.
+    """
     x = _check_number(type(obj).__name__, field, getattr(obj, field))
     if not x > 0.0:
         raise ParameterError(f"{type(obj).__name__}.{field} = {x!r}: expected > 0")
 
 
 def require_nonnegative(obj: object, field: str) -> None:
-    """Raise :class:`ParameterError` unless ``obj.field`` is a finite number >= 0."""
+    """Raise :class:`ParameterError` unless ``obj.field`` is a finite number >= 0.
+
+    Parameters
+    ----------
+    obj : object
+        The parameter object checked.
+    field : str
+        Name of its field.
+    """
     x = _check_number(type(obj).__name__, field, getattr(obj, field))
     if not x >= 0.0:
         raise ParameterError(f"{type(obj).__name__}.{field} = {x!r}: expected >= 0")
@@ -52,6 +68,21 @@ def require_range(obj: object, field: str, low: float, high: float,
     """Raise :class:`ParameterError` unless ``low <= obj.field <= high``.
 
     ``low_open`` / ``high_open`` make the lower / upper bound strict.
+
+    Parameters
+    ----------
+    obj : object
+        The parameter object checked.
+    field : str
+        Name of its field.
+    low : float
+        Lower bound.
+    high : float
+        Upper bound.
+    low_open : bool, optional
+        Exclude the lower bound.
+    high_open : bool, optional
+        Exclude the upper bound.
     """
     x = _check_number(type(obj).__name__, field, getattr(obj, field))
     ok_low = x > low if low_open else x >= low
@@ -87,16 +118,58 @@ class BearingParameters:
         return float(p[0]), float(p[1])
 
     def rates(self, state: np.ndarray, ux: float, uy: float, vx: float, vy: float) -> np.ndarray:
-        """Continuous-time state derivatives ``d state / dt`` (plain numpy, for the scipy oracle)."""
+        """Continuous-time state derivatives ``d state / dt`` (plain numpy, for the scipy oracle).
+
+        Parameters
+        ----------
+        state : np.ndarray
+            Internal (hysteretic) states of the bearing.
+        ux : float
+            Bearing displacement in x [m].
+        uy : float
+            Bearing displacement in y [m].
+        vx : float
+            Bearing velocity in x [m/s].
+        vy : float
+            Bearing velocity in y [m/s].
+        """
         raise NotImplementedError
 
     def force(self, state: np.ndarray, ux: float, uy: float, vx: float, vy: float) -> tuple[float, float]:
-        """Total bearing force ``(fx, fy)`` [N] including the linear part (plain numpy)."""
+        """Total bearing force ``(fx, fy)`` [N] including the linear part (plain numpy).
+
+        Parameters
+        ----------
+        state : np.ndarray
+            Internal (hysteretic) states of the bearing.
+        ux : float
+            Bearing displacement in x [m].
+        uy : float
+            Bearing displacement in y [m].
+        vx : float
+            Bearing velocity in x [m/s].
+        vy : float
+            Bearing velocity in y [m/s].
+        """
         raise NotImplementedError
 
     def hysteretic_force(self, state: np.ndarray, ux: float, uy: float,
                          vx: float, vy: float) -> tuple[float, float]:
-        """Force minus the linear part, ``f - k u - c u̇`` [N]: what the kernel writes."""
+        """Force minus the linear part, ``f - k u - c u̇`` [N]: what the kernel writes.
+
+        Parameters
+        ----------
+        state : np.ndarray
+            Internal (hysteretic) states of the bearing.
+        ux : float
+            Bearing displacement in x [m].
+        uy : float
+            Bearing displacement in y [m].
+        vx : float
+            Bearing velocity in x [m/s].
+        vy : float
+            Bearing velocity in y [m/s].
+        """
         fx, fy = self.force(state, ux, uy, vx, vy)
         k, c = self.linear_part()
         return fx - k * ux - c * vx, fy - k * uy - c * vy

@@ -179,7 +179,13 @@ class IsolationLayer:
 
     # -- per-bearing views -------------------------------------------------------------
     def bearing(self, index: int) -> BearingParameters:
-        """Parameters of bearing ``index`` (0-based)."""
+        """Parameters of bearing ``index`` (0-based).
+
+        Parameters
+        ----------
+        index : int
+            0-based bearing index.
+        """
         return self.groups[int(self._owner[index])].bearing
 
     def group_of(self) -> np.ndarray:
@@ -217,7 +223,13 @@ class IsolationLayer:
         return PackedIsolation(type_ids, params, states, n_states)
 
     def with_substep_tolerance(self, tolerance: float) -> "IsolationLayer":
-        """A copy with ``substep_tolerance`` replaced in every nonlinear bearing group."""
+        """A copy with ``substep_tolerance`` replaced in every nonlinear bearing group.
+
+        Parameters
+        ----------
+        tolerance : float
+            The new ``substep_tolerance`` of the nonlinear bearing groups.
+        """
         groups = []
         for g in self.groups:
             b = g.bearing
@@ -358,6 +370,11 @@ def isolation_from_dict(data: dict, where: str = "isolation") -> IsolationLayer:
 
 def load_isolation(path: str | os.PathLike) -> IsolationLayer:
     """Read an isolation layer from the JSON file ``path`` (format in the module docstring).
+
+    Parameters
+    ----------
+    path : str | os.PathLike
+        JSON file.
 
     Raises
     ------

@@ -145,7 +145,35 @@ class FrictionPendulumBearing(BearingParameters):
 
 @numba.njit(cache=True, inline="always")
 def friction_pendulum_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out):
-    """Advance ``state = [z_x, z_y]`` over one step and write the friction force mu W z [N]."""
+    """Advance ``state = [z_x, z_y]`` over one step and write the friction force mu W z [N].
+
+    Parameters
+    ----------
+    params
+        Packed bearing parameters (``pack()`` of the bearing's parameters, float64).
+    state
+        Internal (hysteretic) states of the bearing.
+    ux0
+        Displacement in x at the start of the step [m].
+    uy0
+        Displacement in y at the start of the step [m].
+    ux1
+        Displacement in x at the end of the step [m].
+    uy1
+        Displacement in y at the end of the step [m].
+    vx0
+        Velocity in x at the start of the step [m/s].
+    vy0
+        Velocity in y at the start of the step [m/s].
+    vx1
+        Velocity in x at the end of the step [m/s].
+    vy1
+        Velocity in y at the end of the step [m/s].
+    dt
+        Step length [s].
+    force_out
+        Array of 2 the force (x, y) [N] is written into.
+    """
     park_wen_advance(state, 0, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,
                      params[6], params[7], params[8], params[9], params[10])
     speed = math.sqrt(vx1 * vx1 + vy1 * vy1)

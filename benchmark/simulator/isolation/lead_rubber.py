@@ -123,7 +123,35 @@ class LeadRubberBearing(BearingParameters):
 
 @numba.njit(cache=True, inline="always")
 def lead_rubber_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out):
-    """Advance ``state = [z_x, z_y]`` over one step and write the hysteretic force Q_d z [N]."""
+    """Advance ``state = [z_x, z_y]`` over one step and write the hysteretic force Q_d z [N].
+
+    Parameters
+    ----------
+    params
+        Packed bearing parameters (``pack()`` of the bearing's parameters, float64).
+    state
+        Internal (hysteretic) states of the bearing.
+    ux0
+        Displacement in x at the start of the step [m].
+    uy0
+        Displacement in y at the start of the step [m].
+    ux1
+        Displacement in x at the end of the step [m].
+    uy1
+        Displacement in y at the end of the step [m].
+    vx0
+        Velocity in x at the start of the step [m/s].
+    vy0
+        Velocity in y at the start of the step [m/s].
+    vx1
+        Velocity in x at the end of the step [m/s].
+    vy1
+        Velocity in y at the end of the step [m/s].
+    dt
+        Step length [s].
+    force_out
+        Array of 2 the force (x, y) [N] is written into.
+    """
     park_wen_advance(state, 0, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,
                      params[3], params[4], params[5], params[6], params[7])
     force_out[0] = params[2] * state[0]

@@ -60,6 +60,34 @@ class LinearBearing(BearingParameters):
 
 @numba.njit(cache=True)
 def linear_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out):
-    """Linear bearing: no states; the hysteretic (non-linear) force is zero."""
+    """Linear bearing: no states; the hysteretic (non-linear) force is zero.
+
+    Parameters
+    ----------
+    params
+        Packed bearing parameters (``pack()`` of the bearing's parameters, float64).
+    state
+        Internal (hysteretic) states of the bearing.
+    ux0
+        Displacement in x at the start of the step [m].
+    uy0
+        Displacement in y at the start of the step [m].
+    ux1
+        Displacement in x at the end of the step [m].
+    uy1
+        Displacement in y at the end of the step [m].
+    vx0
+        Velocity in x at the start of the step [m/s].
+    vy0
+        Velocity in y at the start of the step [m/s].
+    vx1
+        Velocity in x at the end of the step [m/s].
+    vy1
+        Velocity in y at the end of the step [m/s].
+    dt
+        Step length [s].
+    force_out
+        Array of 2 the force (x, y) [N] is written into.
+    """
     force_out[0] = 0.0
     force_out[1] = 0.0

@@ -113,6 +113,35 @@ def bearing_step(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1,
     needs. Writes the bearing's **hysteretic force** (total force minus ``params[0]*u1 +
     params[1]*v1``) at the end of the step, ``(fx, fy)`` [N], into ``force_out[0:2]``.
     An unknown ``type_id`` writes NaN (the stepping kernel's NaN check reports it).
+
+    Parameters
+    ----------
+    type_id
+        Bearing type id (:mod:`benchmark.simulator.isolation.registry`).
+    params
+        Packed bearing parameters (``pack()`` of the bearing's parameters, float64).
+    state
+        Internal (hysteretic) states of the bearing.
+    ux0
+        Displacement in x at the start of the step [m].
+    uy0
+        Displacement in y at the start of the step [m].
+    ux1
+        Displacement in x at the end of the step [m].
+    uy1
+        Displacement in y at the end of the step [m].
+    vx0
+        Velocity in x at the start of the step [m/s].
+    vy0
+        Velocity in y at the start of the step [m/s].
+    vx1
+        Velocity in x at the end of the step [m/s].
+    vy1
+        Velocity in y at the end of the step [m/s].
+    dt
+        Step length [s].
+    force_out
+        Array of 2 the force (x, y) [N] is written into.
     """
     if type_id == 0:
         linear_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out)
@@ -127,7 +156,25 @@ def bearing_step(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1,
 
 @numba.njit(cache=True)
 def bearing_total_force(params, ux, uy, vx, vy, hysteretic_force, force_out):
-    """Total bearing force = linear part + hysteretic force (as written by :func:`bearing_step`)."""
+    """Total bearing force = linear part + hysteretic force (as written by :func:`bearing_step`).
+
+    Parameters
+    ----------
+    params
+        Packed bearing parameters (``pack()`` of the bearing's parameters, float64).
+    ux
+        Bearing displacement in x [m].
+    uy
+        Bearing displacement in y [m].
+    vx
+        Bearing velocity in x [m/s].
+    vy
+        Bearing velocity in y [m/s].
+    hysteretic_force
+        The hysteretic force (x, y) [N] written by :func:`bearing_step`.
+    force_out
+        Array of 2 the force (x, y) [N] is written into.
+    """
     force_out[0] = params[0] * ux + params[1] * vx + hysteretic_force[0]
     force_out[1] = params[0] * uy + params[1] * vy + hysteretic_force[1]
 
@@ -142,6 +189,25 @@ def bearing_tangent(type_id, params, state, dx, dy, vx1, vy1, tangent):
     ``(dx, dy)`` is the step's displacement (its direction of motion), ``(vx1, vy1)`` the end
     velocity [m/s]. Zero for a linear bearing (its force is all in the linear part) and for an
     unknown type.
+
+    Parameters
+    ----------
+    type_id
+        Bearing type id (:mod:`benchmark.simulator.isolation.registry`).
+    params
+        Packed bearing parameters (``pack()`` of the bearing's parameters, float64).
+    state
+        Internal (hysteretic) states of the bearing.
+    dx
+        Displacement increment in x over the step [m].
+    dy
+        Displacement increment in y over the step [m].
+    vx1
+        Velocity in x at the end of the step [m/s].
+    vy1
+        Velocity in y at the end of the step [m/s].
+    tangent
+        Array (2, 2) the derivatives d f_h / d u [N/m] are written into.
     """
     if type_id == 1:
         lead_rubber_tangent(params, state, dx, dy, vx1, vy1, tangent)
