@@ -60,14 +60,19 @@ def read_test_file(path: str, keep_flagged: bool = False):
     return read_csv(p, keep_flagged=keep_flagged)
 
 
+def _label(test) -> str:
+    """The file a test was read from (its name when it was not read from a file)."""
+    return Path(test.source).name if test.source else (test.name or "test")
+
+
 def screening_summary(tests, keep_flagged: bool = False) -> dict:
-    """The ``screening`` entry of the summary JSON: per test its findings and excluded samples."""
+    """The ``screening`` entry of the summary JSON: per file its findings and excluded samples."""
     out = {}
     for test in tests:
         doc = screening_of(test).to_json()
         doc["kept_flagged"] = bool(keep_flagged)
         doc["n_excluded"] = int(test.n_samples - test.usable.sum())
-        out[test.name or test.source] = doc
+        out[_label(test)] = doc
     return out
 
 
@@ -76,7 +81,7 @@ def screening_lines(tests, keep_flagged: bool = False) -> list[str]:
     lines = []
     for test in tests:
         scr = screening_of(test)
-        label = test.name or test.source
+        label = _label(test)
         if not scr.findings:
             lines.append(f"screening {label}: nothing found")
             continue
