@@ -38,7 +38,7 @@ from benchmark.foundation.textfile import read_text
 from damper.screening import repair_samples, screened
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
-           "utfsm_files"]
+           "utfsm_files", "read_utfsm_raw", "UTFSM_RAW_CHANNELS"]
 
 _REQUIRED = ("time", "displacement", "force")
 _OPTIONAL = ("velocity", "voltage", "current")
@@ -330,8 +330,8 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
         velocity = np.gradient(col["displacement"], time, edge_order=2)
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
                       force=col["force"],
-                      voltage=col["voltage"] if col.get("voltage") is not None else voltage,
-                      current=col["current"] if col.get("current") is not None else current,
+                      voltage=col["voltage"] if col.get("voltage") is not None else voltage,  # type: ignore[arg-type]
+                      current=col["current"] if col.get("current") is not None else current,  # type: ignore[arg-type]
                       name=name or comments.get("name") or path.stem,
                       source=str(path), metadata={**comments, **metadata})
     return screened(test, prior, excluded, keep_flagged=keep_flagged)
@@ -416,6 +416,71 @@ def read_utfsm(path, keep_flagged: bool = False) -> DamperTest:
                       force=col["force"], current=np.full(time.size, info["current"]),
                       name=path.stem, source=str(path),
                       metadata={**info, "units_in_file": "t [s], x [mm], xdot [mm/s], F [N]",
+                                "provider": "M. Quiroz, UTFSM (MIT licence)"})
+    return screened(test, prior, excluded, keep_flagged=keep_flagged)
+
+
+#: Raw UTFSM logger exports: (CHANNEL0, CHANNEL1) by sampling rate [Hz] (the data notes of the
+#: shared folder: 200 Hz files hold force then displacement, 1 kHz files the other way round).
+UTFSM_RAW_CHANNELS = {200.0: ("force", "displacement"), 1000.0: ("displacement", "force")}
+_KGF = 9.80665   # the logger's force channel is in units of 100 kgf: x 980.665 -> N
+
+
+def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
+    """Read one raw UTFSM logger export (``Datos_crudos/ME*.txt``) into SI units, screened.
+
+    Seven header lines (``Sampling Interval:`` [s] among them), then ``Sample Number,
+    Date/Time, CHANNEL0, CHANNEL1[, Events]``. The channels are assigned by the sampling rate
+    (:data:`UTFSM_RAW_CHANNELS`); force x 980.665 -> N, displacement x 10 -> mm -> m. Each file
+    holds the five coil currents back to back with idle spans between them, and the current is
+    not recorded: the test has no coil input, and the screening reports the idle spans. The
+    velocity is the derivative of the displacement.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"{path}: raw UTFSM file not found")
+    text = read_text(path, "raw UTFSM file")
+    lines = text.splitlines()
+    interval = None
+    for line in lines[:10]:
+        if line.lower().startswith("sampling interval:"):
+            try:
+                interval = float(line.split(":", 1)[1])
+            except ValueError:
+                raise InputError(f"{path}: 'Sampling Interval:' is not a number: {line!r}") from None
+    if interval is None or not interval > 0:
+        raise InputError(f"{path}: expected a 'Sampling Interval: <s>' header line (raw UTFSM export)")
+    rate = round(1.0 / interval)
+    if float(rate) not in UTFSM_RAW_CHANNELS:
+        raise InputError(f"{path}: sampling rate {rate} Hz: expected one of "
+                         f"{sorted(UTFSM_RAW_CHANNELS)} Hz (the channel order is known for these)")
+    names = UTFSM_RAW_CHANNELS[float(rate)]
+    samples, ch0, ch1, line_nos = [], [], [], []
+    for line_no, line in enumerate(lines, start=1):
+        cells = [c.strip() for c in line.split(",")]
+        if len(cells) < 4 or not cells[0].isdigit():
+            continue
+        try:
+            samples.append(int(cells[0]))
+            ch0.append(float(cells[2]))
+            ch1.append(float(cells[3]))
+        except ValueError:
+            raise InputError(f"{path}:{line_no}: expected numbers in CHANNEL0, CHANNEL1, got "
+                             f"{line.strip()!r}") from None
+        line_nos.append(line_no)
+    if len(samples) < 2:
+        raise InputError(f"{path}: expected at least 2 data lines, got {len(samples)}")
+    raw = {names[0]: np.array(ch0), names[1]: np.array(ch1)}
+    time = (np.array(samples, dtype=float) - samples[0]) * interval
+    time, col, excluded, prior = repair_samples(
+        time, {"displacement": raw["displacement"] * 10.0 * 1e-3, "force": raw["force"] * 100.0 * _KGF},
+        label=str(path), lines=line_nos)
+    velocity = np.gradient(col["displacement"], time, edge_order=2)
+    test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
+                      force=col["force"], name=path.stem, source=str(path),
+                      metadata={"velocity_from_file": False, "sample_rate": float(rate),
+                                "units_in_file": f"{names[0]}, {names[1]}: force x 980.665 -> N, "
+                                                 "displacement x 10 -> mm",
                                 "provider": "M. Quiroz, UTFSM (MIT licence)"})
     return screened(test, prior, excluded, keep_flagged=keep_flagged)
 

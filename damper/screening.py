@@ -625,11 +625,10 @@ def screened(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarra
     measurement at all (missing values, filled by :func:`repair_samples`) are excluded.
     """
     result = screen(test, prior, prior_excluded)
-    mask = result.usable
+    usable = result.usable
     if keep_flagged:
-        mask = np.ones(mask.size, dtype=bool) if prior_excluded is None else ~np.asarray(prior_excluded, bool)
-    mask = None if mask.all() else mask
-    return dataclasses.replace(test, mask=mask, metadata={**test.metadata, "screening": result})
+        usable = np.ones(usable.size, dtype=bool) if prior_excluded is None else ~np.asarray(prior_excluded, bool)
+    return dataclasses.replace(test, mask=None if usable.all() else usable, metadata={**test.metadata, "screening": result})
 
 
 def keep_flagged(test: Any) -> Any:

@@ -244,9 +244,9 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
         caught.append(str(w.message))
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     window = slice(kept[0].start, kept[-1].end + 1)
-    usable = None if mask is None else np.asarray(mask, dtype=bool)[window]
+    in_window = None if mask is None else np.asarray(mask, dtype=bool)[window]
     errors = force_errors(t[window], force[window], fit.force[window], x[window], xdot[window],
-                          mask=usable)
+                          mask=in_window)
     return Identification(name=name, model_name=model, level=float(level), level_unit=level_unit,
                           closed_form=cf, fit=fit, cycles=kept,
                           n_cycles_discarded=len(cycles) - len(kept), branches=branches,

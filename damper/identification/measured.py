@@ -160,11 +160,11 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     idents: list[Identification] = []
     failed: dict[str, str] = {}
     # each file is read once, here (a DamperTest passes through as it is)
-    tests = [(str(item.name), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
-             for item in files]
-    screenings = {label: test.metadata["screening"].to_json() for label, test in tests
+    loaded = [(str(item.name), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
+              for item in files]
+    screenings = {label: test.metadata["screening"].to_json() for label, test in loaded
                   if "screening" in getattr(test, "metadata", {})}
-    for label, test in tests:
+    for label, test in loaded:
         for m in models:
             try:
                 with warnings.catch_warnings():
@@ -202,7 +202,7 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
         if tests:
             figures.append(str(plots.plot_parameters_vs_level(
                 tests, folder / "parameters_vs_level.png", unit=idents[0].level_unit if idents else "A")))
-    summary_by_model = {}
+    summary_by_model: dict[str, dict] = {}
     for m in models:
         rel = [s["errors"]["rel_rms_error"] for s in tests if s["model"] == m]
         ho = [e["rel_rms_error"] for s in tests if s["model"] == m for e in s["held_out"].values()]

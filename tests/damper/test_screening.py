@@ -298,3 +298,20 @@ def test_identification_ignores_flagged_samples():
     except InputError:
         return  # the corrupted cycle breaks the closed form
     assert scored.errors["rel_rms_error"] > 3 * masked.errors["rel_rms_error"]
+
+
+def test_raw_utfsm_files_show_the_idle_spans_between_currents(shared_dir):
+    """Each raw logger export holds five currents back to back: the screening finds the idle
+    spans between them (true findings) and nothing else."""
+    from damper.data import read_utfsm_raw
+
+    files = sorted((shared_dir / "hysteresis_data/quiroz_utfsm_mr_damper_sinusoidal/Datos_crudos").glob("ME*.txt"))
+    assert len(files) == 6
+    for path in files:
+        test = read_utfsm_raw(path)
+        scr = test.metadata["screening"]
+        idle = [f for f in scr.findings if f.kind == "idle"]
+        assert len(idle) >= 4, scr.lines()          # at least the four gaps between five runs
+        assert _kinds(scr) == {"idle"}, scr.lines()
+        assert not test.mask[(test.time > idle[1].t_start + 0.1) & (test.time < idle[1].t_end - 0.1)].any()
+        assert 0.001 < 0.5 * np.ptp(test.displacement) < 0.03      # the 2-25 mm tests, in metres
