@@ -171,6 +171,18 @@ class Screening:
                    "from fit and error")
         return out
 
+    def estimate_line(self) -> str:
+        """The estimated lags and gain in one line (empty when none was estimated)."""
+        e = self.estimates
+        parts = []
+        if "force_velocity_lag_s" in e:
+            parts.append(f"force lags the motion's velocity by {1e3 * e['force_velocity_lag_s']:.3g} ms "
+                         f"(cross-correlation peak {e.get('force_velocity_correlation', float('nan')):.3f})")
+        if "velocity_lag_s" in e:
+            parts.append(f"velocity channel: {1e3 * e['velocity_lag_s']:.3g} ms behind d(x)/dt, gain "
+                         f"{e.get('velocity_gain', float('nan')):.4g}")
+        return "; ".join(parts)
+
     def to_json(self) -> dict:
         """``{"name", "n_samples", "n_excluded", "findings": [...], "estimates": {...}}``."""
         return {"name": self.name, "n_samples": int(np.size(self.usable)),

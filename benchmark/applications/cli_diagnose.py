@@ -82,6 +82,8 @@ def screening_lines(tests, keep_flagged: bool = False) -> list[str]:
     for test in tests:
         scr = screening_of(test)
         label = _label(test)
+        if scr.estimate_line():
+            lines.append(f"screening {label}: estimated {scr.estimate_line()}")
         if not scr.findings:
             lines.append(f"screening {label}: nothing found")
             continue

@@ -132,6 +132,11 @@ def _run_data(args: argparse.Namespace) -> int:
         print(json.dumps(result, indent=2, default=float))
         return 0 if result["tests"] else 2
     for name, scr in result.get("screening", {}).items():
+        est = scr.get("estimates", {})
+        if "force_velocity_lag_s" in est and scr["findings"]:
+            print(f"screening {name}: estimated force lag behind the velocity "
+                  f"{1e3 * est['force_velocity_lag_s']:.3g} ms, velocity channel "
+                  f"{1e3 * est.get('velocity_lag_s', 0.0):.3g} ms behind d(x)/dt")
         for finding in scr["findings"]:
             print(f"screening {name}: {_finding_line(finding)}")
         if scr["findings"]:

@@ -58,3 +58,4 @@ def test_diagnose_reports_screening_and_excludes_flagged(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "screening saturated.csv: " in out and "excluded from fit and error" in out
     assert "screening t0.csv: nothing found" in out
+    assert "screening saturated.csv: estimated force lags the motion's velocity by" in out
