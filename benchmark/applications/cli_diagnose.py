@@ -4,7 +4,11 @@
 
     sbib diagnose --data FILE [FILE ...] [--model normalized|extended]
                   [--holdout FRACTION | --validate FILE ...] [--coarse-samples N]
-                  [--out DIR] [--json]
+                  [--keep-flagged] [--out DIR] [--json]
+
+Every file is screened when read (:mod:`damper.io.screening`); the flagged samples count neither
+in the fit nor in the errors (``--keep-flagged`` keeps them) and the findings are printed, and
+listed under ``screening`` in the JSON.
 
 Fits the base model, traces its held-out residual, adds library effects while they pay (held-out
 BIC), and reports the held-out relative RMS force error before and after
@@ -24,8 +28,10 @@ import json
 import sys
 from pathlib import Path
 
+from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import InputError
 from damper.io.data import parse_utfsm_name, read_csv, read_utfsm
+from damper.io.screening import screening_of
 from damper.diagnosis.effects import EFFECT_NAMES
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
@@ -36,14 +42,18 @@ from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 __all__ = ["register", "run", "read_test_file"]
 
 
-def read_test_file(path: str):
-    """Read a damper test: UTFSM preprocessed ``.txt`` (by its name pattern), a Dyke record (CSV
-    with columns t, D [cm], Y [V], V [cm/s], F [N]; :mod:`damper.io.dyke`) or damper CSV.
+def read_test_file(path: str, keep_flagged: bool = False):
+    """Read a damper test, screened (:mod:`damper.io.screening`): UTFSM preprocessed ``.txt`` (by
+    its name pattern), a Dyke record (CSV with columns t, D [cm], Y [V], V [cm/s], F [N];
+    :mod:`damper.io.dyke`) or damper CSV. The flagged samples are masked out of fits and
+    errors unless ``keep_flagged``.
 
     Parameters
     ----------
     path : str
-        Test file: UTFSM ``.txt``, Dyke CSV or a plain CSV.
+        Test file: UTFSM ``.txt``, Dyke CSV or a plain damper CSV.
+    keep_flagged : bool
+        Keep the samples the screening flags in fits and errors (the findings are still reported).
     """
     p = Path(path)
     if p.suffix.lower() == ".txt":
@@ -52,10 +62,44 @@ def read_test_file(path: str):
         except InputError:
             pass
         else:
-            return read_utfsm(p)
+            return read_utfsm(p, keep_flagged=keep_flagged)
     if p.is_file() and is_dyke_file(p):
-        return read_dyke(p)
-    return read_csv(p)
+        return read_dyke(p, keep_flagged=keep_flagged)
+    return read_csv(p, keep_flagged=keep_flagged)
+
+
+def _label(test) -> str:
+    """The file a test was read from (its name when it was not read from a file)."""
+    return Path(test.source).name if test.source else (test.name or "test")
+
+
+def screening_summary(tests, keep_flagged: bool = False) -> dict:
+    """The ``screening`` entry of the summary JSON: per file its findings and excluded samples."""
+    out = {}
+    for test in tests:
+        doc = screening_of(test).to_json()
+        doc["kept_flagged"] = bool(keep_flagged)
+        doc["n_excluded"] = int(test.n_samples - test.usable.sum())
+        out[_label(test)] = doc
+    return out
+
+
+def screening_lines(tests, keep_flagged: bool = False) -> list[str]:
+    """The screening findings as report lines (one per finding, one summary per test)."""
+    lines = []
+    for test in tests:
+        scr = screening_of(test)
+        label = _label(test)
+        if scr.estimate_line():
+            lines.append(f"screening {label}: estimated {scr.estimate_line()}")
+        if not scr.findings:
+            lines.append(f"screening {label}: nothing found")
+            continue
+        lines += [f"screening {label}: {f.line(kept=keep_flagged)}" for f in scr.findings]
+        n_out = int(test.n_samples - test.usable.sum())
+        lines.append(f"screening {label}: {n_out} of {test.n_samples} samples excluded from fit "
+                     "and error" + (" (--keep-flagged: only missing values)" if keep_flagged else ""))
+    return lines
 
 
 def _fraction(text: str) -> float:
@@ -96,6 +140,10 @@ def register(subparsers) -> None:
     p.add_argument("--coarse-samples", type=int, default=None, metavar="N",
                    help="fit on the tests decimated to about N samples, then evaluate on all "
                         "(default 6000; 0: fit every sample)")
+    p.add_argument("--keep-flagged", action="store_true",
+                   help="keep the samples the screening flags (stuck or clipped channels, frozen "
+                        "displacement, idle spans, ...) in the fit and the errors; the findings are "
+                        "still reported")
     p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and plots here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
@@ -111,8 +159,11 @@ def run(args) -> int:
         Parsed command-line options of the sub-command.
     """
 
-    tests = [read_test_file(f) for f in args.data]
-    validate = [read_test_file(f) for f in args.validate] if args.validate else None
+    keep = bool(getattr(args, "keep_flagged", False))
+    tests = [read_test_file(f, keep_flagged=keep) for f in args.data]
+    validate = [read_test_file(f, keep_flagged=keep) for f in args.validate] if args.validate else None
+    screened_tests = tests + (validate or [])
+    screening = screening_summary(screened_tests, keep)
     progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
     holdout = args.holdout if args.holdout is not None else DEFAULT_HOLDOUT
     coarse = getattr(args, "coarse_samples", None)
@@ -121,13 +172,22 @@ def run(args) -> int:
     coarse = DEFAULT_COARSE_SAMPLES if coarse is None else (None if coarse == 0 else coarse)
     result = diagnose(tests, model=args.model, holdout=holdout, validate=validate,
                       candidates=args.effects, progress=progress, coarse_samples=coarse)
+    doc = {**result.to_json(), "screening": screening}
     if args.out:
         paths = write_report(result, args.out)
+        # the screening is the reader's: added here to the report and the summary JSON
+        atomic_write_text(paths["json"], json.dumps(doc, indent=2) + "\n")
+        md = Path(paths["report"])
+        atomic_write_text(md, md.read_text(encoding="utf-8") + "\n## Screening of the data\n\n"
+                          + "\n".join(f"- {line}" for line in screening_lines(screened_tests, keep))
+                          + "\n")
         if progress:
             progress(f"report written to {paths['report']}")
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        print(json.dumps(doc, indent=2))
     else:
+        for line in screening_lines(screened_tests, keep):
+            print(line)
         print(f"model: {result.model_kind}")
         print(f"held-out relative RMS error: {result.error_before:.4f} -> {result.error_after:.4f}")
         for step in result.selection.steps:

@@ -3,9 +3,11 @@
 * ``sbib identify [--out DIR] [--json]``: :func:`benchmark.applications.identification_study.run_identify_study`
   on the virtual benchmark damper (voltage grid, voltage laws, field lag, validation in all
   earthquake runs, HDF5, figures).
-* ``sbib identify --data FILE [FILE ...] [--model normalized|extended] [--json]``:
-  :func:`damper.identification.measured.identify_files` (parameters, uncertainty, fit error per
-  file, held-out check per level, one error figure per file in ``--out``).
+* ``sbib identify --data FILE [FILE ...] [--model normalized|extended] [--keep-flagged] [--json]``:
+  :func:`damper.identification.measured.identify_files` (each file read and screened once;
+  parameters, uncertainty, fit error per file, held-out check per level, ONE model per level
+  over all its tests with each test's error under it, parameters at a bound and warnings
+  flagged in the text output too, one error figure per file in ``--out``).
 """
 
 from __future__ import annotations
@@ -44,6 +46,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="measured test files (UTFSM <amp>mm<freq>Hz<cur>A.txt or CSV)")
     p.add_argument("--model", choices=("normalized", "extended"), default=None,
                    help="with --data: identify only this model (default: both)")
+    p.add_argument("--keep-flagged", action="store_true",
+                   help="with --data: keep the samples the screening flags (stuck or clipped "
+                        "channels, idle spans, ...) in the fits and errors; the findings are still "
+                        "reported")
     p.add_argument("--bootstrap", type=int, default=10,
                    help="with --data: cycle-bootstrap refits per file (default 10)")
     p.add_argument("--records", default=None,
@@ -112,10 +118,9 @@ def _run_data(args: argparse.Namespace) -> int:
 
     models = (args.model,) if args.model else ("normalized", "extended")
     out = args.out or "results/identify-data"
-    # check every file first (cheap text parsing): a bad one stops the command with its one-line
-    # error before any progress line is written
-    for path in args.data:
-        read_test(path)
+    # read (and screen) every file once, before any fit: a bad one stops the command with its
+    # one-line error before any progress line is written
+    tests = [read_test(path, keep_flagged=args.keep_flagged) for path in args.data]
     # on stderr (tqdm's own write() would go to stdout, where --json puts the JSON)
     print(f"identify: {len(args.data)} file(s) x {len(models)} model(s), {args.bootstrap} bootstrap "
           "refits each", file=sys.stderr, flush=True)
@@ -126,20 +131,45 @@ def _run_data(args: argparse.Namespace) -> int:
         bar.update()
 
     try:
-        result = identify_files(args.data, models=models, n_bootstrap=args.bootstrap,
+        result = identify_files(tests, models=models, n_bootstrap=args.bootstrap,
                                 out=None if args.no_plots else out, progress=tick)
     finally:
         bar.close()
     if args.json:
         print(json.dumps(result, indent=2, default=float))
         return 0 if result["tests"] else 2
+    for name, scr in result.get("screening", {}).items():
+        est = scr.get("estimates", {})
+        if "force_velocity_lag_s" in est and scr["findings"]:
+            print(f"screening {name}: estimated force lag behind the velocity "
+                  f"{1e3 * est['force_velocity_lag_s']:.3g} ms, velocity channel "
+                  f"{1e3 * est.get('velocity_lag_s', 0.0):.3g} ms behind d(x)/dt")
+        for finding in scr["findings"]:
+            print(f"screening {name}: {_finding_line(finding)}")
+        if scr["findings"]:
+            print(f"screening {name}: {scr['n_excluded']} of {scr['n_samples']} samples "
+                  + ("kept (--keep-flagged)" if args.keep_flagged else "excluded from fit and error"))
     for s in result["tests"]:
         p = s["parameters"]
         level = "" if s["level"] is None else f" at {s['level']:g} {s['level_unit']}"
         print(f"{s['file']} [{s['model']}]{level}: fit error {100 * s['errors']['rel_rms_error']:.2f} %")
         print("    " + ", ".join(format_si(k, p[k]) for k in p))
+        for k, where in s.get("at_bounds", {}).items():
+            print(f"    at a bound: {k} ({where}): not identified by this test")
+        for w in s.get("warnings", []):
+            print(f"    warning: {w}")
         for other, e in s.get("held_out", {}).items():
             print(f"    predicts {other}: error {100 * e['rel_rms_error']:.2f} %")
+    for key, entry in result.get("levels", {}).items():
+        p = entry["parameters"]
+        print(f"one model at {key} over {len(entry['tests'])} tests (started from "
+              f"{entry['started_from']}): mean error {100 * entry['mean_error']:.2f} %")
+        print("    " + ", ".join(format_si(k, p[k]) for k in p))
+        for k, where in entry["at_bounds"].items():
+            print(f"    at a bound: {k} ({where}): not identified by these tests")
+        for name, err in entry["errors"].items():
+            own = entry["per_test_errors"][name]
+            print(f"    {name}: error {100 * err:.2f} % (its own fit: {100 * own:.2f} %)")
     for name, reason in result["failed"].items():
         print(f"{name}: not identified: {reason}")
     for m, entry in result["summary"].items():
@@ -150,6 +180,14 @@ def _run_data(args: argparse.Namespace) -> int:
     for f in result["figures"]:
         print(f"figure: {f}")
     return 0 if result["tests"] else 2
+
+
+def _finding_line(finding: dict) -> str:
+    """One screening finding (its JSON form) as a report line."""
+    where = (f"{finding['t_start']:.4g} s" if finding["t_end"] == finding["t_start"]
+             else f"{finding['t_start']:.4g}-{finding['t_end']:.4g} s")
+    return (f"{finding['kind']} ({finding['channel']}) at {where}, {finding['n_samples']} sample(s): "
+            f"{finding['message']}")
 
 
 def _run(args: argparse.Namespace) -> int:

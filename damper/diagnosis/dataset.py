@@ -217,6 +217,16 @@ class DiagnosisData:
                 if tr.sum() < 5 or ho.sum() < 5:
                     raise InputError(f"{motion.name}: holdout {holdout:g} leaves fewer than 5 "
                                      "training or held-out samples")
+            if test.mask is not None:
+                # screening (damper.io.screening): the samples it flagged count neither in the fit
+                # nor in the errors; the model is still simulated over all of them, and the
+                # held-out split stays where it was in time
+                tr = tr & test.mask
+                ho = ho & test.mask
+                if not (is_validation or tr.sum() >= 5) or ((is_validation or not validate)
+                                                          and ho.sum() < 5):
+                    raise InputError(f"{motion.name}: the screening leaves fewer than 5 training "
+                                     "or held-out samples (see its findings; --keep-flagged keeps them)")
             motions.append(motion)
             forces.append(np.asarray(test.force, dtype=float))
             train.append(tr)

@@ -52,6 +52,8 @@ from damper.diagnosis.augmented import AugmentedModel, Parametrization, refit
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size, trace_residual
 from damper.diagnosis.effects import EFFECT_NAMES, Effect, get_effect
+# the package's one relative RMS error (mask and weights), re-exported here for the loop
+from damper.identification.metrics import relative_rms_error
 
 __all__ = [
     "ScreenScore",
@@ -116,23 +118,6 @@ def effects_for_trace(shares: dict, mean_share: float, names, min_share: float =
         if hit:
             out[n] = hit
     return out
-
-
-def relative_rms_error(measured: np.ndarray, predicted: np.ndarray) -> float:
-    """:math:`\\|F - \\hat F\\|_2/\\|F\\|_2`.
-
-    Parameters
-    ----------
-    measured : np.ndarray
-        Measured force [N].
-    predicted : np.ndarray
-        Model force [N] at the same samples.
-    """
-    measured = np.asarray(measured, dtype=float)
-    norm = float(np.linalg.norm(measured))
-    if not norm > 0:
-        raise InputError("relative RMS error: the measured force is identically zero")
-    return float(np.linalg.norm(measured - np.asarray(predicted, dtype=float)) / norm)
 
 
 def heldout_bic(rss: float, n_samples: int, n_effective: float, n_parameters: int) -> float:

@@ -61,6 +61,8 @@ class Identification:
         The test histories (SI).
     warnings : tuple of str
         Warnings raised on the way (e.g. a marginal excitation).
+    mask : ndarray of bool or None
+        Usable samples (the screening's); ``None``: all.
     """
 
     name: str
@@ -78,6 +80,7 @@ class Identification:
     xdot: np.ndarray = field(repr=False)
     force: np.ndarray = field(repr=False)
     warnings: tuple = ()
+    mask: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def parameters(self) -> dict[str, float]:
@@ -155,7 +158,7 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
                     model: str = "extended", name: str = "test", level: float = math.nan,
                     level_unit: str = "V", n_method: str = "integral", n_bootstrap: int = 0,
                     strict: bool = True, seed: int = 0, start: dict | None = None,
-                    kappa_x: float | None = None) -> Identification:
+                    kappa_x: float | None = None, mask: np.ndarray | None = None) -> Identification:
     """Identify ``model`` from one constant-voltage periodic test given as arrays.
 
     Parameters
@@ -188,6 +191,9 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
         steps and the refinement (the seed paper's method: :math:`\\kappa_x` read once from a
         large-amplitude loop, the rest identified on :math:`F - \\kappa_x x`). Default: identified
         from this test.
+    mask : ndarray of bool, optional
+        Usable samples (the screening's, :attr:`damper.io.data.DamperTest.mask`): the others are
+        simulated but count neither in the refinement's residuals nor in the errors.
 
     Returns
     -------
@@ -217,25 +223,35 @@ def identify_arrays(t: np.ndarray, x: np.ndarray, force: np.ndarray, xdot: np.nd
     with warnings.catch_warnings(record=True) as record:
         warnings.simplefilter("always")
         cycles = detect_cycles(x)
-        kept, _ = steady_cycles(x, force, cycles)
+        # flagged samples (screening) are bridged for the limit-cycle and closed-form steps,
+        # which average whole cycles; the averaged branches use the cycles without any
+        f_seen = force
+        if mask is not None and not np.all(mask):
+            usable = np.asarray(mask, dtype=bool)
+            f_seen = np.interp(t, t[usable], force[usable])
+        kept, _ = steady_cycles(x, f_seen, cycles)
         if len(cycles) >= 3 and len(kept) == len(cycles):
             kept = kept[1:]   # the first cycle starts from rest: never part of the limit cycle
-        branches = average_branches(x, xdot, force, kept)
+        clean = kept if mask is None else [c for c in kept if np.all(mask[c.start:c.end + 1])]
+        branches = average_branches(x, xdot, f_seen, clean or kept)
         cf = closed_form(branches, model=model, n_method=n_method, strict=False, check=False,
                          kappa_x=kappa_x)
         fit = refine(t, x, xdot, force, kept, start if start is not None else cf.parameters(),
                      model=model, n_bootstrap=n_bootstrap, seed=seed,
-                     fixed=None if kappa_x is None else {"kappa_x": float(kappa_x)})
+                     fixed=None if kappa_x is None else {"kappa_x": float(kappa_x)}, mask=mask)
         _check_device_excitation(branches, cf, fit, model, n_method, strict)
     for w in record:
         caught.append(str(w.message))
         warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     window = slice(kept[0].start, kept[-1].end + 1)
-    errors = force_errors(t[window], force[window], fit.force[window], x[window], xdot[window])
+    in_window = None if mask is None else np.asarray(mask, dtype=bool)[window]
+    errors = force_errors(t[window], force[window], fit.force[window], x[window], xdot[window],
+                          mask=in_window)
     return Identification(name=name, model_name=model, level=float(level), level_unit=level_unit,
                           closed_form=cf, fit=fit, cycles=kept,
                           n_cycles_discarded=len(cycles) - len(kept), branches=branches,
-                          errors=errors, t=t, x=x, xdot=xdot, force=force, warnings=tuple(caught))
+                          errors=errors, t=t, x=x, xdot=xdot, force=force, warnings=tuple(caught),
+                          mask=None if mask is None else np.asarray(mask, dtype=bool))
 
 
 def identify(test, model: str = "extended", **options) -> Identification:
@@ -272,5 +288,6 @@ def identify(test, model: str = "extended", **options) -> Identification:
             level, unit = float(values.flat[0]), u
             break
     velocity = getattr(test, "velocity", None)
+    options.setdefault("mask", getattr(test, "mask", None))
     return identify_arrays(test.time, test.displacement, test.force, xdot=velocity, model=model,
                            name=name, level=level, level_unit=unit, **options)

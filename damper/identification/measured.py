@@ -1,11 +1,20 @@
 """Identification of measured constant-voltage (or constant-current) tests, e.g. the UTFSM files.
 
-Each file is read (:func:`damper.io.data.read_utfsm` for UTFSM names ``<amp>mm<freq>Hz<cur>A.txt``,
-:func:`damper.io.data.read_csv` otherwise) and identified with
-:func:`~damper.identification.identify.identify` (closed form, refinement, uncertainty). When
-several files share one voltage/current (different amplitudes or frequencies), each file's
-model predicts every other file at that level: the *held-out* relative RMS error tells how
-well the parameters transfer beyond the test they were fitted to.
+Each file is read once (:func:`damper.io.data.read_utfsm` for UTFSM names
+``<amp>mm<freq>Hz<cur>A.txt``, :func:`damper.io.data.read_csv` otherwise; both screen the data,
+:mod:`damper.io.screening`, and the flagged samples count neither in the fits nor in the errors)
+and identified with :func:`~damper.identification.identify.identify` (closed form, refinement,
+uncertainty). When several files share one voltage/current (different amplitudes or
+frequencies):
+
+* each file's model predicts every other file at that level (the *held-out* error: how well
+  one test's parameters transfer);
+* ONE model is fitted per level over all its tests (:func:`~damper.identification.refine.refine_common`,
+  the seed's method per voltage), started from the per-file fit that predicts the level's
+  tests best, and each test's error under that one model is reported.
+
+Every parameter a fit left at (or within 1e-3 of) a bound is flagged
+(:func:`~damper.identification.refine.parameters_at_bounds`): the data did not identify it.
 """
 
 from __future__ import annotations
@@ -21,28 +30,32 @@ from benchmark.foundation.errors import InputError
 from benchmark.foundation.display_units import parameter_kind, si_unit
 from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
+from damper.identification.refine import parameters_at_bounds, refine_common
 from damper.models.response import simulate
 from damper.io.data import parse_utfsm_name, read_csv, read_utfsm
 from damper.identification import plots
 
-__all__ = ["read_test", "identify_files", "held_out_errors"]
+__all__ = ["read_test", "identify_files", "held_out_errors", "fit_levels"]
 
 
-def read_test(path):
-    """Read one test file: UTFSM name pattern → :func:`damper.io.data.read_utfsm`, else CSV.
+def read_test(path, keep_flagged: bool = False):
+    """Read one test file, screened: UTFSM name pattern → :func:`damper.io.data.read_utfsm`, else
+    CSV (``keep_flagged``: the flagged samples stay in fits and errors).
 
     Parameters
     ----------
-    path
-        Test file (UTFSM name pattern or CSV).
+    path : str or Path
+        A UTFSM preprocessed file or a damper CSV.
+    keep_flagged : bool
+        Keep the samples the screening flags in fits and errors.
     """
 
     path = Path(path)
     try:
         parse_utfsm_name(path)
     except InputError:
-        return read_csv(path)
-    return read_utfsm(path)
+        return read_csv(path, keep_flagged=keep_flagged)
+    return read_utfsm(path, keep_flagged=keep_flagged)
 
 
 def _level_key(ident: Identification) -> str:
@@ -73,7 +86,64 @@ def held_out_errors(identifications: Sequence[Identification]) -> dict[str, dict
                 w = other.window
                 pred = simulate(trained.model, other.t, other.x, other.xdot, 0.0).force
                 out.setdefault(trained.name, {})[other.name] = force_errors(
-                    other.t[w], other.force[w], pred[w], other.x[w], other.xdot[w])
+                    other.t[w], other.force[w], pred[w], other.x[w], other.xdot[w],
+                    mask=None if other.mask is None else other.mask[w])
+    return out
+
+
+def fit_levels(identifications: Sequence[Identification], max_nfev: int = 100) -> dict[str, dict]:
+    """ONE model per input level and model form over all its tests.
+
+    The start is the per-test fit whose model predicts the level's tests best (a multi-start
+    over the per-test optima); :func:`~damper.identification.refine.refine_common` then
+    refines one parameter set over all of them.
+
+    Parameters
+    ----------
+    identifications : sequence of Identification
+        The per-test fits (each knows its test, model form and input level).
+    max_nfev : int
+        Cap on residual evaluations of each shared refinement.
+
+
+    Returns
+    -------
+    dict
+        ``{"<level> [<model>]": {"level", "level_unit", "model", "tests", "parameters",
+        "standard_error", "errors": {test: relative RMS error}, "mean_error", "per_test_errors":
+        {test: error of its own fit}, "started_from", "at_bounds", "success", "nfev"}}``.
+    """
+    groups: dict[tuple, list[Identification]] = {}
+    for ident in identifications:
+        groups.setdefault((_level_key(ident), ident.model_name), []).append(ident)
+    out: dict[str, dict] = {}
+    for (level, model), members in groups.items():
+        if len(members) < 2:
+            continue
+        tests = [(m.t, m.x, m.xdot, m.force, m.cycles, m.mask) for m in members]
+
+        def score(candidate) -> float:
+            total = 0.0
+            for m in members:
+                w = m.window
+                pred = simulate(candidate.model, m.t, m.x, m.xdot, 0.0).force
+                total += force_errors(m.t[w], m.force[w], pred[w], m.x[w], m.xdot[w],
+                                      mask=None if m.mask is None else m.mask[w])["rel_rms_error"] ** 2
+            return total
+
+        best = min(members, key=score)
+        fit = refine_common(tests, best.parameters, model=model, max_nfev=max_nfev)
+        out[f"{level} [{model}]"] = {
+            "level": None if math.isnan(members[0].level) else members[0].level,
+            "level_unit": members[0].level_unit, "model": model,
+            "tests": [m.name for m in members],
+            "parameters": fit.parameters, "standard_error": fit.standard_error,
+            "units": {k: si_unit(parameter_kind(k)) for k in fit.parameters},
+            "errors": dict(zip((m.name for m in members), fit.rel_rms_errors)),
+            "mean_error": float(np.mean(fit.rel_rms_errors)),
+            "per_test_errors": {m.name: m.errors["rel_rms_error"] for m in members},
+            "started_from": best.name, "at_bounds": fit.at_bounds,
+            "success": fit.success, "nfev": fit.nfev}
     return out
 
 
@@ -100,17 +170,22 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     Returns
     -------
     dict
-        ``{"tests": [summary per file and model], "held_out": {...}, "failed": {...},
-        "figures": [...]}``; parameters in SI under ``kappa_x`` … ``n``, their SI units under
-        each test's ``units`` (:mod:`benchmark.foundation.display_units`).
+        ``{"tests": [summary per file and model, with "held_out" and "at_bounds"],
+        "levels": {one model per level: :func:`fit_levels`}, "screening": {file: findings},
+        "failed": {...}, "summary": {...}, "figures": [...]}``; parameters in SI under
+        ``kappa_x`` … ``n``, their SI units under each test's ``units``
+        (:mod:`benchmark.foundation.display_units`).
     """
     if not files:
         raise InputError("--data: expected at least one file")
     idents: list[Identification] = []
     failed: dict[str, str] = {}
-    tests = [(str(item.name), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
-             for item in files]
-    for label, test in tests:
+    # each file is read once, here (a DamperTest passes through as it is)
+    loaded = [(str(item.name), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
+              for item in files]
+    screenings = {label: test.metadata["screening"].to_json() for label, test in loaded
+                  if "screening" in getattr(test, "metadata", {})}
+    for label, test in loaded:
         for m in models:
             try:
                 with warnings.catch_warnings():
@@ -128,7 +203,9 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
         s["file"] = ident.name
         s["units"] = {k: si_unit(parameter_kind(k)) for k in s["parameters"]}
         s["held_out"] = per_model[ident.model_name].get(ident.name, {})
+        s["at_bounds"] = parameters_at_bounds(ident.fit.parameters, ident.fit.start, ident.fit.free)
         tests.append(s)
+    levels = fit_levels(idents)
     figures: list[str] = []
     if out is not None:
         folder = Path(out)
@@ -146,11 +223,14 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
         if tests:
             figures.append(str(plots.plot_parameters_vs_level(
                 tests, folder / "parameters_vs_level.png", unit=idents[0].level_unit if idents else "A")))
-    summary_by_model = {}
+    summary_by_model: dict[str, dict] = {}
     for m in models:
         rel = [s["errors"]["rel_rms_error"] for s in tests if s["model"] == m]
         ho = [e["rel_rms_error"] for s in tests if s["model"] == m for e in s["held_out"].values()]
         summary_by_model[m] = {"n_tests": len(rel),
                                "mean_fit_rel_rms_error": float(np.mean(rel)) if rel else None,
                                "mean_held_out_rel_rms_error": float(np.mean(ho)) if ho else None}
-    return {"tests": tests, "failed": failed, "summary": summary_by_model, "figures": figures}
+    for key, entry in levels.items():
+        summary_by_model[entry["model"]].setdefault("mean_level_fit_rel_rms_error", {})[key] = entry["mean_error"]
+    return {"tests": tests, "failed": failed, "summary": summary_by_model, "levels": levels,
+            "screening": screenings, "figures": figures}

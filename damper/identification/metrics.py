@@ -50,19 +50,48 @@ def _pair(measured, predicted) -> tuple[np.ndarray, np.ndarray]:
     return f, g
 
 
-def relative_rms_error(measured: np.ndarray, predicted: np.ndarray) -> float:
-    """:math:`\\|F - \\hat F\\|_2 / \\|F\\|_2` (NaN if the measured force is identically zero).
+def relative_rms_error(measured: np.ndarray, predicted: np.ndarray, mask: np.ndarray | None = None,
+                       weights: np.ndarray | None = None) -> float:
+    """:math:`\\|w(F - \\hat F)\\|_2 / \\|wF\\|_2` over the usable samples.
+
+    The one relative RMS force error of the package (the identification's and the residual
+    loop's).
 
     Parameters
     ----------
-    measured : np.ndarray
-        Measured force [N].
-    predicted : np.ndarray
-        Model force [N] at the same samples.
+    measured, predicted : ndarray (n,)
+        Forces [N].
+    mask : ndarray (n,) of bool, optional
+        Samples that count (e.g. :attr:`damper.io.data.DamperTest.mask`: the screening leaves
+        flagged samples out); default all.
+    weights : ndarray (n,), optional
+        Non-negative weights :math:`w` (default 1).
+
+    Raises
+    ------
+    InputError
+        Shapes differ, or the measured force is identically zero over the samples that count
+        (the relative error is undefined).
     """
-    f, g = _pair(measured, predicted)
-    norm = np.linalg.norm(f)
-    return float(np.linalg.norm(f - g) / norm) if norm > 0 else float("nan")
+    f = np.asarray(measured, dtype=float)
+    g = np.asarray(predicted, dtype=float)
+    if f.shape != g.shape or f.ndim != 1:
+        raise InputError(f"force histories: expected two 1-D arrays of equal length, got shapes "
+                         f"{f.shape} and {g.shape}")
+    w = np.ones(f.size) if weights is None else np.asarray(weights, dtype=float)
+    if mask is not None:
+        m = np.asarray(mask, dtype=bool)
+        if m.shape != f.shape:
+            raise InputError(f"relative RMS error: mask of shape {m.shape}, expected {f.shape}")
+        w = np.where(m, w, 0.0)
+    if w.shape != f.shape or np.any(w < 0) or not np.all(np.isfinite(w)):
+        raise InputError("relative RMS error: weights must be finite, non-negative and as long as "
+                         "the force")
+    norm = float(np.linalg.norm(w * f))
+    if not norm > 0:
+        raise InputError("relative RMS error: the measured force is identically zero over the "
+                         "samples that count")
+    return float(np.linalg.norm(w * (f - g)) / norm)
 
 
 def peak_error(measured: np.ndarray, predicted: np.ndarray) -> float:
@@ -147,22 +176,34 @@ def spencer_errors(t: np.ndarray, measured: np.ndarray, predicted: np.ndarray,
 
 
 def force_errors(t: np.ndarray, measured: np.ndarray, predicted: np.ndarray,
-                 displacement: np.ndarray, velocity: np.ndarray) -> dict[str, float]:
+                 displacement: np.ndarray, velocity: np.ndarray,
+                 mask: np.ndarray | None = None) -> dict[str, float]:
     """All measures at once: ``rel_rms_error``, ``peak_error``, ``energy_error``, ``E_t``, ``E_x``, ``E_xdot``.
+
+    With ``mask`` (the usable samples, :mod:`damper.io.screening`) the relative RMS error counts
+    only those; the other measures see the flagged samples' measured force replaced by the
+    prediction (their error there is zero, their energy the model's).
 
     Parameters
     ----------
-    t : np.ndarray
+    t : ndarray (n,)
         Sample times [s].
-    measured : np.ndarray
-        Measured force [N].
-    predicted : np.ndarray
-        Model force [N] at the same samples.
-    displacement : np.ndarray
-        Displacement [m] at the same samples.
-    velocity : np.ndarray
-        Velocity [m/s] at the same samples.
+    measured, predicted : ndarray (n,)
+        Measured and model forces [N].
+    displacement : ndarray (n,)
+        Displacement [m] (loop energy, Spencer's E_x).
+    velocity : ndarray (n,)
+        Velocity [m/s] (Spencer's E_xdot).
+    mask : ndarray (n,) of bool, optional
+        The usable samples (default all).
     """
+    if mask is not None and not np.all(mask):
+        m = np.asarray(mask, dtype=bool)
+        rel = relative_rms_error(measured, predicted, mask=m)
+        measured = np.where(m, np.asarray(measured, dtype=float), np.asarray(predicted, dtype=float))
+        out = force_errors(t, measured, predicted, displacement, velocity)
+        out["rel_rms_error"] = rel
+        return out
     out = {"rel_rms_error": relative_rms_error(measured, predicted),
            "peak_error": peak_error(measured, predicted),
            "energy_error": energy_error(measured, predicted, displacement)}

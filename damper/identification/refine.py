@@ -38,7 +38,8 @@ from damper.identification.cycles import Cycle
 from damper.models.response import simulate
 
 __all__ = ["RefinedFit", "refine", "SharedFit", "refine_shared", "make_model",
-           "free_parameters", "fit_scaled"]
+           "free_parameters", "fit_scaled", "CommonFit", "refine_common", "parameters_at_bounds",
+           "BOUND_TOLERANCE"]
 
 _UPPER = {"sigma": 50.0, "n": 20.0}
 _LOWER = {"kappa_x": 0.0, "sigma": 0.5, "n": 1.0}
@@ -173,6 +174,25 @@ class _Problem:
         return r * self.weights
 
 
+def _usable_index(window: np.ndarray, mask, n: int) -> np.ndarray:
+    """Which entries of ``window`` the mask keeps (all without a mask)."""
+    if mask is None:
+        return np.ones(window.size, dtype=bool)
+    mask = np.asarray(mask, dtype=bool)
+    if mask.shape != (n,):
+        raise InputError(f"mask: expected {n} booleans, got shape {mask.shape}")
+    keep = mask[window]
+    if keep.sum() < 10:
+        raise InputError(f"the screening leaves {int(keep.sum())} usable samples in the steady "
+                         "cycles; at least 10 are needed")
+    return keep
+
+
+def _usable(window: np.ndarray, mask, n: int) -> np.ndarray:
+    """The samples of ``window`` the mask keeps."""
+    return window[_usable_index(window, mask, n)]
+
+
 def _fit(problem: _Problem, q0: np.ndarray, max_nfev: int | None):
     q0 = np.clip(q0, problem.lower + 1e-12, problem.upper - 1e-12)
     return least_squares_fit(problem.residuals, q0, problem.lower, problem.upper, max_nfev=max_nfev)
@@ -201,7 +221,8 @@ def fit_scaled(problem, q0: np.ndarray, max_nfev: int | None):
 def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
            cycles: list[Cycle], start: dict[str, float], model: str = "extended",
            n_bootstrap: int = 0, seed: int = 0, max_nfev: int = 200,
-           substep_tolerance: float = 0.25, fixed: dict[str, float] | None = None) -> RefinedFit:
+           substep_tolerance: float = 0.25, fixed: dict[str, float] | None = None,
+           mask: np.ndarray | None = None) -> RefinedFit:
     """Refine the parameters of ``model`` jointly by nonlinear least squares.
 
     Parameters
@@ -228,6 +249,9 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
         Parameters held at the given values (SI) instead of fitted, e.g. ``{"kappa_x": 2.07e5}``
         for the seed paper's extended model, whose :math:`\\kappa_x` is read once and is the
         same at every voltage (eq. 5). Their standard errors are reported as 0.
+    mask : ndarray of bool, optional
+        Usable samples (:attr:`damper.io.data.DamperTest.mask`): the others are simulated but
+        left out of the residuals and the error.
 
     Returns
     -------
@@ -253,6 +277,7 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
     owner = np.full(window.size, -1)
     for j, c in enumerate(cycles):
         owner[c.start - window[0]: c.end - window[0] + 1] = j
+    window, owner = _usable(window, mask, t.size), owner[_usable_index(window, mask, t.size)]
     allowed = free_parameters(model)
     for k, v in (fixed or {}).items():
         if k not in allowed:
@@ -430,3 +455,138 @@ def refine_shared(tests: list[tuple], starts: list[dict], shared: str = "kappa_x
     return SharedFit(name=shared, value=value, standard_error=std, start=s0, parameters=params,
                      rel_rms_errors=errors, nfev=counter[0], success=bool(sol.success),
                      message=str(sol.message))
+
+
+#: A parameter within this fraction of a bound (of the bound itself, or of its start for a
+#: zero bound) is reported at the bound.
+BOUND_TOLERANCE = 1e-3
+
+
+def parameters_at_bounds(parameters: dict, start: dict, free: tuple | list,
+                         tolerance: float = BOUND_TOLERANCE) -> dict[str, str]:
+    """The free parameters the refinement left at (or within ``tolerance`` of) a bound.
+
+    A parameter at a bound was not identified by the data: the fit would have moved it further
+    (e.g. :math:`\\sigma` at its upper bound 50 means the transition is sharper than the model
+    may express). Returns ``{name: "lower 0.5" | "upper 50" ...}``.
+
+    Parameters
+    ----------
+    parameters : dict
+        The fitted parameters by name (SI).
+    start : dict
+        The start of the refinement (the bounds of the refinement are set around it).
+    free : tuple or list
+        Names of the parameters that were fitted.
+    tolerance : float
+        Relative distance to a bound below which a parameter counts as at it.
+    """
+    out = {}
+    for k in free:
+        p = float(parameters[k])
+        scale = max(abs(float(start.get(k, 0.0))), abs(p), 1e-300)
+        for side, bound in (("lower", _LOWER.get(k, 0.0)), ("upper", _UPPER.get(k, math.inf))):
+            if not math.isfinite(bound):
+                continue
+            tol = tolerance * (abs(bound) if bound != 0 else scale)
+            if abs(p - bound) <= tol:
+                out[k] = f"{side} {bound:g}"
+    return out
+
+
+@dataclass(frozen=True)
+class CommonFit:
+    """Result of :func:`refine_common`: one model for several tests.
+
+    Attributes
+    ----------
+    model_name : str
+    model : NormalizedBoucWen or ExtendedBoucWen
+    parameters, start : dict
+        Fitted and starting values (SI).
+    standard_error : dict
+        Jacobian-based standard errors (a lower bound, as in :func:`refine`).
+    rel_rms_errors : list of float
+        Per test: relative RMS force error over its usable steady-cycle samples.
+    at_bounds : dict
+        :func:`parameters_at_bounds` of the optimum.
+    nfev : int
+    success : bool
+    message : str
+    """
+
+    model_name: str
+    model: object = field(repr=False)
+    parameters: dict
+    start: dict
+    standard_error: dict
+    rel_rms_errors: list
+    at_bounds: dict
+    nfev: int
+    success: bool
+    message: str
+
+
+def refine_common(tests: list[tuple], start: dict, model: str = "extended", max_nfev: int = 100,
+                  substep_tolerance: float = 0.25) -> CommonFit:
+    """Refine ONE parameter set over several tests (e.g. every test at one coil current).
+
+    Minimises :math:`\\sum_i \\sum_{k \\in \\mathcal W_i} (\\hat F_{i,k}(p) - F_{i,k})^2 / F_{i,rms}^2`
+    over one :math:`p` for all tests :math:`i` (the seed's method per voltage: the parameters
+    are those of the device at that input, whatever the amplitude and frequency of the test);
+    each test weighted by its own force RMS so that a small-stroke test counts as much as a
+    large one. The same engine as :func:`refine` (:func:`damper.fitting.least_squares_fit`).
+
+    Parameters
+    ----------
+    tests : list of (t, x, xdot, force, cycles, mask)
+        Test histories [s, m, m/s, N], their steady cycles and usable samples (``None``: all).
+    start : dict
+        Starting parameters (SI).
+    model : {"extended", "normalized"}
+    max_nfev : int
+        Cap on the joint residual evaluations (each simulates every test).
+    substep_tolerance : float
+        As in :func:`refine`; the returned model uses the model default.
+
+    Returns
+    -------
+    CommonFit
+    """
+    if not tests:
+        raise InputError("refine_common: expected at least one test")
+    problems = []
+    for t, x, xdot, force, cycles, mask in tests:
+        if not cycles:
+            raise InputError("refine_common: every test needs at least one steady cycle")
+        t = np.asarray(t, float)
+        window = _usable(np.arange(cycles[0].start, cycles[-1].end + 1), mask, t.size)
+        problems.append(_Problem(model, t, np.asarray(x, float), np.asarray(xdot, float),
+                                 np.asarray(force, float), window, start, substep_tolerance))
+    first = problems[0]
+    for p in problems[1:]:  # one scaling for all: q means the same parameters in every test
+        p.p0, p.lower, p.upper = first.p0, first.lower, first.upper
+    counter = [0]
+
+    def residuals(q: np.ndarray) -> np.ndarray:
+        counter[0] += 1
+        return np.concatenate([p.residuals(q) for p in problems])
+
+    q0 = np.clip(np.ones(first.p0.size), first.lower + 1e-12, first.upper - 1e-12)
+    sol = least_squares_fit(residuals, q0, first.lower, first.upper, max_nfev=max_nfev)
+    params = first.parameters(sol.x)
+    cov = jacobian_covariance(sol.jac, sol.fun, first.p0)
+    std = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    standard_error = {k: 0.0 for k in PARAMETER_NAMES}
+    standard_error.update({k: float(s) for k, s in zip(first.free, std)})
+    fitted = make_model(model, params)
+    errors = []
+    for p in problems:
+        f = simulate(fitted, p.t, p.x, p.xdot, 0.0).force
+        errors.append(float(np.linalg.norm(f[p.window] - p.force[p.window])
+                            / np.linalg.norm(p.force[p.window])))
+    start_values = {k: float(start.get(k, 0.0)) for k in PARAMETER_NAMES}
+    return CommonFit(model_name=model, model=fitted, parameters=params, start=start_values,
+                     standard_error=standard_error, rel_rms_errors=errors,
+                     at_bounds=parameters_at_bounds(params, start_values, first.free),
+                     nfev=counter[0], success=bool(sol.success), message=str(sol.message))

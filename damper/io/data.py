@@ -35,9 +35,10 @@ from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import read_text
+from damper.io.screening import repair_samples, screened
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
-           "utfsm_files"]
+           "utfsm_files", "read_utfsm_raw", "UTFSM_RAW_CHANNELS"]
 
 _REQUIRED = ("time", "displacement", "force")
 _OPTIONAL = ("velocity", "voltage", "current")
@@ -68,7 +69,11 @@ class DamperTest:
     source : str
         File path, or how the test was generated.
     metadata : dict
-        Anything else (amplitude, frequency, noise, ...).
+        Anything else (amplitude, frequency, noise, ...); the readers put the
+        :class:`~damper.io.screening.Screening` of the file under ``"screening"``.
+    mask : ndarray (n,) of bool or None
+        Samples usable for fits and errors (True); ``None``: all of them. Set by the screening
+        (:mod:`damper.io.screening`); the model is still simulated over every sample.
     """
 
     time: np.ndarray
@@ -80,6 +85,7 @@ class DamperTest:
     name: str = ""
     source: str = ""
     metadata: dict = field(default_factory=dict, compare=False)
+    mask: np.ndarray | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         label = self.source or self.name or "DamperTest"
@@ -102,6 +108,19 @@ class DamperTest:
             if value is not None:
                 object.__setattr__(self, name, _vector(value, name, label, n, allow_scalar=True))
         object.__setattr__(self, "metadata", dict(self.metadata))
+        if self.mask is not None:
+            mask = np.asarray(self.mask)
+            if mask.shape != (n,) or mask.dtype != bool:
+                raise InputError(f"{label}: mask: expected {n} booleans (as many as time), got "
+                                 f"shape {mask.shape} of {mask.dtype}")
+            mask = mask.copy()
+            mask.flags.writeable = False
+            object.__setattr__(self, "mask", mask)
+
+    @property
+    def usable(self) -> np.ndarray:
+        """Samples usable for fits and errors (all True without a mask)."""
+        return np.ones(self.n_samples, dtype=bool) if self.mask is None else self.mask
 
     @property
     def n_samples(self) -> int:
@@ -138,7 +157,8 @@ class DamperTest:
                           velocity=self.velocity[keep], force=self.force[keep],
                           voltage=None if self.voltage is None else self.voltage[keep],
                           current=None if self.current is None else self.current[keep],
-                          name=self.name, source=self.source, metadata=self.metadata)
+                          name=self.name, source=self.source, metadata=self.metadata,
+                          mask=None if self.mask is None else self.mask[keep])
 
 
 def check_samples(values, name: str, n: int | None = None, allow_scalar: bool = False,
@@ -201,8 +221,12 @@ def _header_name(cell: str, path: Path, line: int) -> str:
     return name
 
 
-def parse_row(path, line_no: int, header: list[str], row: list[str]) -> list[float]:
+def parse_row(path, line_no: int, header: list[str], row: list[str],
+              missing: bool = False) -> list[float]:
     """The finite numbers of one CSV data row, one per header column.
+
+    With ``missing``, a ``nan`` cell (a logger's dropout) is returned as NaN for the screening
+    (:func:`damper.io.screening.repair_samples`) to flag and fill.
 
     Raises
     ------
@@ -220,6 +244,9 @@ def parse_row(path, line_no: int, header: list[str], row: list[str]) -> list[flo
         except ValueError:
             raise InputError(f"{path}:{line_no}: column {col!r}: expected a number, "
                              f"got {cell.strip()!r}") from None
+        if missing and math.isnan(value):
+            values.append(value)
+            continue
         if not math.isfinite(value):
             raise InputError(f"{path}:{line_no}: column {col!r}: expected a finite "
                              f"number, got {cell.strip()!r}")
@@ -228,8 +255,12 @@ def parse_row(path, line_no: int, header: list[str], row: list[str]) -> list[flo
 
 
 def read_csv(path, voltage: float | None = None, current: float | None = None,
-             name: str | None = None) -> DamperTest:
-    """Read a damper test CSV file (format in the module docstring).
+             name: str | None = None, keep_flagged: bool = False) -> DamperTest:
+    """Read a damper test CSV file (format in the module docstring), screened.
+
+    The file is screened (:mod:`damper.io.screening`): ``nan`` cells are filled and flagged,
+    repeated or backward time stamps dropped and flagged, and the test's ``mask`` leaves the
+    flagged samples out of fits and errors (``metadata["screening"]`` holds the findings).
 
     Parameters
     ----------
@@ -239,13 +270,16 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
         Constant coil voltage [V] or current [A] for a file without that column.
     name : str, optional
         Label (default: the ``# name:`` comment, else the file stem).
+    keep_flagged : bool
+        Keep the flagged samples in the mask (only missing values stay out).
 
     Raises
     ------
     DataNotFoundError
         The file does not exist.
     InputError
-        Malformed file: the message names the file, line and column.
+        Malformed file (the message names the file, line and column), or so many missing
+        values or bad time stamps that too little is left.
     """
     path = Path(path)
     if not path.is_file():
@@ -282,7 +316,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                     raise InputError(f"{path}:{line_no}: header: expected a voltage or a current "
                                      "column, not both")
                 continue
-            rows.append(parse_row(path, line_no, header, row))
+            rows.append(parse_row(path, line_no, header, row, missing=True))
             row_lines.append(line_no)
     if header is None:
         raise InputError(f"{path}: empty file; expected a header line "
@@ -292,25 +326,23 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                          f"(line {header_line}), got {len(rows)}")
     data = np.array(rows)
     col = {c: data[:, i] for i, c in enumerate(header)}
-    time = col["time"]
-    bad = np.flatnonzero(np.diff(time) <= 0)
-    if bad.size:
-        i = int(bad[0]) + 1
-        raise InputError(f"{path}:{row_lines[i]}: column 'time': expected strictly increasing "
-                         f"values, got {time[i]:g} s after {time[i - 1]:g} s")
     if ("voltage" in col or "current" in col) and (voltage is not None or current is not None):
         raise InputError(f"{path}: the file has a {'voltage' if 'voltage' in col else 'current'} "
                          "column; do not also give a constant value")
+    time, col, excluded, prior = repair_samples(
+        col["time"], {c: col.get(c) for c in ("displacement", "force", "velocity", "voltage", "current")},
+        label=str(path), lines=row_lines)
     velocity = col.get("velocity")
     metadata = {"velocity_from_file": velocity is not None}
     if velocity is None:
         velocity = np.gradient(col["displacement"], time, edge_order=2)
-    return DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
+    test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
                       force=col["force"],
-                      voltage=col.get("voltage", voltage),
-                      current=col.get("current", current),
+                      voltage=col["voltage"] if col.get("voltage") is not None else voltage,  # type: ignore[arg-type]
+                      current=col["current"] if col.get("current") is not None else current,  # type: ignore[arg-type]
                       name=name or comments.get("name") or path.stem,
                       source=str(path), metadata={**comments, **metadata})
+    return screened(test, prior, excluded, keep_flagged=keep_flagged)
 
 
 def write_csv(test: DamperTest, path) -> Path:
@@ -364,23 +396,27 @@ def parse_utfsm_name(path) -> dict[str, float]:
     return {"amplitude": num["amp"] * 1e-3, "frequency": num["freq"], "current": num["cur"]}
 
 
-def read_utfsm(path) -> DamperTest:
-    """Read one preprocessed UTFSM file (t [s], x [mm], ẋ [mm/s], F [N]) into SI units.
+def read_utfsm(path, keep_flagged: bool = False) -> DamperTest:
+    """Read one preprocessed UTFSM file (t [s], x [mm], ẋ [mm/s], F [N]) into SI units, screened.
 
     The current [A] comes from the file name (:func:`parse_utfsm_name`); displacement and
     velocity are converted from mm to m. Raises :class:`InputError` naming the file and
-    line for a malformed file.
+    line for a malformed file. The test is screened as in :func:`read_csv` (``nan`` values
+    are filled and flagged).
 
     Parameters
     ----------
-    path
+    path : str or Path
         A preprocessed UTFSM file (name pattern ``25mm0x1Hz0x75A.txt``).
+    keep_flagged : bool
+        Keep the samples the screening flags in fits and errors.
     """
     path = Path(path)
     if not path.is_file():
         raise DataNotFoundError(f"{path}: UTFSM file not found")
     info = parse_utfsm_name(path)
-    rows = []
+    rows: list[list[float]] = []
+    lines: list[int] = []
     text = read_text(path, "UTFSM file")  # binary or not UTF-8: one-line InputError
     with io.StringIO(text) as fh:
         for line_no, line in enumerate(fh, start=1):
@@ -394,17 +430,94 @@ def read_utfsm(path) -> DamperTest:
                 values = [float(c) for c in cells]
             except ValueError:
                 raise InputError(f"{path}:{line_no}: expected 4 numbers, got {line.strip()!r}") from None
-            if not all(math.isfinite(v) for v in values):
+            if any(math.isinf(v) for v in values):
                 raise InputError(f"{path}:{line_no}: expected finite numbers, got {line.strip()!r}")
             rows.append(values)
+            lines.append(line_no)
     if len(rows) < 2:
         raise InputError(f"{path}: expected at least 2 data lines, got {len(rows)}")
     data = np.array(rows)
-    return DamperTest(time=data[:, 0], displacement=data[:, 1] * 1e-3, velocity=data[:, 2] * 1e-3,
-                      force=data[:, 3], current=np.full(len(rows), info["current"]),
+    time, col, excluded, prior = repair_samples(
+        data[:, 0], {"displacement": data[:, 1] * 1e-3, "velocity": data[:, 2] * 1e-3,
+                     "force": data[:, 3]}, label=str(path), lines=lines)
+    test = DamperTest(time=time, displacement=col["displacement"], velocity=col["velocity"],
+                      force=col["force"], current=np.full(time.size, info["current"]),
                       name=path.stem, source=str(path),
                       metadata={**info, "units_in_file": "t [s], x [mm], xdot [mm/s], F [N]",
                                 "provider": "M. Quiroz, UTFSM (MIT licence)"})
+    return screened(test, prior, excluded, keep_flagged=keep_flagged)
+
+
+#: Raw UTFSM logger exports: (CHANNEL0, CHANNEL1) by sampling rate [Hz] (the data notes of the
+#: shared folder: 200 Hz files hold force then displacement, 1 kHz files the other way round).
+UTFSM_RAW_CHANNELS = {200.0: ("force", "displacement"), 1000.0: ("displacement", "force")}
+_KGF = 9.80665   # the logger's force channel is in units of 100 kgf: x 980.665 -> N
+
+
+def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
+    """Read one raw UTFSM logger export (``Datos_crudos/ME*.txt``) into SI units, screened.
+
+    Seven header lines (``Sampling Interval:`` [s] among them), then ``Sample Number,
+    Date/Time, CHANNEL0, CHANNEL1[, Events]``. The channels are assigned by the sampling rate
+    (:data:`UTFSM_RAW_CHANNELS`); force x 980.665 -> N, displacement x 10 -> mm -> m. Each file
+    holds the five coil currents back to back with idle spans between them, and the current is
+    not recorded: the test has no coil input, and the screening reports the idle spans. The
+    velocity is the derivative of the displacement.
+
+    Parameters
+    ----------
+    path : str or Path
+        A raw logger export ``ME*.txt``.
+    keep_flagged : bool
+        Keep the samples the screening flags (the idle spans among them) in fits and errors.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"{path}: raw UTFSM file not found")
+    text = read_text(path, "raw UTFSM file")
+    lines = text.splitlines()
+    interval = None
+    for line in lines[:10]:
+        if line.lower().startswith("sampling interval:"):
+            try:
+                interval = float(line.split(":", 1)[1])
+            except ValueError:
+                raise InputError(f"{path}: 'Sampling Interval:' is not a number: {line!r}") from None
+    if interval is None or not interval > 0:
+        raise InputError(f"{path}: expected a 'Sampling Interval: <s>' header line (raw UTFSM export)")
+    rate = round(1.0 / interval)
+    if float(rate) not in UTFSM_RAW_CHANNELS:
+        raise InputError(f"{path}: sampling rate {rate} Hz: expected one of "
+                         f"{sorted(UTFSM_RAW_CHANNELS)} Hz (the channel order is known for these)")
+    names = UTFSM_RAW_CHANNELS[float(rate)]
+    samples, ch0, ch1, line_nos = [], [], [], []
+    for line_no, line in enumerate(lines, start=1):
+        cells = [c.strip() for c in line.split(",")]
+        if len(cells) < 4 or not cells[0].isdigit():
+            continue
+        try:
+            samples.append(int(cells[0]))
+            ch0.append(float(cells[2]))
+            ch1.append(float(cells[3]))
+        except ValueError:
+            raise InputError(f"{path}:{line_no}: expected numbers in CHANNEL0, CHANNEL1, got "
+                             f"{line.strip()!r}") from None
+        line_nos.append(line_no)
+    if len(samples) < 2:
+        raise InputError(f"{path}: expected at least 2 data lines, got {len(samples)}")
+    raw = {names[0]: np.array(ch0), names[1]: np.array(ch1)}
+    time = (np.array(samples, dtype=float) - samples[0]) * interval
+    time, col, excluded, prior = repair_samples(
+        time, {"displacement": raw["displacement"] * 10.0 * 1e-3, "force": raw["force"] * 100.0 * _KGF},
+        label=str(path), lines=line_nos)
+    velocity = np.gradient(col["displacement"], time, edge_order=2)
+    test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
+                      force=col["force"], name=path.stem, source=str(path),
+                      metadata={"velocity_from_file": False, "sample_rate": float(rate),
+                                "units_in_file": f"{names[0]}, {names[1]}: force x 980.665 -> N, "
+                                                 "displacement x 10 -> mm",
+                                "provider": "M. Quiroz, UTFSM (MIT licence)"})
+    return screened(test, prior, excluded, keep_flagged=keep_flagged)
 
 
 def utfsm_files(shared_dir=None) -> list[Path]:

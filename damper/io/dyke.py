@@ -38,6 +38,7 @@ import numpy as np
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.textfile import read_text
 from damper.io.data import DamperTest, parse_row
+from damper.io.screening import repair_samples, screened
 
 __all__ = ["read_dyke", "is_dyke_file", "DYKE_COLUMNS"]
 
@@ -69,8 +70,11 @@ def is_dyke_file(path) -> bool:
     return header is not None and all(c in header for c in DYKE_COLUMNS)
 
 
-def read_dyke(path, name: str | None = None) -> DamperTest:
-    """Read one Dyke record into SI units (displacement [m], velocity [m/s], force [N], voltage [V]).
+def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> DamperTest:
+    """Read one Dyke record into SI units (displacement [m], velocity [m/s], force [N], voltage [V]),
+    screened (:mod:`damper.io.screening`: the shared record's last 217 samples sit at the load
+    cell's clipping level, 4545.45 N, with the displacement frozen; they are flagged and left
+    out of fits and errors unless ``keep_flagged``).
 
     Parameters
     ----------
@@ -78,6 +82,8 @@ def read_dyke(path, name: str | None = None) -> DamperTest:
         The CSV file (format in the module docstring).
     name : str, optional
         Label (default: the file stem).
+    keep_flagged : bool
+        Keep the flagged samples in the mask (only missing values stay out).
 
     Raises
     ------
@@ -98,7 +104,8 @@ def read_dyke(path, name: str | None = None) -> DamperTest:
         raise InputError(f"{path}:1: header: missing column(s) {', '.join(missing)}; expected "
                          "t [s], D [cm], Y [V], V [cm/s], F [N]")
     index = {c: header.index(c) for c in DYKE_COLUMNS}
-    rows = []
+    rows: list[list[float]] = []
+    lines: list[int] = []
     text = read_text(path, "Dyke damper record")  # binary or not UTF-8: one-line InputError
     started = False
     for line_no, row in enumerate(csv.reader(io.StringIO(text, newline="")), start=1):
@@ -108,16 +115,18 @@ def read_dyke(path, name: str | None = None) -> DamperTest:
             started = True  # the header
             continue
         cells = [row[index[c]] if index[c] < len(row) else "" for c in DYKE_COLUMNS]
-        rows.append(parse_row(path, line_no, list(DYKE_COLUMNS), cells))
+        rows.append(parse_row(path, line_no, list(DYKE_COLUMNS), cells, missing=True))
+        lines.append(line_no)
     if len(rows) < 2:
         raise InputError(f"{path}: expected at least 2 data lines, got {len(rows)}")
     data = np.array(rows)
     t, d, y, v, f = (data[:, i] for i in range(5))
-    if np.any(np.diff(t) <= 0):
-        i = int(np.argmax(np.diff(t) <= 0)) + 1
-        raise InputError(f"{path}: column 't': expected strictly increasing times, got {t[i]:g} s "
-                         f"after {t[i - 1]:g} s (data row {i + 1})")
-    return DamperTest(time=t, displacement=d * _CM, velocity=v * _CM, force=f, voltage=y,
+    t, col, excluded, prior = repair_samples(
+        t, {"displacement": d * _CM, "velocity": v * _CM, "force": f, "voltage": y},
+        label=str(path), lines=lines)
+    test = DamperTest(time=t, displacement=col["displacement"], velocity=col["velocity"],
+                      force=col["force"], voltage=col["voltage"],
                       name=name or path.stem, source=str(path),
                       metadata={"units_in_file": "t [s], D [cm], Y [V], V [cm/s], F [N]",
                                 "provider": "S. Dyke, NEES-2012-1158 (doi:10.4231/D3V11VM6X)"})
+    return screened(test, prior, excluded, keep_flagged=keep_flagged)

@@ -1,0 +1,692 @@
+"""Screening of measured damper tests before anything is fitted to them.
+
+Real recordings are dirty: a load cell saturates, a sensor freezes, a logger repeats or drops
+samples, a test rig idles between runs, a velocity channel is filtered with a delay, a column is
+in millimetres where metres were declared. :func:`screen` looks for each of these in a
+:class:`~damper.io.data.DamperTest` and returns a :class:`Screening`: one :class:`Finding` per flaw
+(what, which channel, where in time, how many samples) and a boolean ``usable`` mask (True:
+the sample counts in fits and errors). The readers of :mod:`damper.io.data` and
+:mod:`damper.io.dyke` screen every file they read (:func:`screened`), so the residual loop
+(:mod:`damper.diagnosis`) and the identification (:mod:`damper.identification`) leave flagged
+samples out of both the fit and the error unless the user keeps them (``--keep-flagged``).
+
+Checks (no threshold is in physical units except the plausibility ranges of the last one):
+
+``nan``
+    Missing values (NaN cells, dropouts). Repaired by :func:`repair_samples` before the test is
+    built: an input channel (displacement, velocity, coil input) is interpolated linearly in
+    time so the model can still be simulated through the dropout; the samples are excluded.
+``time``
+    Repeated or backward time stamps (a logger glitch or concatenated files): the offending
+    samples are dropped (:func:`repair_samples`), the step after them excluded.
+``gap``
+    A time step longer than :data:`GAP_FACTOR` times the median step: the motion inside it is
+    unknown.
+``stuck`` / ``clipped``
+    A channel repeating exactly the same value for longer than the channel's own repeats
+    explain (a frozen or saturated sensor); ``clipped`` when the value piles up at the channel's
+    extreme (many more samples at the extreme value than at the levels just inside it).
+``frozen``
+    The displacement stuck while the force changes (the motion the force answers is unknown).
+``idle``
+    Spans with no motion (the displacement moves less than :data:`IDLE_FRACTION` of the
+    test's stroke over a quarter of the dominant period): the rig waiting between runs.
+``velocity``
+    A measured velocity that disagrees with the derivative of the displacement: a wrong gain
+    (units), a time offset (estimated by cross-correlation), or spans where the two depart.
+``offset``
+    The lag between the force and the motion channels (cross-correlation of the force with
+    the velocity), reported in :attr:`Screening.estimates`; a finding when the velocity
+    channel is itself offset from the displacement.
+``units``
+    Amplitudes, peak velocities or forces outside what any MR damper test produces (e.g. a
+    displacement in mm declared as m); reported, not excluded (the whole test would go).
+
+Where an *input* channel (displacement, velocity, coil input) is unusable the model cannot be
+simulated through it faithfully. The span is kept in the test (interpolated where values are
+missing; a frozen displacement is a valid, if wrong, motion) so the test stays one continuous
+history and a held-out split by time keeps its meaning; the span is excluded and so is the
+*settling* after it, up to the first displacement reversal (the same rule the residual loop
+applies at the start of every test): a Bouc-Wen-type model forgets its hysteretic state within
+one reversal, so after it the prediction no longer depends on the unknown motion. Where only
+the force is bad (stuck, clipped, missing) the model is simulated as usual and only those
+samples are excluded.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.lib.stride_tricks import sliding_window_view
+from scipy.signal import savgol_filter
+
+from benchmark.foundation.errors import InputError
+
+__all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
+           "screening_of", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE"]
+
+#: A time step this many times the median step is a gap.
+GAP_FACTOR = 2.5
+#: No motion: the displacement moves less than this fraction of the test's stroke.
+IDLE_FRACTION = 0.02
+#: A run of identical values shorter than this is never called stuck.
+MIN_STUCK_RUN = 8
+#: Plausible ranges of an MR damper test (SI): from bench-top dampers (mm strokes, tens of N)
+#: to the large-scale 20-t devices (±0.6 m, 2 MN); a value outside them is a unit error.
+PLAUSIBLE = {"amplitude": (2e-5, 1.0), "peak_velocity": (1e-5, 5.0), "peak_force": (0.5, 5e6),
+             "sample_rate": (5.0, 1e6)}
+#: Channels screened for stuck values (the coil input is a command: constant runs are normal).
+_MEASURED = ("force", "displacement", "velocity")
+_INPUTS = ("displacement", "velocity", "voltage", "current")
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One flaw found by :func:`screen`.
+
+    Attributes
+    ----------
+    kind : str
+        ``nan``, ``time``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
+        ``offset`` or ``units``.
+    channel : str
+        The channel (``force``, ``displacement``, ``velocity``, ``voltage``, ``current``,
+        ``time``).
+    t_start, t_end : float
+        Where [s] (the whole test for a global finding).
+    n_samples : int
+        Samples concerned (0 for an estimate that concerns no sample).
+    message : str
+        One line for the report.
+    excluded : bool
+        Whether these samples are left out of fits and errors.
+    """
+
+    kind: str
+    channel: str
+    t_start: float
+    t_end: float
+    n_samples: int
+    message: str
+    excluded: bool = True
+
+    def line(self, kept: bool = False) -> str:
+        """``kind (channel) at t0-t1 s, n sample(s): message [excluded ...]`` (``kept``: the
+        flagged samples were kept by the user).
+
+        Parameters
+        ----------
+        kept : bool
+            The user kept the flagged samples (``--keep-flagged``).
+        """
+        where = (f"{self.t_start:.4g} s" if self.t_end == self.t_start
+                 else f"{self.t_start:.4g}-{self.t_end:.4g} s")
+        tail = "excluded from fit and error" if self.excluded else "reported only"
+        if kept and self.excluded and self.kind != "nan":
+            tail = "kept in fit and error (--keep-flagged)"
+        return (f"{self.kind} ({self.channel}) at {where}, {self.n_samples} sample(s): "
+                f"{self.message} [{tail}]")
+
+    def to_json(self) -> dict:
+        """JSON-ready dict."""
+        return dataclasses.asdict(self)
+
+
+@dataclass(frozen=True)
+class Screening:
+    """Outcome of :func:`screen`: the findings and the samples usable for fits and errors.
+
+    Attributes
+    ----------
+    findings : tuple of Finding
+    usable : ndarray of bool
+        True where the sample counts in fits and errors (the flagged spans and the settling
+        after unusable input spans are False).
+    estimates : dict
+        Quantities estimated on the way (force-velocity lag [s], velocity gain and lag, ...).
+    name : str
+        The test's label.
+    """
+
+    findings: tuple
+    usable: np.ndarray = field(repr=False)
+    estimates: dict = field(default_factory=dict)
+    name: str = ""
+
+    @property
+    def n_excluded(self) -> int:
+        """Samples left out of fits and errors."""
+        return int(np.size(self.usable) - np.count_nonzero(self.usable))
+
+    @property
+    def clean(self) -> bool:
+        """No finding."""
+        return not self.findings
+
+    def lines(self) -> list[str]:
+        """One line per finding, then the count of excluded samples (report text)."""
+        head = self.name or "test"
+        if not self.findings:
+            return [f"{head}: screening found nothing"]
+        out = [f"{head}: {f.line()}" for f in self.findings]
+        out.append(f"{head}: {self.n_excluded} of {np.size(self.usable)} samples excluded "
+                   "from fit and error")
+        return out
+
+    def estimate_line(self) -> str:
+        """The estimated lags and gain in one line (empty when none was estimated)."""
+        e = self.estimates
+        parts = []
+        if "force_velocity_lag_s" in e:
+            parts.append(f"force lags the motion's velocity by {1e3 * e['force_velocity_lag_s']:.3g} ms "
+                         f"(cross-correlation peak {e.get('force_velocity_correlation', float('nan')):.3f})")
+        if "velocity_lag_s" in e:
+            parts.append(f"velocity channel: {1e3 * e['velocity_lag_s']:.3g} ms behind d(x)/dt, gain "
+                         f"{e.get('velocity_gain', float('nan')):.4g}")
+        return "; ".join(parts)
+
+    def to_json(self) -> dict:
+        """``{"name", "n_samples", "n_excluded", "findings": [...], "estimates": {...}}``."""
+        return {"name": self.name, "n_samples": int(np.size(self.usable)),
+                "n_excluded": self.n_excluded,
+                "findings": [f.to_json() for f in self.findings],
+                "estimates": {k: (float(v) if isinstance(v, (int, float, np.floating)) else v)
+                              for k, v in self.estimates.items()}}
+
+
+# ---------------------------------------------------------------------------------------------
+# helpers
+# ---------------------------------------------------------------------------------------------
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """``[(start, end_exclusive)]`` of the runs of True in ``mask``."""
+    m = np.asarray(mask, dtype=bool)
+    if not m.any():
+        return []
+    d = np.diff(np.r_[0, m.astype(np.int8), 0])
+    return list(zip(np.flatnonzero(d == 1).tolist(), np.flatnonzero(d == -1).tolist()))
+
+
+def _repeat_runs(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Starts and lengths of the runs of exactly equal consecutive values."""
+    change = np.flatnonzero(np.diff(values) != 0) + 1
+    starts = np.r_[0, change]
+    ends = np.r_[change, values.size]
+    return starts, ends - starts
+
+
+def _stuck_threshold(lengths: np.ndarray) -> int:
+    """Shortest run of equal values the channel's own repeats do not explain.
+
+    Repeats of a sampled, quantised channel cluster (it stalls at its reversals and plateaus),
+    so the runs of two or more are modelled as geometric: a run that has lasted ``k`` samples
+    goes on with probability ``r`` (maximum-likelihood estimate from the channel's own runs).
+    Of ``N_2`` such runs about ``N_2 r^(L-2)`` last ``L`` or more; a length expected less than
+    once in a thousand recordings is not chance but a stuck or saturated sensor.
+    """
+    long = lengths[lengths >= 2].astype(float)
+    if long.size == 0:
+        return MIN_STUCK_RUN
+    # leave out the runs that are themselves candidates (they would inflate r)
+    trimmed = long[long < max(MIN_STUCK_RUN, np.percentile(long, 99))]
+    if trimmed.size == 0:
+        return MIN_STUCK_RUN
+    r = float(np.sum(trimmed - 2) / max(np.sum(trimmed - 1), 1.0))
+    if not r > 0:
+        return MIN_STUCK_RUN
+    r = min(r, 0.95)
+    k = 2 + math.log(1e-3 / trimmed.size) / math.log(r)
+    return max(MIN_STUCK_RUN, int(math.ceil(k)))
+
+
+def _dominant_period(t: np.ndarray, x: np.ndarray) -> float:
+    n = t.size
+    span = float(t[-1] - t[0])
+    dt = span / max(n - 1, 1)
+    if n < 8 or not np.ptp(x) > 0:
+        return span
+    spectrum = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(n)))
+    freqs = np.fft.rfftfreq(n, dt)
+    k = 1 + int(np.argmax(spectrum[1:]))
+    return float(1.0 / freqs[k]) if freqs[k] > 0 else span
+
+
+def _derivative(t: np.ndarray, x: np.ndarray, period: float) -> np.ndarray:
+    """Savitzky-Golay derivative over ~1/40 of the dominant period (so that noise is not amplified)."""
+    steps = np.diff(t)
+    dt = float(np.median(steps))
+    window = int(round(period / (40.0 * dt))) | 1
+    window = max(5, min(window, (t.size // 4) | 1))
+    if t.size < 7 or window >= t.size or np.ptp(steps) > 0.5 * dt:
+        return np.gradient(x, t, edge_order=2) if t.size > 2 else np.gradient(x, t)
+    return savgol_filter(x, window, 2, deriv=1, delta=dt, mode="interp")
+
+
+def _settling_end(x: np.ndarray, start: int, hysteresis: float = 0.25) -> int:
+    """Index of the first displacement reversal at or after ``start`` (``x.size`` if none).
+
+    A reversal counts once the displacement has come back by ``hysteresis`` of the stroke of
+    the rest of the test from its running extreme (a Schmitt trigger, insensitive to noise).
+    """
+    rest = x[start:]
+    if rest.size < 3:
+        return x.size
+    stroke = float(np.ptp(rest))
+    if not stroke > 0:
+        return x.size
+    moved = np.flatnonzero(np.abs(rest - rest[0]) > 0.05 * stroke)
+    if moved.size == 0:
+        return x.size
+    y = rest if rest[moved[0]] > rest[0] else -rest
+    back = np.flatnonzero(np.maximum.accumulate(y) - y > hysteresis * stroke)
+    if back.size == 0:
+        return x.size
+    return start + int(np.argmax(y[:back[0] + 1]))
+
+
+def _delay(a: np.ndarray, b: np.ndarray, max_lag: int) -> tuple[float, float, float]:
+    """Delay (in samples, fractional), gain and correlation of ``a`` ≈ g b(t - d).
+
+    The integer part from the cross-correlation peak; the fraction by least squares on the
+    shifted ``b`` and its derivative (:math:`b(t-\\delta) \\approx b - \\delta b'`): the
+    correlation of a smooth signal is too flat near its peak to place it to a sample.
+    """
+    lag, corr = _lag(a, b, max_lag)
+    frac, gain = 0.0, 1.0
+    for _ in range(2 * max_lag + 1):  # Gauss-Newton on the delay, a sample at a time at most
+        shifted = np.roll(b, lag)
+        lo, hi = abs(lag) + 1, a.size - abs(lag) - 1
+        if hi - lo < 8:
+            return float(lag), gain, corr
+        db = 0.5 * (shifted[lo + 1:hi + 1] - shifted[lo - 1:hi - 1])
+        coef, *_ = np.linalg.lstsq(np.column_stack([shifted[lo:hi], db]), a[lo:hi], rcond=None)
+        gain = float(coef[0])
+        frac = float(-coef[1] / coef[0]) if coef[0] != 0 else 0.0
+        if abs(frac) <= 0.5 or abs(lag + np.sign(frac)) > max_lag:
+            break
+        lag += int(np.sign(frac))
+    return lag + float(np.clip(frac, -1.0, 1.0)), gain, corr
+
+
+def _lag(a: np.ndarray, b: np.ndarray, max_lag: int) -> tuple[int, float]:
+    """Lag (samples, ``a`` delayed by it relative to ``b``) and peak normalised correlation."""
+    a = a - a.mean()
+    b = b - b.mean()
+    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    if not (na > 0 and nb > 0):
+        return 0, 0.0
+    n = a.size
+    size = 1 << int(math.ceil(math.log2(2 * n)))
+    cc = np.fft.irfft(np.fft.rfft(a, size) * np.conj(np.fft.rfft(b, size)), size)
+    lags = np.r_[np.arange(0, max_lag + 1), np.arange(-max_lag, 0)]
+    # unbiased: each lag's sum over its overlap only (a smooth signal's correlation is flat near
+    # its peak, and the shrinking overlap would pull the peak towards lag 0)
+    values = cc[lags % size] * n / (n - np.abs(lags))
+    k = int(np.argmax(values))
+    return int(lags[k]), float(values[k] / (na * nb))
+
+
+# ---------------------------------------------------------------------------------------------
+# repair (readers): NaN and time stamps
+# ---------------------------------------------------------------------------------------------
+def _where(lines, i: int, label: str) -> str:
+    return f"{label}:{lines[i]}" if lines is not None else f"{label}: sample {i}"
+
+
+def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
+                   lines: Sequence[int] | None = None, min_usable: int = 10
+                   ) -> tuple[np.ndarray, dict, np.ndarray, list]:
+    """Drop bad time stamps and fill missing values, so that a test can be built from raw columns.
+
+    Parameters
+    ----------
+    time : ndarray (n,)
+        Time stamps as read [s] (may repeat, go backwards or be NaN).
+    channels : dict of str to ndarray (n,) or None
+        The other columns as read (SI), NaN where a value is missing (``None``: absent).
+    label : str
+        File name, for the messages.
+    lines : sequence of int, optional
+        The file line of each sample (for the messages).
+    min_usable : int
+        Fewer usable samples than this, or than a tenth of the samples, is an error.
+
+    Returns
+    -------
+    time : ndarray
+        Strictly increasing.
+    channels : dict
+        Finite: missing values interpolated linearly in time (the end values held), so that an
+        input channel can still drive the model; those samples are excluded.
+    excluded : ndarray of bool
+        Samples to leave out of fits and errors.
+    findings : list of Finding
+
+    Raises
+    ------
+    InputError
+        Too little is left; the message names the first bad sample (its file line when given)
+        and the column.
+    """
+    t = np.asarray(time, dtype=float)
+    n = t.size
+    need = max(min_usable, int(math.ceil(0.1 * n)))
+    findings: list[Finding] = []
+    finite_t = np.isfinite(t)
+    tt = np.where(finite_t, t, -np.inf)
+    prev = np.maximum.accumulate(np.r_[-np.inf, tt[:-1]])
+    keep = finite_t & (tt > prev)
+    if not keep.all():
+        i = int(np.flatnonzero(~keep)[0])
+        if keep.sum() < need:
+            what = (f"got {t[i]:g} s after {prev[i]:g} s" if finite_t[i] else f"got {t[i]}")
+            raise InputError(f"{_where(lines, i, label)}: column 'time': expected strictly increasing "
+                             f"finite values, {what} ({int(keep.sum())} usable samples left, "
+                             f"at least {need} needed)")
+        kept_t = np.where(keep, t, np.nan)
+        for kind, sel, text in (("time", ~finite_t, "time stamp missing: sample dropped"),
+                                ("time", finite_t & (tt == prev), "repeated time stamp: sample dropped"),
+                                ("time", finite_t & (tt < prev), "time goes backwards: sample dropped")):
+            for a, b in _runs(sel):
+                before = kept_t[:a][np.isfinite(kept_t[:a])]
+                t0 = float(before[-1]) if before.size else float(np.nanmin(kept_t))
+                findings.append(Finding(kind, "time", t0, t0, b - a,
+                                        f"{text} ({_where(lines, a, label)})"))
+    t = t[keep]
+    lines = None if lines is None else [ln for ln, k in zip(lines, keep) if k]
+    excluded = np.zeros(t.size, dtype=bool)
+    out: dict = {}
+    first_bad = None
+    for name, values in channels.items():
+        if values is None:
+            out[name] = None
+            continue
+        v = np.asarray(values, dtype=float)[keep]
+        if np.any(np.isinf(v)):
+            i = int(np.flatnonzero(np.isinf(v))[0])
+            raise InputError(f"{_where(lines, i, label)}: column {name!r}: expected a finite number, "
+                             f"got {v[i]}")
+        bad = np.isnan(v)
+        if bad.any():
+            if first_bad is None or int(np.argmax(bad)) < first_bad[0]:
+                first_bad = (int(np.argmax(bad)), name)
+            ok = ~bad
+            for a, b in _runs(bad):
+                findings.append(Finding("nan", name, float(t[a]), float(t[b - 1]), b - a,
+                                        "missing values (NaN): "
+                                        + ("interpolated to drive the model" if name in _INPUTS
+                                           else "filled, not fitted")
+                                        + f" ({_where(lines, a, label)})"))
+            if ok.sum() >= 2:
+                v = np.interp(t, t[ok], v[ok])
+            excluded |= bad
+        out[name] = v
+    if first_bad is not None and int((~excluded).sum()) < need:
+        i, name = first_bad
+        raise InputError(f"{_where(lines, i, label)}: column {name!r}: expected a finite number, got "
+                         f"nan ({int((~excluded).sum())} usable samples left, at least {need} needed)")
+    return t, out, excluded, findings
+
+
+# ---------------------------------------------------------------------------------------------
+# the checks
+# ---------------------------------------------------------------------------------------------
+def _channel(test, name: str):
+    value = getattr(test, name, None)
+    return None if value is None else np.asarray(value, dtype=float)
+
+
+def _input_name(test) -> str | None:
+    for name in ("voltage", "current"):
+        if getattr(test, name, None) is not None:
+            return name
+    return None
+
+
+def _stuck_findings(values: np.ndarray) -> list[tuple]:
+    """``[(kind, start, end, level)]`` of the stuck or clipped runs of one channel.
+
+    Stuck: a run of equal values longer than :func:`_stuck_threshold`. Clipped: the samples at
+    an extreme value when the channel piles up there (visited in at least two separate runs,
+    or in one stuck run, with ten times more samples than the mean of the five levels just
+    inside it: a smooth quantised peak holds about three times more).
+    """
+    out = []
+    starts, lengths = _repeat_runs(values)
+    threshold = _stuck_threshold(lengths)
+    hi, lo = float(values.max()), float(values.min())
+    levels, counts = np.unique(values, return_counts=True)
+    clip_levels = set()
+    for level in {hi, lo}:
+        if hi == lo:
+            break
+        k = int(np.searchsorted(levels, level))
+        count = int(counts[k])
+        at_runs = lengths[values[starts] == level]
+        near = counts[max(k - 5, 0):k] if level == hi else counts[k + 1:k + 6]
+        pile = count > 10 * max(float(np.mean(near)) if near.size else 1.0, 1.0)
+        if count >= 3 and pile and (at_runs.size >= 2 or at_runs.max() >= threshold):
+            clip_levels.add(level)
+    for s, n_run in zip(starts, lengths):
+        level = float(values[s])
+        e = int(s + n_run)
+        if level in clip_levels:
+            out.append(("clipped", int(s), e, level))
+        elif n_run >= threshold:
+            out.append(("stuck", int(s), e, level))
+    return out
+
+
+def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray | None = None,
+           velocity_measured: bool | None = None) -> Screening:
+    """Screen one damper test (see the module docstring for the checks).
+
+    Parameters
+    ----------
+    test : DamperTest
+        The test (finite samples, strictly increasing time).
+    prior : sequence of Finding
+        Findings of :func:`repair_samples` (NaN, time stamps) to carry into the report.
+    prior_excluded : ndarray of bool, optional
+        Samples those findings exclude.
+    velocity_measured : bool, optional
+        Whether the velocity is a channel of its own (default: the test's
+        ``metadata["velocity_from_file"]``, else True); a velocity computed from the
+        displacement is not compared with it.
+
+    Returns
+    -------
+    Screening
+    """
+    t = np.asarray(test.time, dtype=float)
+    x = np.asarray(test.displacement, dtype=float)
+    v = np.asarray(test.velocity, dtype=float)
+    f = np.asarray(test.force, dtype=float)
+    n = t.size
+    name = str(getattr(test, "name", "") or getattr(test, "source", "") or "test")
+    if velocity_measured is None:
+        velocity_measured = bool(getattr(test, "metadata", {}).get("velocity_from_file", True))
+    findings: list[Finding] = list(prior)
+    excluded = np.zeros(n, dtype=bool) if prior_excluded is None else np.asarray(prior_excluded, bool).copy()
+    input_bad = np.zeros(n, dtype=bool)
+    for fd in prior:
+        if fd.channel in _INPUTS or fd.channel == "time":
+            sel = (t >= fd.t_start) & (t <= fd.t_end)
+            input_bad |= sel & excluded if fd.kind == "nan" else sel
+    estimates: dict = {}
+    if n < 8:
+        return Screening(tuple(findings), ~excluded, estimates, name)
+    steps = np.diff(t)
+    dt = float(np.median(steps))
+    period = _dominant_period(t, x)
+    lo_x, hi_x = np.percentile(x, [0.5, 99.5])
+    stroke = float(hi_x - lo_x)
+
+    # gaps: the motion inside is unknown; the sample after the gap starts a new history
+    for i in np.flatnonzero(steps > GAP_FACTOR * dt):
+        findings.append(Finding("gap", "time", float(t[i]), float(t[i + 1]), 1,
+                                f"no sample for {steps[i]:.4g} s ({steps[i] / dt:.1f} median steps)"))
+        excluded[i + 1] = True
+        input_bad[i + 1] = True
+
+    # idle: no motion over a dominant period while the force rests too (a rig waiting between
+    # runs); a quiet stretch of a random motion whose force still changes is data, not idle
+    idle = np.zeros(n, dtype=bool)
+    lo_f, hi_f = np.percentile(f, [0.5, 99.5])
+    f_range = float(hi_f - lo_f)
+    if stroke > 0:
+        w = max(int(round(period / dt)), 5)
+        if w < n:
+            xw = sliding_window_view(x, w)
+            fw = sliding_window_view(f, w)
+            quiet = (((xw.max(axis=1) - xw.min(axis=1)) < IDLE_FRACTION * stroke)
+                     & ((fw.max(axis=1) - fw.min(axis=1)) < 0.1 * f_range))
+            for a, b in _runs(quiet):
+                idle[a:b + w - 1] = True
+            for a, b in _runs(idle):
+                findings.append(Finding("idle", "displacement", float(t[a]), float(t[b - 1]), b - a,
+                                        f"no motion (less than {100 * IDLE_FRACTION:g} % of the "
+                                        f"{stroke:.4g} m stroke, the force at rest) for "
+                                        f"{t[b - 1] - t[a]:.4g} s"))
+            excluded |= idle
+
+    # stuck, clipped and frozen channels
+    channels = [("force", f), ("displacement", x)] + ([("velocity", v)] if velocity_measured else [])
+    for ch, values in channels:
+        for kind, a, b, level in _stuck_findings(values):
+            if idle[a:b].all():
+                continue  # a sensor at rest during an idle span: reported as idle
+            span = f[a:b]
+            if ch == "displacement" and kind == "stuck" and np.ptp(span) > 0.02 * f_range:
+                kind, text = "frozen", (f"displacement frozen at {level:.6g} m while the force changes "
+                                        f"by {np.ptp(span):.4g} N")
+            elif kind == "clipped":
+                text = f"{ch} at its clipping level {level:.6g}"
+            else:
+                text = f"{ch} stuck at {level:.6g} ({b - a} equal values)"
+            findings.append(Finding(kind, ch, float(t[a]), float(t[b - 1]), b - a, text))
+            excluded[a:b] = True
+            if ch != "force":
+                input_bad[a:b] = True
+
+    # velocity against the derivative of the displacement; offsets by cross-correlation
+    max_lag = max(int(round(0.1 * period / dt)), 2)
+    deriv = _derivative(t, x, period)
+    if velocity_measured and np.ptp(deriv) > 0 and np.ptp(v) > 0:
+        ok = ~excluded
+        lag, gain, corr = _delay(np.where(ok, v, 0.0), np.where(ok, deriv, 0.0), max_lag)
+        estimates.update(velocity_gain=gain, velocity_lag_s=lag * dt, velocity_correlation=corr)
+        if not 0.8 < gain < 1.25:
+            findings.append(Finding("velocity", "velocity", float(t[0]), float(t[-1]), 0,
+                                    f"the velocity is {gain:.4g} times the derivative of the "
+                                    "displacement (a unit or gain error)", excluded=False))
+        if abs(lag) >= 2:
+            findings.append(Finding("offset", "velocity", float(t[0]), float(t[-1]), 0,
+                                    f"the velocity lags the derivative of the displacement by "
+                                    f"{lag * dt:.4g} s ({lag:.1f} samples; peak correlation {corr:.3f})",
+                                    excluded=False))
+        # spans where the two depart: more than a quarter of the peak velocity, beyond the noise
+        peak = float(np.percentile(np.abs(v[ok]), 99)) if ok.any() else 0.0
+        shifted = np.roll(deriv, int(round(lag))) * (gain if 0.8 < gain < 1.25 else 1.0)
+        apart = (np.abs(v - shifted) > 0.25 * peak) & ~excluded
+        for a, b in _runs(apart):
+            if b - a >= 3:
+                findings.append(Finding("velocity", "velocity", float(t[a]), float(t[b - 1]), b - a,
+                                        "the velocity departs from the derivative of the "
+                                        "displacement by more than a quarter of its peak"))
+                excluded[a:b] = True
+                input_bad[a:b] = True
+    ok = ~excluded
+    if ok.sum() > 8 and np.ptp(f[ok]) > 0:
+        lag, corr = _lag(f[ok], deriv[ok], max_lag)
+        estimates.update(force_velocity_lag_s=lag * dt, force_velocity_correlation=corr)
+
+    # units: amplitudes outside what any MR damper test produces
+    plaus = {"amplitude": 0.5 * stroke,
+             "peak_velocity": float(np.percentile(np.abs(v[ok] if ok.any() else v), 99.5)),
+             "peak_force": float(np.percentile(np.abs(f[ok] if ok.any() else f), 99.5)),
+             "sample_rate": 1.0 / dt}
+    units = {"amplitude": "m", "peak_velocity": "m/s", "peak_force": "N", "sample_rate": "Hz"}
+    for key, value in plaus.items():
+        lo, hi = PLAUSIBLE[key]
+        estimates[key] = value
+        if not lo <= value <= hi:
+            findings.append(Finding("units", key.split("_")[-1] if key != "sample_rate" else "time",
+                                    float(t[0]), float(t[-1]), 0,
+                                    f"{key.replace('_', ' ')} {value:.4g} {units[key]} is outside "
+                                    f"the plausible {lo:g}-{hi:g} {units[key]} of an MR damper test "
+                                    "(wrong unit?)", excluded=False))
+
+    # settling after unusable input spans: up to the next displacement reversal
+    for a, b in _runs(input_bad):
+        end = _settling_end(x, b) if b < n else n
+        if end > b:
+            added = int((~excluded[b:end]).sum())
+            if added:
+                excluded[b:end] = True
+                findings.append(Finding("settling", "displacement", float(t[b]), float(t[end - 1]),
+                                         added, "model state after an unusable input span: excluded "
+                                         "up to the next displacement reversal"))
+    findings.sort(key=lambda fd: (fd.t_start, fd.kind))
+    return Screening(tuple(findings), ~excluded, estimates, name)
+
+
+def screened(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray | None = None,
+             keep_flagged: bool = False) -> Any:
+    """``test`` with its screening: ``mask`` set to the usable samples and the
+    :class:`Screening` under ``metadata["screening"]``.
+
+    With ``keep_flagged`` the findings are still reported but only samples that carry no
+    measurement at all (missing values, filled by :func:`repair_samples`) are excluded.
+
+    Parameters
+    ----------
+    test : DamperTest
+        The test as read.
+    prior : sequence of Finding
+        Findings the reader already made (repaired missing values, dropped time stamps).
+    prior_excluded : ndarray of bool, optional
+        Samples the reader already knows to be unusable.
+    keep_flagged : bool
+        Report the findings but keep the flagged samples in fits and errors.
+    """
+    result = screen(test, prior, prior_excluded)
+    usable = result.usable
+    if keep_flagged:
+        usable = np.ones(usable.size, dtype=bool) if prior_excluded is None else ~np.asarray(prior_excluded, bool)
+    return dataclasses.replace(test, mask=None if usable.all() else usable, metadata={**test.metadata, "screening": result})
+
+
+def keep_flagged(test: Any) -> Any:
+    """``test`` with every screened sample back in (the report keeps the findings), except the
+    samples that carry no measurement (missing values filled when read).
+
+    Parameters
+    ----------
+    test : DamperTest
+        A screened test.
+    """
+    result = test.metadata.get("screening")
+    mask = None
+    if result is not None:
+        filled = np.zeros(test.n_samples, dtype=bool)
+        for fd in result.findings:
+            if fd.kind == "nan":
+                filled |= (test.time >= fd.t_start) & (test.time <= fd.t_end)
+        mask = None if not filled.any() else ~filled
+    return dataclasses.replace(test, mask=mask)
+
+
+def screening_of(test: Any) -> Screening:
+    """The test's screening (from reading), or a fresh :func:`screen` of it.
+
+    Parameters
+    ----------
+    test : DamperTest
+        A test, screened when read or not.
+    """
+    result = getattr(test, "metadata", {}).get("screening")
+    return result if isinstance(result, Screening) else screen(test)
