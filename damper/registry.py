@@ -22,7 +22,7 @@ from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, bouc_wen_force, 
 from damper.spencer import (MEMO_LENGTH, Spencer, spencer_type_force_kernel, spencer_type_step,
                             spencer_type_step_memo, spencer_type_tangent, spencer_type_tangent_memo)
 from damper.virtual import VirtualBenchmarkDamper
-from damper.series_dashpot import SeriesDashpotBoucWen
+from damper.series_dashpot import SeriesDashpotBoucWen, SpencerBoucWen
 from damper.bingham import Bingham, bingham_force, bingham_step
 from damper.dahl import Dahl
 from damper.hyperbolic_tangent import HyperbolicTangent, hyperbolic_tangent_force, hyperbolic_tangent_step
@@ -77,6 +77,7 @@ def register_model(cls: type[DamperModel]) -> type[DamperModel]:
 
 
 for _cls in (NormalizedBoucWen, ExtendedBoucWen, Spencer, VirtualBenchmarkDamper, SeriesDashpotBoucWen,
+             SpencerBoucWen,
              Bingham, Dahl, HyperbolicTangent):
     register_model(_cls)
 

@@ -2,7 +2,7 @@
 
 ::
 
-    sbib diagnose --data FILE [FILE ...] [--model normalized|extended]
+    sbib diagnose --data FILE [FILE ...] [--model normalized|extended|spencer]
                   [--holdout FRACTION | --validate FILE ...] [--coarse-samples N]
                   [--out DIR] [--json]
 
@@ -71,7 +71,7 @@ def register(subparsers) -> None:
                     "(held-out BIC) and report the error before and after.")
     p.add_argument("--data", nargs="+", required=True, metavar="FILE",
                    help="test files: damper CSV (SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
-    p.add_argument("--model", choices=("normalized", "extended"), default="normalized",
+    p.add_argument("--model", choices=("normalized", "extended", "spencer"), default="normalized",
                    help="base model (default: normalized)")
     group = p.add_mutually_exclusive_group()
     group.add_argument("--holdout", type=_fraction, default=None, metavar="FRACTION",

@@ -31,7 +31,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.augmented import AugmentedModel, refit
 from damper.data import DamperTest
-from damper.diagnosis.base_fit import fit_base
+from damper.diagnosis.base_fit import fit_base, fit_spencer_base
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, decimate, decimation_factor
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT, DiagnosisData
 from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, DEFAULT_TOLERANCE,
@@ -235,8 +235,11 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     ----------
     tests : sequence of DamperTest
         Tests to fit (any motion, constant or varying coil input; all voltage or all current).
-    model : {"normalized", "extended"}
-        Base model.
+    model : {"normalized", "extended", "spencer"}
+        Base model: a Bouc-Wen model (normalized or extended), or Spencer et al.'s (1997)
+        model with voltage laws and its field lag
+        (:class:`~damper.series_dashpot.SpencerBoucWen`, fitted by
+        :func:`~damper.diagnosis.base_fit.fit_spencer_base`).
     holdout : float
         Fraction of each test, at its end, held out (ignored with ``validate``).
     validate : sequence of DamperTest, optional
@@ -292,9 +295,16 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     if q > 1:
         say(f"coarse pass: one sample in {q} ({sum(int(k.sum()) for k in work.train)} of "
             f"{sum(int(k.sum()) for k in data.train)} fitted samples)")
-    say(f"fitting the {model} base model to {len(data.motions)} test(s)"
-        + ("" if nodes is None else f" with {data.input_name} laws on nodes {[round(float(v), 4) for v in nodes]}"))
-    base = fit_base(work, model, max_nfev=max_nfev, tolerance=tolerance, progress=say).model
+    if model == "spencer":
+        say(f"fitting the Spencer-type base model to {len(data.motions)} test(s)")
+        fitted = fit_spencer_base(work, max_nfev=max_nfev, tolerance=tolerance, progress=say)
+        base, nodes = fitted.model, fitted.nodes
+        if nodes is not None:
+            say(f"  {data.input_name} laws on nodes {[round(float(v), 4) for v in nodes]}: {fitted.note}")
+    else:
+        say(f"fitting the {model} base model to {len(data.motions)} test(s)"
+            + ("" if nodes is None else f" with {data.input_name} laws on nodes {[round(float(v), 4) for v in nodes]}"))
+        base = fit_base(work, model, max_nfev=max_nfev, tolerance=tolerance, progress=say).model
     if q > 1:
         base = _polish(base, data, nodes, polish_nfev, tolerance, say, "base model")
     forces_before = [base.force(m) for m in data.motions]

@@ -48,7 +48,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.augmented import AugmentedModel, Parametrization, refit
+from damper.augmented import BASE_DECLARES, AugmentedModel, Parametrization, refit
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size, trace_residual
 from damper.effects import EFFECT_NAMES, Effect, get_effect
@@ -354,8 +354,8 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
     names = list(EFFECT_NAMES if candidates is None else candidates)
     for n in names:
         get_effect(n)
-    if model.base_kind == "extended" and "stiffness" in names:
-        names.remove("stiffness")  # the extended base declares kappa_x x already
+    # the base may declare a term already (kappa_x x; the Spencer-type base's c1 and field lag)
+    names = [n for n in names if n not in BASE_DECLARES[model.base_kind]]
     motions = list(data.motions)
     f_rms = data.force_rms("train")
     scales = {n: get_effect(n).scale(motions, f_rms) for n in EFFECT_NAMES}

@@ -61,7 +61,7 @@ def _effect_at(name: str, share: float):
     lo, hi = 0.0, 1.0
     scale = {"stiffness": 1e5, "offset": 1e3, "inertia": 1e3, "quadratic_damping": 1e6,
              "asymmetry": 0.9, "direction": 0.9, "fade": 0.09, "voltage_lag": 0.3,
-             "roll_off": 1.0}[name]
+             "roll_off": 1.0, "shear_thinning": 1e4}[name]
     for _ in range(40):
         mid = 0.5 * (lo + hi)
         if _share(cls(cls.neutral + sign * mid * scale)) < share:
