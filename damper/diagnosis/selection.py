@@ -42,6 +42,7 @@ specification in econometrics*, Rev. Econ. Stud. 47(1).
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
@@ -297,6 +298,7 @@ class SelectionResult:
     model: AugmentedModel
     steps: tuple
     rounds: tuple  # per round: (screen dict, list of Trial)
+    stopped_by_budget: bool = False
 
 
 def _heldout_rss(model: AugmentedModel, data: DiagnosisData) -> tuple[float, np.ndarray]:
@@ -312,7 +314,8 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                    progress: Callable[[str], None] | None = None,
                    tolerance: float = DEFAULT_TOLERANCE,
                    trace_share: float = DEFAULT_TRACE_SHARE,
-                   joint_trials: int | None = DEFAULT_JOINT_TRIALS) -> SelectionResult:
+                   joint_trials: int | None = DEFAULT_JOINT_TRIALS,
+                   deadline: float | None = None) -> SelectionResult:
     """Forward selection of library effects by held-out BIC (see the module docstring).
 
     Parameters
@@ -344,6 +347,9 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         Each candidate is first refitted alone (its own parameter, the model held); the
         ``joint_trials`` that lower the held-out error most are then refitted jointly with the
         model, and only those can be added (``None``: all).
+    deadline : float, optional
+        A :func:`time.perf_counter` value: no round starts after it (the round under way
+        finishes), and the result says so (``stopped_by_budget``).
 
     Returns
     -------
@@ -363,9 +369,15 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
     norm_h = float(np.linalg.norm(measured_h))
     steps, rounds = [], []
     current = model
+    stopped = False
     while True:
         remaining = [n for n in names if n not in current.effect_names]
         if not remaining or (max_effects is not None and len(steps) >= max_effects):
+            break
+        if deadline is not None and time.perf_counter() >= deadline:
+            stopped = True
+            if progress:
+                progress(f"time budget spent: no round {len(rounds) + 1}; the model so far is kept")
             break
         rss_old, res_old = _heldout_rss(current, data)
         err_old = math.sqrt(rss_old) / norm_h
@@ -441,6 +453,13 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                 progress(f"  screened {s.name} alone: held-out error {err_old:.4f} -> {err_q:.4f}")
         # stage 2: the most promising refitted jointly with the model
         for _, s, quick_model in joint:
+            if deadline is not None and time.perf_counter() >= deadline:
+                stopped = True  # end cleanly: the trials left are reported, not refitted
+                round_trials.append(Trial(s.name, s.score, math.nan, math.inf, {},
+                                          note="not refitted jointly: time budget spent"))
+                if progress:
+                    progress(f"  time budget spent: {s.name} not refitted jointly")
+                continue
             try:
                 fit = refit(quick_model, motions, data.forces, data.train, nodes=nodes,
                             scales=base_scales, max_nfev=max_nfev, tolerance=tolerance)
@@ -466,9 +485,9 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                               n_eff, new_model))
             current = new_model
         rounds.append((screens, round_trials))
-        if best is None:
+        if best is None or stopped:
             break
-    return SelectionResult(current, tuple(steps), tuple(rounds))
+    return SelectionResult(current, tuple(steps), tuple(rounds), stopped)
 
 
 def _base_scales(model: AugmentedModel) -> dict:
