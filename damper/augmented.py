@@ -137,9 +137,12 @@ class AugmentedModel:
     base : NormalizedBoucWen, ExtendedBoucWen or SpencerBoucWen
         The base model (constant parameters or voltage laws).
     effects : sequence of Effect
-        Effect terms, at most one of each name; ``stiffness`` is refused on an extended base
-        (it already declares :math:`\\kappa_x x`). They are kept in composition order (series,
-        input, factor, additive; library order within a role).
+        Effect terms, at most one of each name; a term the base already carries is refused
+        (:data:`BASE_DECLARES`: ``stiffness`` on the extended base, ...). They are kept in
+        composition order (series, input, factor, additive; library order within a role).
+    held : tuple of str
+        Base parameters that :func:`refit` holds at their values (e.g. the Spencer-type base's
+        field lag when the coil input never changes within a test: it cannot be seen there).
 
     Examples
     --------
@@ -152,6 +155,7 @@ class AugmentedModel:
 
     base: object
     effects: tuple = ()
+    held: tuple = ()
 
     def __post_init__(self) -> None:
         kind = _base_kind(self.base)
@@ -172,6 +176,11 @@ class AugmentedModel:
         order = {n: i for i, n in enumerate(EFFECT_NAMES)}
         effects = tuple(sorted(effects, key=lambda e: (_ROLE_ORDER[e.role], order[e.name])))
         object.__setattr__(self, "effects", effects)
+        held = tuple(str(p) for p in self.held)
+        unknown = [p for p in held if p not in self.base.parameter_names]
+        if unknown:
+            raise ParameterError(f"augmented model: held: {unknown} are not parameters of the base")
+        object.__setattr__(self, "held", held)
 
     # -- description ------------------------------------------------------------------------
     @property
@@ -200,11 +209,11 @@ class AugmentedModel:
     def with_effect(self, effect: Effect) -> "AugmentedModel":
         """A copy with ``effect`` added (replacing an effect of the same name)."""
         kept = tuple(e for e in self.effects if e.name != effect.name)
-        return AugmentedModel(self.base, kept + (effect,))
+        return AugmentedModel(self.base, kept + (effect,), self.held)
 
     def with_base(self, base) -> "AugmentedModel":
         """A copy with another base model."""
-        return AugmentedModel(base, self.effects)
+        return AugmentedModel(base, self.effects, self.held)
 
     def base_parameters(self) -> dict:
         """The base model's parameters (numbers or voltage laws), by name."""
@@ -317,13 +326,17 @@ class Parametrization:
         defaults to the template's values.
     fixed_base : bool
         Keep the base parameters at the template's values (only the effects are free).
+
+    The template's ``held`` base parameters stay at its values.
     """
 
     def __init__(self, template: AugmentedModel, nodes: Sequence[float] | None = None,
                  scales: dict | None = None, fixed_base: bool = False) -> None:
         self.template = template
         self.kind = template.base_kind
-        self.base_names = tuple(template.base.parameter_names)
+        self.all_base_names = tuple(template.base.parameter_names)
+        self.fixed = tuple(p for p in template.held if p in self.all_base_names)
+        self.base_names = tuple(p for p in self.all_base_names if p not in self.fixed)
         self.voltage_range = tuple(template.base.voltage_range)
         self.nodes = None if nodes is None else np.unique(np.asarray(nodes, dtype=float))
         if self.nodes is not None and self.nodes.size < 2:
@@ -417,6 +430,9 @@ class Parametrization:
             k = 0
         else:
             params, k = {}, 0
+            template_values = self.template.base_parameters()
+            for p in self.fixed:
+                params[p] = template_values[p]
             for p in self.base_names:
                 if self.nodes is None or p in self.shared:
                     params[p] = float(vector[k])
@@ -432,7 +448,7 @@ class Parametrization:
                                        self.template.base.substep_tolerance, vector[:k],
                                        self.lower[:k], self.upper[:k])
         effects = tuple(cls(float(vector[k + j])) for j, cls in enumerate(self.effect_classes))
-        return AugmentedModel(base, effects)
+        return AugmentedModel(base, effects, self.template.held)
 
 
 def _unchecked_base(kind, params, voltage_range, tolerance, values, lower, upper):

@@ -336,6 +336,9 @@ def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200
     span = _input_span(data)
     lin_nodes = None if span is None or not span[1] > span[0] else np.array(span)
     taus = TAU_GRID if data.input_varies_within_tests else (0.0,)
+    # at a constant input within each test the field lag is invisible (the warm-up is not
+    # scored): it is held at zero rather than fitted
+    held = () if data.input_varies_within_tests else ("field_lag",)
     scored = []
     for rho, sigma, n in shape_grid(data):
         try:
@@ -359,7 +362,8 @@ def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200
             c1 = kw / (frac * v_rms)
             starts.append(AugmentedModel(SpencerBoucWen(
                 float(coef[-2]), 1e-2 * f_rms / x_rms, _law(c0, lin_nodes), _law(kw, lin_nodes),
-                _law(c1, lin_nodes), rho, sigma, n, tau, voltage_range=vr), (Offset(float(coef[-1])),)))
+                _law(c1, lin_nodes), rho, sigma, n, tau, voltage_range=vr), (Offset(float(coef[-1])),),
+                held))
         if len(seen) >= n_starts:
             break
     scales = {"kappa_x": f_rms / x_rms, "k0": f_rms / x_rms, "kappa_xdot": f_rms / v_rms,
@@ -402,7 +406,8 @@ def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200
             continue
         nodes = np.linspace(lin_nodes[0], lin_nodes[-1], count)
         try:
-            start = AugmentedModel(_spencer_on_nodes(best.model.base, nodes, vr), best.model.effects)
+            start = AugmentedModel(_spencer_on_nodes(best.model.base, nodes, vr), best.model.effects,
+                                   best.model.held)
             alt = refit(start, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
                         max_nfev=max_nfev, tolerance=tolerance)
         except NumericalError:

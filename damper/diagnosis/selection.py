@@ -444,6 +444,11 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                   and (get_effect(item[1].name).role == "series"
                        or (get_effect(item[1].name).role == "input"
                            and data.input_varies_within_tests))]
+        # and so does a term the trace names whose effect-only refit stayed at its neutral value:
+        # the model fitted without it compensated in the other direction (an inertial force the
+        # base absorbed as a softer pre-yield branch), so only a joint refit can show it
+        joint += [item for item in quick if item not in joint and item[1].name in named
+                  and _at_neutral(item[2].effect(item[1].name), scales[item[1].name])]
         chosen = {id(item) for item in joint}
         for rss_q, s, _ in (item for item in quick if id(item) not in chosen):
             err_q = math.sqrt(rss_q) / norm_h
@@ -488,6 +493,11 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         if best is None or stopped:
             break
     return SelectionResult(current, tuple(steps), tuple(rounds), stopped)
+
+
+def _at_neutral(effect: Effect, scale: float) -> bool:
+    """Whether ``effect`` sits at its neutral value, within 1e-3 of its typical size."""
+    return abs(effect.value - type(effect).neutral) <= 1e-3 * abs(scale)
 
 
 def _base_scales(model: AugmentedModel) -> dict:

@@ -122,3 +122,12 @@ def test_shear_thinning_alone_is_found(noise):
 def test_shear_thinning_with_inertia_is_found():
     device = AugmentedModel(BASE, (ShearThinning(500.0), Inertia(60.0)))
     _check(diagnose(sinusoidal_tests(device, noise=0.02, seed=8)), ["shear_thinning", "inertia"], 0.02)
+
+
+def test_bench_row_on_the_real_recording_says_when_the_data_are_absent(monkeypatch, tmp_path):
+    from benchmark.applications import speed_diagnose
+
+    monkeypatch.setattr(speed_diagnose, "shared_dir", lambda: tmp_path)
+    row = speed_diagnose._bench_dyke(timeout=10.0)
+    assert row.case == "diagnose-dyke" and row.project_s is None
+    assert row.note.startswith("not measured") and "not found" in row.note
