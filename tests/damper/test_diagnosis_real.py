@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pytest
 
+from benchmark.applications import speed_diagnose
 from benchmark.foundation.errors import ParameterError
 from damper.augmented import AugmentedModel
 from damper.bouc_wen import NormalizedBoucWen
@@ -125,8 +126,6 @@ def test_shear_thinning_with_inertia_is_found():
 
 
 def test_bench_row_on_the_real_recording_says_when_the_data_are_absent(monkeypatch, tmp_path):
-    from benchmark.applications import speed_diagnose
-
     monkeypatch.setattr(speed_diagnose, "shared_dir", lambda: tmp_path)
     row = speed_diagnose._bench_dyke(timeout=10.0)
     assert row.case == "diagnose-dyke" and row.project_s is None
