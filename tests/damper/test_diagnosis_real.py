@@ -9,15 +9,18 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
 import pytest
 
 from benchmark.applications import speed_diagnose
+from benchmark.applications.cli import main
 from benchmark.foundation.errors import ParameterError
 from damper.augmented import AugmentedModel
 from damper.bouc_wen import NormalizedBoucWen
+from damper.data import write_csv
 from damper.diagnosis import diagnose
 from damper.diagnosis.synthetic import sinusoidal_tests, step_voltage_tests
 from damper.effects import Inertia, Motion, Offset, RollOff, ShearThinning, Stiffness, VoltageLag
@@ -130,3 +133,21 @@ def test_bench_row_on_the_real_recording_says_when_the_data_are_absent(monkeypat
     row = speed_diagnose._bench_dyke(timeout=10.0)
     assert row.case == "diagnose-dyke" and row.project_s is None
     assert row.note.startswith("not measured") and "not found" in row.note
+
+
+def test_cli_model_spencer_writes_its_report(tmp_path, capsys):
+    device = AugmentedModel(SpencerBoucWen(
+        500.0, 2000.0, Polynomial((1500.0, 2500.0)), Polynomial((300.0, 900.0)),
+        Polynomial((3.0e4, 1.0e4)), 300.0, 1.0, 2.0, field_lag=0.02, voltage_range=(0.0, 1.0)))
+    fit, other = (step_voltage_tests(device, amplitude=a, frequency=1.5, switch_period=0.23,
+                                     samples_per_cycle=300, noise=0.01, seed=s)[0]
+                  for a, s in ((0.01, 3), (0.007, 4)))
+    a, b = write_csv(fit, tmp_path / "a.csv"), write_csv(other, tmp_path / "b.csv")
+    out = tmp_path / "report"
+    assert main(["diagnose", "--data", str(a), "--validate", str(b), "--model", "spencer",
+                 "--out", str(out), "--json", "--quiet"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["model"] == "spencer" and doc["base_model"]["base"] == "spencer"
+    assert doc["error_after"] <= 0.03 and doc["validation"]["error_after"] <= 0.04
+    text = (out / "report.md").read_text()
+    assert "spencer" in text and "Other recordings of the device" in text
