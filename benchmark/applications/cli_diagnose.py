@@ -2,9 +2,9 @@
 
 ::
 
-    sbib diagnose --data FILE [FILE ...] [--model normalized|extended]
-                  [--holdout FRACTION | --validate FILE ...] [--coarse-samples N]
-                  [--keep-flagged] [--out DIR] [--json]
+    sbib diagnose --data FILE [FILE ...] [--model normalized|extended|spencer]
+                  [--holdout FRACTION] [--validate FILE ...] [--coarse-samples N]
+                  [--time-budget SECONDS] [--keep-flagged] [--out DIR] [--json]
 
 Every file is screened when read (:mod:`damper.io.screening`); the flagged samples count neither
 in the fit nor in the errors (``--keep-flagged`` keeps them) and the findings are printed, and
@@ -12,7 +12,8 @@ listed under ``screening`` in the JSON.
 
 Fits the base model, traces its held-out residual, adds library effects while they pay (held-out
 BIC), and reports the held-out relative RMS force error before and after
-(:func:`damper.diagnosis.diagnose`). Data files: the damper CSV format
+(:func:`damper.diagnosis.diagnose`); ``--validate`` scores both models on other recordings of
+the same device as well (never fitted: the JSON's ``validation``). Data files: the damper CSV format
 (:mod:`damper.io.data`; ``time, displacement, force[, velocity][, voltage|current]``, SI), the
 UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``) or Dyke's records
 (:mod:`damper.io.dyke`, converted to SI when read). ``--json`` prints
@@ -128,13 +129,16 @@ def register(subparsers) -> None:
                     "(held-out BIC) and report the error before and after.")
     p.add_argument("--data", nargs="+", required=True, metavar="FILE",
                    help="test files: damper CSV (SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
-    p.add_argument("--model", choices=("normalized", "extended"), default="normalized",
+    p.add_argument("--model", choices=("normalized", "extended", "spencer"), default="normalized",
                    help="base model (default: normalized)")
-    group = p.add_mutually_exclusive_group()
-    group.add_argument("--holdout", type=_fraction, default=None, metavar="FRACTION",
-                       help="fraction of each test, at its end, held out (default 0.25)")
-    group.add_argument("--validate", nargs="+", metavar="FILE",
-                       help="separate test files for the held-out errors")
+    p.add_argument("--holdout", type=_fraction, default=None, metavar="FRACTION",
+                   help="fraction of each test, at its end, held out (default 0.25)")
+    p.add_argument("--validate", nargs="+", metavar="FILE",
+                   help="other recordings of the same device: both models are scored on all of "
+                        "them too (never fitted)")
+    p.add_argument("--time-budget", type=float, default=None, metavar="SECONDS",
+                   help="no new round of the effect selection after this many seconds (the run "
+                        "ends cleanly and says so)")
     p.add_argument("--effects", nargs="+", choices=EFFECT_NAMES, metavar="EFFECT",
                    help="restrict the candidates to these effects (default: the whole library)")
     p.add_argument("--coarse-samples", type=int, default=None, metavar="N",
@@ -170,8 +174,12 @@ def run(args) -> int:
     if coarse is not None and coarse < 0:
         raise InputError(f"--coarse-samples: expected 0 or a number of samples >= 100, got {coarse}")
     coarse = DEFAULT_COARSE_SAMPLES if coarse is None else (None if coarse == 0 else coarse)
-    result = diagnose(tests, model=args.model, holdout=holdout, validate=validate,
-                      candidates=args.effects, progress=progress, coarse_samples=coarse)
+    budget = getattr(args, "time_budget", None)
+    if budget is not None and not budget > 0:
+        raise InputError(f"--time-budget: expected a number of seconds > 0, got {budget:g}")
+    result = diagnose(tests, model=args.model, holdout=holdout, cross_validate=validate,
+                      candidates=args.effects, progress=progress, coarse_samples=coarse,
+                      time_budget=budget)
     doc = {**result.to_json(), "screening": screening}
     if args.out:
         paths = write_report(result, args.out)
@@ -195,6 +203,13 @@ def run(args) -> int:
             print(f"  + {step.name} ({params}): {step.error_before:.4f} -> {step.error_after:.4f}")
         if not result.selection.steps:
             print("  no library effect paid on the held-out data")
+        if result.validation is not None:
+            v = result.validation
+            print(f"validation on {', '.join(v['tests'])}: relative RMS error "
+                  f"{v['error_before']:.4f} -> {v['error_after']:.4f}")
+        if result.settings.get("stopped_by_budget"):
+            print(f"stopped by the time budget ({result.settings['time_budget']:g} s): the model "
+                  "so far is reported")
         if result.unexplained:
             print("unexplained structure in: " + ", ".join(
                 f"{v} (share {s:.2f}, {100 * lv:.1f} % of force RMS)" for v, s, lv in result.unexplained_in))

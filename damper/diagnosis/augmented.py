@@ -43,6 +43,7 @@ from damper.fitting import least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.diagnosis.effects import EFFECTS, EFFECT_NAMES, Effect, Motion, get_effect
+from damper.models.series_dashpot import SpencerBoucWen
 from damper.models.response import simulate
 from damper.models.voltage_laws import Tabulated, VoltageLaw
 
@@ -55,10 +56,17 @@ __all__ = [
     "refit",
     "BASE_MODELS",
     "make_base",
+    "BASE_DECLARES",
 ]
 
 #: Base model kinds accepted by the loop.
-BASE_MODELS: dict[str, type] = {"normalized": NormalizedBoucWen, "extended": ExtendedBoucWen}
+BASE_MODELS: dict[str, type] = {"normalized": NormalizedBoucWen, "extended": ExtendedBoucWen,
+                                "spencer": SpencerBoucWen}
+#: Effects a base kind already carries in its own equations (never added to it): the extended
+#: and Spencer-type bases have kappa_x x; the Spencer-type base has its series dashpot c1 and
+#: its field filter.
+BASE_DECLARES: dict[str, tuple[str, ...]] = {"normalized": (), "extended": ("stiffness",),
+                                             "spencer": ("stiffness", "roll_off", "voltage_lag")}
 
 _ROLE_ORDER = {"series": 0, "input": 1, "factor": 2, "additive": 3}
 #: Base parameters a series effect needs independent of the coil input.
@@ -67,6 +75,10 @@ _SERIES_SHARED = ("kappa_x", "rho", "sigma", "n")
 # to keep the kernel's sub-stepping affordable.
 _BASE_LOWER_REL = 1e-9
 _BASE_BOUNDS = {"sigma": (0.5, 50.0), "n": (1.0, 10.0)}
+# Base parameters whose admissible class starts at zero (springs, the field lag).
+_BASE_ZERO_LOWER = ("kappa_x", "k0", "field_lag")
+# The field lag [s] is bounded by a second: a longer one is no MR damper's coil.
+_BASE_UPPER = {"field_lag": 1.0}
 
 
 @dataclass(frozen=True)
@@ -121,7 +133,7 @@ def _base_kind(base) -> str:
     for kind, cls in BASE_MODELS.items():
         if type(base) is cls:
             return kind
-    raise InputError(f"augmented model: base must be NormalizedBoucWen or ExtendedBoucWen, got "
+    raise InputError(f"augmented model: base must be NormalizedBoucWen, ExtendedBoucWen or SpencerBoucWen, got "
                      f"{type(base).__name__}")
 
 
@@ -131,12 +143,15 @@ class AugmentedModel:
 
     Parameters
     ----------
-    base : NormalizedBoucWen or ExtendedBoucWen
+    base : NormalizedBoucWen, ExtendedBoucWen or SpencerBoucWen
         The base model (constant parameters or voltage laws).
     effects : sequence of Effect
-        Effect terms, at most one of each name; ``stiffness`` is refused on an extended base
-        (it already declares :math:`\\kappa_x x`). They are kept in composition order (series,
-        input, factor, additive; library order within a role).
+        Effect terms, at most one of each name; a term the base already carries is refused
+        (:data:`BASE_DECLARES`: ``stiffness`` on the extended base, ...). They are kept in
+        composition order (series, input, factor, additive; library order within a role).
+    held : tuple of str
+        Base parameters that :func:`refit` holds at their values (e.g. the Spencer-type base's
+        field lag when the coil input never changes within a test: it cannot be seen there).
 
     Examples
     --------
@@ -149,6 +164,7 @@ class AugmentedModel:
 
     base: object
     effects: tuple = ()
+    held: tuple = ()
 
     def __post_init__(self) -> None:
         kind = _base_kind(self.base)
@@ -160,17 +176,25 @@ class AugmentedModel:
         names = [e.name for e in effects]
         if len(set(names)) != len(names):
             raise ParameterError(f"augmented model: effects: each effect at most once, got {names}")
-        if kind == "extended" and "stiffness" in names:
-            raise ParameterError("augmented model: the extended base already has kappa_x*x; "
-                                 "do not add the stiffness effect")
+        for name in BASE_DECLARES[kind]:
+            if name in names:
+                term = {"stiffness": "kappa_x*x", "roll_off": "its series dashpot c1",
+                        "voltage_lag": "its field lag"}.get(name, name)
+                raise ParameterError(f"augmented model: the {kind} base already has {term}; "
+                                     f"do not add the {name} effect")
         order = {n: i for i, n in enumerate(EFFECT_NAMES)}
         effects = tuple(sorted(effects, key=lambda e: (_ROLE_ORDER[e.role], order[e.name])))
         object.__setattr__(self, "effects", effects)
+        held = tuple(str(p) for p in self.held)
+        unknown = [p for p in held if p not in self.base.parameter_names]
+        if unknown:
+            raise ParameterError(f"augmented model: held: {unknown} are not parameters of the base")
+        object.__setattr__(self, "held", held)
 
     # -- description ------------------------------------------------------------------------
     @property
     def base_kind(self) -> str:
-        """``"normalized"`` or ``"extended"``."""
+        """``"normalized"``, ``"extended"`` or ``"spencer"``."""
         return _base_kind(self.base)
 
     @property
@@ -206,7 +230,7 @@ class AugmentedModel:
             The effect to add.
         """
         kept = tuple(e for e in self.effects if e.name != effect.name)
-        return AugmentedModel(self.base, kept + (effect,))
+        return AugmentedModel(self.base, kept + (effect,), self.held)
 
     def with_base(self, base) -> "AugmentedModel":
         """A copy with another base model.
@@ -216,7 +240,7 @@ class AugmentedModel:
         base
             The new base model (normalized or extended Bouc-Wen).
         """
-        return AugmentedModel(base, self.effects)
+        return AugmentedModel(base, self.effects, self.held)
 
     def base_parameters(self) -> dict:
         """The base model's parameters (numbers or voltage laws), by name."""
@@ -341,14 +365,17 @@ class Parametrization:
         Typical size of each base parameter and effect (name -> value) to scale the search;
         defaults to the template's values.
     fixed_base : bool
-        Keep the base parameters at the template's values (only the effects are free).
+        Keep the base parameters at the template's values (only the effects are free); the
+        template's ``held`` base parameters stay at its values in any case.
     """
 
     def __init__(self, template: AugmentedModel, nodes: Sequence[float] | None = None,
                  scales: dict | None = None, fixed_base: bool = False) -> None:
         self.template = template
         self.kind = template.base_kind
-        self.base_names = tuple(template.base.parameter_names)
+        self.all_base_names = tuple(template.base.parameter_names)
+        self.fixed = tuple(p for p in template.held if p in self.all_base_names)
+        self.base_names = tuple(p for p in self.all_base_names if p not in self.fixed)
         self.voltage_range = tuple(template.base.voltage_range)
         self.nodes = None if nodes is None else np.unique(np.asarray(nodes, dtype=float))
         if self.nodes is not None and self.nodes.size < 2:
@@ -360,6 +387,8 @@ class Parametrization:
         self.shared = (frozenset(_SERIES_SHARED) & frozenset(self.base_names)
                        if self.nodes is not None and any(c.role == "series" for c in self.effect_classes)
                        else frozenset())
+        if self.nodes is not None:  # the Spencer-type base's kernel constants
+            self.shared |= frozenset(getattr(type(template.base), "shared_parameters", ()))
         scales = dict(scales or {})
         names, lower, upper, scale = [], [], [], []
         if not self.fixed_base:
@@ -368,8 +397,8 @@ class Parametrization:
                 typical = abs(float(scales.get(p, 0.0))) or float(np.max(np.abs(
                     _law_nodes(base_values[p], self._nodes_or_zero()))))
                 typical = typical if typical > 0 else 1.0
-                lo, hi = _BASE_BOUNDS.get(p, (0.0 if p == "kappa_x" else _BASE_LOWER_REL * typical,
-                                              math.inf))
+                lo, hi = _BASE_BOUNDS.get(p, (0.0 if p in _BASE_ZERO_LOWER else _BASE_LOWER_REL * typical,
+                                              _BASE_UPPER.get(p, math.inf)))
                 labels = ([p] if self.nodes is None or p in self.shared
                           else [f"{p}@{v:g}" for v in self.nodes])
                 for label in labels:
@@ -453,6 +482,9 @@ class Parametrization:
             k = 0
         else:
             params, k = {}, 0
+            template_values = self.template.base_parameters()
+            for p in self.fixed:
+                params[p] = template_values[p]
             for p in self.base_names:
                 if self.nodes is None or p in self.shared:
                     params[p] = float(vector[k])
@@ -468,7 +500,7 @@ class Parametrization:
                                        self.template.base.substep_tolerance, vector[:k],
                                        self.lower[:k], self.upper[:k])
         effects = tuple(cls(float(vector[k + j])) for j, cls in enumerate(self.effect_classes))
-        return AugmentedModel(base, effects)
+        return AugmentedModel(base, effects, self.template.held)
 
 
 def _unchecked_base(kind, params, voltage_range, tolerance, values, lower, upper):
@@ -526,6 +558,22 @@ def _check_data(motions, forces, masks):
     return motions, forces, masks
 
 
+def _until_last_fitted(motions, forces, masks):
+    """Each test cut after its last fitted sample: the simulation is causal, so the samples after
+    it change nothing in the fit (the held-out end of a test is not simulated while fitting)."""
+    out_m, out_f, out_k = [], [], []
+    for m, f, k in zip(motions, forces, masks):
+        idx = np.flatnonzero(k)
+        end = max(int(idx[-1]) + 1, 2) if idx.size else 2
+        if end < m.n_samples:
+            m = Motion(m.t[:end], m.x[:end], m.xdot[:end], m.xddot[:end], m.v[:end], name=m.name)
+            f, k = f[:end], k[:end]
+        out_m.append(m)
+        out_f.append(f)
+        out_k.append(k)
+    return out_m, out_f, out_k
+
+
 def predict(model: AugmentedModel, motions: Sequence[Motion]) -> list[np.ndarray]:
     """The force histories of ``model`` for each motion."""
     return [model.force(m) for m in motions]
@@ -576,7 +624,7 @@ def refit(start: AugmentedModel, motions: Sequence[Motion], forces: Sequence[np.
     NumericalError
         The model cannot be evaluated at the start.
     """
-    motions, forces, masks = _check_data(motions, forces, masks)
+    motions, forces, masks = _until_last_fitted(*_check_data(motions, forces, masks))
     par = Parametrization(start, nodes=nodes, scales=scales, fixed_base=fixed_base)
     measured = np.concatenate([f[k] for f, k in zip(forces, masks)])
     norm = float(np.linalg.norm(measured))

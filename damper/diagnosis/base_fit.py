@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import lsq_linear
@@ -30,10 +31,14 @@ from benchmark.foundation.errors import InputError, NumericalError
 from damper.diagnosis.augmented import AugmentedModel, RefitResult, make_base, refit
 from damper.models.bouc_wen import NormalizedBoucWen
 from damper.diagnosis.dataset import DiagnosisData
+from damper.diagnosis.trace import effective_sample_size
+from damper.diagnosis.effects import Offset
+from damper.models.field_filter import first_order_filter
+from damper.models.series_dashpot import SpencerBoucWen
 from damper.models.response import simulate
 from damper.models.voltage_laws import Tabulated
 
-__all__ = ["fit_base", "shape_grid", "hat_weights"]
+__all__ = ["fit_base", "fit_spencer_base", "shape_grid", "hat_weights", "BaseFit"]
 
 #: rho times the median half-stroke of the tests, scanned by the grid.
 RHO_STROKE_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0)
@@ -41,6 +46,15 @@ SIGMA_GRID = (0.5, 1.0, 2.0)
 N_GRID = (1.0, 2.0)
 #: Residual evaluations (optimizer iterations) each start gets before the best one goes on.
 START_NFEV = 4
+#: Field time constants [s] scanned by the Spencer-type base's projection stage when the input
+#: changes (MR dampers' coils and eddy currents: a few to a few tens of milliseconds).
+TAU_GRID = (0.0, 0.0025, 0.005, 0.01, 0.02, 0.04, 0.08)
+#: Starting roll-off velocities of the series dashpot, as fractions of the training velocity RMS
+#: (c1 = kappa_w / v_r): a sharp and a soft roll-off.
+ROLL_OFF_STARTS = (0.05, 0.3)
+#: Law nodes tried for the Spencer-type base when the input varies: 2 (linear in the field) and
+#: 3 (PCHIP through a middle node: a saturating or accelerating shape).
+LAW_NODE_COUNTS = (2, 3)
 
 
 def hat_weights(v: np.ndarray, nodes: np.ndarray | None) -> np.ndarray:
@@ -211,3 +225,238 @@ def fit_base(data: DiagnosisData, kind: str = "normalized", n_starts: int = 3,
         raise NumericalError("diagnose: the base model could not be refined from any start",
                              hint="check the data (units, force sign) or try the other --model")
     return best
+
+
+@dataclass(frozen=True)
+class BaseFit:
+    """A fitted base model with the law nodes it was fitted on.
+
+    Parameters
+    ----------
+    result : RefitResult
+        The refit (its ``model`` is the base, as an :class:`AugmentedModel` without effects).
+    nodes : ndarray or None
+        Input nodes of the base's laws (``None``: constant parameters).
+    note : str
+        What was chosen (e.g. the voltage laws), for the report.
+    """
+
+    result: RefitResult
+    nodes: np.ndarray | None
+    note: str = ""
+
+    @property
+    def model(self) -> AugmentedModel:
+        return self.result.model
+
+
+def _input_span(data: DiagnosisData) -> tuple[float, float] | None:
+    """Ends of the law grid: the loop's node span (levels, or the bulk of a varying input)."""
+    nodes = data.nodes()
+    if nodes is None:
+        return None
+    return float(nodes[0]), float(nodes[-1])
+
+
+def _projection(data: DiagnosisData, rho: float, sigma: float, n: float, taus, nodes):
+    """Variable projection of the Spencer-type base without its series dashpot (large c1):
+    :math:`F \\approx \\sum_j \\varphi_j(u_\\tau)(c_{0,j}\\dot x + \\kappa_{w,j} w) + k_1 x + f_0` for each
+    field lag ``tau`` (``w`` does not depend on the laws); returns [(rss, tau, coef)]."""
+    probe = NormalizedBoucWen(1.0, 1.0, rho, sigma, n, voltage_range=data.voltage_range())
+    ws = []
+    for m, k in zip(data.motions, data.train):
+        ws.append(simulate(probe, m.t, m.x, m.xdot, data.voltage_range()[0]).states[:, 0]
+                  if k.any() else None)
+    out = []
+    for tau in taus:
+        blocks, targets = [], []
+        for m, f, k, w in zip(data.motions, data.forces, data.train, ws):
+            if w is None:
+                continue
+            u = first_order_filter(m.t, m.v, tau) if tau > 0 else m.v
+            phi = hat_weights(u, nodes)[k]
+            blocks.append(np.hstack([phi * m.xdot[k][:, None], phi * w[k][:, None], m.x[k][:, None],
+                                     np.ones((int(k.sum()), 1))]))
+            targets.append(f[k])
+        a = np.vstack(blocks)
+        b = np.concatenate(targets)
+        col_scale = np.sqrt(np.mean(a ** 2, axis=0))
+        col_scale[col_scale == 0] = 1.0
+        lower = np.zeros(a.shape[1])
+        lower[-1] = -np.inf  # the offset has either sign
+        sol = lsq_linear(a / col_scale, b, bounds=(lower, np.inf), method="bvls")
+        coef = sol.x / col_scale
+        out.append((float(np.sum((a @ coef - b) ** 2)), float(tau), coef))
+    return out
+
+
+def _law(values, nodes):
+    values = [float(v) for v in np.atleast_1d(values)]
+    return values[0] if nodes is None else Tabulated(tuple(float(v) for v in nodes), tuple(values))
+
+
+def _law_values_at(law, nodes) -> np.ndarray:
+    if nodes is None:
+        return np.array([float(law(0.0)) if hasattr(law, "values") else float(law)])
+    if hasattr(law, "values"):
+        return np.array([float(law(float(v))) for v in nodes])
+    return np.full(len(nodes), float(law))
+
+
+def _spencer_on_nodes(model: SpencerBoucWen, nodes, voltage_range) -> SpencerBoucWen:
+    """``model`` with its three laws re-tabulated on ``nodes``."""
+    laws = {k: _law(_law_values_at(getattr(model, k), nodes), nodes)
+            for k in ("kappa_xdot", "kappa_w", "c1")}
+    return SpencerBoucWen(model.kappa_x, model.k0, laws["kappa_xdot"], laws["kappa_w"], laws["c1"],
+                          model.rho, model.sigma, model.n, model.field_lag,
+                          voltage_range=voltage_range)
+
+
+def _training_rss(result: RefitResult, data: DiagnosisData) -> tuple[float, np.ndarray]:
+    measured = data.measured("train")
+    r = measured - data.concat([result.model.force(m) for m in data.motions], "train")
+    return float(r @ r), r
+
+
+def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200,
+                     tolerance: float = 1e-10, progress=None) -> BaseFit:
+    """Fit the Spencer-type base (:class:`~damper.models.series_dashpot.SpencerBoucWen`) to the
+    training samples of ``data``.
+
+    1. **Starting values from the data**, by variable projection: for each Bouc-Wen shape of
+       :func:`shape_grid` and, when the input changes, each field lag of :data:`TAU_GRID`, the
+       element's dashpot and force scale (linear in the field between the input's ends) and the
+       accumulator stiffness and force offset (Spencer's :math:`-k_1 x_0`, carried as the
+       ``offset`` term of the base) are the bounded linear least-squares fit of the training force
+       (the series dashpot left out): the yield force, the viscous slope per input level and the
+       pre-yield slope (ρ κ_w) all come from the data.
+    2. **Global stage**: the ``n_starts`` best shapes (distinct ρ), each with the roll-offs of
+       :data:`ROLL_OFF_STARTS` (c1 = κ_w/v_r), take a few joint least-squares steps; the best
+       goes on to convergence.
+    3. **Voltage laws chosen by the data** (input varying within or across tests): the laws on
+       two nodes (linear in the field) and on three (PCHIP, so saturating or accelerating) are
+       both refined; the training BIC with the residual's effective sample size
+       (:func:`~damper.diagnosis.trace.effective_sample_size`) decides.
+
+    Parameters
+    ----------
+    data : DiagnosisData
+        The tests with their training and held-out samples.
+    n_starts : int
+        Shapes (distinct ρ) taken from the start grid into the global stage.
+    max_nfev : int
+        Cap on residual evaluations of the final refinement.
+    tolerance : float
+        ``xtol = ftol = gtol`` of the least-squares fits (:func:`damper.fitting.least_squares_fit`).
+    progress : callable, optional
+        ``progress(message)`` for one line per stage.
+
+    Returns
+    -------
+    BaseFit
+        The model, the law nodes it was fitted on, and a note on the law chosen.
+
+    Raises
+    ------
+    InputError
+        Unusable data.
+    NumericalError
+        No start could be refined.
+    """
+    vr = data.voltage_range()
+    f_rms = data.force_rms("train")
+    if not f_rms > 0:
+        raise InputError("diagnose: the measured force is identically zero over the training samples")
+    xs = data.concat([m.x for m in data.motions], "train")
+    vs = data.concat([m.xdot for m in data.motions], "train")
+    x_rms = float(np.sqrt(np.mean((xs - xs.mean()) ** 2))) or _half_stroke(data)
+    v_rms = max(float(np.sqrt(np.mean(vs ** 2))), 1e-12)
+    span = _input_span(data)
+    lin_nodes = None if span is None or not span[1] > span[0] else np.array(span)
+    taus = TAU_GRID if data.input_varies_within_tests else (0.0,)
+    # at a constant input within each test the field lag is invisible (the warm-up is not
+    # scored): it is held at zero rather than fitted
+    held = () if data.input_varies_within_tests else ("field_lag",)
+    scored = []
+    for rho, sigma, n in shape_grid(data):
+        try:
+            for rss, tau, coef in _projection(data, rho, sigma, n, taus, lin_nodes):
+                scored.append((rss, rho, sigma, n, tau, coef))
+        except NumericalError:
+            continue
+    if not scored:
+        raise NumericalError("diagnose: no grid start of the Spencer-type base could be simulated")
+    scored.sort(key=lambda s: s[0])
+    nn = 1 if lin_nodes is None else len(lin_nodes)
+    floor_c, floor_w = 1e-3 * f_rms / v_rms, 1e-3 * f_rms
+    starts, seen = [], set()
+    for rss, rho, sigma, n, tau, coef in scored:
+        if rho in seen:
+            continue
+        seen.add(rho)
+        c0 = np.maximum(coef[:nn], floor_c)
+        kw = np.maximum(coef[nn:2 * nn], floor_w)
+        for frac in ROLL_OFF_STARTS:
+            c1 = kw / (frac * v_rms)
+            starts.append(AugmentedModel(SpencerBoucWen(
+                float(coef[-2]), 1e-2 * f_rms / x_rms, _law(c0, lin_nodes), _law(kw, lin_nodes),
+                _law(c1, lin_nodes), rho, sigma, n, tau, voltage_range=vr), (Offset(float(coef[-1])),),
+                held))
+        if len(seen) >= n_starts:
+            break
+    scales = {"kappa_x": f_rms / x_rms, "k0": f_rms / x_rms, "kappa_xdot": f_rms / v_rms,
+              "kappa_w": f_rms, "c1": 10.0 * f_rms / v_rms, "field_lag": 0.01, "offset": f_rms}
+    best: RefitResult | None = None
+    for i, start in enumerate(starts):
+        try:
+            result = refit(start, data.motions, data.forces, data.train, nodes=lin_nodes,
+                           scales=scales, max_nfev=min(START_NFEV, max_nfev), tolerance=tolerance)
+        except NumericalError:
+            continue
+        if progress:
+            b = start.base
+            progress(f"  spencer start {i + 1}/{len(starts)} (rho {b.rho:.4g} 1/m, tau "
+                     f"{1e3 * b.field_lag:.3g} ms): training error {result.relative_rms_error:.4f}")
+        if best is None or result.relative_rms_error < best.relative_rms_error:
+            best = result
+    if best is None:
+        raise NumericalError("diagnose: the Spencer-type base could not be refined from any start",
+                             hint="check the data (units, force sign) or try another --model")
+    try:
+        more = refit(best.model, data.motions, data.forces, data.train, nodes=lin_nodes,
+                     scales=scales, max_nfev=max_nfev, tolerance=tolerance)
+        if more.relative_rms_error <= best.relative_rms_error:
+            best = more
+    except NumericalError:
+        pass
+    note = "constant parameters" if lin_nodes is None else "laws linear in the field (2 nodes)"
+    if progress:
+        progress(f"  spencer base refined: training error {best.relative_rms_error:.4f} ({note})")
+    chosen = BaseFit(best, lin_nodes, note)
+    if lin_nodes is None:
+        return chosen
+    # BIC on the training samples, with the effective sample size of the linear laws' residual
+    # (one for both, so the comparison is of the residuals, not of their correlation times)
+    rss_lin, r_lin = _training_rss(best, data)
+    n_eff = effective_sample_size(r_lin)
+    for count in LAW_NODE_COUNTS:
+        if count <= len(lin_nodes):
+            continue
+        nodes = np.linspace(lin_nodes[0], lin_nodes[-1], count)
+        try:
+            start = AugmentedModel(_spencer_on_nodes(best.model.base, nodes, vr), best.model.effects,
+                                   best.model.held)
+            alt = refit(start, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
+                        max_nfev=max_nfev, tolerance=tolerance)
+        except NumericalError:
+            continue
+        rss_alt, _ = _training_rss(alt, data)
+        delta = (n_eff * math.log(max(rss_alt, 1e-300) / max(rss_lin, 1e-300))
+                 + 3 * (count - len(lin_nodes)) * math.log(n_eff))
+        if progress:
+            progress(f"  spencer laws on {count} nodes: training error {alt.relative_rms_error:.4f}, "
+                     f"BIC change {delta:+.1f}")
+        if delta < 0:
+            chosen = BaseFit(alt, nodes, f"laws on {count} nodes (saturating or accelerating in "
+                                         "the field)")
+    return chosen

@@ -43,6 +43,13 @@ name                   role        term                                         
 * ``asymmetry``: extension (positive) forces are scaled by :math:`1 + a`, compression (negative)
   forces by :math:`1 - a`; :math:`F_\\text{base}(1 + a\\,\\mathrm{sgn}F_\\text{base}) =
   F_\\text{base} + a|F_\\text{base}|` is continuous in the force, so the term has no jump.
+* ``shear_thinning``: a Herschel-Bulkley post-yield force (:math:`\\tau = \\tau_y +
+  K\\dot\\gamma^m`, flow index :math:`m < 1`): refitted jointly with the base model's linear
+  viscous term, :math:`\\kappa_{\\dot x}\\dot x + k\\,\\mathrm{sgn}\\dot x|\\dot x|^{1/2}` is a
+  post-yield force that grows less than linearly with the velocity (concave), which the base
+  model and ``quadratic_damping`` (convex) cannot express. The exponent is fixed at 1/2 (MR
+  fluids' flow indices are about 0.3-0.9; a single coefficient keeps the term linear, so the
+  loop's first-order screen sees it, and the mix with the linear term spans the range).
 * ``fade``: a slow linear change of the force level from the start :math:`t_0` of each test
   (heating thins the fluid); over one test a linear law is the first term of any smooth drift.
 * ``roll_off``: the base model's Bouc-Wen element and viscous dashpot carry their force
@@ -87,6 +94,7 @@ __all__ = [
     "VoltageLag",
     "RollOff",
     "QuadraticDamping",
+    "ShearThinning",
     "Asymmetry",
     "Direction",
     "Fade",
@@ -440,6 +448,45 @@ class QuadraticDamping(Effect):
 
 
 @dataclass(frozen=True)
+class ShearThinning(Effect):
+    """Shear-thinning (Herschel-Bulkley) post-yield force :math:`k\\,\\mathrm{sgn}(\\dot x)|\\dot x|^{1/2}` [N].
+
+    Beside the base model's linear viscous term it makes the post-yield force grow less than
+    linearly with the velocity (see the module docstring).
+
+    Parameters
+    ----------
+    k : float
+        Coefficient [N·(s/m)^½], >= 0.
+    """
+
+    k: float
+    name: ClassVar[str] = "shear_thinning"
+    role: ClassVar[str] = "additive"
+    parameter_name: ClassVar[str] = "k"
+    unit: ClassVar[str] = "N*(s/m)^0.5"
+    lower: ClassVar[float] = 0.0
+    #: Flow index of the term.
+    exponent: ClassVar[float] = 0.5
+    description: ClassVar[str] = "shear-thinning post-yield force k*sgn(xdot)*|xdot|^0.5"
+    traces: ClassVar[tuple[str, ...]] = ("velocity",)
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return force_rms / max(_pooled_rms(motions, "xdot") ** cls.exponent, 1e-12)
+
+    @classmethod
+    def not_identifiable(cls, motions):
+        return _zero_throughout(motions, "xdot", "velocity")
+
+    def force(self, motion):
+        return self.k * np.sign(motion.xdot) * np.abs(motion.xdot) ** self.exponent
+
+
+@dataclass(frozen=True)
 class Asymmetry(Effect):
     """Different force levels in extension and compression: factor :math:`1 + a\\,\\mathrm{sgn}F_\\text{base}`.
 
@@ -637,7 +684,8 @@ class RollOff(Effect):
 
 #: The library, in the order the loop lists candidates.
 EFFECTS: dict[str, type[Effect]] = {cls.name: cls for cls in (
-    Stiffness, Offset, Inertia, VoltageLag, QuadraticDamping, Asymmetry, Direction, Fade, RollOff)}
+    Stiffness, Offset, Inertia, VoltageLag, QuadraticDamping, ShearThinning, Asymmetry, Direction,
+    Fade, RollOff)}
 #: The library's names.
 EFFECT_NAMES: tuple[str, ...] = tuple(EFFECTS)
 

@@ -31,7 +31,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.diagnosis.augmented import AugmentedModel, refit
 from damper.io.data import DamperTest
-from damper.diagnosis.base_fit import fit_base
+from damper.diagnosis.base_fit import fit_base, fit_spencer_base
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, decimate, decimation_factor
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT, DiagnosisData
 from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, DEFAULT_TOLERANCE,
@@ -112,6 +112,11 @@ class Diagnosis:
         Test name -> (error before, error after) on its held-out samples.
     errors_by_input : dict
         Coil-input level -> (error before, error after) (tests at a constant input only).
+    settings : dict
+        The options of the run, its time and whether the time budget ended it.
+    validation : dict or None
+        Errors on other recordings of the same device (``cross_validate``), never fitted:
+        ``{"tests", "error_before", "error_after", "errors_by_test"}``.
     """
 
     data: DiagnosisData = field(repr=False)
@@ -128,6 +133,7 @@ class Diagnosis:
     errors_by_test: dict
     errors_by_input: dict
     settings: dict = field(default_factory=dict)
+    validation: dict | None = None
 
     @property
     def effects(self) -> list[str]:
@@ -140,7 +146,8 @@ class Diagnosis:
         Keys: ``model``, ``error_before``, ``error_after``, ``effects`` (``name``, ``parameters``,
         ``error_after_adding``), ``unexplained``, ``residual_trace`` (variable -> share of the
         final held-out residual's variance), plus ``unexplained_in``, ``residual_trace_before``,
-        ``whiteness``, ``errors_by_test``, ``errors_by_input``, ``input``, ``final_model``.
+        ``whiteness``, ``errors_by_test``, ``errors_by_input``, ``input``, ``final_model``, and
+        ``validation`` (errors on the ``cross_validate`` recordings) when there are some.
         """
         final_effects = {e.name: e.parameters for e in self.final_model.effects}
         return {
@@ -167,6 +174,7 @@ class Diagnosis:
             "base_model": self.base_model.to_dict(),
             "final_model": self.final_model.to_dict(),
             "settings": dict(self.settings),
+            **({} if self.validation is None else {"validation": self.validation}),
         }
 
 
@@ -193,6 +201,35 @@ def _errors(data: DiagnosisData, before: list, after: list) -> tuple[dict, dict]
             g[2] += norm ** 2
     by_input = {lvl: (math.sqrt(g[0] / g[2]), math.sqrt(g[1] / g[2])) for lvl, g in sorted(grouped.items())}
     return by_test, by_input
+
+
+def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: AugmentedModel,
+                      after: AugmentedModel) -> dict:
+    """Errors of the base and final models on other recordings (every sample after each test's
+    first reversal; nothing of them was fitted or used to choose)."""
+    tests = list(tests)
+    prepared = DiagnosisData.from_tests(tests, validate=tests)
+    if prepared.input_name != input_name and any(
+            t.voltage is not None or t.current is not None for t in tests):
+        raise InputError(f"--validate: the recordings give a {prepared.input_name}, the fitted "
+                         f"tests a {input_name}; expected the same coil input")
+    n = len(tests)
+    motions, forces, masks = prepared.motions[n:], prepared.forces[n:], prepared.heldout[n:]
+    sums = {"before": [0.0, 0.0], "after": [0.0, 0.0]}
+    by_test = {}
+    for m, f, k in zip(motions, forces, masks):
+        norm2 = float(np.sum(f[k] ** 2))
+        errs = {}
+        for label, model in (("before", before), ("after", after)):
+            r = f[k] - model.force(m)[k]
+            sums[label][0] += float(r @ r)
+            sums[label][1] += norm2
+            errs[label] = float(math.sqrt(float(r @ r) / norm2)) if norm2 > 0 else math.nan
+        by_test[m.name] = errs
+    return {"tests": [m.name for m in motions],
+            "error_before": math.sqrt(sums["before"][0] / sums["before"][1]),
+            "error_after": math.sqrt(sums["after"][0] / sums["after"][1]),
+            "errors_by_test": by_test}
 
 
 def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolerance: float,
@@ -231,7 +268,7 @@ def _full_rate_steps(selection: SelectionResult, final: AugmentedModel, data: Di
         after = err(model)
         steps.append(replace(s, error_before=previous, error_after=after, model=model))
         previous = after
-    return SelectionResult(final, tuple(steps), selection.rounds)
+    return SelectionResult(final, tuple(steps), selection.rounds, selection.stopped_by_budget)
 
 
 def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
@@ -244,19 +281,25 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
              coarse_samples: int | None = DEFAULT_COARSE_SAMPLES, polish_nfev: int = 0,
              tolerance: float = DEFAULT_TOLERANCE,
              trace_share: float = DEFAULT_TRACE_SHARE,
-             joint_trials: int | None = DEFAULT_JOINT_TRIALS) -> Diagnosis:
+             joint_trials: int | None = DEFAULT_JOINT_TRIALS,
+             cross_validate: Sequence[DamperTest] | None = None,
+             time_budget: float | None = None) -> Diagnosis:
     """Run the residual loop on damper tests (see the module docstring).
 
     Parameters
     ----------
     tests : sequence of DamperTest
         Tests to fit (any motion, constant or varying coil input; all voltage or all current).
-    model : {"normalized", "extended"}
-        Base model.
+    model : {"normalized", "extended", "spencer"}
+        Base model: a Bouc-Wen model (normalized or extended), or Spencer et al.'s (1997)
+        model with voltage laws and its field lag
+        (:class:`~damper.models.series_dashpot.SpencerBoucWen`, fitted by
+        :func:`~damper.diagnosis.base_fit.fit_spencer_base`).
     holdout : float
         Fraction of each test, at its end, held out (ignored with ``validate``).
     validate : sequence of DamperTest, optional
-        Separate held-out tests.
+        Separate held-out tests (then every sample of ``tests`` is fitted and the effects are
+        chosen on these).
     candidates : sequence of str, optional
         Effect names to consider (default: the whole library).
     min_gain : float
@@ -289,6 +332,15 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         Candidates refitted jointly with the model per round, the most promising after each was
         refitted alone (:func:`~damper.diagnosis.selection.select_effects`).
 
+    cross_validate : sequence of DamperTest, optional
+        Other recordings of the same device (``sbib diagnose --validate``): the base and final
+        models are scored on all of them (:attr:`Diagnosis.validation`); they are never fitted
+        and never choose an effect.
+    time_budget : float, optional
+        Seconds the effect selection may start new rounds for: once spent, the round under way
+        finishes its refits, no new round starts, and ``settings["stopped_by_budget"]`` says so
+        (the base fit always runs to its end).
+
     Returns
     -------
     Diagnosis
@@ -301,6 +353,8 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         The base model could not be fitted.
     """
     say = Progress(progress, quiet=progress is None)
+    if time_budget is not None and not (isinstance(time_budget, (int, float)) and time_budget > 0):
+        raise InputError(f"--time-budget: expected a number of seconds > 0, got {time_budget!r}")
     data = DiagnosisData.from_tests(tests, holdout=holdout, validate=validate)
     nodes = data.nodes()
     q = decimation_factor(data, coarse_samples)
@@ -308,9 +362,16 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     if q > 1:
         say(f"coarse pass: one sample in {q} ({sum(int(k.sum()) for k in work.train)} of "
             f"{sum(int(k.sum()) for k in data.train)} fitted samples)")
-    say(f"fitting the {model} base model to {len(data.motions)} test(s)"
-        + ("" if nodes is None else f" with {data.input_name} laws on nodes {[round(float(v), 4) for v in nodes]}"))
-    base = fit_base(work, model, max_nfev=max_nfev, tolerance=tolerance, progress=say).model
+    if model == "spencer":
+        say(f"fitting the Spencer-type base model to {len(data.motions)} test(s)")
+        fitted = fit_spencer_base(work, max_nfev=max_nfev, tolerance=tolerance, progress=say)
+        base, nodes = fitted.model, fitted.nodes
+        if nodes is not None:
+            say(f"  {data.input_name} laws on nodes {[round(float(v), 4) for v in nodes]}: {fitted.note}")
+    else:
+        say(f"fitting the {model} base model to {len(data.motions)} test(s)"
+            + ("" if nodes is None else f" with {data.input_name} laws on nodes {[round(float(v), 4) for v in nodes]}"))
+        base = fit_base(work, model, max_nfev=max_nfev, tolerance=tolerance, progress=say).model
     if q > 1:
         base = _polish(base, data, nodes, polish_nfev, tolerance, say, "base model")
     forces_before = [base.force(m) for m in data.motions]
@@ -323,7 +384,9 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     selection = select_effects(base, work, candidates, nodes=nodes, min_gain=min_gain,
                                trials=trials, max_effects=max_effects, max_nfev=max_nfev,
                                progress=say, tolerance=tolerance, trace_share=trace_share,
-                               joint_trials=joint_trials)
+                               joint_trials=joint_trials,
+                               deadline=None if time_budget is None else
+                               say.start + float(time_budget))
     final = selection.model
     if q > 1 and selection.steps:
         final = _polish(final, data, nodes, polish_nfev, tolerance, say, "final model")
@@ -347,10 +410,16 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                 "candidates": list(candidates) if candidates is not None else None,
                 "decimation": q, "coarse_samples": coarse_samples, "polish_nfev": polish_nfev,
                 "tolerance": tolerance, "trace_share": trace_share, "joint_trials": joint_trials,
+                "time_budget": time_budget, "stopped_by_budget": selection.stopped_by_budget,
                 "seconds": round(say.elapsed, 3)}
+    validation = None
+    if cross_validate:
+        validation = _cross_validation(cross_validate, data.input_name, base, final)
+        say(f"validation on {', '.join(validation['tests'])}: error "
+            f"{validation['error_before']:.4f} -> {validation['error_after']:.4f}")
     return Diagnosis(data=data, model_kind=model, base_model=base, final_model=final,
                      error_before=error_before, error_after=error_after, selection=selection,
                      trace_before=trace_before, trace_after=trace_after,
                      unexplained=bool(where), unexplained_in=where, errors_by_test=by_test,
-                     errors_by_input=by_input, settings=settings)
+                     errors_by_input=by_input, settings=settings, validation=validation)
 

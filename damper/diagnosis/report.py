@@ -235,11 +235,19 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
     lines += [f"- Tests: {', '.join(data.names)} ({split}; the samples before each test's first "
               "reversal are not scored).",
               f"- Coil input: {data.input_name} [{unit}].",
-              f"- Base model: **{d.model_kind}** Bouc-Wen"
+              f"- Base model: **{d.model_kind}**" + (" (Spencer et al. 1997, field lag inside)"
+                                                     if d.model_kind == "spencer" else " Bouc-Wen")
               + ("" if d.settings.get("nodes") is None else
                  f", parameters as PCHIP laws on {data.input_name} nodes {d.settings['nodes']}") + ".",
               f"- Held-out relative RMS force error: **{d.error_before:.4f} → {d.error_after:.4f}**"
               f" ({d.final_model.name}).", ""]
+    if getattr(d, "validation", None):
+        v = d.validation
+        lines[-1:-1] = [f"- Other recordings of the device ({', '.join(v['tests'])}, never fitted): "
+                        f"relative RMS force error **{v['error_before']:.4f} → {v['error_after']:.4f}**."]
+    if d.settings.get("stopped_by_budget"):
+        lines[-1:-1] = [f"- The time budget ({d.settings['time_budget']:g} s) ended the effect "
+                        "selection: the model so far is reported."]
     lines += ["## Effects added", ""]
     if d.selection.steps:
         lines += ["| step | effect | parameters (SI) | held-out error before | after | BIC change | N_eff |",

@@ -42,13 +42,14 @@ specification in econometrics*, Rev. Econ. Stud. 47(1).
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.diagnosis.augmented import AugmentedModel, Parametrization, refit
+from damper.diagnosis.augmented import BASE_DECLARES, AugmentedModel, Parametrization, refit
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size, trace_residual
 from damper.diagnosis.effects import EFFECT_NAMES, Effect, get_effect
@@ -417,11 +418,14 @@ class SelectionResult:
         The :class:`Step` of each effect added, in order.
     rounds : tuple
         Each round's trials and screens.
+    stopped_by_budget : bool
+        The time budget ended the selection before it had nothing more to add.
     """
 
     model: AugmentedModel
     steps: tuple
     rounds: tuple  # per round: (screen dict, list of Trial)
+    stopped_by_budget: bool = False
 
 
 def _heldout_rss(model: AugmentedModel, data: DiagnosisData) -> tuple[float, np.ndarray]:
@@ -437,7 +441,8 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                    progress: Callable[[str], None] | None = None,
                    tolerance: float = DEFAULT_TOLERANCE,
                    trace_share: float = DEFAULT_TRACE_SHARE,
-                   joint_trials: int | None = DEFAULT_JOINT_TRIALS) -> SelectionResult:
+                   joint_trials: int | None = DEFAULT_JOINT_TRIALS,
+                   deadline: float | None = None) -> SelectionResult:
     """Forward selection of library effects by held-out BIC (see the module docstring).
 
     Parameters
@@ -469,6 +474,9 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         Each candidate is first refitted alone (its own parameter, the model held); the
         ``joint_trials`` that lower the held-out error most are then refitted jointly with the
         model, and only those can be added (``None``: all).
+    deadline : float, optional
+        A :func:`time.perf_counter` value: no round starts after it (the round under way
+        finishes), and the result says so (``stopped_by_budget``).
 
     Returns
     -------
@@ -479,8 +487,8 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
     names = list(EFFECT_NAMES if candidates is None else candidates)
     for n in names:
         get_effect(n)
-    if model.base_kind == "extended" and "stiffness" in names:
-        names.remove("stiffness")  # the extended base declares kappa_x x already
+    # the base may declare a term already (kappa_x x; the Spencer-type base's c1 and field lag)
+    names = [n for n in names if n not in BASE_DECLARES[model.base_kind]]
     motions = list(data.motions)
     f_rms = data.force_rms("train")
     scales = {n: get_effect(n).scale(motions, f_rms) for n in EFFECT_NAMES}
@@ -488,9 +496,15 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
     norm_h = float(np.linalg.norm(measured_h))
     steps, rounds = [], []
     current = model
+    stopped = False
     while True:
         remaining = [n for n in names if n not in current.effect_names]
         if not remaining or (max_effects is not None and len(steps) >= max_effects):
+            break
+        if deadline is not None and time.perf_counter() >= deadline:
+            stopped = True
+            if progress:
+                progress(f"time budget spent: no round {len(rounds) + 1}; the model so far is kept")
             break
         rss_old, res_old = _heldout_rss(current, data)
         err_old = math.sqrt(rss_old) / norm_h
@@ -557,6 +571,11 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                   and (get_effect(item[1].name).role == "series"
                        or (get_effect(item[1].name).role == "input"
                            and data.input_varies_within_tests))]
+        # and so does a term the trace names whose effect-only refit stayed at its neutral value:
+        # the model fitted without it compensated in the other direction (an inertial force the
+        # base absorbed as a softer pre-yield branch), so only a joint refit can show it
+        joint += [item for item in quick if item not in joint and item[1].name in named
+                  and _at_neutral(item[2].effect(item[1].name), scales[item[1].name])]
         chosen = {id(item) for item in joint}
         for rss_q, s, _ in (item for item in quick if id(item) not in chosen):
             err_q = math.sqrt(rss_q) / norm_h
@@ -566,6 +585,13 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                 progress(f"  screened {s.name} alone: held-out error {err_old:.4f} -> {err_q:.4f}")
         # stage 2: the most promising refitted jointly with the model
         for _, s, quick_model in joint:
+            if deadline is not None and time.perf_counter() >= deadline:
+                stopped = True  # end cleanly: the trials left are reported, not refitted
+                round_trials.append(Trial(s.name, s.score, math.nan, math.inf, {},
+                                          note="not refitted jointly: time budget spent"))
+                if progress:
+                    progress(f"  time budget spent: {s.name} not refitted jointly")
+                continue
             try:
                 fit = refit(quick_model, motions, data.forces, data.train, nodes=nodes,
                             scales=base_scales, max_nfev=max_nfev, tolerance=tolerance)
@@ -591,9 +617,14 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                               n_eff, new_model))
             current = new_model
         rounds.append((screens, round_trials))
-        if best is None:
+        if best is None or stopped:
             break
-    return SelectionResult(current, tuple(steps), tuple(rounds))
+    return SelectionResult(current, tuple(steps), tuple(rounds), stopped)
+
+
+def _at_neutral(effect: Effect, scale: float) -> bool:
+    """Whether ``effect`` sits at its neutral value, within 1e-3 of its typical size."""
+    return abs(effect.value - type(effect).neutral) <= 1e-3 * abs(scale)
 
 
 def _base_scales(model: AugmentedModel) -> dict:

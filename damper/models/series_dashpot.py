@@ -54,7 +54,7 @@ from damper.models.spencer import SpencerTypeModel, pack_spencer_type
 from damper.models.voltage_laws import (Constant, Exponential, ParameterLike, Polynomial, Saturating,
                                  SeedKappaW, Tabulated, VoltageLaw, _finite, as_law, check_law)
 
-__all__ = ["SeriesDashpotBoucWen", "DEFAULT_SERIES_SUBSTEP_TOLERANCE", "scaled_law"]
+__all__ = ["SeriesDashpotBoucWen", "SpencerBoucWen", "DEFAULT_SERIES_SUBSTEP_TOLERANCE", "scaled_law"]
 
 #: Default RK4 sub-step size (``lambda * h``) before the branch margin (see
 #: :meth:`SeriesDashpotBoucWen.kernel_tolerance`).
@@ -247,3 +247,109 @@ class SeriesDashpotBoucWen(SpencerTypeModel):
         return dict(k0=0.0, k1=self.kappa_x, x0=0.0, eta=eta, rho=self.rho,
                     sigma=self.sigma, n=self.n, alpha_w=kappa_w, c0=as_law(self.kappa_xdot),
                     c1=scaled_law(kappa_w, 1.0 / self.roll_off_velocity))
+
+
+@register_model
+@dataclass(frozen=True)
+class SpencerBoucWen(SpencerTypeModel):
+    """Spencer et al.'s (1997) phenomenological model with the loop's names and voltage laws.
+
+    .. math::
+
+       F &= c_1(u)\\,\\dot y + \\kappa_x x, \\qquad
+       \\dot y = \\frac{\\kappa_w(u)\\,w + \\kappa_{\\dot x}(u)\\,\\dot x + k_0 (x - y)}
+                        {\\kappa_{\\dot x}(u) + c_1(u)} \\\\
+       \\dot w &= \\rho\\left(\\dot r - \\sigma|\\dot r||w|^{n-1}w + (\\sigma-1)\\dot r|w|^n\\right),
+          \\quad \\dot r = \\dot x - \\dot y, \\qquad \\tau\\dot u = v - u
+
+    The Bouc-Wen element (force scale :math:`\\kappa_w = \\alpha z_0`, Spencer's
+    :math:`\\alpha`), its viscous dashpot :math:`\\kappa_{\\dot x} = c_0` and spring
+    :math:`k_0` act on :math:`x - y`; the dashpot :math:`c_1` in series carries their force
+    (the low-velocity roll-off); :math:`\\kappa_x = k_1` is the accumulator spring in parallel;
+    the field :math:`u` follows the command :math:`v` through a first-order filter of time
+    constant :math:`\\tau` (Spencer's :math:`\\eta = 1/\\tau`). Unlike
+    :class:`SeriesDashpotBoucWen` (``c_1 = kappa_w / v_r``, ``k_0 = 0``, the ``roll_off``
+    effect), the series dashpot has its own voltage law and the element its spring, as in the
+    original model; Spencer's force offset :math:`-k_1 x_0` is the loop's ``offset`` effect.
+    It is the ``spencer`` base of the residual loop (``sbib diagnose --model spencer``), with
+    :class:`~damper.models.voltage_laws.Tabulated` laws on two nodes (linear in the field) or three
+    (a saturating shape), chosen by the data (:mod:`damper.diagnosis.base_fit`).
+
+    Parameters
+    ----------
+    kappa_x : float
+        Accumulator stiffness :math:`k_1` [N/m], >= 0.
+    k0 : float
+        Element stiffness [N/m], >= 0.
+    kappa_xdot, kappa_w, c1 : float or VoltageLaw
+        Element dashpot [N·s/m], hysteretic force scale [N] and series dashpot [N·s/m], > 0.
+    rho, sigma, n : float
+        Bouc-Wen shape (ρ [1/m] > 0, σ >= 1/2, n >= 1), independent of the field.
+    field_lag : float
+        :math:`\\tau` [s], >= 0 (0: the field follows the command at once).
+    voltage_range : tuple of float
+        Admissible commands [V] (or [A]).
+    substep_tolerance : float
+        RK4 sub-step size as ``lambda * h`` (see :meth:`SeriesDashpotBoucWen.kernel_tolerance`).
+
+    Examples
+    --------
+    >>> m = SpencerBoucWen(500.0, 4.7e3, 2.1e3, 1.2e3, 2.8e4, 1e3, 1.0, 2.0, field_lag=0.005,
+    ...                    voltage_range=(0.0, 2.25))
+    >>> m.n_states
+    3
+    """
+
+    kappa_x: float
+    k0: float
+    kappa_xdot: ParameterLike
+    kappa_w: ParameterLike
+    c1: ParameterLike
+    rho: float
+    sigma: float
+    n: float
+    field_lag: float = 0.0
+    voltage_range: tuple[float, float] = (0.0, 1.0)
+    substep_tolerance: float = DEFAULT_SERIES_SUBSTEP_TOLERANCE
+
+    name: ClassVar[str] = "spencer_bouc_wen"
+    n_states: ClassVar[int] = 3
+    state_names: ClassVar[tuple[str, ...]] = ("y", "w", "u")
+    parameter_names: ClassVar[tuple[str, ...]] = ("kappa_x", "k0", "kappa_xdot", "kappa_w", "c1",
+                                                  "rho", "sigma", "n", "field_lag")
+    #: Parameters that cannot depend on the coil input (the kernel's constants).
+    shared_parameters: ClassVar[frozenset] = frozenset(("kappa_x", "k0", "rho", "sigma", "n",
+                                                        "field_lag"))
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "voltage_range", _check_voltage_range(self.voltage_range))
+        for f in fields(self):
+            if f.name in ("kappa_xdot", "kappa_w", "c1"):
+                law = as_law(getattr(self, f.name), f"SpencerBoucWen.{f.name}")
+                check_law(law, f.name, self.voltage_range, lower=0.0, strict=True)
+                object.__setattr__(self, f.name, law if not isinstance(law, Constant) else law.value)
+            elif f.name != "voltage_range":
+                object.__setattr__(self, f.name, _finite(getattr(self, f.name), f"SpencerBoucWen.{f.name}"))
+        checks = (("kappa_x", self.kappa_x >= 0, ">= 0"), ("k0", self.k0 >= 0, ">= 0"),
+                  ("rho", self.rho > 0, "> 0"), ("sigma", self.sigma >= 0.5, ">= 1/2"),
+                  ("n", self.n >= 1, ">= 1"), ("field_lag", self.field_lag >= 0, ">= 0 s"),
+                  ("substep_tolerance", 0 < self.substep_tolerance <= 1, "in (0, 1]"))
+        for name, ok, expected in checks:
+            if not ok:
+                raise ParameterError(f"SpencerBoucWen.{name}: expected {expected}, "
+                                     f"got {getattr(self, name):g}")
+
+    def kernel_tolerance(self) -> float:
+        """As :meth:`SeriesDashpotBoucWen.kernel_tolerance`."""
+        return min(1.0, self.substep_tolerance * max(1.0, 2.0 * self.sigma - 1.0))
+
+    def to_array(self) -> np.ndarray:
+        """Packed parameters (:func:`damper.models.spencer.pack_spencer_type` layout)."""
+        return pack_spencer_type(self.kernel_tolerance(), **self._kernel_parameters(),
+                                 loading_tol=self.substep_tolerance)
+
+    def _kernel_parameters(self) -> dict:
+        eta = 1.0 / self.field_lag if self.field_lag > 1.0 / _NO_LAG_RATE else _NO_LAG_RATE
+        return dict(k0=self.k0, k1=self.kappa_x, x0=0.0, eta=eta, rho=self.rho,
+                    sigma=self.sigma, n=self.n, alpha_w=as_law(self.kappa_w),
+                    c0=as_law(self.kappa_xdot), c1=as_law(self.c1))

@@ -218,7 +218,7 @@ def test_extended_base_declares_stiffness_so_only_the_offset_is_added():
     assert "stiffness" not in d.selection.rounds[0][0]
 
 
-def test_cli_validate_files_hold_out_whole_tests(tmp_path, capsys):
+def test_cli_validate_scores_other_recordings_beside_the_holdout(tmp_path, capsys):
     tests = sinusoidal_tests(_device(Offset(150.0)), motions=((0.01, 1.0), (0.004, 3.0), (0.006, 2.0)),
                              noise=0.01, seed=9)
     files = [str(write_csv(t, tmp_path / f"t{i}.csv")) for i, t in enumerate(tests)]
@@ -226,5 +226,28 @@ def test_cli_validate_files_hold_out_whole_tests(tmp_path, capsys):
     assert status == 0
     doc = json.loads(capsys.readouterr().out)
     assert [e["name"] for e in doc["effects"]] == ["offset"]
-    assert list(doc["errors_by_test"]) == ["6mm 2Hz 0V"]
-    assert doc["settings"]["validated"] is True
+    # the held-out part of the fitted recordings, and all of the other one
+    assert list(doc["errors_by_test"]) == ["10mm 1Hz 0V", "4mm 3Hz 0V"]
+    assert doc["settings"]["validated"] is False
+    v = doc["validation"]
+    assert v["tests"] == ["6mm 2Hz 0V"]
+    assert v["error_after"] < 0.5 * v["error_before"]
+    assert set(v["errors_by_test"]["6mm 2Hz 0V"]) == {"before", "after"}
+    for key in ("error_before", "error_after", "effects", "unexplained"):
+        assert key in doc
+    status = main(["diagnose", "--data", *files[:2], "--validate", files[2], "--quiet"])
+    assert status == 0
+    assert "validation on 6mm 2Hz 0V" in capsys.readouterr().out
+
+
+def test_time_budget_ends_the_selection_cleanly_and_says_so(tmp_path, capsys):
+    tests = sinusoidal_tests(_device(Offset(150.0), Stiffness(3e4)), noise=0.01, seed=9)
+    d = diagnose(tests, time_budget=1e-6)
+    assert d.settings["stopped_by_budget"] is True
+    assert d.effects == []  # the base fit ran; no round started
+    assert d.error_after == d.error_before
+    with pytest.raises(InputError, match="time-budget"):
+        diagnose(tests, time_budget=-1.0)
+    files = [str(write_csv(t, tmp_path / f"t{i}.csv")) for i, t in enumerate(tests)]
+    assert main(["diagnose", "--data", *files, "--time-budget", "0.000001", "--quiet"]) == 0
+    assert "stopped by the time budget" in capsys.readouterr().out

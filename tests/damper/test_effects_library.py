@@ -26,7 +26,7 @@ def _motion(freq=1.0, amp=0.01, n=801, v=0.0):
 
 def test_library_names_are_the_issue_names():
     assert EFFECT_NAMES == ("stiffness", "offset", "inertia", "voltage_lag", "quadratic_damping",
-                            "asymmetry", "direction", "fade", "roll_off")
+                            "shear_thinning", "asymmetry", "direction", "fade", "roll_off")
     with pytest.raises(InputError, match="unknown name 'friction'"):
         get_effect("friction")
 
