@@ -38,6 +38,14 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     The lag between the force and the motion channels (cross-correlation of the force with
     the velocity), reported in :attr:`Screening.estimates`; a finding when the velocity
     channel is itself offset from the displacement.
+``excursion``
+    A fault's lurch: next to a stuck, frozen or clipped channel or a gap (within one dominant
+    period), the velocity runs beyond :data:`EXCURSION_FACTOR` times the test's own 99.5th
+    percentile of \|velocity\| (a rig losing control before it freezes). The whole flank, out to
+    where the velocity is back inside that percentile, is an unusable input span. Far from a
+    fault a fast stretch is data (an earthquake-like test has rare pulses): it is not flagged.
+``island``
+    A usable stretch shorter than one dominant period between two flagged spans: excluded too.
 ``units``
     Amplitudes, peak velocities or forces outside what any MR damper test produces (e.g. a
     displacement in mm declared as m); reported, not excluded (the whole test would go).
@@ -67,7 +75,7 @@ from scipy.signal import savgol_filter
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
-           "screening_of", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE"]
+           "screening_of", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR"]
 
 #: A time step this many times the median step is a gap.
 GAP_FACTOR = 2.5
@@ -79,6 +87,10 @@ MIN_STUCK_RUN = 8
 #: to the large-scale 20-t devices (±0.6 m, 2 MN); a value outside them is a unit error.
 PLAUSIBLE = {"amplitude": (2e-5, 1.0), "peak_velocity": (1e-5, 5.0), "peak_force": (0.5, 5e6),
              "sample_rate": (5.0, 1e6)}
+#: A velocity beyond this many times the test's 99.5th percentile of |velocity|, next to a fault,
+#: is the fault's lurch (a Gaussian motion exceeds 2 x its 99.5th percentile, 5.6 sigma, with
+#: probability 2e-8 per sample; a sine never does).
+EXCURSION_FACTOR = 2.0
 #: Channels screened for stuck values (the coil input is a command: constant runs are normal).
 _MEASURED = ("force", "displacement", "velocity")
 _INPUTS = ("displacement", "velocity", "voltage", "current")
@@ -572,6 +584,43 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
             if ch != "force":
                 input_bad[a:b] = True
 
+    # the dominant period again, on the longest stretch nothing has flagged: a frozen or clipped
+    # span (a step in the displacement) would otherwise lengthen it and with it the derivative's
+    # smoothing window below, and the velocity check would flag clean data everywhere
+    if excluded.any() and (~excluded).sum() > 8:
+        a_ok, b_ok = max(_runs(~excluded), key=lambda r: r[1] - r[0])
+        if b_ok - a_ok > 8:
+            period = _dominant_period(t[a_ok:b_ok], x[a_ok:b_ok])
+
+    # a fault's lurch: the velocity far beyond the test's own envelope next to a fault
+    fault = input_bad | excluded & ~idle
+    if fault.any():
+        speed = np.abs(v if velocity_measured else _derivative(t, x, period))
+        quiet_ok = ~excluded
+        envelope = float(np.percentile(speed[quiet_ok], 99.5)) if quiet_ok.sum() > 8 else 0.0
+        if envelope > 0:
+            near = max(int(round(period / dt)), 1)
+            fault_idx = np.flatnonzero(fault)
+            for a, b in _runs(speed > EXCURSION_FACTOR * envelope):
+                lo, hi = a, b
+                while lo > 0 and speed[lo - 1] > envelope:
+                    lo -= 1
+                while hi < n and speed[hi] > envelope:
+                    hi += 1
+                k = np.searchsorted(fault_idx, lo)
+                gap_to_fault = min(abs(int(fault_idx[j]) - c) for j in (k - 1, k) if 0 <= j < fault_idx.size
+                                   for c in (lo, hi - 1))
+                if gap_to_fault > near:
+                    continue
+                added = int((~excluded[lo:hi]).sum())
+                findings.append(Finding("excursion", "velocity", float(t[lo]), float(t[hi - 1]), hi - lo,
+                                        f"the velocity reaches {speed[a:b].max():.4g} m/s, "
+                                        f"{speed[a:b].max() / envelope:.3g} times the test's 99.5th "
+                                        f"percentile, next to a fault: the rig's lurch ({added} more "
+                                        "samples excluded)"))
+                excluded[lo:hi] = True
+                input_bad[lo:hi] = True
+
     # velocity against the derivative of the displacement; offsets by cross-correlation
     max_lag = max(int(round(0.1 * period / dt)), 2)
     deriv = _derivative(t, x, period)
@@ -630,6 +679,15 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
                 findings.append(Finding("settling", "displacement", float(t[b]), float(t[end - 1]),
                                          added, "model state after an unusable input span: excluded "
                                          "up to the next displacement reversal"))
+    # islands: a usable stretch shorter than one dominant period between two flagged spans is
+    # no test of its own (its start is still settling, its end already in the next fault)
+    near = max(int(round(period / dt)), 1)
+    for a, b in _runs(~excluded):
+        if a > 0 and b < n and b - a < near:
+            excluded[a:b] = True
+            findings.append(Finding("island", "time", float(t[a]), float(t[b - 1]), b - a,
+                                    f"{b - a} usable samples between two flagged spans, less than "
+                                    f"one dominant period ({period:.3g} s)"))
     findings.sort(key=lambda fd: (fd.t_start, fd.kind))
     return Screening(tuple(findings), ~excluded, estimates, name)
 

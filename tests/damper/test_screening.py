@@ -90,6 +90,10 @@ def test_dyke_clipped_tail_is_found_and_excluded(shared_dir):
     assert test.mask[test.time < 19.5].all()
     # the displacement is frozen there too
     assert any(f.channel == "displacement" and f.kind in ("stuck", "frozen") for f in scr.findings)
+    # and before it freezes the rig lurches (14 mm in 20 ms at 0.9 m/s, three times anything
+    # before): from t = 19.513 s on nothing counts
+    assert any(f.kind == "excursion" for f in scr.findings), scr.lines()
+    assert not test.mask[test.time >= 19.513].any()
     # --keep-flagged: reported, not masked
     kept = read_dyke(shared_dir / DYKE, keep_flagged=True)
     assert kept.mask is None and kept.metadata["screening"].findings
@@ -315,3 +319,48 @@ def test_raw_utfsm_files_show_the_idle_spans_between_currents(shared_dir):
         assert _kinds(scr) == {"idle"}, scr.lines()
         assert not test.mask[(test.time > idle[1].t_start + 0.1) & (test.time < idle[1].t_end - 0.1)].any()
         assert 0.001 < 0.5 * np.ptp(test.displacement) < 0.03      # the 2-25 mm tests, in metres
+
+
+def _random_test(seed=7, duration=8.0, rate=1000.0):
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, duration, 1.0 / rate)
+    x = 0.01 * np.convolve(rng.standard_normal(t.size), np.hanning(301) / 150, mode="same")
+    v = 0.3 + 0.7 * (np.sin(2 * np.pi * 0.5 * t) > 0)
+    return general_test("virtual", t, x, v, noise=0.01, seed=seed)
+
+
+def _lurch(test, at, freeze):
+    """The rig lurches at ``at`` [fraction of the test] by 1.5 strokes in 40 ms (several times the
+    test's fastest motion) and comes back as fast; with ``freeze`` it stays there instead, the
+    displacement and the force frozen (a rig that lost control)."""
+    t, x, v, f = test.time, test.displacement.copy(), test.velocity.copy(), test.force.copy()
+    a, w = int(at * t.size), 40
+    jump = 1.5 * np.ptp(x)
+    phase = np.pi * np.arange(w) / w
+    h = t[1] - t[0]
+    up, dup = 0.5 - 0.5 * np.cos(phase), 0.5 * np.pi / (w * h) * np.sin(phase)
+    if freeze:
+        x[a:a + w] += jump * up
+        v[a:a + w] += jump * dup
+        x[a + w:], v[a + w:], f[a + w:] = x[a + w - 1], 0.0, f[a + w - 1]
+    else:
+        x[a:a + w] += jump * up
+        v[a:a + w] += jump * dup
+        x[a + w:a + 2 * w] += jump * up[::-1]
+        v[a + w:a + 2 * w] -= jump * dup
+    return _with(test, displacement=x, velocity=v, force=f), a
+
+
+def test_a_lurch_before_a_freeze_is_excluded_from_its_start():
+    test, a = _lurch(_random_test(), 0.8, freeze=True)
+    scr = screen(test)
+    hits = _flagged_span(scr, "excursion", "velocity")
+    assert min(h.t_start for h in hits) <= test.time[a + 5]
+    assert not scr.usable[a + 5:].any()
+    assert scr.usable[: a - 200].all()
+
+
+def test_a_fast_stretch_far_from_any_fault_is_data():
+    test, a = _lurch(_random_test(seed=8), 0.3, freeze=False)
+    scr = screen(test)
+    assert "excursion" not in _kinds(scr), scr.lines()
