@@ -14,7 +14,10 @@ UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``) or Dyke's records
 (:mod:`damper.dyke_data`, converted to SI when read). ``--json`` prints
 ``{"model", "error_before", "error_after", "effects": [{"name", "parameters",
 "error_after_adding"}], "unexplained", "residual_trace": {variable: share}, ...}``; ``--out DIR``
-writes ``report.md``, ``diagnosis.json`` and the plots.
+writes ``report.md``, ``diagnosis.json``, the plots and the two model files ``base_model.json``
+and ``final_model.json`` (:mod:`damper.model_file`: parameters with their voltage or current
+laws, effects, held-out errors, provenance), which ``sbib run --damper`` and ``sbib compare
+--dampers`` read.
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import write_report
 from damper.dyke_data import is_dyke_file, read_dyke
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
+from benchmark.applications.model_files import write_diagnosis_models
 
 __all__ = ["register", "run", "read_test_file"]
 
@@ -83,7 +87,7 @@ def register(subparsers) -> None:
     p.add_argument("--coarse-samples", type=int, default=None, metavar="N",
                    help="fit on the tests decimated to about N samples, then evaluate on all "
                         "(default 6000; 0: fit every sample)")
-    p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and plots here")
+    p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json, plots, base_model.json and final_model.json here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     p.set_defaults(func=run)
@@ -104,8 +108,10 @@ def run(args) -> int:
                       candidates=args.effects, progress=progress, coarse_samples=coarse)
     if args.out:
         paths = write_report(result, args.out)
+        models = write_diagnosis_models(result, args.out, args.data)  # damper.model_file format
         if progress:
-            progress(f"report written to {paths['report']}")
+            progress(f"report written to {paths['report']}; models: {models['base_model']}, "
+                     f"{models['final_model']}")
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
     else:
