@@ -11,6 +11,7 @@ from controllers.clipped_optimal import ClippedOptimal
 from controllers.modulated import ModulatedClippedOptimal
 from controllers.skyhook import Skyhook
 from controllers.lyapunov import Lyapunov
+from controllers.user import is_user_controller_spec, load_user_controller
 
 __all__ = ["CONTROLLERS", "controller_names", "get_controller"]
 
@@ -59,13 +60,19 @@ def controller_names() -> tuple[str, ...]:
 def get_controller(name: str) -> Any:
     """A new controller for ``name`` (``None`` for ``"none"``: the run without devices).
 
+    ``name`` may also be a user's class, ``package.module:Class`` or ``path/to/file.py:Class``
+    (:func:`controllers.user.load_user_controller`: checked, and guarded during the run).
+
     Raises
     ------
     InputError
-        For an unknown name (the message lists the known ones).
+        For an unknown name (the message lists the known ones) or a bad user class.
     """
+    if is_user_controller_spec(name):
+        return load_user_controller(name)
     key = name.strip().lower()
     if key not in CONTROLLERS:
-        raise InputError(f"controller {name!r} unknown; expected one of {', '.join(CONTROLLERS)}")
+        raise InputError(f"controller {name!r} unknown; expected one of {', '.join(CONTROLLERS)}, "
+                         "or a class of yours as package.module:Class or path/to/file.py:Class")
     factory = CONTROLLERS[key]
     return None if factory is None else factory()
