@@ -203,3 +203,29 @@ def test_ensemble_toml_takes_damper_devices_and_scale(tmp_path, model_files):
     with pytest.raises(InputError) as info:
         EnsembleConfig.from_toml(bad)
     assert "\n" not in str(info.value) and "missing.json" in str(info.value)
+
+
+@pytest.mark.slow
+def test_chain_diagnose_compare_run(capsys, tmp_path, shared_dir, monkeypatch):
+    """The README's chain: UTFSM 10 mm 1 Hz tests at every current -> base and final models with
+    current laws -> both in the same kobe runs -> the example controller."""
+    monkeypatch.chdir(tmp_path)
+    folder = shared_dir / "hysteresis_data/quiroz_utfsm_mr_damper_sinusoidal/Preprocesados"
+    files = sorted(str(p) for p in folder.glob("10mm1Hz*A.txt"))
+    assert len(files) == 5
+    assert main(["diagnose", "--data", *files, "--out", "d", "--quiet"]) == 0
+    capsys.readouterr()
+    for name in ("base_model", "final_model"):
+        mf = read_model_file(tmp_path / "d" / f"{name}.json")
+        assert mf.input.quantity == "current" and mf.input.range == (0.0, 1.0)
+        assert mf.input.levels == (0.0, 0.25, 0.5, 0.75, 1.0)
+        doc = json.loads((tmp_path / "d" / f"{name}.json").read_text())
+        assert doc["parameters"]["kappa_w"]["law"] == "tabulated"  # a current law over 0-1 A
+        assert len(doc["provenance"]["inputs"]) == 5
+    assert main(["compare", "--dampers", "d/base_model.json,d/final_model.json", "--damper-scale", "1000kN",
+                 "--records", "kobe", "--controllers", "clipped-optimal", "--out", "c.h5", "--plot", "figs/"]) == 0
+    out = capsys.readouterr().out
+    assert "clipped-optimal [base_model.json]" in out and "clipped-optimal [final_model.json]" in out
+    assert "dJ:" in out
+    assert len(list((tmp_path / "figs").glob("force_difference_kobe_*_clipped-optimal.png"))) == 2
+    assert main(["run", "--record", "kobe", "--controller", EXAMPLE]) == 0
