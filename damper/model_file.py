@@ -72,7 +72,7 @@ from damper.voltage_laws import (Constant, Exponential, Polynomial, Saturating, 
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "ModelFile", "InputSpec", "read_model_file", "write_model_file",
            "parameter_unit", "file_provenance", "OSCILLATOR_MODEL", "LAW_FIELDS", "looks_like_model_file",
-           "capacity_force", "CAPACITY_TEST"]
+           "capacity_force", "CAPACITY_TEST", "as_range"]
 
 FORMAT = "sbib-damper-model"
 FORMAT_VERSION = 1
@@ -110,6 +110,11 @@ def _norm_unit(unit: str) -> str:
     """Spelling-insensitive unit: ``N·s/m``, ``N s/m`` and ``N*s/m`` compare equal; ``-`` is ``1``."""
     u = str(unit).strip().replace("·", "*").replace(" ", "*").replace("²", "^2").replace("³", "^3")
     return "1" if u in ("", "-") else u
+
+
+def as_range(values) -> tuple[float, float]:
+    """``(min, max)`` as floats."""
+    return float(values[0]), float(values[1])
 
 
 def parameter_unit(model: str, name: str, input_unit: str = "V") -> str | None:
@@ -344,16 +349,16 @@ def write_model_file(path, model, *, input: InputSpec | None = None, effects: Se
         if not isinstance(model, DamperModel) or MODELS.get(getattr(model, "name", "")) is not type(model):
             raise InputError(f"model file: {type(model).__name__} is not a registered damper model")
         name = model.name
-        spec = input or InputSpec("voltage", "V", tuple(model.voltage_range), ())
+        spec = input or InputSpec("voltage", "V", as_range(model.voltage_range), ())
         params = {}
-        for f in dataclasses.fields(model):
+        for f in dataclasses.fields(model):  # type: ignore[arg-type]  # every registered model is a dataclass
             if f.name == "voltage_range":
                 continue
             value = getattr(model, f.name)
             unit = parameter_unit(name, f.name, spec.unit) or "SI"
             entry = _law_json(value) if isinstance(value, VoltageLaw) else {"value": float(value)}
             params[f.name] = {**entry, "unit": unit}
-    doc = {"format": FORMAT, "format_version": FORMAT_VERSION, "model": name,
+    doc: dict[str, Any] = {"format": FORMAT, "format_version": FORMAT_VERSION, "model": name,
            "input": {**spec.to_json(), "range": [None if not math.isfinite(v) else float(v) for v in spec.range]},
            "parameters": params, "effects": [_effect_json(e) for e in effects],
            "quality": dict(quality or {}), "provenance": dict(provenance or file_provenance()),
@@ -462,7 +467,7 @@ def _read_parameters(doc: dict, where: str, name: str, cls, spec: InputSpec) -> 
     if extra:
         raise InputError(f"{where}: parameters: {', '.join(extra)} not a parameter of model {name} "
                          f"(expected {', '.join(expected)})")
-    out = {}
+    out: dict[str, Any] = {}
     for key, entry in raw.items():
         at = f"{where}: parameters.{key}"
         if isinstance(entry, (int, float)) and not isinstance(entry, bool):
@@ -507,7 +512,7 @@ def _read_effects(doc: dict, where: str) -> tuple:
         if _norm_unit(entry["unit"]) != _norm_unit(cls.unit):
             raise InputError(f"{at}: unit {entry['unit']!r}; expected {cls.unit} (SI)")
         try:
-            effects.append(cls(_number(entry["value"], f"{at}.value")))
+            effects.append(cls(_number(entry["value"], f"{at}.value")))  # type: ignore[call-arg]
         except InputError as exc:
             raise InputError(f"{at}: {exc}") from None
     return tuple(effects)

@@ -38,7 +38,7 @@ from benchmark.foundation.errors import InputError
 from benchmark.simulator.devices import (DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout, DeviceSlot,
                                          default_damper_model)
 from damper.base import DamperModel
-from damper.model_file import (CAPACITY_TEST, InputSpec, ModelFile, capacity_force, looks_like_model_file,
+from damper.model_file import (CAPACITY_TEST, InputSpec, as_range, ModelFile, capacity_force, looks_like_model_file,
                                read_model_file)
 from damper.registry import MODELS, get_model_class
 
@@ -115,7 +115,7 @@ def parse_scale(text: Any) -> tuple[str, float] | None:
 def _source(spec: str | None, base_dir: Path | None = None) -> ModelFile:
     if spec is None or spec == "":
         model = default_damper_model()
-        return ModelFile(model=model, input=InputSpec("voltage", "V", tuple(model.voltage_range), ()))
+        return ModelFile(model=model, input=InputSpec("voltage", "V", as_range(model.voltage_range), ()))
     spec = str(spec)
     if looks_like_model_file(spec):
         path = Path(spec)
@@ -130,7 +130,7 @@ def _source(spec: str | None, base_dir: Path | None = None) -> ModelFile:
     except TypeError:
         raise InputError(f"--damper {spec!r}: the registered model {spec} has no default parameters; give a model "
                          "file (*.json)") from None
-    return ModelFile(model=model, input=InputSpec("voltage", "V", tuple(model.voltage_range), ()))
+    return ModelFile(model=model, input=InputSpec("voltage", "V", as_range(model.voltage_range), ()))
 
 
 def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | None = None) -> DamperChoice:

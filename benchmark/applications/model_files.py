@@ -16,7 +16,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from damper.augmented import make_base
-from damper.model_file import InputSpec, file_provenance, write_model_file
+from damper.model_file import InputSpec, as_range, file_provenance, write_model_file
 from damper.voltage_laws import Tabulated
 
 __all__ = ["write_diagnosis_models", "write_identified_models"]
@@ -34,7 +34,7 @@ def write_diagnosis_models(result: Any, out: str | Path, inputs: Sequence[str]) 
     data = result.data
     nodes = data.nodes()
     levels = _levels(data.levels()) if nodes is None else _levels(nodes)
-    spec = InputSpec(data.input_name, data.input_unit, tuple(float(v) for v in data.voltage_range()), levels)
+    spec = InputSpec(data.input_name, data.input_unit, as_range(data.voltage_range()), levels)
     prov = file_provenance(inputs, kind="sbib diagnose")
     by_input = {k: {"before": b, "after": a} for k, (b, a) in result.errors_by_input.items()}
     common = {"error_measure": "held-out relative RMS force error ||F - F_model|| / ||F||",
