@@ -172,7 +172,9 @@ class ComparisonResult:
         path = Path(path)
         with atomic_path(path) as tmp:
             with h5py.File(tmp, "w") as h5:
-                for key, value in provenance(kind="controller comparison").items():
+                damper = self.settings.get("damper")  # model files, scale and its basis, input mapping
+                extra = {"damper": json.dumps(damper, default=str)} if damper else {}
+                for key, value in provenance(kind="controller comparison", **extra).items():
                     h5.attrs[key] = value
                 h5.attrs["settings"] = json.dumps(self.settings, default=str)
                 h5.attrs["summary"] = json.dumps(self.summary())
@@ -529,8 +531,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
                                      initargs=(building,)) as pool:
                 for outcome in pool.map(_run_one, tasks, chunksize=chunk):
                     outcomes.append(outcome)
-                    bar.set_postfix_str(f"{outcome[0].record} {outcome[0].orientation} {outcome[0].controller} "
-                                        f"{outcome[0].damper}")
+                    bar.set_postfix_str(f"{outcome[0].record} {outcome[0].orientation} {outcome[0].controller}")
                     bar.update()
     finally:
         bar.close()
