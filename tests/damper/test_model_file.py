@@ -130,3 +130,13 @@ def test_write_is_atomic(tmp_path):
     with pytest.raises(TypeError):
         write_model_file(tmp_path / "m.json", _augmented().base, quality={"x": Unserialisable()})
     assert list(tmp_path.iterdir()) == []
+
+
+def test_oscillator_file_is_not_a_building_device(tmp_path):
+    from damper import hysteresis_benchmark as hb
+    from damper.hysteresis_io import save_model
+    path = save_model(tmp_path / "osc.json", hb.true_system(), fs=750.0)
+    mf = read_model_file(path)
+    with pytest.raises(InputError) as info:
+        mf.building_model()
+    assert "\n" not in str(info.value) and "force-driven oscillator" in str(info.value)
