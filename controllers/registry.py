@@ -13,6 +13,7 @@ from controllers.base import CONTROLLERS, register_controller
 # Importing the built-in controllers registers them (each is one class decorated with
 # ``register_controller``).
 from controllers import passive, clipped_optimal, modulated, skyhook, lyapunov  # noqa: F401,I001
+from controllers.user import is_user_controller_spec, load_user_controller
 
 __all__ = ["CONTROLLERS", "register_controller", "controller_names", "get_controller", "NO_CONTROLLER"]
 
@@ -34,24 +35,30 @@ def controller_names() -> tuple[str, ...]:
 def get_controller(name: str) -> Any:
     """A new controller for ``name`` (``None`` for ``"none"``: the run without devices).
 
+    ``name`` may also be a user's class, ``package.module:Class`` or ``path/to/file.py:Class``
+    (:func:`controllers.user.load_user_controller`: checked, and guarded during the run).
+
     Parameters
     ----------
     name : str
-        A registered name (:func:`controller_names`, case-insensitive).
+        A registered name (:func:`controller_names`, case-insensitive) or a user's class.
 
     Returns
     -------
     Controller or None
-        A new instance of the registered class.
+        A new instance of the registered (or the user's) class.
 
     Raises
     ------
     InputError
-        For an unknown name (the message lists the known ones).
+        For an unknown name (the message lists the known ones) or a bad user class.
     """
+    if is_user_controller_spec(name):
+        return load_user_controller(name)
     key = name.strip().lower()
     if key == NO_CONTROLLER:
         return None
     if key not in CONTROLLERS:
-        raise InputError(f"controller {name!r} unknown; expected one of {', '.join(controller_names())}")
+        raise InputError(f"controller {name!r} unknown; expected one of {', '.join(controller_names())}, "
+                         "or a class of yours as package.module:Class or path/to/file.py:Class")
     return CONTROLLERS[key]()

@@ -1,4 +1,11 @@
-"""``sbib compare``: every record × orientation × controller, J1–J9 table, JSON, HDF5, plots."""
+"""``sbib compare``: every record × orientation × controller, J1–J9 table, JSON, HDF5, plots.
+
+``--controllers`` also takes a user's class (``package.module:Class``, ``file.py:Class``);
+``--damper FILE.json|NAME`` (or ``--dampers A.json,B.json,...``: every model in the same runs,
+with the J differences and the force-difference figures of
+:mod:`benchmark.applications.model_comparison`), ``--devices`` and ``--damper-scale`` choose the
+devices (:mod:`benchmark.applications.damper_choice`).
+"""
 
 from __future__ import annotations
 
@@ -9,6 +16,7 @@ from controllers.registry import controller_names
 from benchmark.foundation.errors import InputError
 from benchmark.applications.comparison import compare
 from records.options import add_record_options
+from benchmark.applications.damper_choice import add_damper_options
 
 __all__ = ["register"]
 
@@ -34,7 +42,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="'both', or a comma list of FN-x, FP-x; the seed paper's FP-y (= FN-x) and "
                         "FN-y (= FP-x) are accepted")
     p.add_argument("--controllers", default="passive-off,passive-on,clipped-optimal",
-                   help="comma list of: " + ", ".join(controller_names()))
+                   help="comma list of: " + ", ".join(controller_names())
+                        + ", or classes of yours as package.module:Class or path/to/file.py:Class")
     p.add_argument("--isolation", default=None, help="isolation configuration name (default: the building's)")
     p.add_argument("--synthetic", action="store_true",
                    help="use the synthetic benchmark-like records (rows say 'kobe (synthetic)')")
@@ -48,13 +57,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--out", default=None, help="write every run to this HDF5 file (atomic)")
     p.add_argument("--plot", default=None, metavar="DIR", help="write the PNG figures into DIR")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    add_damper_options(p)  # --damper, --devices, --damper-scale
+    p.add_argument("--dampers", default=None, metavar="A.json,B.json",
+                   help="several damper models (files or names) run side by side in the same runs: J's per "
+                        "model, their differences and the force-difference figures (the seed's Fig. 11)")
     p.set_defaults(func=_run)
 
 
 def _run(args: argparse.Namespace) -> int:
     if args.jobs is not None and args.jobs < 1:
         raise InputError(f"--jobs: expected a positive number of processes, got {args.jobs}")
-    result = compare(records=args.records, orientations=args.orientations, controllers=args.controllers,
+    if args.damper and args.dampers:
+        raise InputError("--damper and --dampers: give one of them")
+    dampers = args.dampers or args.damper
+    result = compare(dampers=dampers, devices=args.devices, damper_scale=args.damper_scale,
+                     records=args.records, orientations=args.orientations, controllers=args.controllers,
                      isolation=args.isolation, records_dir=args.records_dir, jobs=args.jobs,
                      control_step=args.control_step, n_modes=args.n_modes, synthetic=args.synthetic,
                      progress=not args.no_progress and sys.stderr.isatty(), format=args.format, dt=args.dt,
@@ -69,6 +86,12 @@ def _run(args: argparse.Namespace) -> int:
         print(json.dumps(result.to_json(), indent=2))
     else:
         print(result.table())
+        info = result.settings.get("damper")
+        if info:
+            for d in info["dampers"]:
+                print(f"damper {d['damper']} ({d['model']}): {d['scale_basis']}; {d['input_mapping']}")
+                for note in d["notes"]:
+                    print(f"  note: {note}")
         units = result.settings.get("record_units") or {}
         if units:
             print("record values read as: " + "; ".join(f"{k}: {v}" for k, v in units.items()))

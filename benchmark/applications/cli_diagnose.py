@@ -19,7 +19,10 @@ UTFSM preprocessed files (``<amp>mm<freq>Hz<current>A.txt``) or Dyke's records
 (:mod:`damper.io.dyke`, converted to SI when read). ``--json`` prints
 ``{"model", "error_before", "error_after", "effects": [{"name", "parameters",
 "error_after_adding"}], "unexplained", "residual_trace": {variable: share}, ...}``; ``--out DIR``
-writes ``report.md``, ``diagnosis.json`` and the plots.
+writes ``report.md``, ``diagnosis.json``, the plots and the two model files ``base_model.json``
+and ``final_model.json`` (:mod:`damper.io.model_file`: parameters with their voltage or current
+laws, effects, held-out errors, provenance), which ``sbib run --damper`` and ``sbib compare
+--dampers`` read.
 """
 
 from __future__ import annotations
@@ -39,6 +42,7 @@ from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import write_report
 from damper.io.dyke import is_dyke_file, read_dyke
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
+from benchmark.applications.model_files import write_diagnosis_models
 
 __all__ = ["register", "run", "read_test_file"]
 
@@ -148,7 +152,7 @@ def register(subparsers) -> None:
                    help="keep the samples the screening flags (stuck or clipped channels, frozen "
                         "displacement, idle spans, ...) in the fit and the errors; the findings are "
                         "still reported")
-    p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and plots here")
+    p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json, plots, base_model.json and final_model.json here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     p.set_defaults(func=run)
@@ -189,8 +193,10 @@ def run(args) -> int:
         atomic_write_text(md, md.read_text(encoding="utf-8") + "\n## Screening of the data\n\n"
                           + "\n".join(f"- {line}" for line in screening_lines(screened_tests, keep))
                           + "\n")
+        models = write_diagnosis_models(result, args.out, args.data)  # damper.io.model_file format
         if progress:
-            progress(f"report written to {paths['report']}")
+            progress(f"report written to {paths['report']}; models: {models['base_model']}, "
+                     f"{models['final_model']}")
     if args.json:
         print(json.dumps(doc, indent=2))
     else:

@@ -99,7 +99,7 @@ def run_fit(args: argparse.Namespace) -> int:
         summary["holdout"] = {"rms_error": rms_error(y_all[n_fit:], held),
                               "rms_displacement": float(np.sqrt(np.mean(held ** 2))),
                               "first_sample": n_fit, "units": "m"}
-    save_model(args.out, fit.model, data.fs, args.upsample, extra={"fit": summary})
+    save_model(args.out, fit.model, data.fs, args.upsample, extra={"fit": summary}, inputs=[args.data])
     if args.json:
         print(json.dumps(summary, indent=2, default=_plain))
         return 0

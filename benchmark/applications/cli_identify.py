@@ -7,7 +7,8 @@
   :func:`damper.identification.measured.identify_files` (each file read and screened once;
   parameters, uncertainty, fit error per file, held-out check per level, ONE model per level
   over all its tests with each test's error under it, parameters at a bound and warnings
-  flagged in the text output too, one error figure per file in ``--out``).
+  flagged in the text output too, one error figure per file in ``--out``) and one model file per
+  model form in ``--out`` (``normalized_model.json``, ``extended_model.json``; :mod:`damper.io.model_file`).
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from records.options import orientation_name
 from benchmark.foundation.display_units import format_si
 from benchmark.foundation.progress import progress_bar
 from damper.identification.measured import identify_files, read_test
+from benchmark.applications.model_files import write_identified_models
 
 __all__ = ["register"]
 
@@ -135,6 +137,8 @@ def _run_data(args: argparse.Namespace) -> int:
                                 out=None if args.no_plots else out, progress=tick)
     finally:
         bar.close()
+    # one model file per model form (damper.io.model_file), read by sbib run/compare --damper
+    result["model_files"] = {k: str(v) for k, v in write_identified_models(result, out, args.data).items()}
     if args.json:
         print(json.dumps(result, indent=2, default=float))
         return 0 if result["tests"] else 2
@@ -179,6 +183,8 @@ def _run_data(args: argparse.Namespace) -> int:
               + ("-" if ho is None else f"{100 * ho:.2f} %"))
     for f in result["figures"]:
         print(f"figure: {f}")
+    for form, f in result["model_files"].items():
+        print(f"model file ({form}): {f}")
     return 0 if result["tests"] else 2
 
 

@@ -6,6 +6,7 @@
              [--records-dir DIR] [--format F] [--dt S] [--units U] [--baseline-correct]
              [--out FILE.h5] [--plot DIR] [--json]
              [--n-modes N] [--control-step S] [--integration-step S] [--substep-tolerance TOL]
+             [--damper FILE.json|NAME] [--devices N|LAYOUT.json] [--damper-scale F|FORCE]
 
 The evaluation criteria need the uncontrolled run (same building and isolation, no devices,
 same record and orientation), so every call computes it too (``--controller none`` *is* that
@@ -33,7 +34,12 @@ cannot act on the devices) are printed on stderr too.
                rms_floor_acceleration [m/s², largest floor], peak_device_force [N]},
      "J": {J1..J9, only those defined}, "elapsed_s",
      "reference_peaks": {same keys, uncontrolled run}, "corners": {...}, "out": path or null,
-     "plots": [paths]}
+     "plots": [paths], "damper": {"layout", "n_devices", "dampers": [{"damper", "model", "input",
+     "scale", "scale_basis", "input_mapping", "effects", "notes", ...}]}}
+
+``--controller`` also takes a user's class, ``package.module:Class`` or ``file.py:Class``
+(:mod:`controllers.user`); ``--damper``/``--devices``/``--damper-scale`` choose the devices
+(:mod:`benchmark.applications.damper_choice`); the reference stays the building without devices.
 
 The Python equivalent of the command is :func:`benchmark.simulator.case.run_case`
 (:func:`run_command` adds the saving, plotting and printing).
@@ -60,6 +66,9 @@ from benchmark.simulator.plots import plot_run
 from records.options import add_record_options
 from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.criteria import SOURCE, key_json
+from benchmark.simulator.building import Building
+from benchmark.simulator.isolation.configurations import get_isolation
+from benchmark.applications.damper_choice import add_damper_options, resolve_damper, resolve_layout
 
 __all__ = ["register", "run_command", "main_run"]
 
@@ -83,7 +92,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
              substep_tolerance: float | None = None, baseline_correct: bool = False,
              progress: bool = False, format: str = "auto", dt: float | None = None,
              units: str | None = None, warn: bool = True, full_histories: bool = False,
-             integration_step: float | None = None) -> dict[str, Any]:
+             integration_step: float | None = None, damper: str | None = None, devices: str | None = None,
+             damper_scale: Any = None) -> dict[str, Any]:
     """``sbib run``: run one case and its reference (:func:`benchmark.simulator.case.run_case`),
     evaluate, and optionally save and plot.
 
@@ -125,6 +135,10 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         measurement vectors the controller saw. Without it the file is single precision
         (:func:`benchmark.simulator.results.write_result`, about 4.5 MB). The figures of
         ``plot_dir`` get the bearing histories either way (the bearing loops need them).
+    damper, devices, damper_scale : optional
+        ``--damper FILE.json|NAME``, ``--devices N|LAYOUT.json``, ``--damper-scale F|FORCE``
+        (:mod:`benchmark.applications.damper_choice`); the summary's ``damper`` says what ran
+        (model, scale and its basis, input mapping, notes), and so do the HDF5 attributes.
 
     Returns
     -------
@@ -146,7 +160,18 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
                          "e.g. 0.0025")
     record_options = {"records_dir": records_dir, "baseline_correct": baseline_correct, "format": format,
                       "dt": dt, "units": units}
+    choice = resolve_damper(damper, damper_scale)
+    building_given = None
+    layout, used = resolve_layout(devices, choice, damper_scale)
+    if damper is not None or devices is not None or damper_scale is not None:
+        building_given = Building.default(isolation=get_isolation(isolation or DEFAULT_NONLINEAR,
+                                                                  substep_tolerance=substep_tolerance),
+                                          devices=layout, n_modes=n_modes)
+    if warn:
+        for note in dict.fromkeys(n for c in used for n in c.notes):
+            print(f"sbib run: note: {note}", file=sys.stderr, flush=True)
     case = Case(record=record, orientation=orientation, controller=controller, isolation=isolation,
+                building=building_given,
                 n_modes=n_modes, control_step=control_step, record_options=record_options,
                 options={"bearing_histories": bool(full_histories or plot_dir),
                          **({} if substep_tolerance is None else {"substep_tolerance": substep_tolerance}),
@@ -185,6 +210,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
                     "peak_corner_drift_ratio": corners["peak_corner_drift_ratio"].tolist()},
         "out": None,
         "plots": [],
+        "damper": {"layout": layout.name, "n_devices": layout.n_devices,
+                   "dampers": [c.describe() for c in used]},
     }
     if out:
         say(f"writing {out}")
@@ -200,7 +227,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
                      record_synthetic=getattr(rec, "synthetic", False), control_step=control_step,
                      n_modes="all" if n_modes is None else n_modes, building=json.dumps(building.describe(),
                                                                                          default=str),
-                     precision="double" if full_histories else "single")
+                     precision="double" if full_histories else "single",
+                     damper=json.dumps(summary["damper"], default=str))
         summary["out"] = str(out)
     if plot_dir:
         say(f"plotting into {plot_dir}")
@@ -227,6 +255,10 @@ def _print_table(summary: dict[str, Any]) -> None:
         ref = summary["reference_peaks"].get(key)
         ref_s = f"{ref:13.5g}" if ref is not None else f"{'-':>13s}"
         print(f"  {key:<26s} {value:12.5g} {ref_s}  {PEAK_UNITS[key]}")
+    for c in summary["damper"]["dampers"]:
+        print(f"  damper {c['damper']} ({c['model']}, {summary['damper']['n_devices']} devices, "
+              f"{summary['damper']['layout']}): {c['scale_basis']}")
+        print(f"    {c['input_mapping']}")
     for key, desc in J_DESCRIPTIONS.items():
         value = summary["J"].get(key)
         print(f"  {key:<3s} {'—' if value is None else f'{value:.4f}':>8s}  {desc}")
@@ -251,7 +283,8 @@ def main_run(args: argparse.Namespace) -> int:
                        substep_tolerance=args.substep_tolerance,
                        baseline_correct=args.baseline_correct, progress=not args.json,
                        format=args.format, dt=args.dt, units=args.units, full_histories=args.full_histories,
-                       integration_step=args.integration_step)
+                       integration_step=args.integration_step, damper=args.damper, devices=args.devices,
+                       damper_scale=args.damper_scale)
     summary.pop("result", None)
     summary.pop("reference", None)
     if args.json:
@@ -281,7 +314,9 @@ def register(subparsers: Any) -> None:
                    help=f"isolation layer: {', '.join(ISOLATION_NAMES)} or a JSON file "
                         f"(default {DEFAULT_NONLINEAR})")
     p.add_argument("--controller", default="none", metavar="NAME",
-                   help="controller name; 'none' = no devices (default none)")
+                   help="controller name, or a class of yours as package.module:Class or path/to/file.py:Class "
+                        "(controllers/base.py interface); 'none' = no devices (default none)")
+    add_damper_options(p)  # --damper, --devices, --damper-scale
     add_record_options(p)  # --orientation, --records-dir, --format, --dt, --units, --baseline-correct
     p.add_argument("--out", default=None, metavar="FILE.h5", help="write the time histories (HDF5)")
     p.add_argument("--plot", default=None, metavar="DIR", help="write figures (PNG) into DIR")

@@ -40,6 +40,11 @@ from records.catalogue import ORIENTATION_ALIASES
 from benchmark.simulator.case import Case, ReferenceCache, choose_control_step, run_case
 from benchmark.simulator.criteria import J_NAMES, key_json, key_lines  # the single definition table of the J's
 from benchmark.foundation.progress import progress_bar
+from benchmark.applications import model_comparison
+import dataclasses
+
+from benchmark.applications.damper_choice import parse_scale, resolve_damper, resolve_layout
+from controllers.user import is_user_controller_spec
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -78,6 +83,12 @@ class ComparisonRun:
     histories: dict = field(default_factory=dict, repr=False)
     elapsed_s: float = 0.0
     synthetic: bool = False
+    damper: str = ""  # the damper model's file name (or registered name) when dampers are compared
+
+    @property
+    def key(self) -> tuple:
+        """``(record, orientation, controller)``: the runs a model comparison sets side by side."""
+        return (self.record, self.orientation, self.controller)
 
     @property
     def label(self) -> str:
@@ -85,9 +96,11 @@ class ComparisonRun:
         return f"{self.record} (synthetic)" if self.synthetic else self.record
 
     def to_json(self) -> dict:
-        """The run without its histories as a JSON-ready dict (record, orientation, controller, J's, peaks)."""
-        return {"record": self.record, "label": self.label, "synthetic": self.synthetic,
-                "orientation": self.orientation, "controller": self.controller, "J": self.J, "peaks": self.peaks}
+        out = {"record": self.record, "label": self.label, "synthetic": self.synthetic,
+               "orientation": self.orientation, "controller": self.controller, "J": self.J, "peaks": self.peaks}
+        if self.damper:
+            out["damper"] = self.damper
+        return out
 
 
 @dataclass
@@ -116,14 +129,25 @@ class ComparisonResult:
         return list(dict.fromkeys(r.controller for r in self.runs))
 
     @property
+    def dampers(self) -> list[str]:
+        """The damper models compared (empty: one damper, not named per run)."""
+        return list(dict.fromkeys(r.damper for r in self.runs if r.damper))
+
+    def model_differences(self) -> list[dict]:
+        """Per record, orientation and controller: each model's J's and their differences from the
+        first model's (``J[model] - J[first]``), and the peak and RMS of the force difference of the
+        most loaded device between the two runs [N] (:func:`model_comparison.force_difference`)."""
+        return model_comparison.differences(self)
+
+    @property
     def cases(self) -> list[tuple[str, str]]:
         return list(dict.fromkeys((r.record, r.orientation) for r in self.runs))
 
     def summary(self) -> dict:
         """Mean and max of every J over records and orientations, per controller."""
         out = {}
-        for name in self.controllers:
-            runs = [r for r in self.runs if r.controller == name]
+        for name in self._summary_keys():
+            runs = [r for r in self.runs if self._summary_key(r) == name]
             entry = {}
             for j in J_NAMES:
                 values = [r.J.get(j) for r in runs if r.J.get(j) is not None]
@@ -132,11 +156,21 @@ class ComparisonResult:
             out[name] = entry
         return out
 
+    def _summary_key(self, run) -> str:
+        return f"{run.controller} [{run.damper}]" if len(self.dampers) > 1 else run.controller
+
+    def _summary_keys(self) -> list[str]:
+        return list(dict.fromkeys(self._summary_key(r) for r in self.runs))
+
     def to_json(self) -> dict:
         """``{"runs": [...], "summary": {...}, "settings": {...}, "criteria": {J1: {...}, ...}}``
-        (``criteria``: the key of :func:`benchmark.simulator.criteria.key_json`)."""
-        return {"runs": [r.to_json() for r in self.runs], "summary": self.summary(),
-                "settings": self.settings, "criteria": key_json()}
+        (``criteria``: the key of :func:`benchmark.simulator.criteria.key_json`); with several
+        dampers each run names its model under ``damper`` and ``model_differences`` is added."""
+        out = {"runs": [r.to_json() for r in self.runs], "summary": self.summary(),
+               "settings": self.settings, "criteria": key_json()}
+        if len(self.dampers) > 1:
+            out["model_differences"] = self.model_differences()
+        return out
 
     def table(self) -> str:
         """Fixed-width text table: J1–J9 per run, mean and max per controller, then the key."""
@@ -144,16 +178,20 @@ class ComparisonResult:
         def fmt(v):
             return "   -  " if v is None else f"{v:6.3f}"
         width = max([10] + [len(r.label) for r in self.runs])  # "kobe (synthetic)", file names
-        head = f"{'record':<{width}} {'orient':<6} {'controller':<16}" + "".join(f"{j:>7}" for j in J_NAMES)
+        cw = max([16] + [len(self._summary_key(r)) for r in self.runs])
+        head = f"{'record':<{width}} {'orient':<6} {'controller':<{cw}}" + "".join(f"{j:>7}" for j in J_NAMES)
         lines = [head, "-" * len(head)]
         for r in self.runs:
-            lines.append(f"{r.label:<{width}} {r.orientation:<6} {r.controller:<16}"
+            lines.append(f"{r.label:<{width}} {r.orientation:<6} {self._summary_key(r):<{cw}}"
                          + "".join(" " + fmt(r.J.get(j)) for j in J_NAMES))
         lines.append("-" * len(head))
         for name, entry in self.summary().items():
             for stat in ("mean", "max"):
-                lines.append(f"{stat:<{width}} {'all':<6} {name:<16}" + "".join(" " + fmt(entry[j][stat]) for j in J_NAMES))
+                lines.append(f"{stat:<{width}} {'all':<6} {name:<{cw}}" + "".join(" " + fmt(entry[j][stat]) for j in J_NAMES))
         lines.append("-" * len(head))
+        if len(self.dampers) > 1:
+            lines.extend(model_comparison.table_lines(self))
+            lines.append("-" * len(head))
         lines.extend(key_lines())
         return "\n".join(lines)
 
@@ -172,7 +210,9 @@ class ComparisonResult:
         path = Path(path)
         with atomic_path(path) as tmp:
             with h5py.File(tmp, "w") as h5:
-                for key, value in provenance(kind="controller comparison").items():
+                damper = self.settings.get("damper")  # model files, scale and its basis, input mapping
+                extra = {"damper": json.dumps(damper, default=str)} if damper else {}
+                for key, value in provenance(kind="controller comparison", **extra).items():
                     h5.attrs[key] = value
                 h5.attrs["settings"] = json.dumps(self.settings, default=str)
                 h5.attrs["summary"] = json.dumps(self.summary())
@@ -185,7 +225,8 @@ class ComparisonResult:
                     for k, v in self.reference_histories.get((rec, ori), {}).items():
                         g.create_dataset(k, data=v, compression="gzip")
                 for r in self.runs:
-                    g = h5.require_group(f"runs/{r.record}/{r.orientation}/{r.controller}")
+                    name = r.controller.replace("/", "|") + (f"/{r.damper.replace('/', '|')}" if r.damper else "")
+                    g = h5.require_group(f"runs/{r.record}/{r.orientation}/{name}")
                     for k, v in r.J.items():
                         g.attrs[k] = np.nan if v is None else v
                     for k, v in r.peaks.items():
@@ -210,7 +251,10 @@ class ComparisonResult:
             all.
         """
 
-        return comparison_plots.plot_all(self, Path(directory), part)
+        paths = comparison_plots.plot_all(self, Path(directory), part)
+        if len(self.dampers) > 1 and part[0] == 0:
+            paths += model_comparison.plot_force_differences(self, Path(directory))
+        return paths
 
 
 def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: str,
@@ -322,7 +366,7 @@ def _check_records(record_list: list[str], orientation: str, settings: dict,
     return labels, units, steps, messages
 
 
-_BUILDING_OVERRIDE: Any = None  # a caller's Building, installed in each worker by _init_worker
+_BUILDING_OVERRIDE: Any = None  # a caller's Building (or {damper: Building}), installed in each worker by _init_worker
 
 
 #: The reference runs a worker keeps. The tasks go record by record, orientation by
@@ -343,7 +387,9 @@ def _default_building(isolation: str | None, n_modes: int | None):
     return Building.default(isolation=isolation, n_modes=n_modes)
 
 
-def _building(isolation: str | None, n_modes: int | None):
+def _building(isolation: str | None, n_modes: int | None, damper: str = ""):
+    if isinstance(_BUILDING_OVERRIDE, dict):
+        return _BUILDING_OVERRIDE[damper]
     if _BUILDING_OVERRIDE is not None:
         return _BUILDING_OVERRIDE
     return _default_building(isolation, n_modes)
@@ -356,10 +402,15 @@ def _record(record_name: str, orientation: str, settings_key: tuple):
                         **_record_options(settings))
 
 
-def _histories(result, step: float) -> dict:
+def _histories(result, step: float, full_devices: bool = False) -> dict:
     t = np.asarray(result.t)
     stride = max(1, int(round(step / (t[1] - t[0])))) if t.size > 1 else 1
     out = {"t": t[::stride], "base_displacement": np.asarray(result.base_displacement)[::stride, :2]}
+    if full_devices and getattr(result, "device_force", None) is not None and np.size(result.device_force):
+        # every device at the record step: the force difference between models (seed Fig. 11)
+        out.update(t_full=t, device_force=np.asarray(result.device_force), voltage_full=np.asarray(result.voltage),
+                   device_displacement=np.asarray(result.device_displacement),
+                   device_velocity=np.asarray(result.device_velocity))
     for name in ("device_force_total", "voltage"):
         value = getattr(result, name, None)
         if value is not None and np.size(value):
@@ -382,6 +433,7 @@ def _run_one(task) -> tuple:
     """Worker: one controlled run and its reference (cached per worker), through the one way to
     run a case (:func:`benchmark.simulator.case.run_case`)."""
     record_name, orientation, spec, settings_key, *label = task
+    damper = label[1] if len(label) > 1 else ""
     t0 = time.perf_counter()
     settings = dict(settings_key)
     record = _record(record_name, orientation, settings_key)
@@ -391,16 +443,41 @@ def _run_one(task) -> tuple:
     if settings.get("noise") is not None:
         options.update(noise=settings["noise"], seed=settings.get("seed", 0))
     case = Case(record=record, controller=_make_controller(spec),
-                building=_building(settings.get("isolation"), settings.get("n_modes")),
+                building=_building(settings.get("isolation"), settings.get("n_modes"), damper),
                 control_step=settings["control_step"], options=options)
     out = run_case(case, cache=_WORKER_REFERENCES)
     result, reference = out.result, out.reference
     run = ComparisonRun(record=label[0] if label else record_name, orientation=orientation,
                         controller=_controller_label(spec),
                         J=out.J, peaks=out.peaks,
-                        histories=_histories(result, _HISTORY_STEP), elapsed_s=time.perf_counter() - t0,
-                        synthetic=bool(getattr(record, "synthetic", False)))
+                        histories=_histories(result, _HISTORY_STEP, full_devices=bool(settings.get("dampers"))),
+                        elapsed_s=time.perf_counter() - t0,
+                        synthetic=bool(getattr(record, "synthetic", False)), damper=damper)
     return run, peaks(reference), _histories(reference, _HISTORY_STEP)
+
+
+def _damper_buildings(dampers, devices, damper_scale, isolation, n_modes) -> tuple[dict, dict]:
+    """One building per damper (``{label: Building}``) and what the results say about them."""
+    items = [d.strip() for d in dampers.split(",") if d.strip()] if isinstance(dampers, str) \
+        else list(dampers or [None])
+    if not items:
+        raise InputError("--dampers: empty list; expected model files or registered names")
+    buildings: dict = {}
+    info: dict = {"layout": None, "dampers": []}
+    for k, item in enumerate(items):
+        choice = resolve_damper(item, damper_scale)
+        if k == 0 and parse_scale(damper_scale) is not None:
+            # one device, one similitude: every model gets the first model's factor
+            damper_scale, basis = choice.scale, choice.scale_basis
+        elif k > 0 and parse_scale(damper_scale) is not None:
+            choice = dataclasses.replace(choice, scale_basis=f"the factor of {items[0]}: {basis}")
+        if choice.label in buildings:
+            raise InputError(f"--dampers: {choice.label} given twice")
+        layout, used = resolve_layout(devices, choice, damper_scale)
+        buildings[choice.label] = Building.default(isolation=isolation, devices=layout, n_modes=n_modes)
+        info["layout"] = {"name": layout.name, "n_devices": layout.n_devices}
+        info["dampers"] += [c.describe() for c in used]
+    return buildings, info
 
 
 def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[str] = "both",
@@ -409,7 +486,8 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
             control_step: float | None = None, noise: Any = None, seed: int = 0, n_modes: int | None = None,
             synthetic: bool = False, building: Any = None, progress: bool = True, format: str = "auto",
             dt: float | None = None, units: str | None = None, baseline_correct: bool = False,
-            warn: bool = True) -> ComparisonResult:
+            warn: bool = True, dampers: Sequence[str] | str | None = None, devices: Any = None,
+            damper_scale: Any = None) -> ComparisonResult:
     """Run every record × orientation × controller and evaluate each against the uncontrolled run.
 
     Parameters
@@ -450,15 +528,21 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         control step on stderr after the runs.
     seed : int, optional
         Seed of the measurement noise (and of synthetic records), so that runs are reproducible.
+    dampers : comma list or sequence, optional
+        Damper model files or registered names (:mod:`benchmark.applications.damper_choice`):
+        one damper for every run, or several run side by side in the same runs with the same
+        controllers (each run names its model under ``damper``; :meth:`ComparisonResult.model_differences`).
+    devices, damper_scale : optional
+        ``--devices N|LAYOUT.json`` and ``--damper-scale F|FORCE`` (same module), for every damper.
     """
     record_list = _parse_records(records, BENCHMARK_RECORDS)
     orientation_list = parse_list(_canonical_orientations(orientations), ORIENTATIONS, "orientations",
                                   ("both", "all"))
-    if isinstance(controllers, str):
-        specs: list = parse_list(controllers, controller_names(), "controllers")
-    else:
-        specs = [parse_list([c], controller_names(), "controllers")[0] if isinstance(c, str) else c
-                 for c in controllers]
+    items = [c.strip() for c in controllers.split(",") if c.strip()] if isinstance(controllers, str) \
+        else list(controllers)
+    # built-in names are checked here; a user's class (module:Class, file.py:Class) is checked by loading it
+    specs: list = [c if not isinstance(c, str) else (get_controller(c) and c) if is_user_controller_spec(c)
+                   else parse_list([c], controller_names(), "controllers")[0] for c in items]
     if not specs:
         raise InputError("--controllers: no controller given")
     labels = [_controller_label(s) for s in specs]
@@ -472,11 +556,21 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
                 "format": None if format in (None, "auto") else format, "dt": dt, "units": units,
                 "baseline_correct": bool(baseline_correct) or None,
                 "building": None if building is None else f"custom:{getattr(building, 'name', '?')}:{id(building)}"}
+    damper_names, damper_info = [""], None
+    if dampers is not None or devices is not None or damper_scale is not None:
+        if building is not None:
+            raise InputError("compare: give a building or dampers/devices/damper_scale, not both")
+        building, damper_info = _damper_buildings(dampers, devices, damper_scale, isolation, n_modes)
+        damper_names = list(building) if len(building) > 1 else [""]
+        if len(building) == 1:
+            building = next(iter(building.values()))
+        settings["building"] = None
+        settings["dampers"] = tuple(damper_names) if damper_names != [""] else None
     settings_key = tuple(sorted(settings.items(), key=lambda kv: kv[0]))
     labels_by_spec, record_units, control_steps, messages = _check_records(record_list, orientation_list[0],
                                                                             settings, warn)
-    tasks = [(rec, ori, spec, settings_key, labels_by_spec[rec])
-             for rec in record_list for ori in orientation_list for spec in specs]
+    tasks = [(rec, ori, spec, settings_key, labels_by_spec[rec], damper)
+             for rec in record_list for ori in orientation_list for spec in specs for damper in damper_names]
     n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
 
     bar = progress_bar(len(tasks), desc="compare", unit="run", enabled=progress)
@@ -511,11 +605,15 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         runs.append(run)
         references[(run.record, run.orientation)] = ref_peaks
         ref_hist[(run.record, run.orientation)] = ref_histories
+    if isinstance(building, dict):  # several dampers: each model replayed under the first one's runs
+        model_comparison.add_replays(runs, building)
     public_settings = {k: v for k, v in settings.items() if k != "noise"}
     public_settings["noise"] = None if noise is None else repr(noise)
     public_settings["controllers"] = labels
     public_settings["jobs"] = n_jobs
     public_settings["record_units"] = record_units  # units each record's values were read in
     public_settings["control_step_by_record"] = control_steps  # [s], chosen or given
+    if damper_info is not None:
+        public_settings["damper"] = damper_info  # model, scale and its basis, input mapping, notes
     return ComparisonResult(runs=runs, references=references, reference_histories=ref_hist,
                             settings=public_settings)

@@ -69,6 +69,7 @@ from records.catalogue import ORIENTATION_ALIASES
 from benchmark.foundation.textfile import read_text
 from benchmark.simulator.criteria import CRITERIA
 from benchmark.foundation.progress import progress_bar
+from benchmark.applications.damper_choice import resolve_damper, resolve_layout
 
 __all__ = [
     "Case",
@@ -98,7 +99,7 @@ RUN_FUNCTIONS: dict[str, str] = {
 DASK_CONNECT_TIMEOUT_S = 30.0
 
 _TOP_LEVEL_KEYS = {"name", "base_seed", "run", "controllers", "orientations", "pga", "records",
-                   "synthetic", "grid"}
+                   "synthetic", "grid", "damper", "devices", "damper_scale"}
 _SYNTHETIC_KEYS = {"templates", "realisations"}
 
 
@@ -171,6 +172,9 @@ class Case:
     parameters: tuple[tuple[str, float], ...]
     seed: int
     motion_seed: int
+    #: ``(damper, devices, damper_scale)`` of the config (:mod:`benchmark.applications.damper_choice`;
+    #: model files as absolute paths), empty: the default devices.
+    building: tuple = ()
 
     @property
     def parameter_dict(self) -> dict[str, float]:
@@ -257,6 +261,9 @@ class EnsembleConfig:
     name: str = "ensemble"
     source: str = "<python>"
     text: str = ""
+    #: ``damper = "FILE.json|NAME"``, ``devices = N | "LAYOUT.json"``, ``damper_scale = F | "1000kN"``
+    #: (as ``sbib run``'s options; files relative to the TOML file's folder, stored absolute).
+    building: tuple = ()
 
     def __post_init__(self) -> None:
         where = self.source
@@ -365,7 +372,8 @@ class EnsembleConfig:
             raise InputError(f"{source}: field 'name' must be a string, got {name!r}")
         return cls(controllers=controllers, records=records, orientations=orientations,
                    synthetic_templates=templates, realisations=realisations, pga=pga, grid=tuple(grid),
-                   base_seed=base_seed, run=run, name=name, source=source, text=text)
+                   base_seed=base_seed, run=run, name=name, source=source, text=text,
+                   building=_building_fields(data, source))
 
     # -- expansion -------------------------------------------------------------------------------
     def motions(self) -> list[tuple[str, str, bool, int, float]]:
@@ -401,16 +409,46 @@ class EnsembleConfig:
                 for point in grid_points:
                     key = motion + f"|controller={controller}"
                     key += "".join(f"|{n}={_fmt(v)}" for n, v in zip(names, point))
+                    if self.building:  # another device is another case (and another seed)
+                        key += "".join(f"|{n}={Path(v).name if n != 'damper_scale' else v}"
+                                       for n, v in zip(("damper", "devices", "damper_scale"), self.building) if v)
                     cases.append(Case(index=len(cases), key=key, record=record, orientation=orientation,
                                       synthetic=synthetic, realisation=realisation, pga=pga,
                                       controller=controller, parameters=tuple(zip(names, point)),
-                                      seed=derive_seed(self.base_seed, key), motion_seed=motion_seed))
+                                      seed=derive_seed(self.base_seed, key), motion_seed=motion_seed,
+                                      building=self.building))
         return cases
 
     @property
     def parameter_names(self) -> tuple[str, ...]:
         """Names of the grid parameters, in order."""
         return tuple(name for name, _ in self.grid)
+
+
+def _building_fields(data: Mapping[str, Any], source: str) -> tuple:
+    """``(damper, devices, damper_scale)`` from the TOML (empty when none is given), checked now:
+    a bad model file or layout stops the ensemble before its first run, in one line."""
+    if not any(k in data for k in ("damper", "devices", "damper_scale")):
+        return ()
+    base = Path(source).parent if source not in ("<dict>", "<python>") else Path(".")
+    out = []
+    for key in ("damper", "devices", "damper_scale"):
+        value = data.get(key)
+        if value is None:
+            out.append("")
+            continue
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            raise InputError(f"{source}: field {key!r}: expected a string or a number, got {value!r}")
+        text = str(value)
+        if key in ("damper", "devices") and (text.endswith(".json") or "/" in text):
+            text = str((base / text).resolve()) if not Path(text).is_absolute() else text
+        out.append(text)
+    try:
+        choice = resolve_damper(out[0] or None, out[2] or None)
+        resolve_layout(out[1] or None, choice, out[2] or None)
+    except InputError as exc:
+        raise InputError(f"{source}: {exc}") from None
+    return tuple(out)
 
 
 def _seed_orientation_names(value: Any) -> Any:

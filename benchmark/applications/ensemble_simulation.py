@@ -42,6 +42,7 @@ from controllers.registry import get_controller
 from records.resolve import resolve_record
 from benchmark.simulator.isolation.configurations import BearingGroup
 from benchmark.simulator.devices import DeviceLayout, DeviceSlot
+from benchmark.applications.damper_choice import resolve_damper, resolve_layout
 
 __all__ = ["run_case", "load_motion", "build_building", "SIMULATION_PARAMETERS"]
 
@@ -96,10 +97,17 @@ def _replace_fields(obj: Any, overrides: tuple, what: str, strict: bool) -> tupl
 
 
 @lru_cache(maxsize=4)
-def build_building(n_modes: int | None, isolation: tuple, devices: tuple) -> Any:
-    """The default building with ``n_modes`` and the isolation/device field overrides."""
+def build_building(n_modes: int | None, isolation: tuple, devices: tuple, damper: tuple = ()) -> Any:
+    """The default building with ``n_modes``, the config's ``(damper, devices, damper_scale)``
+    (:mod:`benchmark.applications.damper_choice`) and the isolation/device field overrides."""
 
-    building = Building.default(n_modes=n_modes)
+    if damper:
+        spec, layout_spec, scale = (v or None for v in damper)
+        choice = resolve_damper(spec, scale)
+        layout, _ = resolve_layout(layout_spec, choice, scale)
+        building = Building.default(n_modes=n_modes, devices=layout)
+    else:
+        building = Building.default(n_modes=n_modes)
     if isolation:
         layer = building.isolation
         groups, used = [], set()
@@ -160,7 +168,8 @@ def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, fl
     motion_args = (case.record, case.orientation, bool(case.synthetic), int(case.motion_seed), float(case.pga))
     motion = load_motion(*motion_args)
     controller = get_controller(case.controller)
-    building = build_building(n_modes, isolation, devices if controller is not None else ())
+    building = build_building(n_modes, isolation, devices if controller is not None else (),
+                              tuple(getattr(case, "building", ())))
     control_step = kwargs.pop("control_step", None)
     # the one way to run a case; the reference of a motion is run once per building (cached)
     run = run_case(Case(record=motion, controller=controller, building=building, control_step=control_step,

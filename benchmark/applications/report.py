@@ -294,6 +294,31 @@ def _records_section(root: Path) -> str:
     return "".join(out)
 
 
+def _device_family_section(root: Path) -> str:
+    """The seed's claim across a family of virtual devices (``examples/device_family.py --out
+    RESULTS/device-family``); nothing when the family was not run (it is not part of the main job)."""
+    path = root / "device-family" / "family.json"
+    rows = _read_json(path)
+    if not isinstance(rows, list) or not rows:
+        return ""
+    body = []
+    for row in rows:
+        cells = [f"<code>{_e(row.get('variant'))}</code>: {_e(row.get('description', ''))}"]
+        for pair in ("seed", "closed_loop"):
+            c = (row.get("claim_test") or {}).get(pair) or {}
+            ratios = list((c.get("ratio_by_run") or {}).values())
+            cells += [_num(c.get("ratio_mean"), 2),
+                      f"{_num(min(ratios), 2)}–{_num(max(ratios), 2)}" if ratios else "–",
+                      f"{sum(r < 1 for r in ratios)}/{len(ratios)}" if ratios else "–"]
+        body.append(cells)
+    return ('<h2 id="device-family">The seed\'s claim across devices</h2>'
+            "<p>Extended form's relative RMS force error over the normalized form's in the earthquake runs "
+            "(below 1: the extended form is better), per device variant, for the seed's pair (proposed / "
+            "original) and the closed loop's pair. " + _data_links(root, [path]) + "</p>"
+            + _table(["device", "seed: mean", "range", "below 1", "closed loop: mean", "range", "below 1"],
+                     body))
+
+
 def build_report_html(results: str | Path) -> str:
     """Return the HTML text of the report of the results directory ``results``.
 
@@ -328,6 +353,7 @@ def build_report_html(results: str | Path) -> str:
         + (_link(root, root / "summary.json", "summary.json") + " lists every step's outputs." if (root / "summary.json").is_file() else "")
         + "</p>",
         _suite_section(root), _identification_section(root), _diagnosis_section(root), _records_section(root),
+        _device_family_section(root),
     ]
     if timings:
         parts.append('<h2 id="timings">Steps</h2>' + _table(["step", "time [s]"], timings))

@@ -16,7 +16,6 @@ Every malformed file raises :class:`~benchmark.foundation.errors.InputError` nam
 from __future__ import annotations
 
 import csv
-import json
 import math
 import re
 from dataclasses import dataclass
@@ -27,7 +26,8 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
 from damper.io.data import parse_row
-from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, PARAMETER_NAMES, HystereticOscillator
+from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
+from damper.io.model_file import file_provenance, read_model_file, write_model_file
 
 __all__ = ["ForceData", "read_data", "read_csv", "read_hdf5", "write_displacement_csv",
            "save_model", "load_model", "MODEL_KIND"]
@@ -247,59 +247,26 @@ def write_displacement_csv(path, time: np.ndarray, displacement: np.ndarray) -> 
 
 
 def save_model(path, model: HystereticOscillator, fs: float, upsample: int = DEFAULT_UPSAMPLE,
-               extra: dict | None = None) -> Path:
-    """Write the model as JSON (parameters in SI, the integration settings, ``extra`` fields).
-
-    Parameters
-    ----------
-    path
-        JSON file to write (replaced atomically).
-    model : HystereticOscillator
-        The identified oscillator.
-    fs : float
-        Sampling rate [Hz] of the data it was identified on.
-    upsample : int, optional
-        Integration steps per sample.
-    extra : dict | None, optional
-        Further JSON fields (e.g. errors, settings); None: none.
-    """
-    doc = {"kind": MODEL_KIND, "parameters": model.parameters(),
-           "standard_form": model.to_standard(beta=1.0), "sampling_rate_hz": float(fs),
-           "upsample": int(upsample)}
-    doc.update(extra or {})
-    return atomic_write_text(path, json.dumps(doc, indent=2, default=_jsonable) + "\n")
+               extra: dict | None = None, inputs=()) -> Path:
+    """Write the model as a damper model file (:mod:`damper.io.model_file`, model
+    ``hysteretic_oscillator``; atomic): parameters in SI with their units; the integration settings
+    (``sampling_rate_hz``, ``upsample``), the standard form and ``extra`` (the fit) under
+    ``quality``; ``inputs`` (data files) in the provenance with their SHA-256."""
+    quality = {"standard_form": model.to_standard(beta=1.0), "sampling_rate_hz": float(fs),
+               "upsample": int(upsample), **(extra or {})}
+    return write_model_file(path, model, quality=quality, provenance=file_provenance(inputs))
 
 
-def _jsonable(x):
-    if isinstance(x, np.ndarray):
-        return x.tolist()
-    if isinstance(x, (np.floating, np.integer)):
-        return x.item()
-    raise TypeError(f"not JSON serializable: {type(x).__name__}")
 
 
 def load_model(path) -> tuple[HystereticOscillator, dict]:
-    """Read a model JSON written by :func:`save_model`; returns the model and the whole document.
-
-    Parameters
-    ----------
-    path
-        Model JSON file.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise DataNotFoundError(f"{path}: model file not found")
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{path}: not a model JSON file ({exc.__class__.__name__})") from None
-    if not isinstance(doc, dict) or doc.get("kind") != MODEL_KIND:
-        raise InputError(f"{path}: expected a model JSON with kind {MODEL_KIND!r}")
-    params = doc.get("parameters")
-    if not isinstance(params, dict) or sorted(params) != sorted(PARAMETER_NAMES):
-        raise InputError(f"{path}: parameters: expected {', '.join(PARAMETER_NAMES)}")
-    try:
-        model = HystereticOscillator(**params)
-    except ParameterError as exc:
-        raise InputError(f"{path}: {exc}") from None
-    return model, doc
+    """Read a model written by :func:`save_model` (the damper model file, or the earlier
+    ``{"kind": "hysteretic_oscillator", ...}`` layout); return the model and a dict with
+    ``kind``, ``parameters`` and the entries :func:`save_model` put under ``quality``
+    (``sampling_rate_hz``, ``upsample``, ``fit``, ...)."""
+    mf = read_model_file(path)
+    if not isinstance(mf.model, HystereticOscillator):
+        raise InputError(f"{path}: model {mf.model_name} is not a {MODEL_KIND}; expected a file of "
+                         "sbib hysteresis fit")
+    doc = {**mf.quality, "kind": MODEL_KIND, "parameters": mf.model.parameters()}
+    return mf.model, doc

@@ -52,3 +52,30 @@ def test_nested_summaries_print_as_text(capsys):
     _print_tree({"extended": {"mean_rel_rms_error": 0.0123, "runs": [1, {"a": 2.0}]}, "n": 3}, "  ")
     out = capsys.readouterr().out
     assert "{" not in out and "mean_rel_rms_error: 0.0123" in out and "  n: 3" in out
+
+
+def test_one_model_file_per_form_with_laws_over_the_levels(tmp_path, capsys):
+    """Files at two voltages give one file per model form with tabulated laws through the levels."""
+    from damper.io.model_file import read_model_file
+    from damper.models.voltage_laws import Tabulated
+    files = []
+    for v in (0.0, 1.0):
+        path = tmp_path / f"virtual_{v:g}V.csv"
+        write_csv(periodic_test("virtual", 0.02, 1.0, v, cycles=3, sample_rate=200.0, noise=0.01, seed=4), path)
+        files.append(str(path))
+    assert main(["identify", "--data", *files, "--bootstrap", "0", "--out", str(tmp_path / "o"), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert set(data["model_files"]) == {"normalized", "extended"}
+    for form, path in data["model_files"].items():
+        mf = read_model_file(path)
+        assert mf.model.name == f"{form}_bouc_wen" and mf.input.levels == (0.0, 1.0)
+        assert isinstance(mf.model.kappa_w, Tabulated)
+        for s in (s for s in data["tests"] if s["model"] == form):
+            assert mf.model.coefficients(s["level"])["kappa_w"] == pytest.approx(s["parameters"]["kappa_w"], rel=1e-12)
+        assert len(mf.provenance["inputs"]) == 2 and mf.quality["by_file"]
+    # one file at one level: constant parameters, and a note that there is nothing to command
+    assert main(["identify", "--data", files[1], "--model", "normalized", "--bootstrap", "0",
+                 "--out", str(tmp_path / "one")]) == 0
+    assert "model file (normalized)" in capsys.readouterr().out
+    mf = read_model_file(tmp_path / "one" / "normalized_model.json")
+    assert mf.input.single_level and any("nothing" in n or "does not depend" in n for n in mf.notes)

@@ -40,10 +40,12 @@ def test_fit_then_predict_round_trip(small_fit, capsys):
     d, data, model, status = small_fit
     assert status == 0
     doc = json.loads(model.read_text())
-    assert doc["kind"] == "hysteretic_oscillator"
-    fitted, _ = load_model(model)
+    assert doc["format"] == "sbib-damper-model" and doc["model"] == "hysteretic_oscillator"
+    assert doc["parameters"]["mass"]["unit"] == "kg"
+    assert len(doc["provenance"]["inputs"][0]["sha256"]) == 64
+    fitted, loaded = load_model(model)
     assert fitted.mass == pytest.approx(2.0, rel=5e-3)
-    summary = doc["fit"]
+    summary = loaded["fit"]
     assert summary["data"]["holdout_samples"] == 1536
     # The held-out error is the noise (1 % of the response RMS).
     assert summary["holdout"]["rms_error"] < 0.0125 * summary["holdout"]["rms_displacement"]
@@ -127,7 +129,7 @@ def test_predict_errors(tmp_path, capsys):
     bad_model.write_text('{"kind": "something else"}')
     assert main(["hysteresis", "predict", "--model", str(bad_model), "--input", str(inp),
                  "--out", str(tmp_path / "y.csv")]) == 2
-    assert "kind" in capsys.readouterr().err
+    assert "format" in capsys.readouterr().err
     broken = tmp_path / "broken.json"
     doc = {"kind": "hysteretic_oscillator", "parameters": dict(hb.true_system().parameters(), mass=-1)}
     broken.write_text(json.dumps(doc))

@@ -1,0 +1,613 @@
+"""The damper model file (``model.json``): one format, one writer, one loader.
+
+Every command that fits a damper model writes this file (``sbib identify --data``, one per model
+form; ``sbib diagnose``, ``base_model.json`` and ``final_model.json``; ``sbib hysteresis fit``),
+and every command that runs a damper in the building reads it (``sbib run --damper``, ``sbib
+compare --damper/--dampers``, ensembles). Layout (SI throughout; units are written beside each
+value and checked when read)::
+
+    {"format": "sbib-damper-model", "format_version": 1,
+     "model": "normalized_bouc_wen",                 # a name of damper.models.registry (or "hysteretic_oscillator")
+     "input": {"quantity": "current", "unit": "A",   # or "voltage", "V"
+               "range": [0.0, 1.0],                  # admissible input, the laws are checked over it
+               "levels": [0.0, 0.25, 0.5, 0.75, 1.0]},   # input levels of the tests it was fitted on
+     "parameters": {"rho": {"value": 812.0, "unit": "1/m"},
+                    "kappa_w": {"law": "tabulated", "unit": "N", "inputs": [...], "values": [...]},
+                    ...},                            # every field of the model class, no more, no less
+     "effects": [{"name": "roll_off", "parameter": "velocity", "value": 0.0059, "unit": "m/s"}],
+     "quality": {...},                               # errors, standard errors (free form, SI)
+     "provenance": {"inputs": [{"path", "sha256"}], "command", "package_version", ...},
+     "notes": ["..."]}
+
+Voltage laws (:mod:`damper.models.voltage_laws`) are written as ``{"law": KIND, ...}`` with the fields
+of :data:`LAW_FIELDS` (``constant``: ``value``; ``polynomial``: ``coefficients`` in ascending
+powers of the input; ``exponential``: ``a, b, c``; ``seed_kappa_w``: ``k`` (9); ``tabulated``:
+``inputs, values`` (PCHIP through them, held outside); ``saturating``: ``a, b, c, e``); the
+law's ``unit`` is the parameter's, its variable is the input in ``input.unit``. ``effects`` are
+the terms of an augmented model (:mod:`damper.diagnosis.augmented`, :mod:`damper.diagnosis.effects`) on top of the
+registered base model.
+
+:func:`read_model_file` refuses a bad file in one line (:class:`~benchmark.foundation.errors.InputError`
+naming the file and the field): not JSON, another format, an unknown model or effect, a missing
+or extra parameter, a wrong unit, a malformed law, or a parameter (law) that leaves its
+admissible class over the input range, a law node outside the input range.
+:func:`write_model_file` writes atomically.
+
+In the building (:meth:`ModelFile.building_model`) the effects that a registered kernel carries
+are folded into the model (``stiffness`` into κ_x, ``roll_off`` into the series dashpot of
+:class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`, ``voltage_lag`` into its field lag when
+there is a roll-off); the others are listed as not run, with their values.
+:meth:`ModelFile.scaled` applies a force similitude (every parameter whose unit is a force
+unit, N..., and every effect in N or kg, times the factor; displacements, velocities and times
+unchanged).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import math
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from benchmark.foundation.atomic import atomic_write_text
+from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.provenance import provenance as base_provenance
+from damper.diagnosis.augmented import AugmentedModel
+from damper.models.base import DamperModel
+from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
+from damper.diagnosis.effects import EFFECTS, Effect
+from damper.hysteresis.oscillator import PARAMETER_UNITS as OSCILLATOR_UNITS
+from damper.hysteresis.oscillator import HystereticOscillator
+from damper.models.registry import MODELS, get_model_class
+from damper.models.series_dashpot import SeriesDashpotBoucWen, scaled_law
+from damper.models.response import simulate
+from damper.models.voltage_laws import (Constant, Exponential, Polynomial, Saturating, SeedKappaW, Tabulated,
+                                 VoltageLaw)
+
+__all__ = ["FORMAT", "FORMAT_VERSION", "ModelFile", "InputSpec", "read_model_file", "write_model_file",
+           "parameter_unit", "file_provenance", "OSCILLATOR_MODEL", "LAW_FIELDS", "looks_like_model_file",
+           "capacity_force", "CAPACITY_TEST", "as_range"]
+
+FORMAT = "sbib-damper-model"
+FORMAT_VERSION = 1
+#: The force-driven hysteretic oscillator of ``sbib hysteresis`` (not a device of the building).
+OSCILLATOR_MODEL = "hysteretic_oscillator"
+#: Input quantities and their units.
+INPUT_UNITS = {"voltage": "V", "current": "A"}
+#: Fields of each law kind in the file.
+LAW_FIELDS = {"constant": ("value",), "polynomial": ("coefficients",), "exponential": ("a", "b", "c"),
+              "seed_kappa_w": ("k",), "tabulated": ("inputs", "values"), "saturating": ("a", "b", "c", "e")}
+#: The motion at which a model's capacity is its peak force (``--damper-scale 1000kN``): a sine of
+#: 0.1 m amplitude at 0.5 Hz (peak velocity 0.31 m/s, a typical base motion of the building),
+#: at the largest input, three cycles, peak over the last.
+CAPACITY_TEST = {"amplitude_m": 0.1, "frequency_hz": 0.5, "cycles": 3}
+
+_KEYS = {"format", "format_version", "model", "input", "parameters", "effects", "quality", "provenance",
+         "notes"}
+_REQUIRED = ("format", "model", "input", "parameters")
+_COMMON_UNITS = {"kappa_x": "N/m", "kappa_xdot": "N*s/m", "kappa_w": "N", "rho": "1/m", "sigma": "1",
+                 "n": "1", "roll_off_velocity": "m/s", "field_lag": "s", "substep_tolerance": "1"}
+# units by model; "{u}" is the input unit (coefficients per volt or per ampere)
+_MODEL_UNITS = {
+    "spencer": {"alpha_a": "N/m", "alpha_b": "N/(m*{u})", "c0a": "N*s/m", "c0b": "N*s/(m*{u})", "k0": "N/m",
+                "c1a": "N*s/m", "c1b": "N*s/(m*{u})", "k1": "N/m", "x0": "m", "gamma": "1/m^n",
+                "beta": "1/m^n", "A": "1", "n": "1", "eta": "1/s", "substep_tolerance": "1"},
+    "virtual": {"yield_force": "N", "c0": "N*s/m", "c1": "N*s/m", "k0": "N/m", "k1": "N/m", "x0": "m",
+                "rho": "1/m", "sigma": "1", "n": "1", "eta": "1/s", "substep_tolerance": "1"},
+    "bingham": {"f_c": "N", "c0": "N*s/m", "f0": "N"},
+    "hyperbolic_tangent": {"c": "N*s/m", "k": "N/m", "alpha": "N", "beta": "s/m", "delta": "1", "f0": "N"},
+    OSCILLATOR_MODEL: dict(OSCILLATOR_UNITS),
+}
+
+
+def _norm_unit(unit: str) -> str:
+    """Spelling-insensitive unit: ``N·s/m``, ``N s/m`` and ``N*s/m`` compare equal; ``-`` is ``1``."""
+    u = str(unit).strip().replace("·", "*").replace(" ", "*").replace("²", "^2").replace("³", "^3")
+    return "1" if u in ("", "-") else u
+
+
+def as_range(values) -> tuple[float, float]:
+    """``(min, max)`` as floats."""
+    return float(values[0]), float(values[1])
+
+
+def parameter_unit(model: str, name: str, input_unit: str = "V") -> str | None:
+    """The SI unit of parameter ``name`` of registered model ``model`` (``None`` when unknown)."""
+    table = _MODEL_UNITS.get(model, _COMMON_UNITS)
+    unit = table.get(name, _COMMON_UNITS.get(name) if model not in _MODEL_UNITS else None)
+    return None if unit is None else unit.replace("{u}", input_unit)
+
+
+@dataclass(frozen=True)
+class InputSpec:
+    """The model's input: ``quantity`` (``voltage`` or ``current``), ``unit`` (V or A), admissible
+    ``range`` and the ``levels`` of the tests it was fitted on."""
+
+    quantity: str = "voltage"
+    unit: str = "V"
+    range: tuple[float, float] = (0.0, 1.0)
+    levels: tuple[float, ...] = ()
+
+    @property
+    def single_level(self) -> bool:
+        """Fitted at one input level: its force does not depend on a command."""
+        return len(self.levels) == 1
+
+    def to_json(self) -> dict:
+        return {"quantity": self.quantity, "unit": self.unit, "range": [float(v) for v in self.range],
+                "levels": [float(v) for v in self.levels]}
+
+
+@dataclass(frozen=True)
+class ModelFile:
+    """A damper model as the file carries it.
+
+    Attributes
+    ----------
+    model : DamperModel or HystereticOscillator
+        The registered base model (voltage laws included).
+    input : InputSpec
+    effects : tuple of Effect
+        Terms of an augmented model on top of ``model`` (empty for a plain model).
+    quality, provenance : dict
+    notes : tuple of str
+    path : str
+        Where it was read from (empty when built in memory).
+    scale : float
+        Force similitude applied by :meth:`scaled` (1: the device as fitted).
+    """
+
+    model: Any
+    input: InputSpec = InputSpec()
+    effects: tuple = ()
+    quality: dict = field(default_factory=dict)
+    provenance: dict = field(default_factory=dict)
+    notes: tuple = ()
+    path: str = ""
+    scale: float = 1.0
+
+    @property
+    def model_name(self) -> str:
+        return OSCILLATOR_MODEL if isinstance(self.model, HystereticOscillator) else str(self.model.name)
+
+    @property
+    def label(self) -> str:
+        """The file's name (or the model's name when built in memory)."""
+        return Path(self.path).name if self.path else self.model_name
+
+    def augmented(self) -> AugmentedModel:
+        """The model with its effects as an :class:`~damper.diagnosis.augmented.AugmentedModel` (Bouc-Wen bases)."""
+        if not isinstance(self.model, (NormalizedBoucWen, ExtendedBoucWen)):
+            raise InputError(f"{self.label}: effects compose with a normalized or extended Bouc-Wen base, "
+                             f"not {self.model_name}")
+        return AugmentedModel(self.model, tuple(self.effects))
+
+    def building_model(self) -> tuple[DamperModel, list[str]]:
+        """The registered model the building runs, and the effects it cannot run (one line each).
+
+        ``stiffness`` becomes κ_x of the extended model, ``roll_off`` the series dashpot
+        (:class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`, with ``voltage_lag`` as its field
+        lag); the other effects have no kernel and are listed.
+
+        Raises
+        ------
+        InputError
+            For the hysteretic oscillator (a force-driven system, not a device model).
+        """
+        where = self.path or self.model_name
+        if isinstance(self.model, HystereticOscillator):
+            raise InputError(f"{where}: model {OSCILLATOR_MODEL} is a force-driven oscillator (sbib hysteresis), "
+                             "not a device model the building can run; give a model of damper.models.registry")
+        model = self.model
+        effects = {e.name: e for e in self.effects}
+        dropped = []
+        if "stiffness" in effects:
+            if isinstance(model, NormalizedBoucWen):
+                model = model.extended(effects.pop("stiffness").value)
+            elif isinstance(model, ExtendedBoucWen):
+                kx = effects.pop("stiffness").value
+                model = dataclasses.replace(model, kappa_x=_add(model.kappa_x, kx))
+        if "roll_off" in effects and isinstance(model, (NormalizedBoucWen, ExtendedBoucWen)):
+            lag = effects.pop("voltage_lag").value if "voltage_lag" in effects else 0.0
+            model = SeriesDashpotBoucWen.from_bouc_wen(model, effects.pop("roll_off").value, field_lag=lag)
+        for e in effects.values():
+            dropped.append(f"{e.name} ({e.parameter_name} = {e.value:.4g} {e.unit}): no kernel in the building, not run")
+        return model, dropped
+
+    def scaled(self, factor: float) -> "ModelFile":
+        """The model under force similitude ``factor`` (module docstring); ``scale`` multiplies."""
+        factor = float(factor)
+        if not (math.isfinite(factor) and factor > 0):
+            raise InputError(f"damper scale: expected a finite factor > 0, got {factor!r}")
+        if factor == 1.0:
+            return self
+        name = self.model_name
+        changes = {}
+        for f in dataclasses.fields(self.model):
+            unit = parameter_unit(name, f.name, self.input.unit)
+            if unit is not None and unit.startswith("N"):
+                value = getattr(self.model, f.name)
+                changes[f.name] = scaled_law(value, factor) if isinstance(value, VoltageLaw) else value * factor
+        model = dataclasses.replace(self.model, **changes)
+        effects = tuple(type(e)(e.value * factor) if (e.unit.startswith("N") or e.unit == "kg") else e
+                        for e in self.effects)
+        return dataclasses.replace(self, model=model, effects=effects, scale=self.scale * factor)
+
+    def describe(self) -> dict:
+        """What results record about the model: file, name, input, scale, effects."""
+        return {"file": self.label, "path": self.path, "model": self.model_name, "input": self.input.to_json(),
+                "scale": self.scale, "effects": [_effect_json(e) for e in self.effects]}
+
+
+def _add(value, constant: float):
+    """``value + constant`` for a number or a law of :mod:`damper.models.voltage_laws`."""
+    if not isinstance(value, VoltageLaw):
+        return float(value) + constant
+    if isinstance(value, Constant):
+        return Constant(value.value + constant)
+    if isinstance(value, Polynomial):
+        return Polynomial((value.coefficients[0] + constant, *value.coefficients[1:]))
+    if isinstance(value, Tabulated):
+        return dataclasses.replace(value, values=tuple(v + constant for v in value.values))
+    if isinstance(value, (Exponential, Saturating)):
+        return dataclasses.replace(value, a=value.a + constant)
+    raise InputError(f"stiffness effect: cannot add to a {type(value).__name__} law of kappa_x")
+
+
+# ------------------------------------------------------------------------------------ writing
+
+def _law_json(law: VoltageLaw) -> dict:
+    if isinstance(law, Constant):
+        return {"law": "constant", "value": law.value}
+    if isinstance(law, Polynomial):
+        return {"law": "polynomial", "coefficients": list(law.coefficients)}
+    if isinstance(law, Exponential):
+        return {"law": "exponential", "a": law.a, "b": law.b, "c": law.c}
+    if isinstance(law, SeedKappaW):
+        return {"law": "seed_kappa_w", "k": list(law.k)}
+    if isinstance(law, Tabulated):
+        return {"law": "tabulated", "inputs": list(law.voltages), "values": list(law.values)}
+    if isinstance(law, Saturating):
+        return {"law": "saturating", "a": law.a, "b": law.b, "c": law.c, "e": law.e}
+    raise InputError(f"model file: cannot write a {type(law).__name__} law")
+
+
+def _effect_json(e: Effect) -> dict:
+    return {"name": e.name, "parameter": e.parameter_name, "value": e.value, "unit": e.unit}
+
+
+def _jsonable(x):
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.floating, np.integer, np.bool_)):
+        return x.item()
+    if isinstance(x, (tuple, set)):
+        return list(x)
+    if isinstance(x, Path):
+        return str(x)
+    raise TypeError(f"not JSON serializable: {type(x).__name__}")
+
+
+def sha256_of(path) -> str:
+    """SHA-256 of a file's bytes (hex)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def file_provenance(inputs: Sequence = (), command: str | None = None, **extra) -> dict:
+    """Provenance of a model file: input files with their SHA-256, the command line (default:
+    this process's ``sys.argv``), package version, commit, time, library versions, ``extra``."""
+    files = []
+    for p in inputs:
+        p = Path(p)
+        files.append({"path": str(p), "sha256": sha256_of(p) if p.is_file() else None})
+    out: dict[str, Any] = dict(base_provenance(**extra))
+    out["inputs"] = files
+    out["command"] = command if command is not None else " ".join(["sbib", *sys.argv[1:]])
+    return out
+
+
+def write_model_file(path, model, *, input: InputSpec | None = None, effects: Sequence[Effect] = (),
+                     quality: dict | None = None, provenance: dict | None = None,
+                     notes: Sequence[str] = (), extra: dict | None = None) -> Path:
+    """Write ``model`` (a registered damper model, an :class:`~damper.diagnosis.augmented.AugmentedModel` or
+    the hysteretic oscillator) as a model file, atomically; return the path.
+
+    Parameters
+    ----------
+    path : path-like
+    model : DamperModel, AugmentedModel or HystereticOscillator
+        An augmented model is written as its base model plus ``effects``.
+    input : InputSpec, optional
+        Default: voltage over the model's ``voltage_range`` (a current for ``unit="A"``).
+    effects : sequence of Effect
+        Terms on top of ``model`` (added to an augmented model's own).
+    quality, provenance : dict, optional
+        Errors and standard errors; :func:`file_provenance` by default.
+    notes : sequence of str
+    extra : dict, optional
+        More entries of ``quality`` (the hysteretic oscillator's integration settings).
+    """
+    effects = tuple(effects)
+    if isinstance(model, AugmentedModel):
+        effects = tuple(model.effects) + effects
+        model = model.base
+    if isinstance(model, HystereticOscillator):
+        name = OSCILLATOR_MODEL
+        params = {k: {"value": float(v), "unit": OSCILLATOR_UNITS[k]} for k, v in model.parameters().items()}
+        spec = input or InputSpec("force", "N", (-math.inf, math.inf), ())
+    else:
+        if not isinstance(model, DamperModel) or MODELS.get(getattr(model, "name", "")) is not type(model):
+            raise InputError(f"model file: {type(model).__name__} is not a registered damper model")
+        name = model.name
+        spec = input or InputSpec("voltage", "V", as_range(model.voltage_range), ())
+        params = {}
+        for f in dataclasses.fields(model):  # type: ignore[arg-type]  # every registered model is a dataclass
+            if f.name == "voltage_range":
+                continue
+            value = getattr(model, f.name)
+            unit = parameter_unit(name, f.name, spec.unit) or "SI"
+            entry = _law_json(value) if isinstance(value, VoltageLaw) else {"value": float(value)}
+            params[f.name] = {**entry, "unit": unit}
+    doc: dict[str, Any] = {"format": FORMAT, "format_version": FORMAT_VERSION, "model": name,
+           "input": {**spec.to_json(), "range": [None if not math.isfinite(v) else float(v) for v in spec.range]},
+           "parameters": params, "effects": [_effect_json(e) for e in effects],
+           "quality": dict(quality or {}), "provenance": dict(provenance or file_provenance()),
+           "notes": list(notes)}
+    if extra:
+        doc["quality"].update(extra)
+    path = Path(path)
+    return atomic_write_text(path, json.dumps(doc, indent=2, default=_jsonable, allow_nan=False) + "\n")
+
+
+# ------------------------------------------------------------------------------------ reading
+
+def looks_like_model_file(text: str) -> bool:
+    """``text`` names a JSON file (rather than a registered model name)."""
+    return str(text).lower().endswith(".json") or "/" in str(text) or "\\" in str(text)
+
+
+def _number(value, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{where}: expected a number, got {value!r}")
+    if not math.isfinite(float(value)):
+        raise InputError(f"{where}: expected a finite number, got {value!r}")
+    return float(value)
+
+
+def _numbers(value, where: str, length: int | None = None) -> list[float]:
+    if not isinstance(value, list) or not value:
+        raise InputError(f"{where}: expected a list of numbers, got {value!r}")
+    if length is not None and len(value) != length:
+        raise InputError(f"{where}: expected {length} numbers, got {len(value)}")
+    return [_number(v, f"{where}[{i}]") for i, v in enumerate(value)]
+
+
+def _read_input(doc: dict, where: str) -> InputSpec:
+    raw = doc.get("input")
+    if not isinstance(raw, dict):
+        raise InputError(f"{where}: input: expected an object with quantity, unit, range, levels")
+    unknown = set(raw) - {"quantity", "unit", "range", "levels"}
+    if unknown:
+        raise InputError(f"{where}: input: unknown field(s) {', '.join(sorted(unknown))}; expected quantity, "
+                         "unit, range, levels")
+    quantity = raw.get("quantity", "voltage")
+    if quantity not in INPUT_UNITS:
+        raise InputError(f"{where}: input.quantity: expected voltage or current, got {quantity!r}")
+    unit = raw.get("unit", INPUT_UNITS[quantity])
+    if unit != INPUT_UNITS[quantity]:
+        raise InputError(f"{where}: input.unit: expected {INPUT_UNITS[quantity]} for a {quantity}, got {unit!r}")
+    lo, hi = _numbers(raw.get("range", [0.0, 1.0]), f"{where}: input.range", 2)
+    if not lo < hi:
+        raise InputError(f"{where}: input.range: expected min < max, got [{lo:g}, {hi:g}] {unit}")
+    levels = tuple(_numbers(raw["levels"], f"{where}: input.levels")) if raw.get("levels") else ()
+    for v in levels:
+        if not lo - 1e-9 <= v <= hi + 1e-9:
+            raise InputError(f"{where}: input.levels: {v:g} {unit} is outside the input range "
+                             f"[{lo:g}, {hi:g}] {unit}")
+    return InputSpec(quantity, unit, (lo, hi), levels)
+
+
+def _read_law(entry: dict, where: str, spec: InputSpec) -> VoltageLaw:
+    kind = entry.get("law")
+    if kind not in LAW_FIELDS:
+        raise InputError(f"{where}: law: expected one of {', '.join(LAW_FIELDS)}, got {kind!r}")
+    expected = set(LAW_FIELDS[kind]) | {"law", "unit"}
+    unknown = set(entry) - expected
+    missing = [k for k in LAW_FIELDS[kind] if k not in entry]
+    if unknown or missing:
+        raise InputError(f"{where}: a {kind} law has fields {', '.join(LAW_FIELDS[kind])}"
+                         + (f"; missing {', '.join(missing)}" if missing else "")
+                         + (f"; extra {', '.join(sorted(unknown))}" if unknown else ""))
+    if kind == "constant":
+        return Constant(_number(entry["value"], f"{where}.value"))
+    if kind == "polynomial":
+        return Polynomial(tuple(_numbers(entry["coefficients"], f"{where}.coefficients")))
+    if kind == "seed_kappa_w":
+        return SeedKappaW(tuple(_numbers(entry["k"], f"{where}.k", 9)))
+    if kind == "tabulated":
+        inputs = _numbers(entry["inputs"], f"{where}.inputs")
+        values = _numbers(entry["values"], f"{where}.values", len(inputs))
+        lo, hi = spec.range
+        for v in inputs:
+            if not lo - 1e-9 <= v <= hi + 1e-9:
+                raise InputError(f"{where}: law node at {v:g} {spec.unit} is outside the input range "
+                                 f"[{lo:g}, {hi:g}] {spec.unit}")
+        return Tabulated(tuple(inputs), tuple(values))
+    args = [_number(entry[k], f"{where}.{k}") for k in LAW_FIELDS[kind]]
+    return Exponential(*args) if kind == "exponential" else Saturating(*args)
+
+
+def _read_parameters(doc: dict, where: str, name: str, cls, spec: InputSpec) -> dict:
+    raw = doc.get("parameters")
+    if not isinstance(raw, dict):
+        raise InputError(f"{where}: parameters: expected an object of name: {{value, unit}}")
+    if cls is HystereticOscillator:
+        expected = list(OSCILLATOR_UNITS)
+        required = [k for k in expected if k != "branch"]
+    else:
+        fields = [f for f in dataclasses.fields(cls) if f.name != "voltage_range"]
+        expected = [f.name for f in fields]
+        required = [f.name for f in fields if f.default is dataclasses.MISSING
+                    and f.default_factory is dataclasses.MISSING]
+    missing = [k for k in required if k not in raw]
+    extra = [k for k in raw if k not in expected]
+    if missing:
+        raise InputError(f"{where}: parameters: missing {', '.join(missing)} for model {name} "
+                         f"(expected {', '.join(expected)})")
+    if extra:
+        raise InputError(f"{where}: parameters: {', '.join(extra)} not a parameter of model {name} "
+                         f"(expected {', '.join(expected)})")
+    out: dict[str, Any] = {}
+    for key, entry in raw.items():
+        at = f"{where}: parameters.{key}"
+        if isinstance(entry, (int, float)) and not isinstance(entry, bool):
+            raise InputError(f"{at}: expected {{\"value\": ..., \"unit\": ...}} (units are required), got {entry!r}")
+        if not isinstance(entry, dict):
+            raise InputError(f"{at}: expected {{\"value\": ..., \"unit\": ...}} or a law, got {entry!r}")
+        unit = parameter_unit(name, key, spec.unit)
+        if "unit" not in entry:
+            raise InputError(f"{at}: unit missing" + (f"; expected {unit}" if unit else ""))
+        if unit is not None and _norm_unit(entry["unit"]) != _norm_unit(unit):
+            raise InputError(f"{at}: unit {entry['unit']!r}; expected {unit} (SI)")
+        if "law" in entry:
+            if cls is HystereticOscillator:
+                raise InputError(f"{at}: the hysteretic oscillator has no input laws; give a value")
+            out[key] = _read_law(entry, at, spec)
+        else:
+            if set(entry) - {"value", "unit"} or "value" not in entry:
+                raise InputError(f"{at}: expected the fields value and unit (or law, unit and the law's fields)")
+            out[key] = _number(entry["value"], at)
+    return out
+
+
+def _read_effects(doc: dict, where: str) -> tuple:
+    raw = doc.get("effects", [])
+    if not isinstance(raw, list):
+        raise InputError(f"{where}: effects: expected a list of {{name, parameter, value, unit}}")
+    effects = []
+    for i, entry in enumerate(raw):
+        at = f"{where}: effects[{i}]"
+        if not isinstance(entry, dict) or "name" not in entry or "value" not in entry:
+            raise InputError(f"{at}: expected {{name, parameter, value, unit}}, got {entry!r}")
+        cls = EFFECTS.get(entry["name"])
+        if cls is None:
+            raise InputError(f"{at}: unknown effect {entry['name']!r}; expected one of {', '.join(EFFECTS)}")
+        extra = set(entry) - {"name", "parameter", "value", "unit"}
+        if extra:
+            raise InputError(f"{at}: unknown field(s) {', '.join(sorted(extra))}")
+        if entry.get("parameter", cls.parameter_name) != cls.parameter_name:
+            raise InputError(f"{at}: {cls.name} has parameter {cls.parameter_name}, got {entry['parameter']!r}")
+        if "unit" not in entry:
+            raise InputError(f"{at}: unit missing; expected {cls.unit}")
+        if _norm_unit(entry["unit"]) != _norm_unit(cls.unit):
+            raise InputError(f"{at}: unit {entry['unit']!r}; expected {cls.unit} (SI)")
+        try:
+            effects.append(cls(_number(entry["value"], f"{at}.value")))  # type: ignore[call-arg]
+        except InputError as exc:
+            raise InputError(f"{at}: {exc}") from None
+    return tuple(effects)
+
+
+def read_model_file(path) -> ModelFile:
+    """Read a model file (module docstring); every problem is one :class:`InputError` line.
+
+    Raises
+    ------
+    DataNotFoundError
+        The file does not exist.
+    InputError
+        Anything else wrong with it (the message names the file and the field).
+    """
+    path = Path(path)
+    where = str(path)
+    if not path.is_file():
+        raise DataNotFoundError(f"{where}: damper model file not found")
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(f"{where}: not a JSON file ({exc.__class__.__name__}: {exc})") from None
+    if not isinstance(doc, dict):
+        raise InputError(f"{where}: expected a JSON object with format {FORMAT!r}")
+    if doc.get("format") != FORMAT:
+        if doc.get("kind") == OSCILLATOR_MODEL:
+            return _read_legacy_oscillator(doc, where)
+        raise InputError(f"{where}: format: expected {FORMAT!r}, got {doc.get('format')!r}")
+    version = doc.get("format_version", FORMAT_VERSION)
+    if version != FORMAT_VERSION:
+        raise InputError(f"{where}: format_version: expected {FORMAT_VERSION}, got {version!r}")
+    missing = [k for k in _REQUIRED if k not in doc]
+    if missing:
+        raise InputError(f"{where}: missing field(s) {', '.join(missing)}")
+    extra = set(doc) - _KEYS
+    if extra:
+        raise InputError(f"{where}: unknown field(s) {', '.join(sorted(extra))}; expected "
+                         + ", ".join(sorted(_KEYS)))
+    name = doc["model"]
+    if name == OSCILLATOR_MODEL:
+        cls: Any = HystereticOscillator
+        spec = InputSpec("force", "N", (-math.inf, math.inf), ())
+    else:
+        if name not in MODELS:
+            raise InputError(f"{where}: model: unknown model {name!r}; expected one of {', '.join(sorted(MODELS))}"
+                             f" or {OSCILLATOR_MODEL}")
+        cls = get_model_class(name)
+        spec = _read_input(doc, where)
+    params = _read_parameters(doc, where, name, cls, spec)
+    effects = _read_effects(doc, where)
+    try:
+        if cls is HystereticOscillator:
+            model = HystereticOscillator(**params)
+        else:
+            model = cls(**params, voltage_range=spec.range)
+    except InputError as exc:  # ParameterError: a value or a law outside its class over the range
+        raise InputError(f"{where}: {exc} (over the input range [{spec.range[0]:g}, {spec.range[1]:g}] "
+                         f"{spec.unit})") from None
+    except TypeError as exc:
+        raise InputError(f"{where}: parameters do not fit model {name}: {exc}") from None
+    if effects and not isinstance(model, (NormalizedBoucWen, ExtendedBoucWen)):
+        raise InputError(f"{where}: effects need a normalized_bouc_wen or extended_bouc_wen model, not {name}")
+    out = ModelFile(model=model, input=spec, effects=effects,
+                    quality=doc.get("quality") or {}, provenance=doc.get("provenance") or {},
+                    notes=tuple(str(n) for n in doc.get("notes") or ()), path=str(path))
+    if effects:
+        try:
+            out.augmented()
+        except InputError as exc:
+            raise InputError(f"{where}: effects: {exc}") from None
+    return out
+
+
+def _read_legacy_oscillator(doc: dict, where: str) -> ModelFile:
+    """The hysteretic oscillator's file of before the common format (``{"kind", "parameters", ...}``)."""
+    params = doc.get("parameters")
+    if not isinstance(params, dict) or sorted(params) != sorted(OSCILLATOR_UNITS):
+        raise InputError(f"{where}: parameters: expected {', '.join(OSCILLATOR_UNITS)}")
+    try:
+        model = HystereticOscillator(**params)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    quality = {k: v for k, v in doc.items() if k not in ("kind", "parameters")}
+    return ModelFile(model=model, input=InputSpec("force", "N", (-math.inf, math.inf), ()), quality=quality,
+                     path=where)
+
+
+def capacity_force(model: DamperModel, test: dict | None = None) -> float:
+    """Peak force [N] of ``model`` at its largest input under :data:`CAPACITY_TEST` (the force a
+    target capacity is compared with)."""
+    test = dict(CAPACITY_TEST if test is None else test)
+    f, a, cycles = test["frequency_hz"], test["amplitude_m"], test["cycles"]
+    t = np.linspace(0.0, cycles / f, int(cycles * 400) + 1)
+    x = a * np.sin(2 * np.pi * f * t)
+    force = simulate(model, t, x, 2 * np.pi * f * a * np.cos(2 * np.pi * f * t), float(model.voltage_range[1])).force
+    last = t >= (cycles - 1) / f
+    return float(np.max(np.abs(force[last])))

@@ -1,0 +1,231 @@
+"""A user's damper model file and a user's controller in the building (sbib run / sbib compare)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from benchmark.applications.cli import main
+from damper.diagnosis.augmented import AugmentedModel
+from damper.models.bouc_wen import NormalizedBoucWen
+from damper.diagnosis.effects import Inertia, RollOff
+from damper.io.model_file import InputSpec, capacity_force, read_model_file, write_model_file
+from damper.models.voltage_laws import Tabulated
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLE = f"{ROOT / 'examples' / 'my_controller.py'}:StrokeProportional"
+
+
+@pytest.fixture(scope="module")
+def short_record(tmp_path_factory, records_dir):
+    """The first 6 s of kobe as a two-component CSV file."""
+    from records import load_benchmark_record, write_csv
+    rec = load_benchmark_record("kobe", "FN-x", records_dir=records_dir)
+    short = rec.replace(acceleration=rec.acceleration[:1200].copy(), name="kobe6", labels=("NS", "EW"))
+    return str(write_csv(short, tmp_path_factory.mktemp("records") / "kobe6.csv"))
+
+
+def _lab_model(roll_off=True, levels=(0.0, 0.5, 1.0)):
+    """A lab-scale (about 2 kN) model on coil current, like the diagnosis of the UTFSM damper."""
+    if len(levels) > 1:
+        base = NormalizedBoucWen(kappa_xdot=Tabulated(levels, (1500.0, 4300.0, 7700.0)[:len(levels)]),
+                                 kappa_w=Tabulated(levels, (130.0, 700.0, 1130.0)[:len(levels)]),
+                                 rho=3000.0, sigma=1.1, n=2.5)
+    else:
+        base = NormalizedBoucWen(kappa_xdot=4300.0, kappa_w=700.0, rho=3000.0, sigma=1.1, n=2.5)
+    effects = (RollOff(0.0168), Inertia(15.0)) if roll_off else ()
+    return AugmentedModel(base, effects)
+
+
+@pytest.fixture(scope="module")
+def model_files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("models")
+    spec = InputSpec("current", "A", (0.0, 1.0), (0.0, 0.5, 1.0))
+    final = write_model_file(d / "final.json", _lab_model(), input=spec)
+    base = write_model_file(d / "base.json", _lab_model(roll_off=False), input=spec)
+    same = write_model_file(d / "same.json", _lab_model(roll_off=False), input=spec)
+    single = write_model_file(d / "single.json", _lab_model(roll_off=False, levels=(0.5,)),
+                              input=InputSpec("current", "A", (0.0, 1.0), (0.5,)))
+    return {"final": final, "base": base, "same": same, "single": single, "dir": d}
+
+
+def _run(capsys, *args):
+    status = main(["run", *args, "--json"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    return json.loads(out), err
+
+
+def test_example_controller_runs_in_the_building(capsys, short_record):
+    s, _ = _run(capsys, "--record", short_record, "--controller", EXAMPLE)
+    assert s["controller"] == EXAMPLE
+    assert s["peaks"]["peak_device_force"] > 0 and s["J"]["J3"] < 1.0  # the devices worked
+    # the law as written: v = v_max min(1, |x|/0.15) from the measured strokes (no noise by default)
+    from benchmark.applications.cli_run import run_command
+    run = run_command(short_record, controller=EXAMPLE, warn=False)
+    result = run["result"]
+    v, x = np.asarray(result.voltage), np.asarray(result.device_displacement)
+    steps = np.arange(0, v.shape[0] - 1, int(round(0.005 / (result.t[1] - result.t[0]))))
+    expected = np.minimum(1.0, np.abs(x[steps]) / 0.15)
+    assert np.max(np.abs(v[steps + 1] - expected)) < 0.02  # measured a step earlier: the stroke moves little
+    assert v.max() > 1e-3  # 6 s of kobe: strokes of a few mm
+
+
+BAD_CONTROLLERS = {
+    "no_argument_step": ("class C:\n    def step(self):\n        return [0.0]\n", "must take one argument"),
+    "two_argument_step": ("class C:\n    def step(self, y, t):\n        return y\n", "must take one argument"),
+    "needs_arguments": ("class C:\n    def __init__(self, gain):\n        pass\n    def step(self, y):\n"
+                        "        return y\n", "cannot be built with no arguments"),
+    "raises": ("class C:\n    def step(self, y):\n        return 1 / 0\n", "raised ZeroDivisionError"),
+    "out_of_range": ("import numpy as np\nclass C:\n    def reset(self, context):\n        self.n = context.n_devices\n"
+                     "    def step(self, y):\n        return np.full(self.n, 5.0)\n", "outside [0, 1]"),
+    "wrong_count": ("class C:\n    def step(self, y):\n        return [0.0, 0.0]\n", "shape (2,)"),
+    "no_step": ("class C:\n    pass\n", "has no step"),
+    "syntax": ("class C(:\n", "SyntaxError"),
+    "missing_class": ("class D:\n    pass\n", "has no C"),
+    "reset_raises": ("class C:\n    def reset(self, context):\n        raise KeyError('gain')\n"
+                     "    def step(self, y):\n        return y\n", "reset(context) raised KeyError"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_CONTROLLERS))
+def test_bad_controller_is_refused_in_one_line(capsys, tmp_path, short_record, case):
+    source, words = BAD_CONTROLLERS[case]
+    path = tmp_path / f"{case}.py"
+    path.write_text(source)
+    spec = f"{path}:C"
+    assert main(["run", "--record", short_record, "--controller", spec]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and spec in err and words in err, err
+
+
+def test_model_file_in_the_building_scaled_with_stated_mapping(capsys, tmp_path, short_record, model_files):
+    out = tmp_path / "r.h5"
+    s, err = _run(capsys, "--record", short_record, "--controller", "clipped-optimal", "--damper",
+                  str(model_files["final"]), "--damper-scale", "1000kN", "--devices", "8", "--out", str(out))
+    d = s["damper"]
+    assert d["n_devices"] == 8 and d["layout"] == "perimeter-8"
+    (c,) = d["dampers"]
+    model, _ = read_model_file(model_files["final"]).building_model()
+    assert c["scale"] == pytest.approx(1e6 / capacity_force(model), rel=1e-9)
+    assert c["model"] == "series_dashpot_bouc_wen" and "current in A" in c["input_mapping"]
+    assert any(n.startswith("inertia") for n in c["notes"]) and "inertia" in err
+    with h5py.File(out) as h5:
+        assert json.loads(h5.attrs["damper"])["dampers"][0]["scale"] == pytest.approx(c["scale"])
+    # the reference stays the building without devices
+    ref, _ = _run(capsys, "--record", short_record, "--controller", "clipped-optimal")
+    assert s["reference_peaks"] == ref["reference_peaks"]
+    assert s["peaks"] != ref["peaks"]
+
+
+def test_single_level_model_says_nothing_to_command(capsys, short_record, model_files):
+    s, err = _run(capsys, "--record", short_record, "--controller", "clipped-optimal", "--damper",
+                  str(model_files["single"]), "--damper-scale", "300")
+    assert "nothing to command" in err and "nothing to command" in " ".join(s["damper"]["dampers"][0]["notes"])
+
+
+def test_layout_file_with_a_model_per_slot(capsys, tmp_path, short_record, model_files):
+    layout = tmp_path / "layout.json"
+    layout.write_text(json.dumps({"name": "two", "devices": [
+        {"x": 1.82, "y": 30.69, "direction": "x", "model": str(model_files["final"])},
+        {"x": -17.25, "y": 7.35, "direction": "y"}]}))
+    s, _ = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper",
+                str(model_files["base"]), "--damper-scale", "200", "--devices", str(layout))
+    assert s["damper"]["n_devices"] == 2 and s["damper"]["layout"] == "two"
+    assert sorted(c["damper"] for c in s["damper"]["dampers"]) == ["base.json", "final.json"]
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--damper", "nosuchmodel"], "not a model file"),
+    (["--damper-scale", "-3"], "--damper-scale"),
+    (["--devices", "3"], "even number"),
+])
+def test_bad_damper_options_one_line(capsys, short_record, args, words):
+    assert main(["run", "--record", short_record, "--controller", "passive-on", *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and words in err, err
+
+
+def test_bad_model_file_one_line(capsys, tmp_path, short_record, model_files):
+    doc = json.loads(Path(model_files["base"]).read_text())
+    doc["parameters"]["kappa_w"]["unit"] = "kN"
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(doc))
+    assert main(["run", "--record", short_record, "--controller", "passive-on", "--damper", str(bad)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and str(bad) in err and "expected N" in err
+
+
+def test_compare_dampers_same_runs_differences_and_figures(capsys, tmp_path, short_record, model_files):
+    files = ",".join(str(model_files[k]) for k in ("base", "same", "final"))
+    status = main(["compare", "--records", short_record, "--orientations", "FN-x", "--controllers",
+                   f"clipped-optimal,{EXAMPLE}", "--dampers", files, "--damper-scale", "1000kN", "--jobs", "1",
+                   "--json", "--plot", str(tmp_path / "figs")])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    doc = json.loads(out)
+    assert len(doc["runs"]) == 6 and {r["damper"] for r in doc["runs"]} == {"base.json", "same.json", "final.json"}
+    scales = {d["damper"]: d["scale"] for d in doc["settings"]["damper"]["dampers"]}
+    assert len(set(scales.values())) == 1  # one device, one similitude: the first model's factor
+    for entry in doc["model_differences"]:
+        same, final = entry["models"]["same.json"], entry["models"]["final.json"]
+        assert entry["reference"] == "base.json"
+        # the same model in another file: the same runs
+        assert all(v == pytest.approx(0.0, abs=1e-12) for v in same["dJ"].values() if v is not None)
+        assert same["force_difference"]["peak"] == pytest.approx(0.0, abs=1e-6)
+        assert same["force_difference"]["replay_peak"] < 1e-3 * final["force_difference"]["replay_peak"]
+        # the roll-off changes the device's force
+        assert final["force_difference"]["replay_relative_rms"] > 0.01
+    figures = sorted(p.name for p in (tmp_path / "figs").glob("force_difference_*.png"))
+    assert len(figures) == 2
+
+
+def test_ensemble_toml_takes_damper_devices_and_scale(tmp_path, model_files):
+    from benchmark.applications.ensemble import EnsembleConfig
+    from benchmark.applications.ensemble_simulation import build_building
+    from benchmark.foundation.errors import InputError
+    toml = tmp_path / "e.toml"
+    rel = model_files["final"]
+    toml.write_text(f'controllers = ["clipped-optimal"]\nrecords = ["kobe"]\ndamper = "{rel}"\n'
+                    'devices = 4\ndamper_scale = "1000kN"\n')
+    config = EnsembleConfig.from_toml(toml)
+    case = config.cases()[0]
+    assert "|damper=final.json|devices=4|damper_scale=1000kN" in case.key
+    building = build_building(None, (), (), case.building)
+    assert building.devices.n_devices == 4
+    assert {m.name for m in building.devices.models} == {"series_dashpot_bouc_wen"}
+    bad = tmp_path / "bad.toml"
+    bad.write_text('controllers = ["clipped-optimal"]\nrecords = ["kobe"]\ndamper = "missing.json"\n')
+    with pytest.raises(InputError) as info:
+        EnsembleConfig.from_toml(bad)
+    assert "\n" not in str(info.value) and "missing.json" in str(info.value)
+
+
+@pytest.mark.slow
+def test_chain_diagnose_compare_run(capsys, tmp_path, shared_dir, monkeypatch):
+    """The README's chain: UTFSM 10 mm 1 Hz tests at every current -> base and final models with
+    current laws -> both in the same kobe runs -> the example controller."""
+    monkeypatch.chdir(tmp_path)
+    folder = shared_dir / "hysteresis_data/quiroz_utfsm_mr_damper_sinusoidal/Preprocesados"
+    files = sorted(str(p) for p in folder.glob("10mm1Hz*A.txt"))
+    assert len(files) == 5
+    assert main(["diagnose", "--data", *files, "--out", "d", "--quiet"]) == 0
+    capsys.readouterr()
+    for name in ("base_model", "final_model"):
+        mf = read_model_file(tmp_path / "d" / f"{name}.json")
+        assert mf.input.quantity == "current" and mf.input.range == (0.0, 1.0)
+        assert mf.input.levels == (0.0, 0.25, 0.5, 0.75, 1.0)
+        doc = json.loads((tmp_path / "d" / f"{name}.json").read_text())
+        assert doc["parameters"]["kappa_w"]["law"] == "tabulated"  # a current law over 0-1 A
+        assert len(doc["provenance"]["inputs"]) == 5
+    assert main(["compare", "--dampers", "d/base_model.json,d/final_model.json", "--damper-scale", "1000kN",
+                 "--records", "kobe", "--controllers", "clipped-optimal", "--out", "c.h5", "--plot", "figs/"]) == 0
+    out = capsys.readouterr().out
+    assert "clipped-optimal [base_model.json]" in out and "clipped-optimal [final_model.json]" in out
+    assert "dJ:" in out
+    assert len(list((tmp_path / "figs").glob("force_difference_kobe_*_clipped-optimal.png"))) == 2
+    assert main(["run", "--record", "kobe", "--controller", EXAMPLE]) == 0
