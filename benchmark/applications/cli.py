@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import signal
 import sys
 
 # One BLAS thread per process, set before numpy is imported (an explicit setting wins): the
@@ -24,8 +25,9 @@ from typing import Sequence
 from benchmark import __version__
 from benchmark.foundation.errors import InputError, NumericalError, SbibError
 from benchmark.foundation.kernel_cache import ensure_fresh_once
+from benchmark.foundation.pools import stop_children
 
-__all__ = ["main", "build_parser", "COMMAND_MODULES"]
+__all__ = ["main", "run", "build_parser", "COMMAND_MODULES"]
 
 # Modules that contribute sub-commands, in the order they appear in ``sbib --help``.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -80,13 +82,24 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the ``sbib`` command line and return its exit status."""
-    ensure_fresh_once()  # before any kernel is loaded from numba's cache (kernel_cache)
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
-        return EXIT_INPUT_ERROR
+    """Run the ``sbib`` command line and return its exit status.
+
+    Ctrl-C (SIGINT) anywhere, from the first import on, ends in one line on stderr and exit
+    status 130 (:func:`_interrupted`); further Ctrl-C after the first are ignored.
+    """
+    try:
+        ensure_fresh_once()  # before any kernel is loaded from numba's cache (kernel_cache)
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        if not getattr(args, "func", None):
+            parser.print_help()
+            return EXIT_INPUT_ERROR
+        return _dispatch(args)
+    except KeyboardInterrupt:
+        return _interrupted()
+
+
+def _dispatch(args: argparse.Namespace) -> int:
     try:
         return int(args.func(args) or 0)
     except NumericalError as exc:
@@ -105,10 +118,40 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as exc:  # an output path that cannot be created or written (the message names it)
         print(f"sbib: error: {exc}", file=sys.stderr)
         return EXIT_INPUT_ERROR
-    except KeyboardInterrupt:
+
+
+def _interrupted() -> int:
+    """Ctrl-C: ignore any further one, end the worker processes still alive, say so, return 130.
+
+    The pools stop their own workers on the way up (:class:`benchmark.foundation.pools.WorkerPool`);
+    this is the last resort for any other child (a forked figure drawer, a pool not stopped).
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    stop_children()
+    try:
         print("sbib: interrupted; finished result files are complete, unfinished ones were removed",
-              file=sys.stderr)
-        return EXIT_INTERRUPTED
+              file=sys.stderr, flush=True)
+    except (OSError, ValueError):  # stderr closed
+        pass
+    return EXIT_INTERRUPTED
+
+
+def run() -> None:
+    """Entry point of the ``sbib`` script (and ``python -m benchmark``): :func:`main`, then exit.
+
+    After an interrupt the process ends at once (``os._exit`` once the output is flushed): the
+    result files are already complete or removed, and the interpreter's exit-time joins of
+    threads that a Ctrl-C cut short (process-pool manager threads) could otherwise block it.
+    """
+    status = main()
+    if status == EXIT_INTERRUPTED:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(status)
+    sys.exit(status)
 
 
 def _silence_stdout() -> None:

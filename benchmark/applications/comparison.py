@@ -17,7 +17,6 @@ import sys
 import math
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -40,6 +39,7 @@ from records.catalogue import ORIENTATION_ALIASES
 from benchmark.simulator.case import Case, ReferenceCache, choose_control_step, run_case
 from benchmark.simulator.criteria import J_NAMES, key_json, key_lines  # the single definition table of the J's
 from benchmark.foundation.progress import progress_bar
+from benchmark.foundation.pools import WorkerPool
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -319,6 +319,11 @@ def _controller_label(spec) -> str:
     return spec if isinstance(spec, str) else str(getattr(spec, "name", type(spec).__name__))
 
 
+def _run_chunk(tasks: list) -> list:
+    """Worker: :func:`_run_one` for a few consecutive tasks (the same record share a reference)."""
+    return [_run_one(task) for task in tasks]
+
+
 def _run_one(task) -> tuple:
     """Worker: one controlled run and its reference (cached per worker), through the one way to
     run a case (:func:`benchmark.simulator.case.run_case`)."""
@@ -428,16 +433,17 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
                 bar.set_postfix_str(f"{task[0]} {task[1]} {_controller_label(task[2])}")
                 bar.update()
         else:
-            import multiprocessing
-
             chunk = max(1, min(len(specs), len(tasks) // n_jobs))
-            ctx = multiprocessing.get_context("spawn" if os.name == "nt" else "fork")
-            with ProcessPoolExecutor(max_workers=n_jobs, mp_context=ctx, initializer=_init_worker,
-                                     initargs=(building,)) as pool:
-                for outcome in pool.map(_run_one, tasks, chunksize=chunk):
-                    outcomes.append(outcome)
-                    bar.set_postfix_str(f"{outcome[0].record} {outcome[0].orientation} {outcome[0].controller}")
-                    bar.update()
+            # WorkerPool: the workers ignore Ctrl-C and an interrupt stops them at once (no wait
+            # for the running simulations). Futures gathered in order, never cancelled here.
+            with WorkerPool(n_jobs, initializer=_init_worker, initargs=(building,)) as pool:
+                futures = [pool.submit(_run_chunk, tasks[i:i + chunk]) for i in range(0, len(tasks), chunk)]
+                for future in futures:
+                    for outcome in future.result():
+                        outcomes.append(outcome)
+                        bar.set_postfix_str(f"{outcome[0].record} {outcome[0].orientation} "
+                                            f"{outcome[0].controller}")
+                        bar.update()
     finally:
         bar.close()
         if n_jobs == 1:

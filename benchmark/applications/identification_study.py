@@ -78,6 +78,7 @@ from damper.laboratory import resolve_device
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from damper.identification import plots
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.pools import stop_pool
 from damper.identification.plots import plot_error_anatomy
 from benchmark.simulator.building import Building
 from benchmark.applications.identification_validation import measure_run
@@ -371,6 +372,9 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                      "entries": [e.to_dict() for e in ceiling_entries]}, indent=2)))
         if figure_job is not None:
             files["figures"] = figure_job.result()
+    except BaseException:  # Ctrl-C or a failed task: stop the workers now, wait for nothing
+        stop_pool(pool)
+        raise
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)

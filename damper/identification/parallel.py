@@ -1,8 +1,8 @@
 """Process pools for the identification study (voltage grid and earthquake validation).
 
 The tasks of the study are independent, deterministic functions of their arguments, so they
-run in a :class:`concurrent.futures.ProcessPoolExecutor` (``fork`` where available, as
-:mod:`benchmark.applications.comparison` does) and their results are gathered in task order: the outputs
+run in a process pool (:class:`benchmark.foundation.pools.WorkerPool`: ``fork`` where available,
+workers that leave Ctrl-C to the parent, stopped at once when interrupted) and their results are gathered in task order: the outputs
 are the same for any number of workers. ``jobs=1`` runs every task in this process.
 
 Every task runs with OpenBLAS limited to one thread (:func:`single_threaded_blas`; the pool's
@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
-import multiprocessing
 import os
-from concurrent.futures import Executor, ProcessPoolExecutor
+from concurrent.futures import Executor
 from typing import Any, Callable, Iterable, Sequence
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.pools import WorkerPool
 
 __all__ = ["worker_count", "make_executor", "make_side_executor", "run_tasks", "single_threaded_blas"]
 
@@ -94,8 +94,9 @@ def make_side_executor() -> Executor | None:
 
 
 def _pool(n: int) -> Executor:
-    ctx = multiprocessing.get_context("spawn" if os.name == "nt" else "fork")
-    return ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_init_worker)
+    # WorkerPool: the workers ignore Ctrl-C; the owner stops the pool at once when interrupted
+    # (benchmark.foundation.pools.pool_closing).
+    return WorkerPool(n, initializer=_init_worker)
 
 
 def run_tasks(fn: Callable, tasks: Sequence[tuple], executor: Executor | None = None,

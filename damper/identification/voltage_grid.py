@@ -46,6 +46,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
+from benchmark.foundation.pools import stop_pool
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.closed_form import MODELS, PARAMETER_NAMES, closed_form
 from damper.identification.cycles import average_branches, detect_cycles, steady_cycles
@@ -490,6 +491,10 @@ def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
                                 {"extended": prm}) for x, prm in zip(v, shared.parameters)], pool)
             for row, new in zip(per_voltage, again):
                 row[j] = new[0]
+    except BaseException:  # Ctrl-C or a failed task: stop the workers now, wait for nothing
+        if own:
+            stop_pool(pool)
+        raise
     finally:
         if own and pool is not None:
             pool.shutdown()
