@@ -12,10 +12,13 @@ and runs it in the building: ``tests/damper/test_model_registration.py``).
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+
 import numba
 import numpy as np
 
-from benchmark.foundation.errors import InputError
+from benchmark.foundation.errors import InputError, ParameterError
 from damper.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANGENT, KERNEL_SPENCER_TYPE,
                          KERNELS, DamperModel)
 from damper.bouc_wen import ExtendedBoucWen, NormalizedBoucWen, bouc_wen_force, bouc_wen_step
@@ -73,7 +76,45 @@ def register_model(cls: type[DamperModel]) -> type[DamperModel]:
         raise InputError(f"register_model: {cls.__name__}: {key!r} is already registered by {taken.__name__}")
     MODELS[name] = cls
     MODELS_BY_ID[model_id] = cls
+    _check_arguments_on_init(cls)
     return cls
+
+
+def _check_arguments_on_init(cls: type[DamperModel]) -> None:
+    """Make ``cls(...)`` with missing or unknown parameters fail with one line that names them.
+
+    The dataclass ``__init__`` would raise a bare ``TypeError`` (``missing 3 required positional
+    arguments``); the wrapper raises :class:`ParameterError` listing every missing parameter and
+    the accepted names instead. Classes that are not dataclasses are left alone.
+    """
+    init = cls.__dict__.get("__init__")
+    if init is None or not dataclasses.is_dataclass(cls) or getattr(init, "_sbib_checked", False):
+        return
+    fields = [f for f in dataclasses.fields(cls) if f.init]
+    names = [f.name for f in fields]
+    required = [f.name for f in fields
+                if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
+
+    @functools.wraps(init)
+    def checked_init(self, *args, **kwargs):
+        given = set(names[:len(args)]) | set(kwargs)
+        unknown = sorted(set(kwargs) - set(names))
+        missing = [n for n in required if n not in given]
+        if unknown or missing or len(args) > len(names):
+            problems = []
+            if missing:
+                problems.append(f"missing required parameter{'s' if len(missing) > 1 else ''} "
+                                + ", ".join(missing))
+            if unknown:
+                problems.append("unknown parameter" + ("s " if len(unknown) > 1 else " ") + ", ".join(unknown))
+            if len(args) > len(names):
+                problems.append(f"{len(args)} positional values for {len(names)} parameters")
+            raise ParameterError(f"damper model {cls.name!r} ({cls.__name__}): " + "; ".join(problems)
+                                 + "; its parameters (SI units) are " + ", ".join(names))
+        init(self, *args, **kwargs)
+
+    checked_init._sbib_checked = True  # type: ignore[attr-defined]
+    cls.__init__ = checked_init  # type: ignore[method-assign]
 
 
 for _cls in (NormalizedBoucWen, ExtendedBoucWen, Spencer, VirtualBenchmarkDamper, SeriesDashpotBoucWen,

@@ -12,8 +12,10 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import signal
 import sys
+import textwrap
 
 # One BLAS thread per process, set before numpy is imported (an explicit setting wins): the
 # simulator's dense products are small (54 states, 6000 samples), so OpenBLAS's extra threads only
@@ -48,6 +50,13 @@ EXIT_NUMERICAL_ERROR = 3
 EXIT_INTERRUPTED = 130
 
 
+class _WholeNames(argparse.HelpFormatter):
+    """Wrap option help between words only: ``clipped-optimal`` stays one name on one line."""
+
+    def _split_lines(self, text, width):
+        return textwrap.wrap(" ".join(text.split()), width, break_on_hyphens=False) or [""]
+
+
 class _Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one ``sbib: error: ...`` line (exit status 2),
     like every other input error, instead of the usage block followed by the message.
@@ -56,6 +65,15 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # type: ignore[override]
         where = "" if self.prog == "sbib" else f"{self.prog}: "
         self.exit(EXIT_INPUT_ERROR, f"sbib: error: {where}{message} (see '{self.prog} --help')\n")
+
+    def __init__(self, *args, **kwargs) -> None:
+        kind = kwargs.get("formatter_class", argparse.HelpFormatter)
+        kwargs["formatter_class"] = type(f"Whole{kind.__name__}", (_WholeNames, kind), {})
+        super().__init__(*args, **kwargs)
+
+    def format_help(self) -> str:
+        # Descriptions come from module docstrings: show their reST as plain text in a terminal.
+        return plain_text(super().format_help())
 
     def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
         namespace, extras = super().parse_known_args(args, namespace)
@@ -66,6 +84,20 @@ class _Parser(argparse.ArgumentParser):
                     and not isinstance(action, argparse._AppendAction)):
                 self.error(f"argument {'/'.join(action.option_strings)}: expected one value")
         return namespace, extras
+
+
+_ROLE = re.compile(r":(?:mod|func|class|meth|attr|data|obj|exc|ref|doc|py:\w+):`~?([^`]*)`")
+
+
+def plain_text(text: str) -> str:
+    """``text`` with its reST inline markup shown as plain text (for ``--help``).
+
+    ``:func:`~a.b``` -> ``b``, ````x```` -> ``x``, a trailing ``::`` (literal block) -> ``:``.
+    """
+    text = _ROLE.sub(lambda m: m.group(1).split(" <")[0].rsplit(".", 1)[-1] if m.group(0).count("~")
+                     else m.group(1).split(" <")[0], text)
+    text = re.sub(r"``([^`]*)``", r"\1", text)
+    return re.sub(r"(\S)::[ \t]*$", r"\1:", text, flags=re.MULTILINE)
 
 
 def build_parser() -> argparse.ArgumentParser:

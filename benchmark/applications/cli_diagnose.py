@@ -22,11 +22,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 from pathlib import Path
 
 from benchmark.foundation.errors import InputError
 from damper.data import parse_utfsm_name, read_csv, read_utfsm
-from damper.effects import EFFECT_NAMES
+from damper.effects import EFFECT_NAMES, EFFECTS
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import write_report
@@ -62,27 +63,53 @@ def _fraction(text: str) -> float:
     return value
 
 
+def _paragraphs(text: str, width: int = 78) -> str:
+    """Wrap each line of ``text`` to ``width``; a line starting with a tab is an indented item."""
+    out = []
+    for line in text.split("\n"):
+        indent = "  " if line.startswith("\t") else ""
+        out.append(textwrap.fill(line.strip(), width, initial_indent=indent, subsequent_indent=indent * 2,
+                                 break_on_hyphens=False) if line.strip() else "")
+    return "\n".join(out)
+
+
 def register(subparsers) -> None:
     """Add the ``diagnose`` sub-command."""
     p = subparsers.add_parser(
         "diagnose", help="residual loop: find the effects a damper model lacks in test data",
-        description="Fit a Bouc-Wen base model to damper tests, trace the held-out residual, add "
-                    "effects from the library (" + ", ".join(EFFECT_NAMES) + ") while they pay "
-                    "(held-out BIC) and report the error before and after.")
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description=_paragraphs(
+            "Fit a Bouc-Wen model to damper tests (force, displacement, voltage or current), look at "
+            "what it gets wrong and add the missing physical effects one at a time.\n\n"
+            "The last part of each test (--holdout) is held out: not used in the fit, only to judge "
+            "it. The error left there (the held-out residual) is traced against displacement, "
+            "velocity, acceleration, time and the coil input; each variable it depends on points to "
+            "candidate effects, each an extra force term:\n"
+            + "".join(f"\t{name}: {EFFECTS[name].description}\n" for name in EFFECT_NAMES)
+            + "An effect is kept when it lowers the held-out Bayesian information criterion (BIC: "
+            "the held-out error, penalised by the number of parameters), i.e. when it pays for "
+            "its extra parameters; structure no effect explains is reported as unexplained.\n\n"
+            "Writes (with --out DIR): report.md (the findings, parameters with units), "
+            "diagnosis.json (the same, machine-readable) and PNG plots of the residual, the loops "
+            "and the forces. Prints the held-out relative RMS force error before and after.\n\n"
+            "Example:\n\tsbib diagnose --data tests/*Hz1A.txt --model normalized --out out/diagnose-1A"))
     p.add_argument("--data", nargs="+", required=True, metavar="FILE",
                    help="test files: damper CSV (SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
     p.add_argument("--model", choices=("normalized", "extended"), default="normalized",
                    help="base model (default: normalized)")
     group = p.add_mutually_exclusive_group()
     group.add_argument("--holdout", type=_fraction, default=None, metavar="FRACTION",
-                       help="fraction of each test, at its end, held out (default 0.25)")
+                       help="fraction of each test, at its end, held out: not used in the fit, "
+                            "only to judge it (0-1, default 0.25)")
     group.add_argument("--validate", nargs="+", metavar="FILE",
                        help="separate test files for the held-out errors")
     p.add_argument("--effects", nargs="+", choices=EFFECT_NAMES, metavar="EFFECT",
                    help="restrict the candidates to these effects (default: the whole library)")
     p.add_argument("--coarse-samples", type=int, default=None, metavar="N",
-                   help="fit on the tests decimated to about N samples, then evaluate on all "
-                        "(default 6000; 0: fit every sample)")
+                   help="speed-up: fit on the tests thinned to about N samples in all (all tests "
+                        "together; a count, no unit), then evaluate on every sample (default "
+                        f"{DEFAULT_COARSE_SAMPLES}; 0: fit every sample; e.g. --coarse-samples 20000 "
+                        "for a closer fit of long tests)")
     p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json and plots here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")

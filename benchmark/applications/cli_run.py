@@ -55,6 +55,7 @@ from benchmark.simulator.plots import plot_run
 from records.options import add_record_options
 from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.criteria import SOURCE, key_json
+from controllers.registry import controller_names
 
 __all__ = ["register", "run_command", "main_run"]
 
@@ -248,7 +249,8 @@ def register(subparsers: Any) -> None:
                    help=f"isolation layer: {', '.join(ISOLATION_NAMES)} or a JSON file "
                         f"(default {DEFAULT_NONLINEAR})")
     p.add_argument("--controller", default="none", metavar="NAME",
-                   help="controller name; 'none' = no devices (default none)")
+                   help="controller name, one of: " + ", ".join(controller_names())
+                        + "; 'none' = no devices (default none)")
     add_record_options(p)  # --orientation, --records-dir, --format, --dt, --units, --baseline-correct
     p.add_argument("--out", default=None, metavar="FILE.h5", help="write the time histories (HDF5)")
     p.add_argument("--plot", default=None, metavar="DIR", help="write figures (PNG) into DIR")

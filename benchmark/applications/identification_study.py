@@ -101,6 +101,17 @@ FREE_KX_PCHIP = "extended-free-kx-pchip"
 FIG6_PROTOCOL = TestProtocol(amplitude=0.03, frequency=1.0, cycles=10.0, sample_rate=1000.0)
 
 
+#: SI unit of each numeric column of parameters.csv (a ``_std`` column has its parameter's unit)
+_CSV_UNITS = {"voltage": "V", "kappa_x": "N/m", "kappa_xdot": "N s/m", "kappa_w": "N", "rho": "1/m",
+              "sigma": "-", "n": "-", "rel_rms_error": "-", "peak_error": "-", "energy_error": "-",
+              "rho_stroke": "-"}
+
+
+def _with_unit(name: str) -> str:
+    unit = _CSV_UNITS.get(name[:-4] if name.endswith("_std") else name)
+    return name if unit is None else f"{name} [{unit}]"
+
+
 def write_parameters_csv(rows: Sequence[dict], path) -> Path:
     """Write one row per (model, voltage) with parameters [SI], standard errors and fit errors."""
     if not rows:
@@ -109,8 +120,9 @@ def write_parameters_csv(rows: Sequence[dict], path) -> Path:
     buf.write("# identified parameters per model and voltage; SI units: kappa_x [N/m], kappa_xdot "
               "[N s/m], kappa_w [N], rho [1/m], sigma [-], n [-]; *_std: Jacobian standard errors; "
               "errors over the steady cycles of the identification test\n")
-    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-    writer.writeheader()
+    names = list(rows[0])
+    buf.write(",".join(_with_unit(k) for k in names) + "\n")
+    writer = csv.DictWriter(buf, fieldnames=names, lineterminator="\n")
     for row in rows:
         writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
     return atomic_write_text(path, buf.getvalue())

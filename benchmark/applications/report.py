@@ -15,6 +15,7 @@ outputs. Run it again on a finished directory with ``python -m benchmark.applica
 from __future__ import annotations
 
 import csv
+import re
 import html
 import json
 import math
@@ -175,7 +176,9 @@ def _identification_section(root: Path) -> str:
     if params.is_file():
         try:
             lines = [ln for ln in params.read_text(encoding="utf-8").splitlines() if not ln.startswith("#")]
-            records = list(csv.DictReader(lines))
+            # column names carry their unit ("kappa_x [N/m]"); the table reads them by name
+            records = [{re.sub(r"\s*\[[^\]]*\]$", "", k or ""): v for k, v in row.items()}
+                       for row in csv.DictReader(lines)]
         except (OSError, UnicodeDecodeError, csv.Error):
             records = []
         shown = _grid_ends_and_middle(records)
