@@ -266,7 +266,7 @@ _NAME_PARTS = {
 
 def explain_model_name(name: str) -> str | None:
     """Plain words for a model name of the identification's tables (``None`` if unknown)."""
-    extras = []
+    extras: list[str] = []
     base = name
     changed = True
     while changed:
