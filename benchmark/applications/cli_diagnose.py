@@ -30,7 +30,7 @@ from damper.data import parse_utfsm_name, read_csv, read_utfsm
 from damper.effects import EFFECT_NAMES, EFFECTS
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
-from damper.diagnosis.report import write_report
+from damper.diagnosis.report import format_parameters, input_word, write_report
 from damper.dyke_data import is_dyke_file, read_dyke
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 
@@ -138,14 +138,17 @@ def run(args) -> int:
     else:
         print(f"model: {result.model_kind}")
         print(f"held-out relative RMS error: {result.error_before:.4f} -> {result.error_after:.4f}")
+        # the final model's values, as in the JSON (a step's own values precede the final joint refit)
+        final = {e.name: e.parameters for e in result.final_model.effects}
         for step in result.selection.steps:
-            params = ", ".join(f"{k}={v:.4g}" for k, v in step.parameters.items())
+            params = format_parameters(step.name, final.get(step.name, step.parameters))
             print(f"  + {step.name} ({params}): {step.error_before:.4f} -> {step.error_after:.4f}")
         if not result.selection.steps:
             print("  no library effect paid on the held-out data")
         if result.unexplained:
             print("unexplained structure in: " + ", ".join(
-                f"{v} (share {s:.2f}, {100 * lv:.1f} % of force RMS)" for v, s, lv in result.unexplained_in))
+                f"{input_word(v, result.data.input_name)} (share {s:.2f}, {100 * lv:.1f} % of force RMS)"
+                for v, s, lv in result.unexplained_in))
         else:
             print("no unexplained structure left")
     return 0

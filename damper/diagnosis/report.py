@@ -26,6 +26,7 @@ from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.figures import save_figure
 from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
+from damper.effects import EFFECTS
 
 __all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
            "plot_loops"]
@@ -178,8 +179,20 @@ def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
     return _save(fig, Path(path), dpi)
 
 
-def _fmt_params(params: dict) -> str:
-    return ", ".join(f"{k} = {v:.4g}" for k, v in params.items())
+def format_parameters(effect: str, params: dict) -> str:
+    """``name = value unit`` for each parameter of the library effect ``effect`` (SI units)."""
+    unit = getattr(EFFECTS.get(effect), "unit", None)
+    suffix = "" if unit in (None, "-", "1") else f" {unit}"
+    return ", ".join(f"{k} = {v:.4g}{suffix}" for k, v in params.items())
+
+
+def input_word(variable: str, input_name: str) -> str:
+    """A trace variable named for the coil input the tests give (``voltage`` -> ``current``)."""
+    return variable.replace("voltage", input_name) if input_name != "voltage" else variable
+
+
+def _fmt_params(params: dict, effect: str = "") -> str:
+    return format_parameters(effect, params)
 
 
 def report_markdown(diagnosis, plots: dict | None = None) -> str:
@@ -200,14 +213,14 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
               f" ({d.final_model.name}).", ""]
     lines += ["## Effects added", ""]
     if d.selection.steps:
-        lines += ["| step | effect | parameters (SI) | held-out error before | after | BIC change | N_eff |",
+        lines += ["| step | effect | parameters at that step (SI) | held-out error before | after | BIC change | N_eff |",
                   "|---|---|---|---|---|---|---|"]
         for i, s in enumerate(d.selection.steps, 1):
-            lines.append(f"| {i} | `{s.name}` | {_fmt_params(s.parameters)} | {s.error_before:.4f} | "
+            lines.append(f"| {i} | `{s.name}` | {_fmt_params(s.parameters, s.name)} | {s.error_before:.4f} | "
                          f"{s.error_after:.4f} | {s.bic_delta:+.1f} | {s.effective_samples:.0f} |")
         final = {e.name: e.parameters for e in d.final_model.effects}
         lines += ["", "Parameters after the last joint refit: "
-                  + "; ".join(f"`{k}`: {_fmt_params(v)}" for k, v in final.items()) + "."]
+                  + "; ".join(f"`{k}`: {_fmt_params(v, k)}" for k, v in final.items()) + "."]
     else:
         lines.append("None paid on the held-out data.")
     lines += ["", "## Rounds", "",
@@ -222,7 +235,7 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
         for t in trials:
             verdict = "**added**" if t.accepted else "not added"
             lines.append(f"- `{t.name}`: held-out error {t.error:.4f}, BIC change {t.bic_delta:+.1f}, "
-                         f"{_fmt_params(t.parameters)} — {verdict}" + (f" ({t.note})" if t.note else ""))
+                         f"{_fmt_params(t.parameters, t.name)} — {verdict}" + (f" ({t.note})" if t.note else ""))
         lines.append("")
     lines += ["## Residual trace (held-out)", "",
               "Share of the residual variance explained by each variable (binned partial dependence, "
