@@ -160,21 +160,30 @@ def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
     data = diagnosis.data
     before, after = _forces(diagnosis)
     idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
-    fig, axes = plt.subplots(2, len(idx), figsize=(3.6 * len(idx), 6.4), squeeze=False)
+    # At most three tests side by side (two rows each: displacement, velocity), so that the
+    # figure is about 970 px wide and its labels legible on the report page at 100 % zoom.
+    n_cols = min(3, max(1, len(idx)))
+    n_rows = 2 * -(-len(idx) // n_cols) if idx else 2
+    fig, grid = plt.subplots(n_rows, n_cols, figsize=(3.6 * n_cols, 3.2 * n_rows), squeeze=False)
+    for ax in grid.flat:  # shown again below where a test is drawn
+        ax.set_visible(False)
     for j, i in enumerate(idx):
         m, k = data.motions[i], data.heldout[i]
+        r0, col = 2 * (j // n_cols), j % n_cols
         for row, (z, label) in enumerate(((to_display(m.x, "displacement"), axis_label("displacement", "displacement")),
                                           (to_display(m.xdot, "velocity"), axis_label("velocity", "velocity")))):
-            ax = axes[row, j]
+            ax = grid[r0 + row, col]
+            ax.set_visible(True)
+            ax.ticklabel_format(useOffset=False)  # plain tick values, no "1e-14" offset text
             ax.plot(z[k], to_display(data.forces[i][k], "force"), color="k", lw=1.0, label="measured")
             ax.plot(z[k], to_display(before[i][k], "force"), color="0.55", lw=0.9, ls="--", label=diagnosis.model_kind)
             ax.plot(z[k], to_display(after[i][k], "force"), color="tab:red", lw=0.9, label="augmented")
             ax.set_xlabel(label)
             ax.grid(True, alpha=0.3)
-            if j == 0:
+            if col == 0:
                 ax.set_ylabel(axis_label("force", "force"))
-        axes[0, j].set_title(m.name, fontsize=10)
-    axes[0, 0].legend(fontsize=8)
+        grid[r0, col].set_title(m.name, fontsize=10)
+    grid[0, 0].legend(fontsize=9)
     fig.tight_layout()
     return _save(fig, Path(path), dpi)
 

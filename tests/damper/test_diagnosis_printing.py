@@ -33,3 +33,23 @@ def test_printed_values_are_the_final_ones(monkeypatch, capsys):
     out = capsys.readouterr().out
     assert "velocity = 0.01183 m/s" in out and "0.01174" not in out
     assert "current_rate" in out and "voltage" not in out
+
+
+def test_loop_figure_fits_the_report_page(tmp_path):
+    """Six tests: three per row (about 970 px wide at the saved dpi), not six side by side (1944 px)."""
+    import numpy as np
+    from matplotlib.image import imread
+
+    from damper.diagnosis.report import plot_loops
+
+    t = np.linspace(0, 2, 400)
+    motions = [SimpleNamespace(x=0.01 * np.sin(3 * t) + 1e-14, xdot=0.03 * np.cos(3 * t), name=f"test{i}")
+               for i in range(6)]
+    force = lambda m: 1e3 * np.tanh(m.xdot / 0.01)  # noqa: E731
+    data = SimpleNamespace(motions=motions, heldout=[t > 1 for _ in motions],
+                           forces=[force(m) for m in motions])
+    model = SimpleNamespace(force=force)
+    diagnosis = SimpleNamespace(data=data, base_model=model, final_model=model, model_kind="normalized")
+    path = plot_loops(diagnosis, tmp_path / "loops.png")
+    height, width = imread(path).shape[:2]
+    assert width <= 1000 and height > width / 2, (width, height)
