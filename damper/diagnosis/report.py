@@ -175,6 +175,7 @@ def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
             ax = grid[r0 + row, col]
             ax.set_visible(True)
             ax.ticklabel_format(useOffset=False)  # plain tick values, no "1e-14" offset text
+            ax.locator_params(axis="x", nbins=4)  # four ticks: long values ("-0.0075") do not collide
             ax.plot(z[k], to_display(data.forces[i][k], "force"), color="k", lw=1.0, label="measured")
             ax.plot(z[k], to_display(before[i][k], "force"), color="0.55", lw=0.9, ls="--", label=diagnosis.model_kind)
             ax.plot(z[k], to_display(after[i][k], "force"), color="tab:red", lw=0.9, label="augmented")
