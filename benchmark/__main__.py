@@ -1,5 +1,11 @@
 """``python -m benchmark`` is the ``sbib`` command."""
 
-from benchmark.applications.cli import main
+try:
+    from benchmark.applications.cli import run
+except KeyboardInterrupt:  # Ctrl-C while the command line itself is imported: one line, 130
+    import sys
 
-raise SystemExit(main())
+    print("sbib: interrupted", file=sys.stderr)
+    raise SystemExit(130) from None
+
+run()

@@ -12,7 +12,10 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
+import signal
 import sys
+import textwrap
 
 # One BLAS thread per process, set before numpy is imported (an explicit setting wins): the
 # simulator's dense products are small (54 states, 6000 samples), so OpenBLAS's extra threads only
@@ -24,8 +27,9 @@ from typing import Sequence
 from benchmark import __version__
 from benchmark.foundation.errors import InputError, NumericalError, SbibError
 from benchmark.foundation.kernel_cache import ensure_fresh_once
+from benchmark.foundation.pools import stop_children
 
-__all__ = ["main", "build_parser", "COMMAND_MODULES"]
+__all__ = ["main", "run", "build_parser", "COMMAND_MODULES"]
 
 # Modules that contribute sub-commands, in the order they appear in ``sbib --help``.
 COMMAND_MODULES: tuple[str, ...] = (
@@ -46,6 +50,13 @@ EXIT_NUMERICAL_ERROR = 3
 EXIT_INTERRUPTED = 130
 
 
+class _WholeNames(argparse.HelpFormatter):
+    """Wrap option help between words only: ``clipped-optimal`` stays one name on one line."""
+
+    def _split_lines(self, text, width):
+        return textwrap.wrap(" ".join(text.split()), width, break_on_hyphens=False) or [""]
+
+
 class _Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one ``sbib: error: ...`` line (exit status 2),
     like every other input error, instead of the usage block followed by the message.
@@ -54,6 +65,15 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # type: ignore[override]
         where = "" if self.prog == "sbib" else f"{self.prog}: "
         self.exit(EXIT_INPUT_ERROR, f"sbib: error: {where}{message} (see '{self.prog} --help')\n")
+
+    def __init__(self, *args, **kwargs) -> None:
+        kind = kwargs.get("formatter_class", argparse.HelpFormatter)
+        kwargs["formatter_class"] = type(f"Whole{kind.__name__}", (_WholeNames, kind), {})
+        super().__init__(*args, **kwargs)
+
+    def format_help(self) -> str:
+        # Descriptions come from module docstrings: show their reST as plain text in a terminal.
+        return plain_text(super().format_help())
 
     def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
         namespace, extras = super().parse_known_args(args, namespace)
@@ -64,6 +84,20 @@ class _Parser(argparse.ArgumentParser):
                     and not isinstance(action, argparse._AppendAction)):
                 self.error(f"argument {'/'.join(action.option_strings)}: expected one value")
         return namespace, extras
+
+
+_ROLE = re.compile(r":(?:mod|func|class|meth|attr|data|obj|exc|ref|doc|py:\w+):`~?([^`]*)`")
+
+
+def plain_text(text: str) -> str:
+    """``text`` with its reST inline markup shown as plain text (for ``--help``).
+
+    ``:func:`~a.b``` -> ``b``, ````x```` -> ``x``, a trailing ``::`` (literal block) -> ``:``.
+    """
+    text = _ROLE.sub(lambda m: m.group(1).split(" <")[0].rsplit(".", 1)[-1] if m.group(0).count("~")
+                     else m.group(1).split(" <")[0], text)
+    text = re.sub(r"``([^`]*)``", r"\1", text)
+    return re.sub(r"(\S)::[ \t]*$", r"\1:", text, flags=re.MULTILINE)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -82,17 +116,27 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``sbib`` command line and return its exit status.
 
+    Ctrl-C (SIGINT) anywhere, from the first import on, ends in one line on stderr and exit
+    status 130 (:func:`_interrupted`); further Ctrl-C after the first are ignored.
+
     Parameters
     ----------
     argv : Sequence[str] | None, optional
         Command-line arguments without the program name; None: ``sys.argv[1:]``.
     """
-    ensure_fresh_once()  # before any kernel is loaded from numba's cache (kernel_cache)
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
-        return EXIT_INPUT_ERROR
+    try:
+        ensure_fresh_once()  # before any kernel is loaded from numba's cache (kernel_cache)
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        if not getattr(args, "func", None):
+            parser.print_help()
+            return EXIT_INPUT_ERROR
+        return _dispatch(args)
+    except KeyboardInterrupt:
+        return _interrupted()
+
+
+def _dispatch(args: argparse.Namespace) -> int:
     try:
         return int(args.func(args) or 0)
     except NumericalError as exc:
@@ -111,10 +155,40 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as exc:  # an output path that cannot be created or written (the message names it)
         print(f"sbib: error: {exc}", file=sys.stderr)
         return EXIT_INPUT_ERROR
-    except KeyboardInterrupt:
+
+
+def _interrupted() -> int:
+    """Ctrl-C: ignore any further one, end the worker processes still alive, say so, return 130.
+
+    The pools stop their own workers on the way up (:class:`benchmark.foundation.pools.WorkerPool`);
+    this is the last resort for any other child (a forked figure drawer, a pool not stopped).
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    stop_children()
+    try:
         print("sbib: interrupted; finished result files are complete, unfinished ones were removed",
-              file=sys.stderr)
-        return EXIT_INTERRUPTED
+              file=sys.stderr, flush=True)
+    except (OSError, ValueError):  # stderr closed
+        pass
+    return EXIT_INTERRUPTED
+
+
+def run() -> None:
+    """Entry point of the ``sbib`` script (and ``python -m benchmark``): :func:`main`, then exit.
+
+    After an interrupt the process ends at once (``os._exit`` once the output is flushed): the
+    result files are already complete or removed, and the interpreter's exit-time joins of
+    threads that a Ctrl-C cut short (process-pool manager threads) could otherwise block it.
+    """
+    status = main()
+    if status == EXIT_INTERRUPTED:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(status)
+    sys.exit(status)
 
 
 def _silence_stdout() -> None:

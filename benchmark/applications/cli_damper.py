@@ -177,7 +177,8 @@ def register(subparsers) -> None:
     p.add_argument("--sample-rate", type=float, default=200.0, help="samples per second [Hz] (default 200)")
     p.add_argument("--noise", type=float, default=0.0, help="relative RMS force noise (default 0)")
     p.add_argument("--seed", type=int, default=None, help="noise seed")
-    p.add_argument("--waveform", choices=("sine", "triangle"), default="sine")
+    p.add_argument("--waveform", choices=("sine", "triangle"), default="sine",
+                   help="displacement waveform (default sine; triangle: constant-velocity strokes)")
     p.add_argument("--param", type=_param, action="append", metavar="NAME=VALUE",
                    help="model parameter in SI units (repeatable)")
     p.add_argument("--out", required=True, help="output CSV file")

@@ -30,16 +30,17 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 from pathlib import Path
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import InputError
 from damper.io.data import parse_utfsm_name, read_csv, read_utfsm
 from damper.io.screening import screening_of
-from damper.diagnosis.effects import EFFECT_NAMES
+from damper.diagnosis.effects import EFFECT_NAMES, EFFECTS
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
-from damper.diagnosis.report import write_report
+from damper.diagnosis.report import format_parameters, input_word, write_report
 from damper.io.dyke import is_dyke_file, read_dyke
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 from benchmark.applications.model_files import write_diagnosis_models
@@ -117,6 +118,16 @@ def _fraction(text: str) -> float:
     return value
 
 
+def _paragraphs(text: str, width: int = 78) -> str:
+    """Wrap each line of ``text`` to ``width``; a line starting with a tab is an indented item."""
+    out = []
+    for line in text.split("\n"):
+        indent = "  " if line.startswith("\t") else ""
+        out.append(textwrap.fill(line.strip(), width, initial_indent=indent, subsequent_indent=indent * 2,
+                                 break_on_hyphens=False) if line.strip() else "")
+    return "\n".join(out)
+
+
 def register(subparsers) -> None:
     """Add the ``diagnose`` sub-command.
 
@@ -128,15 +139,29 @@ def register(subparsers) -> None:
     """
     p = subparsers.add_parser(
         "diagnose", help="residual loop: find the effects a damper model lacks in test data",
-        description="Fit a Bouc-Wen base model to damper tests, trace the held-out residual, add "
-                    "effects from the library (" + ", ".join(EFFECT_NAMES) + ") while they pay "
-                    "(held-out BIC) and report the error before and after.")
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description=_paragraphs(
+            "Fit a Bouc-Wen model to damper tests (force, displacement, voltage or current), look at "
+            "what it gets wrong and add the missing physical effects one at a time.\n\n"
+            "The last part of each test (--holdout) is held out: not used in the fit, only to judge "
+            "it. The error left there (the held-out residual) is traced against displacement, "
+            "velocity, acceleration, time and the coil input; each variable it depends on points to "
+            "candidate effects, each an extra force term:\n"
+            + "".join(f"\t{name}: {EFFECTS[name].description}\n" for name in EFFECT_NAMES)
+            + "An effect is kept when it lowers the held-out Bayesian information criterion (BIC: "
+            "the held-out error, penalised by the number of parameters), i.e. when it pays for "
+            "its extra parameters; structure no effect explains is reported as unexplained.\n\n"
+            "Writes (with --out DIR): report.md (the findings, parameters with units), "
+            "diagnosis.json (the same, machine-readable) and PNG plots of the residual, the loops "
+            "and the forces. Prints the held-out relative RMS force error before and after.\n\n"
+            "Example:\n\tsbib diagnose --data tests/*Hz1A.txt --model normalized --out out/diagnose-1A"))
     p.add_argument("--data", nargs="+", required=True, metavar="FILE",
                    help="test files: damper CSV (SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
     p.add_argument("--model", choices=("normalized", "extended", "spencer"), default="normalized",
                    help="base model (default: normalized)")
     p.add_argument("--holdout", type=_fraction, default=None, metavar="FRACTION",
-                   help="fraction of each test, at its end, held out (default 0.25)")
+                   help="fraction of each test, at its end, held out: not used in the fit, only to "
+                        "judge it (0-1, default 0.25)")
     p.add_argument("--validate", nargs="+", metavar="FILE",
                    help="other recordings of the same device: both models are scored on all of "
                         "them too (never fitted)")
@@ -146,8 +171,10 @@ def register(subparsers) -> None:
     p.add_argument("--effects", nargs="+", choices=EFFECT_NAMES, metavar="EFFECT",
                    help="restrict the candidates to these effects (default: the whole library)")
     p.add_argument("--coarse-samples", type=int, default=None, metavar="N",
-                   help="fit on the tests decimated to about N samples, then evaluate on all "
-                        "(default 6000; 0: fit every sample)")
+                   help="speed-up: fit on the tests thinned to about N samples in all (all tests "
+                        "together; a count, no unit), then evaluate on every sample (default "
+                        f"{DEFAULT_COARSE_SAMPLES}; 0: fit every sample; e.g. --coarse-samples 20000 "
+                        "for a closer fit of long tests)")
     p.add_argument("--keep-flagged", action="store_true",
                    help="keep the samples the screening flags (stuck or clipped channels, frozen "
                         "displacement, idle spans, ...) in the fit and the errors; the findings are "
@@ -204,8 +231,10 @@ def run(args) -> int:
             print(line)
         print(f"model: {result.model_kind}")
         print(f"held-out relative RMS error: {result.error_before:.4f} -> {result.error_after:.4f}")
+        # the final model's values, as in the JSON (a step's own values precede the final joint refit)
+        final = {e.name: e.parameters for e in result.final_model.effects}
         for step in result.selection.steps:
-            params = ", ".join(f"{k}={v:.4g}" for k, v in step.parameters.items())
+            params = format_parameters(step.name, final.get(step.name, step.parameters))
             print(f"  + {step.name} ({params}): {step.error_before:.4f} -> {step.error_after:.4f}")
         if not result.selection.steps:
             print("  no library effect paid on the held-out data")
@@ -218,7 +247,8 @@ def run(args) -> int:
                   "so far is reported")
         if result.unexplained:
             print("unexplained structure in: " + ", ".join(
-                f"{v} (share {s:.2f}, {100 * lv:.1f} % of force RMS)" for v, s, lv in result.unexplained_in))
+                f"{input_word(v, result.data.input_name)} (share {s:.2f}, {100 * lv:.1f} % of force RMS)"
+                for v, s, lv in result.unexplained_in))
         else:
             print("no unexplained structure left")
     return 0

@@ -71,6 +71,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         "per-voltage (free at each voltage), or a number in N/m held fixed")
     p.add_argument("--no-free-kappa-x", action="store_true",
                    help="do not identify/validate the per-voltage-kappa_x variant for comparison")
+    p.add_argument("--full-histories", action="store_true",
+                   help="keep every device's histories in double precision in identification.h5 "
+                        "(about 120 MB for the 14 runs; default: single precision, one device per "
+                        "run, about 8 MB)")
     p.add_argument("--no-ceiling", action="store_true",
                    help="skip the structural ceiling (the best each model form reaches fitted to "
                         "each run's own damper motion at 0 V and 1 V)")
@@ -219,7 +223,8 @@ def _run(args: argparse.Namespace) -> int:
                                  plots=not args.no_plots, kappa_x=kappa_x,
                                  compare_free_kappa_x=not args.no_free_kappa_x,
                                  ceiling=not args.no_ceiling, jobs=args.jobs,
-                                 close_loop=not args.no_closed_loop, campaign_scale=args.campaign_scale)
+                                 close_loop=not args.no_closed_loop, campaign_scale=args.campaign_scale,
+                                 full_histories=args.full_histories)
     if args.json:
         print(json.dumps({k: summary[k] for k in ("device", "voltages", "kappa_x", "parameters", "identification_errors",
                                                    "law_errors", "field_lag", "validation", "ceiling",

@@ -69,6 +69,7 @@ from benchmark.simulator.criteria import SOURCE, key_json
 from benchmark.simulator.building import Building
 from benchmark.simulator.isolation.configurations import get_isolation
 from benchmark.applications.damper_choice import add_damper_options, resolve_damper, resolve_layout
+from controllers.registry import controller_names
 
 __all__ = ["register", "run_command", "main_run"]
 
@@ -314,7 +315,8 @@ def register(subparsers: Any) -> None:
                    help=f"isolation layer: {', '.join(ISOLATION_NAMES)} or a JSON file "
                         f"(default {DEFAULT_NONLINEAR})")
     p.add_argument("--controller", default="none", metavar="NAME",
-                   help="controller name, or a class of yours as package.module:Class or path/to/file.py:Class "
+                   help="controller name, one of: " + ", ".join(controller_names())
+                        + "; or a class of yours as package.module:Class or path/to/file.py:Class "
                         "(controllers/base.py interface); 'none' = no devices (default none)")
     add_damper_options(p)  # --damper, --devices, --damper-scale
     add_record_options(p)  # --orientation, --records-dir, --format, --dt, --units, --baseline-correct

@@ -17,7 +17,6 @@ import sys
 import math
 import os
 import time
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -45,6 +44,7 @@ import dataclasses
 
 from benchmark.applications.damper_choice import parse_scale, resolve_damper, resolve_layout
 from controllers.user import is_user_controller_spec
+from benchmark.foundation.pools import WorkerPool
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -429,6 +429,11 @@ def _controller_label(spec) -> str:
     return spec if isinstance(spec, str) else str(getattr(spec, "name", type(spec).__name__))
 
 
+def _run_chunk(tasks: list) -> list:
+    """Worker: :func:`_run_one` for a few consecutive tasks (the same record share a reference)."""
+    return [_run_one(task) for task in tasks]
+
+
 def _run_one(task) -> tuple:
     """Worker: one controlled run and its reference (cached per worker), through the one way to
     run a case (:func:`benchmark.simulator.case.run_case`)."""
@@ -583,16 +588,17 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
                 bar.set_postfix_str(f"{task[0]} {task[1]} {_controller_label(task[2])}")
                 bar.update()
         else:
-            import multiprocessing
-
             chunk = max(1, min(len(specs), len(tasks) // n_jobs))
-            ctx = multiprocessing.get_context("spawn" if os.name == "nt" else "fork")
-            with ProcessPoolExecutor(max_workers=n_jobs, mp_context=ctx, initializer=_init_worker,
-                                     initargs=(building,)) as pool:
-                for outcome in pool.map(_run_one, tasks, chunksize=chunk):
-                    outcomes.append(outcome)
-                    bar.set_postfix_str(f"{outcome[0].record} {outcome[0].orientation} {outcome[0].controller}")
-                    bar.update()
+            # WorkerPool: the workers ignore Ctrl-C and an interrupt stops them at once (no wait
+            # for the running simulations). Futures gathered in order, never cancelled here.
+            with WorkerPool(n_jobs, initializer=_init_worker, initargs=(building,)) as pool:
+                futures = [pool.submit(_run_chunk, tasks[i:i + chunk]) for i in range(0, len(tasks), chunk)]
+                for future in futures:
+                    for outcome in future.result():
+                        outcomes.append(outcome)
+                        bar.set_postfix_str(f"{outcome[0].record} {outcome[0].orientation} "
+                                            f"{outcome[0].controller}")
+                        bar.update()
     finally:
         bar.close()
         if n_jobs == 1:

@@ -54,9 +54,9 @@ def moving_mean(t: np.ndarray, values: np.ndarray, window: float) -> np.ndarray:
     return total / count
 
 
-def _key(fig, fontsize: float = 7.5) -> None:
+def _key(fig, fontsize: float = 9.0) -> None:
     """The key of the J's under the axes (the caller leaves room at the bottom)."""
-    fig.text(0.01, 0.005, "\n".join(key_lines()), ha="left", va="bottom", fontsize=fontsize,
+    fig.text(0.01, 0.005, "\n".join(key_lines(formulas=False)), ha="left", va="bottom", fontsize=fontsize,
              family="monospace")
 
 
@@ -90,12 +90,12 @@ def plot_J_by_record(result: Any, path: Path) -> Path:
         if is_ratio(j):
             ax.axhline(1.0, color="k", lw=0.6, ls=":")
         ax.set_title(j)
-        ax.set_ylabel(axis_label(j), fontsize=7.5)
+        ax.set_ylabel(axis_label(j), fontsize=9)
         ax.grid(alpha=0.3)
     for ax in axes[-1]:
         ax.set_xticks(np.arange(len(cases)))
-        ax.set_xticklabels(labels, rotation=90, fontsize=7)
-    axes[0, 0].legend(fontsize=7)
+        ax.set_xticklabels(labels, rotation=90, fontsize=9)
+    axes[0, 0].legend(fontsize=9)
     fig.suptitle("Evaluation criteria per record (key below)")
     fig.tight_layout(rect=(0, 0.16, 1, 1))
     _key(fig)

@@ -47,9 +47,7 @@ import importlib
 import itertools
 import json
 import math
-import multiprocessing
 import os
-import signal
 import time
 import tomllib
 from dataclasses import dataclass, field
@@ -68,6 +66,7 @@ from records import BENCHMARK_RECORDS, ORIENTATIONS
 from records.catalogue import ORIENTATION_ALIASES
 from benchmark.foundation.textfile import read_text
 from benchmark.simulator.criteria import CRITERIA
+from benchmark.foundation.pools import WorkerPool
 from benchmark.foundation.progress import progress_bar
 from benchmark.applications.damper_choice import resolve_damper, resolve_layout
 
@@ -666,22 +665,18 @@ def _execute(run: str | Callable[[Case], dict[str, Any]], case: Case) -> Journal
     return JournalEntry(key=case.key, status="ok", result=result, elapsed_s=time.perf_counter() - start)
 
 
-def _ignore_sigint() -> None:
-    """Worker initialiser: Ctrl-C is the parent's to handle (it stops the workers)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
 def _local_results(run: Any, cases: list[Case], jobs: int, mp_context: str | None) -> Iterable[JournalEntry]:
     """Yield entries as cases finish, on ``jobs`` local processes (in-process when jobs == 1)."""
     if jobs == 1:
         for case in cases:
             yield _execute(run, case)
         return
-    context = multiprocessing.get_context(mp_context or "spawn")
-    executor = cf.ProcessPoolExecutor(max_workers=jobs, mp_context=context, initializer=_ignore_sigint)
+    # WorkerPool: the workers ignore Ctrl-C (the parent owns it) and an interrupt or a failed
+    # run stops them at once, without waiting for the running cases (finished ones are journaled).
+    executor = WorkerPool(jobs, mp_context=mp_context or "spawn")
     pending: set[cf.Future] = set()
     queue = iter(cases)
-    try:
+    with executor:
         for case in itertools.islice(queue, 2 * jobs):
             pending.add(executor.submit(_execute, run, case))
         while pending:
@@ -691,18 +686,6 @@ def _local_results(run: Any, cases: list[Case], jobs: int, mp_context: str | Non
                 for case in itertools.islice(queue, 1):
                     pending.add(executor.submit(_execute, run, case))
                 yield entry
-    except BaseException:
-        # Interrupted (Ctrl-C) or a run raised: stop the workers now; finished runs are journaled.
-        for future in pending:
-            future.cancel()
-        processes = list(getattr(executor, "_processes", {}).values())  # no public API for this
-        executor.shutdown(wait=False, cancel_futures=True)
-        for process in processes:
-            if process.is_alive():
-                process.terminate()
-        raise
-    else:
-        executor.shutdown(wait=True)
 
 
 def _dask_results(run: Any, cases: list[Case], scheduler: str | None, client: Any) -> Iterable[JournalEntry]:
@@ -814,6 +797,9 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
                     write_hdf5(config, cases, journal.entries, out, run_label)
                     last_checkpoint = time.monotonic()
     except KeyboardInterrupt:
+        close = getattr(stream, "close", None)
+        if close is not None:  # stop the workers first (the generator's pool), then write
+            close()
         if bar is not None:
             bar.close()
             bar = None

@@ -42,7 +42,7 @@ from damper.diagnosis import diagnose
 from damper.diagnosis.augmented import AugmentedModel, make_base, refit
 from damper.diagnosis import DiagnosisData
 from benchmark.applications.identification_campaign import laboratory_campaign
-from benchmark.foundation.pool import run_tasks
+from benchmark.foundation.pools import run_tasks
 
 __all__ = ["ORIGINAL", "PROPOSED", "CLOSED_LOOP_NORMALIZED", "CLOSED_LOOP_EXTENDED", "LOOP_FROM_NORMALIZED",
            "ClosedLoopResult", "building_model", "closed_form_models", "close_the_loop", "start_loops",
@@ -239,7 +239,7 @@ def start_loops(device, executor=None, campaign=None, campaign_scale: float = 0.
     device
         The virtual damper (model instance or name).
     executor : concurrent.futures.Executor, optional
-        Process pool to run on (:func:`benchmark.foundation.pool.make_executor`); None: run inline.
+        Process pool to run on (:func:`benchmark.foundation.pools.make_executor`); None: run inline.
     campaign : Campaign, optional
         The test campaign; None: the default campaign.
     campaign_scale : float, optional

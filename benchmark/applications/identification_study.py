@@ -69,7 +69,7 @@ from benchmark.foundation.progress import progress_bar
 from benchmark.applications.identification_ceiling import DEFAULT_CEILING_VOLTAGES
 from damper.identification.closed_form import PARAMETER_NAMES
 from damper.identification.identify import identify
-from benchmark.foundation.pool import make_executor, run_tasks, worker_count
+from benchmark.foundation.pools import make_executor, run_tasks, worker_count
 from damper.identification.voltage_grid import (DEFAULT_VOLTAGES, KAPPA_X_MODES, LARGE_LOOP_PROTOCOL,
                                                 TestProtocol, identify_voltage_grid)
 from damper.identification.voltage_lag import fit_voltage_lag, switching_test
@@ -78,6 +78,7 @@ from damper.lab.laboratory import resolve_device
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from damper.identification import plots
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.pools import stop_pool
 from damper.identification.plots import plot_error_anatomy
 from benchmark.simulator.building import Building
 from benchmark.applications.identification_validation import measure_run
@@ -100,6 +101,17 @@ FREE_KX_PCHIP = "extended-free-kx-pchip"
 FIG6_PROTOCOL = TestProtocol(amplitude=0.03, frequency=1.0, cycles=10.0, sample_rate=1000.0)
 
 
+#: SI unit of each numeric column of parameters.csv (a ``_std`` column has its parameter's unit)
+_CSV_UNITS = {"voltage": "V", "kappa_x": "N/m", "kappa_xdot": "N s/m", "kappa_w": "N", "rho": "1/m",
+              "sigma": "-", "n": "-", "rel_rms_error": "-", "peak_error": "-", "energy_error": "-",
+              "rho_stroke": "-"}
+
+
+def _with_unit(name: str) -> str:
+    unit = _CSV_UNITS.get(name[:-4] if name.endswith("_std") else name)
+    return name if unit is None else f"{name} [{unit}]"
+
+
 def write_parameters_csv(rows: Sequence[dict], path) -> Path:
     """Write one row per (model, voltage) with parameters [SI], standard errors and fit errors.
 
@@ -116,8 +128,9 @@ def write_parameters_csv(rows: Sequence[dict], path) -> Path:
     buf.write("# identified parameters per model and voltage; SI units: kappa_x [N/m], kappa_xdot "
               "[N s/m], kappa_w [N], rho [1/m], sigma [-], n [-]; *_std: Jacobian standard errors; "
               "errors over the steady cycles of the identification test\n")
-    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-    writer.writeheader()
+    names = list(rows[0])
+    buf.write(",".join(_with_unit(k) for k in names) + "\n")
+    writer = csv.DictWriter(buf, fieldnames=names, lineterminator="\n")
     for row in rows:
         writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
     return atomic_write_text(path, buf.getvalue())
@@ -126,15 +139,35 @@ def write_parameters_csv(rows: Sequence[dict], path) -> Path:
 _GZ = {"compression": "gzip", "compression_opts": 1}  # fastest here, and smaller than with shuffle
 
 
-def _write_hdf5(path: Path, grids: dict, fig6_test, validation, device_name: str) -> Path:
+def _write_hdf5(path: Path, grids: dict, fig6_test, validation, device_name: str,
+                full_histories: bool = False) -> Path:
+    """Write identification.h5.
+
+    By default the file stays small (about 8 MB for the 14 validation runs instead of 120 MB):
+    histories in single precision (7 significant digits, beyond any measurement's) and, in each
+    validation run, only the device with the largest peak force (its index in the attribute
+    ``device_index``; the errors of every device are in ``validation.json``). ``full_histories``
+    keeps every device in double precision.
+    """
     import h5py
 
+    dtype = np.float64 if full_histories else np.float32
+
+    def stored(arr, device=None):
+        arr = np.asarray(arr)
+        if device is not None and arr.ndim == 2:
+            arr = arr[:, device]
+        return arr.astype(dtype) if arr.dtype.kind == "f" else arr
 
     with atomic_path(path) as tmp:
         with h5py.File(tmp, "w") as h5:
             for k, v in provenance(study="sbib identify", device=device_name).items():
                 h5.attrs[k] = v
             h5.attrs["units"] = "SI: s, m, m/s, V, N"
+            h5.attrs["histories"] = ("full: every device, double precision" if full_histories else
+                                     "compact: single precision; validation runs keep the device with "
+                                     "the largest peak force (device_index); full: sbib identify "
+                                     "--full-histories")
             for gname, grid in grids.items():
                 g = h5.create_group(gname)
                 g.attrs["voltages_V"] = grid.voltages
@@ -152,7 +185,7 @@ def _write_hdf5(path: Path, grids: dict, fig6_test, validation, device_name: str
                         for name, arr, unit in (("time", ident.t, "s"), ("displacement", ident.x, "m"),
                                                 ("velocity", ident.xdot, "m/s"), ("force", ident.force, "N"),
                                                 ("model_force", ident.fit.force, "N")):
-                            gv.create_dataset(name, data=arr, **_GZ).attrs["units"] = unit
+                            gv.create_dataset(name, data=stored(arr), **_GZ).attrs["units"] = unit
                         gv.attrs["summary"] = json.dumps(ident.summary())
             f6 = h5.create_group("fig6_test")
             for name, arr, unit in (("time", fig6_test.time, "s"), ("displacement", fig6_test.displacement, "m"),
@@ -163,12 +196,18 @@ def _write_hdf5(path: Path, grids: dict, fig6_test, validation, device_name: str
                 gval.attrs["controller"] = validation.controller
                 for run in validation.runs:
                     gr = gval.create_group(f"{run.record}/{run.orientation}")
+                    force = np.asarray(run.force)
+                    device = (None if full_histories or force.ndim != 2 else
+                              int(np.argmax(np.max(np.abs(force), axis=0))))
+                    if device is not None:
+                        gr.attrs["device_index"] = device
                     for name, arr, unit in (("time", run.t, "s"), ("displacement", run.displacement, "m"),
                                             ("velocity", run.velocity, "m/s"), ("voltage", run.voltage, "V"),
                                             ("force", run.force, "N")):
-                        gr.create_dataset(name, data=arr, **_GZ).attrs["units"] = unit
+                        gr.create_dataset(name, data=stored(arr, device), **_GZ).attrs["units"] = unit
                     for m, arr in run.predicted.items():
-                        gr.create_dataset(f"predicted_force/{m}", data=arr, **_GZ).attrs["units"] = "N"
+                        gr.create_dataset(f"predicted_force/{m}", data=stored(arr, device),
+                                          **_GZ).attrs["units"] = "N"
                     gr.attrs["errors"] = json.dumps(run.errors)
                     gr.attrs["J"] = json.dumps(run.J)
     return path
@@ -189,7 +228,7 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                        progress: bool = True, plots: bool = True, kappa_x: str | float = "large-loop",
                        compare_free_kappa_x: bool = True, ceiling: bool = True,
                        jobs: int | None = None, close_loop: bool = True,
-                       campaign_scale: float = 0.5) -> dict:
+                       campaign_scale: float = 0.5, full_histories: bool = False) -> dict:
     """Run the identification study and write its outputs to ``out``; return the summary.
 
     Parameters
@@ -237,6 +276,9 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         seed's claim (the ``claim`` object of ``validation.json``, the seed's Fig. 11 pair).
     campaign_scale : float
         Duration factor of the closed loop's laboratory campaign.
+    full_histories : bool
+        Keep every device's histories in double precision in ``identification.h5`` (default:
+        single precision and one device per validation run, about 8 MB instead of 120 MB).
 
     Returns
     -------
@@ -379,6 +421,9 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                      "entries": [e.to_dict() for e in ceiling_entries]}, indent=2)))
         if figure_job is not None:
             files["figures"] = figure_job.result()
+    except BaseException:  # Ctrl-C or a failed task: stop the workers now, wait for nothing
+        stop_pool(pool)
+        raise
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
@@ -393,7 +438,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     if plots and validation is not None and claim_names is not None:
         files["figures"] = files.get("figures", []) + _claim_figures(validation, validation_json, figure_folder)
     t0 = time.perf_counter()
-    files["hdf5"] = str(_write_hdf5(out / "identification.h5", grids, fig6_test, validation, model.name))
+    files["hdf5"] = str(_write_hdf5(out / "identification.h5", grids, fig6_test, validation, model.name,
+                                    full_histories))
     timings["hdf5_s"] = time.perf_counter() - t0
     timings["total_s"] = time.perf_counter() - t_all
     timings["jobs"] = n_jobs

@@ -37,6 +37,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.pools import stop_pool
 from benchmark.simulator.criteria import key_json
 from damper.identification.metrics import dissipated_energy
 from damper.models.field_filter import first_order_filter
@@ -44,7 +45,7 @@ from damper.models.response import simulate as simulate_damper
 from records.resolve import resolve_record
 from benchmark.simulator.evaluation import evaluate
 from benchmark.simulator.case import Case, run_case
-from benchmark.foundation.pool import make_executor, run_tasks, worker_count
+from benchmark.foundation.pools import make_executor, run_tasks, worker_count
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from damper.identification.plots import plot_force_errors
 from records.catalogue import canonical_orientation
@@ -508,6 +509,10 @@ def validate_in_building(building, identified: dict, lags: dict | None = None,
                   str(folder / f"fig11_force_errors_{mr.record_name}_{mr.orientation}.png"))
                  for mr in measured]
         runs = run_tasks(compare_run, tasks, pool, tick)
+    except BaseException:  # Ctrl-C or a failed task: stop the workers now, wait for nothing
+        if own:
+            stop_pool(pool)
+        raise
     finally:
         if own and pool is not None:
             pool.shutdown()

@@ -15,6 +15,7 @@ outputs. Run it again on a finished directory with ``python -m benchmark.applica
 from __future__ import annotations
 
 import csv
+import re
 import html
 import json
 import math
@@ -25,6 +26,7 @@ from typing import Any, Iterable, Sequence
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.evaluation import J_DESCRIPTIONS, J_NAMES
+from benchmark.simulator.criteria import CRITERIA
 from benchmark.foundation.provenance import provenance
 
 __all__ = ["write_report", "build_report_html", "REPORT_NAME"]
@@ -43,6 +45,9 @@ figcaption { font-size: .9rem; color: #333; max-width: 60rem; }
 .meta, .note { color: #555; font-size: .9rem; } .missing { color: #8a4b00; }
 dl.key { display: grid; grid-template-columns: max-content auto; gap: .1rem 1rem; font-size: .88rem; }
 dl.key dt { font-weight: 600; } dl.key dd { margin: 0; }
+.formula { font-family: ui-monospace, monospace; color: #333; }
+dl.glossary { font-size: .88rem; max-width: 60rem; } dl.glossary dt { font-weight: 600; }
+dl.glossary dd { margin: 0 0 .3rem 1.5rem; }
 """
 
 
@@ -124,7 +129,10 @@ def _missing(what: str) -> str:
 # --------------------------------------------------------------------------- sections
 
 def _j_key() -> str:
-    items = "".join(f"<dt>{_e(j)}</dt><dd>{_e(d)}</dd>" for j, d in J_DESCRIPTIONS.items())
+    # the formulas as page text (the figures carry only the names)
+    items = "".join(f"<dt>{_e(j)}</dt><dd>{_e(d)}"
+                    + (f' <span class="formula">= {_e(CRITERIA[j].formula)}</span>' if j in CRITERIA else "")
+                    + "</dd>" for j, d in J_DESCRIPTIONS.items())
     return (f'<dl class="key">{items}</dl><p class="note">J1–J5, J7, J8: ratios to the uncontrolled run '
             "(below 1 = reduced). J6 and J9 are fractions of the controlled run itself, not ratios "
             "to the uncontrolled run (definitions and sources: <code>docs/criteria.md</code>, <code>benchmark/simulator/criteria.py</code>).</p>")
@@ -175,7 +183,9 @@ def _identification_section(root: Path) -> str:
     if params.is_file():
         try:
             lines = [ln for ln in params.read_text(encoding="utf-8").splitlines() if not ln.startswith("#")]
-            records = list(csv.DictReader(lines))
+            # column names carry their unit ("kappa_x [N/m]"); the table reads them by name
+            records = [{re.sub(r"\s*\[[^\]]*\]$", "", k or ""): v for k, v in row.items()}
+                       for row in csv.DictReader(lines)]
         except (OSError, UnicodeDecodeError, csv.Error):
             records = []
         shown = _grid_ends_and_middle(records)
@@ -193,6 +203,7 @@ def _identification_section(root: Path) -> str:
                              _pct(r.get("rel_rms_error"))])
             out.append(_table(["model", "v [V]", "κ_x [kN/m]", "κ_ẋ [kN·s/m]", "κ_w [kN]", "ρ [1/m]",
                                "σ", "n", "fit error"], rows))
+            out.append(_glossary(list(dict.fromkeys(_model_label(r) for r in shown))))
     if isinstance(validation, dict) and isinstance(validation.get("summary"), dict):
         errors = validation.get("errors") or {}
         n_runs = sum(len(v) for v in errors.values() if isinstance(v, dict))
@@ -207,6 +218,8 @@ def _identification_section(root: Path) -> str:
                 if isinstance(s, dict) and model in models and "mean_rel_rms_error" in s]
         out.append(_table(["model", "relative RMS (mean)", "relative RMS (max)", "peak (mean)",
                            "energy (mean)"], rows))
+        out.append(_glossary([m for m, s in validation["summary"].items()
+                              if isinstance(s, dict) and m in models and "mean_rel_rms_error" in s]))
     out.append(f'<p class="note">{_data_links(root, [params, folder / "validation.json", folder / "voltage_laws.json", folder / "ceiling.json", folder / "identification.h5"])}</p>')
     figures = folder / "figures"
     out.append(_figure(root, figures / "fig08_parameters_vs_voltage.png",
@@ -219,6 +232,61 @@ def _identification_section(root: Path) -> str:
                        "Where the validation error comes from: errors by field regime and the structural ceiling.",
                        [folder / "validation.json", folder / "ceiling.json"]))
     return "".join(out)
+
+
+#: What each model name of the identification's tables means (the names are built from these parts).
+_MODEL_NAMES = {
+    "original": "the seed paper's “original method” (its Fig. 11): Rodríguez et al.'s closed form of "
+                "the normalized Bouc-Wen model at each voltage, no elastic term, no refinement, with the "
+                "seed's voltage laws",
+    "proposed": "the seed paper's proposed method (its Fig. 11): the elastic stiffness κ_x read once "
+                "from the ±0.4 m loop at 0 V, then the same closed form on F − κ_x·x, with the seed's "
+                "voltage laws",
+    "normalized": "normalized Bouc-Wen model (no elastic term), closed form then least-squares "
+                  "refinement at each voltage, parameters between voltages by the fitted voltage laws",
+    "extended": "extended Bouc-Wen model: the normalized model plus an elastic term κ_x·x, κ_x read "
+                "once from the large 0 V loop and held fixed, refined at each voltage, with voltage laws",
+    "extended-free-kx": "the extended model with κ_x identified freely at each voltage",
+    "closed-loop-normalized": "the normalized model with the effects the residual loop found from the "
+                              "extended base, refitted jointly (the claim's pair: it differs from "
+                              "closed-loop-extended only by the elastic term)",
+    "closed-loop-extended": "the model the residual loop built from the extended base: the base plus "
+                            "the effects it found in laboratory tests with changing voltage",
+    "loop-from-normalized": "the residual loop's own result from the normalized base (it may add the "
+                            "elastic term itself)",
+}
+_NAME_PARTS = {
+    "-pchip": "parameters between the grid's voltages by monotone (PCHIP) interpolation instead of "
+              "the voltage laws",
+    "+lag": "driven by the commanded voltage through the identified first-order field filter "
+            "(the coil's lag)",
+    " (κ_x per voltage)": "κ_x identified freely at each voltage",
+}
+
+
+def explain_model_name(name: str) -> str | None:
+    """Plain words for a model name of the identification's tables (``None`` if unknown)."""
+    extras: list[str] = []
+    base = name
+    changed = True
+    while changed:
+        changed = False
+        for suffix, words in _NAME_PARTS.items():
+            if base.endswith(suffix) and base != suffix:
+                base, changed = base[:-len(suffix)], True
+                extras.insert(0, words)
+    if base not in _MODEL_NAMES:
+        return None
+    return "; ".join([_MODEL_NAMES[base]] + extras)
+
+
+def _glossary(names: Sequence[str]) -> str:
+    """A definition list explaining each model name shown in the table just above."""
+    items = []
+    for name in dict.fromkeys(names):
+        words = explain_model_name(name)
+        items.append(f"<dt>{_e(name)}</dt><dd>{_e(words or 'a model given by the study (see validation.json)')}</dd>")
+    return f'<dl class="glossary">{"".join(items)}</dl>' if items else ""
 
 
 def _model_label(row: dict) -> str:

@@ -15,10 +15,11 @@ from pathlib import Path
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.beside import run_beside
+from benchmark.foundation.pools import stop_pool
 from records.report import write_records_report
 from benchmark.applications.comparison import compare
 from benchmark.applications.identification_study import run_identify_study
-from benchmark.foundation.pool import make_side_executor
+from benchmark.foundation.pools import make_side_executor
 from damper.diagnosis import diagnose
 from damper.diagnosis.report import write_report as write_diagnosis_report
 from damper.lab.laboratory import periodic_test
@@ -83,6 +84,9 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
             summary["steps"]["diagnosis"]["beside"] = "identification"
         else:
             summary["steps"]["diagnosis"] = _timed_diagnosis(out / "diagnosis", quick)
+    except BaseException:  # Ctrl-C or a failed step: stop the side worker now
+        stop_pool(side)
+        raise
     finally:
         if side is not None:
             side.shutdown(cancel_futures=True)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import signal
 import traceback
 from typing import Any, Callable
 
@@ -69,6 +70,7 @@ class Beside:
 
 
 def _child(conn: Any, fn: Callable[..., Any], args: tuple) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's: it ends this process
     try:
         conn.send((True, fn(*args)))
     except BaseException:  # noqa: BLE001 - everything goes back to the parent, which raises

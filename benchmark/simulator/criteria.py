@@ -63,7 +63,7 @@ class Criterion:
 
 
 _UNVERIFIED = ("the source's numbering and definition of J6 and J9 could not be checked "
-               "against the paper (DOMAIN.md marks them unverified); the project chose this "
+               "against the paper (see docs/criteria.md); the project chose this "
                "definition and keeps it fixed")
 
 CRITERIA: dict[str, Criterion] = {c.key: c for c in (

@@ -26,6 +26,7 @@ from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.figures import save_figure
 from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
+from damper.diagnosis.effects import EFFECTS
 
 __all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
            "plot_loops"]
@@ -193,27 +194,49 @@ def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
     data = diagnosis.data
     before, after = _forces(diagnosis)
     idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
-    fig, axes = plt.subplots(2, len(idx), figsize=(3.6 * len(idx), 6.4), squeeze=False)
+    # At most three tests side by side (two rows each: displacement, velocity), so that the
+    # figure is about 970 px wide and its labels legible on the report page at 100 % zoom.
+    n_cols = min(3, max(1, len(idx)))
+    n_rows = 2 * -(-len(idx) // n_cols) if idx else 2
+    fig, grid = plt.subplots(n_rows, n_cols, figsize=(3.6 * n_cols, 3.2 * n_rows), squeeze=False)
+    for ax in grid.flat:  # shown again below where a test is drawn
+        ax.set_visible(False)
     for j, i in enumerate(idx):
         m, k = data.motions[i], data.heldout[i]
+        r0, col = 2 * (j // n_cols), j % n_cols
         for row, (z, label) in enumerate(((to_display(m.x, "displacement"), axis_label("displacement", "displacement")),
                                           (to_display(m.xdot, "velocity"), axis_label("velocity", "velocity")))):
-            ax = axes[row, j]
+            ax = grid[r0 + row, col]
+            ax.set_visible(True)
+            ax.ticklabel_format(useOffset=False)  # plain tick values, no "1e-14" offset text
+            ax.locator_params(axis="x", nbins=4)  # four ticks: long values ("-0.0075") do not collide
             ax.plot(z[k], to_display(data.forces[i][k], "force"), color="k", lw=1.0, label="measured")
             ax.plot(z[k], to_display(before[i][k], "force"), color="0.55", lw=0.9, ls="--", label=diagnosis.model_kind)
             ax.plot(z[k], to_display(after[i][k], "force"), color="tab:red", lw=0.9, label="augmented")
             ax.set_xlabel(label)
             ax.grid(True, alpha=0.3)
-            if j == 0:
+            if col == 0:
                 ax.set_ylabel(axis_label("force", "force"))
-        axes[0, j].set_title(m.name, fontsize=10)
-    axes[0, 0].legend(fontsize=8)
+        grid[r0, col].set_title(m.name, fontsize=10)
+    grid[0, 0].legend(fontsize=9)
     fig.tight_layout()
     return _save(fig, Path(path), dpi)
 
 
-def _fmt_params(params: dict) -> str:
-    return ", ".join(f"{k} = {v:.4g}" for k, v in params.items())
+def format_parameters(effect: str, params: dict) -> str:
+    """``name = value unit`` for each parameter of the library effect ``effect`` (SI units)."""
+    unit = getattr(EFFECTS.get(effect), "unit", None)
+    suffix = "" if unit in (None, "-", "1") else f" {unit}"
+    return ", ".join(f"{k} = {v:.4g}{suffix}" for k, v in params.items())
+
+
+def input_word(variable: str, input_name: str) -> str:
+    """A trace variable named for the coil input the tests give (``voltage`` -> ``current``)."""
+    return variable.replace("voltage", input_name) if input_name != "voltage" else variable
+
+
+def _fmt_params(params: dict, effect: str = "") -> str:
+    return format_parameters(effect, params)
 
 
 def report_markdown(diagnosis, plots: dict | None = None) -> str:
@@ -250,14 +273,14 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
                         "selection: the model so far is reported."]
     lines += ["## Effects added", ""]
     if d.selection.steps:
-        lines += ["| step | effect | parameters (SI) | held-out error before | after | BIC change | N_eff |",
+        lines += ["| step | effect | parameters at that step (SI) | held-out error before | after | BIC change | N_eff |",
                   "|---|---|---|---|---|---|---|"]
         for i, s in enumerate(d.selection.steps, 1):
-            lines.append(f"| {i} | `{s.name}` | {_fmt_params(s.parameters)} | {s.error_before:.4f} | "
+            lines.append(f"| {i} | `{s.name}` | {_fmt_params(s.parameters, s.name)} | {s.error_before:.4f} | "
                          f"{s.error_after:.4f} | {s.bic_delta:+.1f} | {s.effective_samples:.0f} |")
         final = {e.name: e.parameters for e in d.final_model.effects}
         lines += ["", "Parameters after the last joint refit: "
-                  + "; ".join(f"`{k}`: {_fmt_params(v)}" for k, v in final.items()) + "."]
+                  + "; ".join(f"`{k}`: {_fmt_params(v, k)}" for k, v in final.items()) + "."]
     else:
         lines.append("None paid on the held-out data.")
     lines += ["", "## Rounds", "",
@@ -272,7 +295,7 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
         for t in trials:
             verdict = "**added**" if t.accepted else "not added"
             lines.append(f"- `{t.name}`: held-out error {t.error:.4f}, BIC change {t.bic_delta:+.1f}, "
-                         f"{_fmt_params(t.parameters)} — {verdict}" + (f" ({t.note})" if t.note else ""))
+                         f"{_fmt_params(t.parameters, t.name)} — {verdict}" + (f" ({t.note})" if t.note else ""))
         lines.append("")
     lines += ["## Residual trace (held-out)", "",
               "Share of the residual variance explained by each variable (binned partial dependence, "

@@ -46,11 +46,12 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
+from benchmark.foundation.pools import stop_pool
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES, closed_form
 from damper.identification.cycles import average_branches, detect_cycles, steady_cycles
 from damper.identification.identify import Identification, identify
-from benchmark.foundation.pool import make_executor, run_tasks, worker_count
+from benchmark.foundation.pools import make_executor, run_tasks, worker_count
 from damper.identification.refine import free_parameters, refine_shared
 from damper.models.voltage_laws import (Constant, Exponential, Polynomial, SeedKappaW, Tabulated,
                                  VoltageLaw, check_law)
@@ -550,6 +551,10 @@ def identify_voltage_grid(device, voltages: Sequence[float] = DEFAULT_VOLTAGES,
                                 {"extended": prm}) for x, prm in zip(v, shared.parameters)], pool)
             for row, new in zip(per_voltage, again):
                 row[j] = new[0]
+    except BaseException:  # Ctrl-C or a failed task: stop the workers now, wait for nothing
+        if own:
+            stop_pool(pool)
+        raise
     finally:
         if own and pool is not None:
             pool.shutdown()

@@ -348,6 +348,9 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
 def write_csv(test: DamperTest, path) -> Path:
     """Write ``test`` as CSV (atomically), with ``# name:`` and ``# source:`` comment lines.
 
+    The header names each column with its SI unit (``time [s],displacement [m],force [N],
+    velocity [m/s],voltage [V]``); :func:`read_csv` reads it back.
+
     Parameters
     ----------
     test : DamperTest
@@ -369,7 +372,7 @@ def write_csv(test: DamperTest, path) -> Path:
                 value = getattr(test, key)
                 if value:
                     fh.write(f"# {key}: {' '.join(str(value).split())}\n")
-            fh.write(",".join(name for name, _ in columns) + "\n")
+            fh.write(",".join(f"{name} [{_UNITS[name]}]" for name, _ in columns) + "\n")
             np.savetxt(fh, data, delimiter=",", fmt="%.10g")
     return path
 

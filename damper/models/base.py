@@ -24,10 +24,13 @@ a new kernel family also adds one branch to each of :func:`damper.models.registr
 from __future__ import annotations
 
 import abc
+import dataclasses
+import functools
 from typing import ClassVar
 
 import numpy as np
 
+from benchmark.foundation.errors import ParameterError
 from benchmark.foundation.registry import Registry
 
 __all__ = ["DamperModel", "MODELS", "register_model", "KERNEL_BOUC_WEN", "KERNEL_SPENCER_TYPE", "KERNEL_BINGHAM",
@@ -127,4 +130,43 @@ def register_model(cls):
         If ``cls`` is not a :class:`DamperModel` subclass, names an unknown kernel family, or
         its name is already taken by another class.
     """
-    return MODELS.register(cls)
+    MODELS.register(cls)
+    _check_arguments_on_init(cls)
+    return cls
+
+
+def _check_arguments_on_init(cls: type[DamperModel]) -> None:
+    """Make ``cls(...)`` with missing or unknown parameters fail with one line that names them.
+
+    The dataclass ``__init__`` would raise a bare ``TypeError`` (``missing 3 required positional
+    arguments``); the wrapper raises :class:`ParameterError` listing every missing parameter and
+    the accepted names instead. Classes that are not dataclasses are left alone.
+    """
+    init = cls.__dict__.get("__init__")
+    if init is None or not dataclasses.is_dataclass(cls) or getattr(init, "_sbib_checked", False):
+        return
+    fields = [f for f in dataclasses.fields(cls) if f.init]
+    names = [f.name for f in fields]
+    required = [f.name for f in fields
+                if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING]
+
+    @functools.wraps(init)
+    def checked_init(self, *args, **kwargs):
+        given = set(names[:len(args)]) | set(kwargs)
+        unknown = sorted(set(kwargs) - set(names))
+        missing = [n for n in required if n not in given]
+        if unknown or missing or len(args) > len(names):
+            problems = []
+            if missing:
+                problems.append(f"missing required parameter{'s' if len(missing) > 1 else ''} "
+                                + ", ".join(missing))
+            if unknown:
+                problems.append("unknown parameter" + ("s " if len(unknown) > 1 else " ") + ", ".join(unknown))
+            if len(args) > len(names):
+                problems.append(f"{len(args)} positional values for {len(names)} parameters")
+            raise ParameterError(f"damper model {cls.name!r} ({cls.__name__}): " + "; ".join(problems)
+                                 + "; its parameters (SI units) are " + ", ".join(names))
+        init(self, *args, **kwargs)
+
+    checked_init._sbib_checked = True  # type: ignore[attr-defined]
+    cls.__init__ = checked_init  # type: ignore[method-assign]

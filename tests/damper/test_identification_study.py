@@ -122,7 +122,7 @@ def test_joint_kappa_x_and_a_pool_give_the_same_grid_as_one_process():
 
 
 def test_worker_count_rejects_bad_jobs():
-    from benchmark.foundation.pool import run_tasks, worker_count
+    from benchmark.foundation.pools import run_tasks, worker_count
     assert worker_count(1) == 1 and worker_count(8, n_tasks=3) == 3 and worker_count(None) >= 1
     for bad in (-1, 1.5, "2", True):
         with pytest.raises(InputError, match="jobs"):
