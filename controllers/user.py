@@ -40,7 +40,14 @@ VOLTAGE_TOLERANCE = 1e-9
 
 
 def is_user_controller_spec(spec: Any) -> bool:
-    """``spec`` has the form ``module:Class`` or ``file.py:Class``."""
+    """``spec`` has the form ``module:Class`` or ``file.py:Class``.
+
+    Parameters
+    ----------
+    spec : Any
+        A ``--controller`` value; only a string with a ``:`` that does not start with it counts
+        (registered names have no colon).
+    """
     return isinstance(spec, str) and ":" in spec.strip() and not spec.strip().startswith(":")
 
 
@@ -104,6 +111,16 @@ def _takes_one_argument(function, bound: bool) -> bool:
 def load_user_controller(spec: str) -> "GuardedController":
     """Import the class ``spec`` names, check its signature, build it and wrap it in a guard.
 
+    Parameters
+    ----------
+    spec : str
+        ``package.module:Class`` (imported) or ``path/to/file.py:Class`` (loaded from the file).
+
+    Returns
+    -------
+    GuardedController
+        The user's instance, built with no arguments, behind the run-time checks.
+
     Raises
     ------
     InputError
@@ -147,6 +164,15 @@ class GuardedController(Controller):
     """A user's controller behind the checks of the module docstring (same ``step``/``reset``).
 
     Runs from Python at every control step (``compiled()`` is the user's, usually ``None``).
+
+    Parameters
+    ----------
+    inner : Any
+        The user's controller instance (``step(measurements)``, optional ``reset(context)``,
+        ``compiled()`` and ``describe()``).
+    spec : str
+        The spec it was loaded from; names it in errors and results and rebuilds it in a
+        worker process.
     """
 
     def __init__(self, inner: Any, spec: str) -> None:

@@ -73,6 +73,9 @@ class ComparisonRun:
         Wall time of the run [s].
     synthetic : bool, optional
         Whether the record was a synthetic stand-in (record files absent).
+    damper : str, optional
+        The damper model's file name (or registered name) when dampers are compared; empty
+        otherwise.
     """
 
     record: str
@@ -96,6 +99,8 @@ class ComparisonRun:
         return f"{self.record} (synthetic)" if self.synthetic else self.record
 
     def to_json(self) -> dict:
+        """JSON-ready summary: record, label, synthetic, orientation, controller, J's, peaks (SI)
+        and the damper when set (histories left out)."""
         out = {"record": self.record, "label": self.label, "synthetic": self.synthetic,
                "orientation": self.orientation, "controller": self.controller, "J": self.J, "peaks": self.peaks}
         if self.damper:

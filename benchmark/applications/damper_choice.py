@@ -92,7 +92,19 @@ class DamperChoice:
 
 
 def parse_scale(text: Any) -> tuple[str, float] | None:
-    """``None``; ``("factor", F)`` for a number; ``("capacity", N)`` for a force with a unit (N, kN, MN)."""
+    """``None``; ``("factor", F)`` for a number; ``("capacity", N)`` for a force with a unit (N, kN, MN).
+
+    Parameters
+    ----------
+    text : Any
+        A ``--damper-scale`` value: ``None``, a number, or text such as ``"400"`` or ``"1000kN"``;
+        a capacity is converted to newtons.
+
+    Raises
+    ------
+    InputError
+        Not a number, a unit other than N, kN or MN, or a value that is not finite and positive.
+    """
     if text is None:
         return None
     if isinstance(text, (int, float)) and not isinstance(text, bool):
@@ -135,6 +147,23 @@ def _source(spec: str | None, base_dir: Path | None = None) -> ModelFile:
 
 def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | None = None) -> DamperChoice:
     """The damper of ``--damper`` at ``--damper-scale`` (module docstring).
+
+    Parameters
+    ----------
+    spec : str, optional
+        A model file (``*.json``) or a registered model's name; ``None`` or ``""``: the default
+        device model.
+    scale : Any, optional
+        ``--damper-scale``: a factor or a target capacity with its unit (:func:`parse_scale`);
+        ``None``: as fitted.
+    base_dir : Path, optional
+        Folder a relative model file is taken from (a layout file's folder); default: the
+        working directory.
+
+    Returns
+    -------
+    DamperChoice
+        The model the building runs, its label, scale and input mapping.
 
     Raises
     ------
@@ -188,6 +217,26 @@ def resolve_layout(devices: Any, choice: DamperChoice, scale: Any = None) -> tup
     """The device layout of ``--devices`` (module docstring) and the dampers it uses (``choice`` first).
 
     ``devices`` ``None`` is the default 16-device layout.
+
+    Parameters
+    ----------
+    devices : Any
+        ``--devices``: ``None``, ``""`` or ``"default"`` (16 devices), an even number of devices,
+        or a layout JSON file.
+    choice : DamperChoice
+        The damper of ``--damper``: every slot without a model of its own runs it.
+    scale : Any, optional
+        ``--damper-scale``, applied to the models a layout file names.
+
+    Returns
+    -------
+    tuple of (DeviceLayout, list of DamperChoice)
+        The layout and the dampers it uses (``choice`` first when a slot uses it).
+
+    Raises
+    ------
+    InputError
+        An odd or too small number, a missing or malformed layout file, a bad slot or model.
     """
     if devices is None or devices == "" or devices == "default":
         return DeviceLayout.default(model=choice.model), [choice]
@@ -243,7 +292,13 @@ def resolve_layout(devices: Any, choice: DamperChoice, scale: Any = None) -> tup
 
 
 def add_damper_options(parser: Any) -> None:
-    """``--damper``, ``--devices``, ``--damper-scale`` (module docstring)."""
+    """``--damper``, ``--devices``, ``--damper-scale`` (module docstring).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The (sub)command parser the three options are added to.
+    """
     parser.add_argument("--damper", default=None, metavar="FILE.json|NAME",
                         help="damper model of every device: a model file (sbib diagnose/identify write them) or a "
                              f"registered model (default {DEFAULT_DAMPER})")

@@ -158,6 +158,9 @@ class Case:
     motion_seed : int
         Seed of the synthetic motion, from (template, realisation): the same pair for every
         controller, parameter set, PGA and orientation.
+    building : tuple of str, optional
+        ``(damper, devices, damper_scale)`` of the config (:mod:`benchmark.applications.damper_choice`;
+        model files as absolute paths, ``""`` for one not given); empty: the default devices.
     """
 
     index: int
@@ -246,6 +249,10 @@ class EnsembleConfig:
         Where the config came from (file path), for messages.
     text : str
         The TOML text (stored in the HDF5 file).
+    building : tuple of str, optional
+        ``(damper, devices, damper_scale)`` as ``sbib run``'s ``--damper``, ``--devices`` and
+        ``--damper-scale`` (files stored as absolute paths, ``""`` for one not given); empty:
+        the default devices.
     """
 
     controllers: tuple[str, ...]

@@ -30,7 +30,17 @@ __all__ = ["differences", "force_difference", "table_lines", "plot_force_differe
 def add_replays(runs: list, buildings: dict) -> None:
     """For each run of a model other than the first: the force of its model, at the reference
     run's most loaded device, under that device's motion and commands in the first model's run
-    (``histories["replay_force"]``; the seed's Fig. 11 compares models under the same motion)."""
+    (``histories["replay_force"]``; the seed's Fig. 11 compares models under the same motion).
+
+    Parameters
+    ----------
+    runs : list of ComparisonRun
+        The runs of every model; those of the first model need full device histories
+        (``device_displacement`` [m], ``device_velocity`` [m/s], ``voltage_full``, ``t_full`` [s]).
+        The others get ``histories["replay_force"]`` [N], in place.
+    buildings : dict
+        ``{damper label: Building}`` in the comparison's model order (first: the reference).
+    """
     order = list(buildings)
     groups: dict[tuple, list] = {}
     for r in runs:
@@ -62,9 +72,20 @@ def _groups(result: Any) -> list[tuple[tuple, list]]:
 def force_difference(reference: Any, other: Any) -> dict:
     """Force-difference history of the reference run's most loaded device (SI).
 
-    Returns ``{"device", "t", "reference", "other", "difference", "peak", "rms", "relative_rms"}``
-    (``relative_rms``: RMS of the difference over the RMS of the reference force), or ``{}``
-    when the runs kept no full device histories.
+    Parameters
+    ----------
+    reference : ComparisonRun
+        The first model's run; its device with the largest peak force is compared.
+    other : ComparisonRun
+        Another model's run of the same record, orientation and controller.
+
+    Returns
+    -------
+    dict
+        ``{"device", "t", "reference", "other", "difference", "peak", "rms", "relative_rms"}``
+        (time [s], forces [N]; ``relative_rms``: RMS of the difference over the RMS of the
+        reference force), with ``replay_*`` entries when ``other`` has a replay force, or ``{}``
+        when the runs kept no full device histories.
     """
     ha, hb = reference.histories, other.histories
     if "device_force" not in ha or "device_force" not in hb:
@@ -88,7 +109,13 @@ def force_difference(reference: Any, other: Any) -> dict:
 
 def differences(result: Any) -> list[dict]:
     """One entry per run: ``record, orientation, controller, reference`` (first model), ``models``
-    (``{model: {"J": {...}, "dJ": {...}, "force_difference": {device, peak [N], rms [N], relative_rms}}}``)."""
+    (``{model: {"J": {...}, "dJ": {...}, "force_difference": {device, peak [N], rms [N], relative_rms}}}``).
+
+    Parameters
+    ----------
+    result : ComparisonResult
+        A comparison of several dampers (``result.dampers`` in order, the first the reference).
+    """
     out = []
     for (record, orientation, controller), runs in _groups(result):
         first = runs[0]
@@ -107,7 +134,13 @@ def differences(result: Any) -> list[dict]:
 
 
 def table_lines(result: Any) -> list[str]:
-    """Text: per run, each model's J's and the differences from the first model, and the force difference."""
+    """Text: per run, each model's J's and the differences from the first model, and the force difference.
+
+    Parameters
+    ----------
+    result : ComparisonResult
+        A comparison of several dampers (:func:`differences`); forces printed in kN.
+    """
     lines = [f"model comparison (reference: the first model, {result.dampers[0]}); dJ = J[model] - J[reference]"]
     for entry in differences(result):
         lines.append(f"{entry['record']} {entry['orientation']} {entry['controller']}:")
@@ -142,7 +175,15 @@ def _safe(text: str) -> str:
 
 
 def plot_force_differences(result: Any, directory: Path) -> list[Path]:
-    """One figure per run (module docstring); returns the paths."""
+    """One figure per run (module docstring); returns the paths.
+
+    Parameters
+    ----------
+    result : ComparisonResult
+        A comparison of several dampers whose runs kept full device histories.
+    directory : Path
+        Folder the PNG figures are written into.
+    """
     plt = _pyplot()
     directory = Path(directory)
     paths = []

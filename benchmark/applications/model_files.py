@@ -28,7 +28,18 @@ def _levels(values) -> tuple[float, ...]:
 
 def write_diagnosis_models(result: Any, out: str | Path, inputs: Sequence[str]) -> dict[str, Path]:
     """Write ``base_model.json`` and ``final_model.json`` of a :class:`damper.diagnosis.loop.Diagnosis`
-    into ``out``; return their paths by name (``base_model``, ``final_model``)."""
+    into ``out``; return their paths by name (``base_model``, ``final_model``).
+
+    Parameters
+    ----------
+    result : Diagnosis
+        The result of ``sbib diagnose``: base and final models, held-out errors, the data's
+        input (voltage or current, range, levels).
+    out : str or Path
+        Output folder (created if needed).
+    inputs : sequence of str
+        Data files diagnosed (recorded with their SHA-256 in the provenance).
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     data = result.data
@@ -66,6 +77,21 @@ def write_identified_models(result: dict, out: str | Path, inputs: Sequence[str]
     Files at several input levels give tabulated laws through the levels (the median of each
     parameter over the files at one level); files at one level give constant parameters (and a
     note: nothing to command). A file without a stated level counts as 0 (V).
+
+    Parameters
+    ----------
+    result : dict
+        The result of :func:`damper.identification.measured.identify_files` (``tests``: one
+        entry per file and model form, ``summary``).
+    out : str or Path
+        Output folder (created if needed).
+    inputs : sequence of str
+        Data files identified (recorded with their SHA-256 in the provenance).
+
+    Raises
+    ------
+    InputError
+        The files mix input units (volts and amperes).
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

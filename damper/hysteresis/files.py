@@ -251,7 +251,29 @@ def save_model(path, model: HystereticOscillator, fs: float, upsample: int = DEF
     """Write the model as a damper model file (:mod:`damper.io.model_file`, model
     ``hysteretic_oscillator``; atomic): parameters in SI with their units; the integration settings
     (``sampling_rate_hz``, ``upsample``), the standard form and ``extra`` (the fit) under
-    ``quality``; ``inputs`` (data files) in the provenance with their SHA-256."""
+    ``quality``; ``inputs`` (data files) in the provenance with their SHA-256.
+
+    Parameters
+    ----------
+    path : path-like
+        Model file to write (replaced atomically).
+    model : HystereticOscillator
+        The fitted oscillator.
+    fs : float
+        Sampling rate [Hz] of the data the model was fitted on (its integration rate before
+        upsampling).
+    upsample : int, optional
+        Integration substeps per sample used in the fit.
+    extra : dict, optional
+        More entries of ``quality`` (the fit's errors and settings).
+    inputs : sequence of path-like, optional
+        Data files the model was fitted on (recorded with their SHA-256).
+
+    Returns
+    -------
+    Path
+        The path written.
+    """
     quality = {"standard_form": model.to_standard(beta=1.0), "sampling_rate_hz": float(fs),
                "upsample": int(upsample), **(extra or {})}
     return write_model_file(path, model, quality=quality, provenance=file_provenance(inputs))
@@ -263,7 +285,18 @@ def load_model(path) -> tuple[HystereticOscillator, dict]:
     """Read a model written by :func:`save_model` (the damper model file, or the earlier
     ``{"kind": "hysteretic_oscillator", ...}`` layout); return the model and a dict with
     ``kind``, ``parameters`` and the entries :func:`save_model` put under ``quality``
-    (``sampling_rate_hz``, ``upsample``, ``fit``, ...)."""
+    (``sampling_rate_hz``, ``upsample``, ``fit``, ...).
+
+    Parameters
+    ----------
+    path : path-like
+        A model file of model ``hysteretic_oscillator``.
+
+    Raises
+    ------
+    InputError
+        The file is malformed or holds another model.
+    """
     mf = read_model_file(path)
     if not isinstance(mf.model, HystereticOscillator):
         raise InputError(f"{path}: model {mf.model_name} is not a {MODEL_KIND}; expected a file of "

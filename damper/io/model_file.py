@@ -113,12 +113,40 @@ def _norm_unit(unit: str) -> str:
 
 
 def as_range(values) -> tuple[float, float]:
-    """``(min, max)`` as floats."""
+    """``(min, max)`` as floats.
+
+    Parameters
+    ----------
+    values : sequence of float
+        At least two numbers, ``(min, max)``, e.g. an input range (V or A); further items are ignored.
+
+    Returns
+    -------
+    tuple of float
+        ``(float(values[0]), float(values[1]))``.
+    """
     return float(values[0]), float(values[1])
 
 
 def parameter_unit(model: str, name: str, input_unit: str = "V") -> str | None:
-    """The SI unit of parameter ``name`` of registered model ``model`` (``None`` when unknown)."""
+    """The SI unit of parameter ``name`` of registered model ``model`` (``None`` when unknown).
+
+    Parameters
+    ----------
+    model : str
+        Registered model name (:mod:`damper.models.registry`) or ``"hysteretic_oscillator"``;
+        a model without a unit table of its own uses the Bouc-Wen units.
+    name : str
+        Parameter (dataclass field) name, e.g. ``"kappa_w"``.
+    input_unit : str, optional
+        Unit of the model's input (``"V"`` or ``"A"``), substituted in the units of the
+        coefficients per unit input (``N/(m*V)``).
+
+    Returns
+    -------
+    str or None
+        The unit as written in the file (``"N*s/m"``), or ``None`` when the parameter is unknown.
+    """
     table = _MODEL_UNITS.get(model, _COMMON_UNITS)
     unit = table.get(name, _COMMON_UNITS.get(name) if model not in _MODEL_UNITS else None)
     return None if unit is None else unit.replace("{u}", input_unit)
@@ -127,7 +155,19 @@ def parameter_unit(model: str, name: str, input_unit: str = "V") -> str | None:
 @dataclass(frozen=True)
 class InputSpec:
     """The model's input: ``quantity`` (``voltage`` or ``current``), ``unit`` (V or A), admissible
-    ``range`` and the ``levels`` of the tests it was fitted on."""
+    ``range`` and the ``levels`` of the tests it was fitted on.
+
+    Parameters
+    ----------
+    quantity : str
+        ``"voltage"`` or ``"current"`` (``"force"`` for the hysteretic oscillator).
+    unit : str
+        Unit of the input: ``"V"`` for a voltage, ``"A"`` for a current (``"N"`` for a force).
+    range : tuple of float
+        Admissible input ``(min, max)`` in ``unit``; the laws are checked over it.
+    levels : tuple of float
+        Input levels (in ``unit``) of the tests the model was fitted on; empty when unknown.
+    """
 
     quantity: str = "voltage"
     unit: str = "V"
@@ -140,6 +180,7 @@ class InputSpec:
         return len(self.levels) == 1
 
     def to_json(self) -> dict:
+        """The ``input`` object of the model file: quantity, unit, range and levels (floats)."""
         return {"quantity": self.quantity, "unit": self.unit, "range": [float(v) for v in self.range],
                 "levels": [float(v) for v in self.levels]}
 
@@ -221,7 +262,24 @@ class ModelFile:
         return model, dropped
 
     def scaled(self, factor: float) -> "ModelFile":
-        """The model under force similitude ``factor`` (module docstring); ``scale`` multiplies."""
+        """The model under force similitude ``factor`` (module docstring); ``scale`` multiplies.
+
+        Parameters
+        ----------
+        factor : float
+            Force similitude factor (finite, > 0): every force parameter (unit N...) and every
+            effect in N or kg is multiplied by it; displacements, velocities and times unchanged.
+
+        Returns
+        -------
+        ModelFile
+            A new model file (``self`` when ``factor`` is 1).
+
+        Raises
+        ------
+        InputError
+            ``factor`` is not finite or not positive.
+        """
         factor = float(factor)
         if not (math.isfinite(factor) and factor > 0):
             raise InputError(f"damper scale: expected a finite factor > 0, got {factor!r}")
@@ -305,7 +363,24 @@ def sha256_of(path) -> str:
 
 def file_provenance(inputs: Sequence = (), command: str | None = None, **extra) -> dict:
     """Provenance of a model file: input files with their SHA-256, the command line (default:
-    this process's ``sys.argv``), package version, commit, time, library versions, ``extra``."""
+    this process's ``sys.argv``), package version, commit, time, library versions, ``extra``.
+
+    Parameters
+    ----------
+    inputs : sequence of path-like, optional
+        Data files the model was fitted on; each is recorded with its SHA-256 (``None`` when the
+        file does not exist).
+    command : str, optional
+        Command line to record; default ``sbib`` followed by this process's arguments.
+    **extra
+        Further entries passed to :func:`benchmark.foundation.provenance.provenance` (e.g.
+        ``kind="sbib diagnose"``).
+
+    Returns
+    -------
+    dict
+        JSON-ready provenance.
+    """
     files = []
     for p in inputs:
         p = Path(p)
@@ -372,7 +447,14 @@ def write_model_file(path, model, *, input: InputSpec | None = None, effects: Se
 # ------------------------------------------------------------------------------------ reading
 
 def looks_like_model_file(text: str) -> bool:
-    """``text`` names a JSON file (rather than a registered model name)."""
+    """``text`` names a JSON file (rather than a registered model name).
+
+    Parameters
+    ----------
+    text : str
+        A ``--damper`` value: a path (ends in ``.json`` or contains a path separator) or a
+        registered model's name.
+    """
     return str(text).lower().endswith(".json") or "/" in str(text) or "\\" in str(text)
 
 
@@ -521,6 +603,17 @@ def _read_effects(doc: dict, where: str) -> tuple:
 def read_model_file(path) -> ModelFile:
     """Read a model file (module docstring); every problem is one :class:`InputError` line.
 
+    Parameters
+    ----------
+    path : path-like
+        The model file (``model.json``); the hysteretic oscillator's earlier
+        ``{"kind": "hysteretic_oscillator", ...}`` layout is read too.
+
+    Returns
+    -------
+    ModelFile
+        The model with its input, effects, quality, provenance and notes (SI).
+
     Raises
     ------
     DataNotFoundError
@@ -603,7 +696,21 @@ def _read_legacy_oscillator(doc: dict, where: str) -> ModelFile:
 
 def capacity_force(model: DamperModel, test: dict | None = None) -> float:
     """Peak force [N] of ``model`` at its largest input under :data:`CAPACITY_TEST` (the force a
-    target capacity is compared with)."""
+    target capacity is compared with).
+
+    Parameters
+    ----------
+    model : DamperModel
+        A registered damper model; driven at the top of its ``voltage_range``.
+    test : dict, optional
+        The sine motion: ``amplitude_m`` [m], ``frequency_hz`` [Hz] and ``cycles``; default
+        :data:`CAPACITY_TEST`. The peak is taken over the last cycle.
+
+    Returns
+    -------
+    float
+        Peak absolute force [N] over the last cycle.
+    """
     test = dict(CAPACITY_TEST if test is None else test)
     f, a, cycles = test["frequency_hz"], test["amplitude_m"], test["cycles"]
     t = np.linspace(0.0, cycles / f, int(cycles * 400) + 1)
