@@ -122,6 +122,19 @@ class WorkerPool(cf.ProcessPoolExecutor):
         self._stopped = False
 
     def submit(self, fn, /, *args, **kwargs):  # type: ignore[override]
+        """Schedule ``fn(*args, **kwargs)`` as :meth:`concurrent.futures.Executor.submit` does.
+
+        Parameters
+        ----------
+        fn : callable
+            A picklable function.
+        *args, **kwargs
+            Its arguments.
+
+        Returns
+        -------
+        concurrent.futures.Future
+        """
         # Workers are started on submit: hold Ctrl-C back while they are created.
         with sigint_held():
             return super().submit(fn, *args, **kwargs)
@@ -175,7 +188,13 @@ def _sigint_ignored() -> Iterator[None]:
 
 
 def stop_pool(pool: cf.Executor | None) -> None:
-    """Stop ``pool`` at once (:meth:`WorkerPool.stop`); other executors are shut down without waiting."""
+    """Stop ``pool`` at once (:meth:`WorkerPool.stop`); other executors are shut down without waiting.
+
+    Parameters
+    ----------
+    pool : Executor or None
+        The pool (``None``: nothing to stop).
+    """
     if pool is None:
         return
     if isinstance(pool, WorkerPool):
@@ -186,7 +205,18 @@ def stop_pool(pool: cf.Executor | None) -> None:
 
 @contextlib.contextmanager
 def pool_closing(pool: cf.Executor | None) -> Iterator[cf.Executor | None]:
-    """Shut ``pool`` down after the block: normally when it ends normally, at once when it raises."""
+    """Shut ``pool`` down after the block: normally when it ends normally, at once when it raises.
+
+    Parameters
+    ----------
+    pool : Executor or None
+        The pool (``None``: the block runs inline).
+
+    Yields
+    ------
+    Executor or None
+        ``pool``.
+    """
     try:
         yield pool
     except BaseException:
