@@ -299,7 +299,8 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
              fixed_point_tolerance: float = 1e-6, max_iterations: int = 100,
              record_states: bool = True, blowup_limit: float = _DEFAULT_BLOWUP,
              slew_rate: Any = np.inf, info: dict | None = None,
-             bearing_histories: bool = True, newton: bool = False) -> SimulationResult:
+             bearing_histories: bool = True, newton: bool | None = None,
+             integrator: str = "rk4") -> SimulationResult:
     """Simulate the building under a record.
 
     Parameters
@@ -346,7 +347,17 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         or by fixed-point iteration (default); both stop on the same tolerance
         (:mod:`benchmark.simulator.stepping`). Newton takes fewer iterations (2.03 instead of 2.39 per
         step on 30 s of Kobe with clipped-optimal control) but, with the tangents' cost, was
-        9-15 % slower when measured (docs/performance.md).
+        9-15 % slower when measured (docs/performance.md). ``None`` (default): Newton with the
+        closed-form integrator (its tangents come with the update), fixed point with RK4.
+    integrator : {"rk4", "closed-form"}
+        How the bearings' Park–Wen states advance over a step. ``"rk4"`` (default): RK4
+        sub-steps along the step's cubic Hermite path, as many as the sub-step tolerance needs
+        (the path checked against ``solve_ivp`` by the oracle tests, kept as the reference).
+        ``"closed-form"``: the model's exact flow along the chord of each monotone piece of the
+        path (:func:`benchmark.simulator.isolation.park_wen.park_wen_chord`: no sub-steps, no
+        iteration, unconditionally stable, with its tangent); exact for straight-line motion,
+        off by about half the path's turning angle per step on curved biaxial paths
+        (docs/performance.md gives the measured differences). Devices are unaffected.
 
     Returns
     -------
@@ -359,6 +370,8 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     NumericalError
         NaN, blow-up or a fixed point that does not converge; carries time, state and a hint.
     """
+    if integrator not in stepping.INTEGRATORS:
+        raise InputError(f"integrator {integrator!r} unknown: expected one of {', '.join(stepping.INTEGRATORS)}")
     ensure_fresh_once()  # numba caches consistent with the kernels they call (kernel_cache)
 
     t_start = _time.perf_counter()
@@ -475,7 +488,8 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     settings = kernel_args.Settings(fp_tol=float(fixed_point_tolerance), max_iter=int(max_iterations),
                                     blowup_limit=float(blowup_limit), record_bearings=bool(bearing_histories),
                                     record_states=bool(bearing_histories and record_states),
-                                    newton=bool(newton))
+                                    newton=bool(integrator == "closed-form" if newton is None else newton),
+                                    integrator=stepping.INTEGRATORS[integrator])
 
     # ---- outputs
     out = kernel_args.make_outputs(n, nz, nb, b_state.shape[1], nd, n_control, n_meas,
