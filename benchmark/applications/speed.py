@@ -237,8 +237,13 @@ def _building(n_modes: int | None = None, n_devices: int | None = None) -> Any:
     return building
 
 
-def _simulate(building: Any, record: Any, controller: str | None = "clipped-optimal") -> Any:
-    return simulate(building, record, controller=controller, bearing_histories=False)
+def _simulate(building: Any, record: Any, controller: str | None = "clipped-optimal", integrator: str = "rk4") -> Any:
+    return simulate(building, record, controller=controller, bearing_histories=False, integrator=integrator)
+
+
+def _miss(ratio: float, target: float) -> str:
+    """``""`` when ``ratio`` meets ``target``, else by how much it misses it."""
+    return "" if ratio <= target else f"; misses the target by {ratio / target:.1f}x"
 
 
 def _max_relative_difference(a: dict[str, float], b: dict[str, float]) -> tuple[float, str]:
@@ -255,8 +260,9 @@ def _max_relative_difference(a: dict[str, float], b: dict[str, float]) -> tuple[
 # Cases
 # ---------------------------------------------------------------------------------------------
 #: Targets of issue 14, as multiples of the linear floor (same process) and absolute limits.
-FLOOR_TARGETS = {"linear-run": 2.0, "nonlinear-run": 6.0}
-SUITE_EFFICIENCY_TARGET = 1.3
+#: Issue 26's targets, as multiples of the linear floor measured in the same process.
+FLOOR_TARGETS = {"linear-run": 1.5, "nonlinear-run": 6.0}
+SUITE_EFFICIENCY_TARGET = 1.1
 RESULT_FILE_TARGET_MB = 5.0
 
 
@@ -271,12 +277,13 @@ def _linear_floor_timer(building: Any, record: Any) -> Callable[[], float]:
 
 
 def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration: float = 30.0) -> list[BenchCase]:
-    """``linear-floor``, ``linear-run``, ``single-run`` (the nonlinear run), ``vs-solve_ivp``.
+    """``linear-floor``, ``linear-run``, ``single-run`` (the nonlinear run), the rows of
+    :func:`_element_costs` (closed-form run, cost per bearing and per damper), ``vs-solve_ivp``.
 
     The floor, the linear run (``linear`` isolation, no devices) and the nonlinear run
     (default isolation, 16 dampers, clipped-optimal) are timed in turns in this process, and
     each run's minimum process CPU time is divided by the floor's: the ratios of issue 14's
-    targets (:data:`FLOOR_TARGETS`); the wall-time ratios are in the notes. Every run returns its default results (no per-bearing histories).
+    targets (issue 26's, :data:`FLOOR_TARGETS`); the wall-time ratios are in the notes. Every run returns its default results (no per-bearing histories).
 
     Parameters
     ----------
@@ -332,8 +339,7 @@ def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration
                                  f"CPU {cpu_best['linear'] * 1e3:.1f} ms (x floor: CPU-time ratio; wall {w_lin:.2f}x); "
                                  f"with every history and energy derived at once {r_lin_all:.2f}x "
                                  f"(CPU {cpu_best['linear_all'] * 1e3:.1f} ms)"
-                                 + ("" if r_lin <= FLOOR_TARGETS["linear-run"] else
-                                    f"; misses by {r_lin / FLOOR_TARGETS['linear-run']:.2f}x"),
+                                 + _miss(r_lin, FLOOR_TARGETS["linear-run"]),
                             details={"times_s": times["linear"], "cpu_s": cpu_best["linear"],
                                      "cpu_all_histories_s": cpu_best["linear_all"],
                                      "x_floor_all_histories": r_lin_all})
@@ -345,13 +351,13 @@ def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration
                             f"{np.median(times['nonlinear']):.4f} s; CPU {cpu_best['nonlinear']:.4f} s "
                             f"(x floor: CPU-time ratio; wall {w_non:.1f}x); first call "
                             f"{first:.2f} s; {result.info['mean_iterations']:.2f} iterations per step"
-                            + ("" if r_non <= FLOOR_TARGETS["nonlinear-run"] else
-                               f"; misses by {r_non / FLOOR_TARGETS['nonlinear-run']:.1f}x"),
+                            + _miss(r_non, FLOOR_TARGETS["nonlinear-run"]),
                        details={"times_s": times["nonlinear"], "cpu_s": cpu_best["nonlinear"], "first_call_s": first,
                                 "steps_per_s": n_steps / best["nonlinear"],
                                 "mean_iterations": result.info["mean_iterations"]})
-    best = best["nonlinear"]
     cases = [floor_case, linear_case, single]
+    cases += _element_costs(building, linear_building, record, floor, cpu_best["floor"], repeat, result)
+    best = best["nonlinear"]
     if not reference:
         return cases
 
@@ -371,6 +377,68 @@ def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration
                            details={"kernel_peaks": oracle.kernel_peaks(result), "reference_peaks": ref.peaks,
                                     "voltage_agreement": same_voltage}))
     return cases
+
+
+def _element_costs(building: Any, linear_building: Any, record: Any, floor: Callable[[], float], floor_cpu: float,
+                   repeat: int, rk4_result: Any) -> list[BenchCase]:
+    """``single-run-closed-form``, ``per-bearing-step`` and ``per-damper-step`` (issue 26).
+
+    The nonlinear run again with the closed-form bearing updates (``integrator="closed-form"``),
+    against the floor and, peak by peak, against the RK4 run; and the CPU cost of one hysteretic
+    bearing and of one damper per record step: (run - linear run) / (elements x steps), from
+    runs of the default isolation without devices and of linear isolation with the 16 dampers
+    at 1 V (passive-on), both timed in turns with the linear run (minimum CPU times).
+    """
+    n_steps = record.acceleration.shape[0] - 1
+    nonlinear_bare = building.without_devices()
+    linear_dampers = building.with_isolation("linear")
+    n_bearings = int(sum(len(g.indices) for g in building.isolation.groups if g.bearing.n_states > 0))
+    calls = {"linear": lambda: _simulate(linear_building, record, None),
+             "bearings_rk4": lambda: _simulate(nonlinear_bare, record, None),
+             "bearings_cf": lambda: _simulate(nonlinear_bare, record, None, "closed-form"),
+             "dampers": lambda: _simulate(linear_dampers, record, "passive-on"),
+             "single_cf": lambda: _simulate(building, record, "clipped-optimal", "closed-form")}
+    cpu: dict[str, list[float]] = {k: [] for k in calls}
+    results: dict[str, Any] = {}
+    for call in calls.values():
+        call()  # compile or load the cache
+    for _ in range(max(1, repeat // 2)):
+        for key, call in calls.items():
+            c0 = time.process_time()
+            results[key] = call()
+            cpu[key].append(time.process_time() - c0)
+    best = {k: min(v) for k, v in cpu.items()}
+    r_cf = best["single_cf"] / floor_cpu
+    diff, worst = _max_relative_difference(oracle.kernel_peaks(results["single_cf"]), oracle.kernel_peaks(rk4_result))
+    target = FLOOR_TARGETS["nonlinear-run"]
+    cf_case = BenchCase("single-run-cf", project_s=best["single_cf"], vs_floor=r_cf, max_relative_difference=diff,
+                        target=f"<= {target:g}x floor", met=r_cf <= target,
+                        note=f"the single run with integrator='closed-form' (closed-form Park-Wen bearing updates, "
+                             f"Newton on the base); CPU {best['single_cf'] * 1e3:.1f} ms; "
+                             f"{results['single_cf'].info['mean_iterations']:.2f} iterations per step; "
+                             f"largest peak difference from the RK4 run in {worst}" + _miss(r_cf, target),
+                        details={"cpu_s": best["single_cf"],
+                                 "mean_iterations": results["single_cf"].info["mean_iterations"]})
+    nd = building.n_devices
+    per_b_rk4 = (best["bearings_rk4"] - best["linear"]) / (n_bearings * n_steps)
+    per_b_cf = (best["bearings_cf"] - best["linear"]) / (n_bearings * n_steps)
+    per_d = (best["dampers"] - best["linear"]) / (nd * n_steps)
+    it_b = results["bearings_rk4"].info["mean_iterations"]
+    it_cf = results["bearings_cf"].info["mean_iterations"]
+    it_d = results["dampers"].info["mean_iterations"]
+    bearing_case = BenchCase(
+        "per-bearing-step", project_s=per_b_rk4, target="reported",
+        note=f"{n_bearings} hysteretic bearings, no devices: RK4 {per_b_rk4 * 1e9:.0f} ns per bearing and step "
+             f"({it_b:.2f} evaluations per step), closed-form {per_b_cf * 1e9:.0f} ns ({it_cf:.2f}); "
+             f"the floor's whole step costs {floor_cpu / n_steps * 1e9:.0f} ns",
+        details={"rk4_s": per_b_rk4, "closed_form_s": per_b_cf, "n_bearings": n_bearings,
+                 "iterations_rk4": it_b, "iterations_closed_form": it_cf})
+    damper_case = BenchCase(
+        "per-damper-step", project_s=per_d, target="reported",
+        note=f"{nd} dampers at 1 V on linear isolation: {per_d * 1e9:.0f} ns per damper and step "
+             f"({it_d:.2f} evaluations per step)",
+        details={"per_damper_s": per_d, "n_devices": nd, "iterations": it_d})
+    return [cf_case, bearing_case, damper_case]
 
 
 _SUITE_SCRIPT = r"""
@@ -483,7 +551,7 @@ def bench_suite(jobs: int = 2, controllers: Sequence[str] = SUITE_CONTROLLERS, r
             target=f"<= {SUITE_EFFICIENCY_TARGET:g}x ideal (serial / {jobs})", met=ratio <= SUITE_EFFICIENCY_TARGET,
             note=f"x floor column: the suite on {jobs} processes over its time on one ({serial:.2f} s) / {jobs}, "
                  f"same process; on a machine shared with other work the {jobs} processes may not get "
-                 f"{jobs} cores",
+                 f"{jobs} cores" + _miss(ratio, SUITE_EFFICIENCY_TARGET),
             details={"serial_s": serial, "parallel_s": parallel, "jobs": jobs}))
     cases = [
         BenchCase("suite-warm", project_s=warm, target="<= 5 s (2 cores, warm)", met=warm <= 5.0,

@@ -215,6 +215,7 @@ class Settings(NamedTuple):
     record_bearings: bool   # keep the per-bearing hysteretic forces
     record_states: bool     # keep the per-bearing hysteretic states
     newton: bool            # Newton on the base's 3 DOF (else plain fixed-point iteration)
+    integrator: int = 0     # 0 explicit RK4 sub-steps, 1 implicit element updates (stepping.INTEGRATORS)
 
 
 class Outputs(NamedTuple):

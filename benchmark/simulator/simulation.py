@@ -344,8 +344,8 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
              fixed_point_tolerance: float = 1e-6, max_iterations: int = 100,
              record_states: bool = True, blowup_limit: float = _DEFAULT_BLOWUP,
              slew_rate: Any = np.inf, info: dict | None = None,
-             bearing_histories: bool = True, newton: bool = False, integration_step: float | None = None,
-             max_halvings: int = DEFAULT_MAX_HALVINGS) -> SimulationResult:
+             bearing_histories: bool = True, newton: bool | None = None, integration_step: float | None = None,
+             max_halvings: int = DEFAULT_MAX_HALVINGS, integrator: str = "rk4") -> SimulationResult:
     """Simulate the building under a record.
 
     Parameters
@@ -394,7 +394,17 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         or by fixed-point iteration (default); both stop on the same tolerance
         (:mod:`benchmark.simulator.stepping`). Newton takes fewer iterations (2.03 instead of 2.39 per
         step on 30 s of Kobe with clipped-optimal control) but, with the tangents' cost, was
-        9-15 % slower when measured (docs/performance.md).
+        9-15 % slower when measured (docs/performance.md). ``None`` (default): Newton with the
+        closed-form integrator (its tangents come with the update), fixed point with RK4.
+    integrator : {"rk4", "closed-form"}
+        How the bearings' Park–Wen states advance over a step. ``"rk4"`` (default): RK4
+        sub-steps along the step's cubic Hermite path, as many as the sub-step tolerance needs
+        (the path checked against ``solve_ivp`` by the oracle tests, kept as the reference).
+        ``"closed-form"``: the model's exact flow along the chord of each monotone piece of the
+        path (:func:`benchmark.simulator.isolation.park_wen.park_wen_chord`: no sub-steps, no
+        iteration, unconditionally stable, with its tangent); exact for straight-line motion,
+        off by about half the path's turning angle per step on curved biaxial paths
+        (docs/performance.md gives the measured differences). Devices are unaffected.
     integration_step : float, optional
         Longest integration step [s] (default :data:`DEFAULT_INTEGRATION_STEP`, 0.005 s); the
         step used also divides the control step and is no longer than the record's step.
@@ -420,6 +430,8 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         NaN, blow-up or a fixed point that does not converge even at the smallest step tried;
         carries time, state and a hint.
     """
+    if integrator not in stepping.INTEGRATORS:
+        raise InputError(f"integrator {integrator!r} unknown: expected one of {', '.join(stepping.INTEGRATORS)}")
     ensure_fresh_once()  # numba caches consistent with the kernels they call (kernel_cache)
 
     t_start = _time.perf_counter()
@@ -451,7 +463,7 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         try:
             result = _simulate_once(building, record, ag, dt, ratio, controller, substep_tolerance, noise, seed,
                                     fixed_point_tolerance, max_iterations, record_states, blowup_limit, slew_rate,
-                                    info, bearing_histories, newton)
+                                    info, bearing_histories, newton, integrator)
             break
         except _NotConverged as exc:
             if halving == int(max_halvings):
@@ -486,7 +498,7 @@ class _NotConverged(Exception):
 
 def _simulate_once(building, record, ag, dt, ratio, controller, substep_tolerance, noise, seed,
                    fixed_point_tolerance, max_iterations, record_states, blowup_limit, slew_rate, info,
-                   bearing_histories, newton) -> SimulationResult:
+                   bearing_histories, newton, integrator) -> SimulationResult:
     """One run at the integration step ``dt`` [s] with ``ratio`` steps per control step; ``ag``
     the ground acceleration on that grid. Raises :class:`_NotConverged` for a fixed point that
     does not converge, :class:`NumericalError` for the other failures."""
@@ -588,7 +600,8 @@ def _simulate_once(building, record, ag, dt, ratio, controller, substep_toleranc
     settings = kernel_args.Settings(fp_tol=float(fixed_point_tolerance), max_iter=int(max_iterations),
                                     blowup_limit=float(blowup_limit), record_bearings=bool(bearing_histories),
                                     record_states=bool(bearing_histories and record_states),
-                                    newton=bool(newton))
+                                    newton=bool(integrator == "closed-form" if newton is None else newton),
+                                    integrator=stepping.INTEGRATORS[integrator])
 
     # ---- outputs
     out = kernel_args.make_outputs(n, nz, nb, b_state.shape[1], nd, n_control, n_meas,

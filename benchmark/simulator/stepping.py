@@ -33,6 +33,11 @@ are restarted from the step's start at every iteration, so the converged step is
 solution of the implicit (trapezoid-like) coupling of the exact linear step and the
 sub-stepped nonlinear elements.
 
+With ``Settings.integrator`` = :data:`INTEGRATOR_CLOSED_FORM` the bearings advance by the
+closed-form chord update (:func:`benchmark.simulator.isolation.registry.bearing_step_closed_form`),
+which also writes each bearing's tangent; the Newton iteration on the base then uses those
+tangents instead of recomputing them.
+
 Voltages change only at control steps (zero-order hold). At a control step the kernel forms
 the measurement vector (:mod:`benchmark.simulator.sensors`), adds the precomputed noise, clips it to the
 sensor ranges and, for a compiled controller, calls
@@ -69,7 +74,7 @@ import scipy.linalg
 
 
 
-from benchmark.simulator.isolation.registry import bearing_step, bearing_tangent  # noqa: E402
+from benchmark.simulator.isolation.registry import bearing_step, bearing_step_closed_form, bearing_tangent  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402
 from damper.models.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent_memo  # noqa: E402
 
@@ -77,7 +82,7 @@ __all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_be
            "energy_histories",
            "STATUS_MESSAGES",
            "STATUS_OK", "STATUS_NONFINITE", "STATUS_NOT_CONVERGED", "STATUS_BLOWUP",
-           "STATUS_CONTROLLER", "ROTATION_RADIUS"]
+           "STATUS_CONTROLLER", "ROTATION_RADIUS", "INTEGRATORS", "INTEGRATOR_RK4", "INTEGRATOR_CLOSED_FORM"]
 
 STATUS_OK = 0
 STATUS_NONFINITE = 1
@@ -90,6 +95,12 @@ STATUS_MESSAGES = {
     STATUS_BLOWUP: "the base displacement grew beyond the blow-up limit",
     STATUS_CONTROLLER: "the compiled controller's state or desired force became NaN or infinite",
 }
+#: ``Settings.integrator`` values: explicit RK4 sub-steps of every hysteretic element (the
+#: oracle-checked reference path), or the implicit element updates with consistent tangents.
+INTEGRATOR_RK4 = 0
+INTEGRATOR_CLOSED_FORM = 1
+#: names accepted by ``simulate(integrator=...)``
+INTEGRATORS = {"rk4": INTEGRATOR_RK4, "closed-form": INTEGRATOR_CLOSED_FORM}
 #: Radius [m] that turns a base rotation into a displacement for tolerances and limits.
 ROTATION_RADIUS = 30.0
 #: LLVM fast-math flags of the kernels: reassociation lets the dense products and the energy
@@ -487,6 +498,9 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
     jac = np.empty((3, 6))
     mat = np.empty((3, 3))
     tangent = np.empty((2, 4))
+    implicit = settings.integrator == INTEGRATOR_CLOSED_FORM
+    # consistent tangents of the implicit bearing updates, written by the evaluation itself
+    b_tan = np.zeros((nb if implicit else 0, 2, 4))
     # per-device scratch of values that depend only on a step's start state and voltage (the
     # iterations below advance each device several times from the same state)
     d_memo = np.full((nd, MEMO_LENGTH), np.nan)
@@ -580,8 +594,12 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
                 vy0 = vy0b + bx * om0
                 vx1 = vb1[0] - by * vb1[2]
                 vy1 = vb1[1] + bx * vb1[2]
-                bearing_step(b_type[i], b_params[i], b_state[i], ux0, uy0, ux1, uy1,
-                             vx0, vy0, vx1, vy1, dt, force)
+                if implicit:
+                    bearing_step_closed_form(b_type[i], b_params[i], b_state[i], ux0, uy0, ux1, uy1,
+                                          vx0, vy0, vx1, vy1, dt, force, b_tan[i])
+                else:
+                    bearing_step(b_type[i], b_params[i], b_state[i], ux0, uy0, ux1, uy1,
+                                 vx0, vy0, vx1, vy1, dt, force)
                 fb_tmp[i, 0] = force[0]
                 fb_tmp[i, 1] = force[1]
                 gb_new[0] += force[0]
@@ -621,16 +639,20 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
                     by = b_xy[i, 1]
                     dx = (ub1[0] - by * ub1[2]) - (ux0b - by * th0)
                     dy = (ub1[1] + bx * ub1[2]) - (uy0b + bx * th0)
-                    bearing_tangent(b_type[i], b_params[i], b_state[i], dx, dy,
-                                    vb1[0] - by * vb1[2], vb1[1] + bx * vb1[2], tangent)
+                    if implicit:
+                        tan_i = b_tan[i]
+                    else:
+                        bearing_tangent(b_type[i], b_params[i], b_state[i], dx, dy,
+                                        vb1[0] - by * vb1[2], vb1[1] + bx * vb1[2], tangent)
+                        tan_i = tangent
                     for half in range(2):  # displacement, then velocity columns
                         o = 2 * half
                         col = 3 * half
                         # T_i^T K T_i with T_i = [[1, 0, -y_i], [0, 1, x_i]] (bearing i's motion)
-                        k00 = tangent[0, o]
-                        k01 = tangent[0, o + 1]
-                        k10 = tangent[1, o]
-                        k11 = tangent[1, o + 1]
+                        k00 = tan_i[0, o]
+                        k01 = tan_i[0, o + 1]
+                        k10 = tan_i[1, o]
+                        k11 = tan_i[1, o + 1]
                         a02 = -by * k00 + bx * k01
                         a12 = -by * k10 + bx * k11
                         jac[0, col] += k00
@@ -665,7 +687,9 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
                     for r in range(3):
                         left[r] = resid[r] - delta[r]
                     err_left = _base_change(Gb, left, u_scale, v_scale)
-                    if it > 0 and err < 0.5 * err_prev and err_left <= fp_tol:
+                    # the first evaluation is accepted on the model's word only with the
+                    # closed-form updates, whose tangents are the update's own derivatives
+                    if (it > 0 and err < 0.5 * err_prev or it == 0 and implicit) and err_left <= fp_tol:
                         converged = True
                         break
                     if err_prev > 0.0 and err > err_prev:

@@ -39,10 +39,11 @@ import numpy as np
 from benchmark.foundation.errors import ParameterError
 from benchmark.simulator.isolation.base import (BearingParameters, require_nonnegative, require_positive,
                                       require_range)
-from benchmark.simulator.isolation.park_wen import park_wen_advance, park_wen_rates, park_wen_tangent
+from benchmark.simulator.isolation.park_wen import (park_wen_advance, park_wen_closed_form, park_wen_rates,
+                                                   park_wen_tangent)
 
 __all__ = ["FrictionPendulumBearing", "TYPE_ID", "N_PARAMS", "friction_pendulum_step",
-           "friction_coefficient"]
+           "friction_pendulum_step_closed_form", "friction_coefficient"]
 
 TYPE_ID = 2
 N_PARAMS = 11
@@ -206,3 +207,31 @@ def friction_pendulum_tangent(params, state, dx, dy, vx1, vy1, tangent):
         tangent[0, 3] = 0.0
         tangent[1, 2] = 0.0
         tangent[1, 3] = 0.0
+
+
+@numba.njit(cache=True, inline="always")
+def friction_pendulum_step_closed_form(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out,
+                                    tangent):
+    """Closed-form update (:func:`park_wen_closed_form`) of ``state = [z_x, z_y]`` over one step: writes
+    the friction force mu W z [N] into ``force_out`` and its tangent into ``tangent``
+    (2 x 4, the layout of :func:`friction_pendulum_tangent`: d f/d u1 [N/m], d f/d v1 [N s/m])."""
+    kxx, kxy, kyx, kyy = park_wen_closed_form(state, 0, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,
+                                           params[6], params[7], params[8], params[9])
+    speed = math.sqrt(vx1 * vx1 + vy1 * vy1)
+    e = math.exp(-params[5] * speed)
+    w = params[2] * (params[3] - (params[3] - params[4]) * e)
+    zx = state[0]
+    zy = state[1]
+    force_out[0] = w * zx
+    force_out[1] = w * zy
+    tangent[0, 0] = w * kxx
+    tangent[0, 1] = w * kxy
+    tangent[1, 0] = w * kyx
+    tangent[1, 1] = w * kyy
+    dmu = 0.0
+    if speed > 0.0:
+        dmu = params[2] * (params[3] - params[4]) * params[5] * e / speed  # W dmu/ds / |v|
+    tangent[0, 2] = dmu * zx * vx1
+    tangent[0, 3] = dmu * zx * vy1
+    tangent[1, 2] = dmu * zy * vx1
+    tangent[1, 3] = dmu * zy * vy1

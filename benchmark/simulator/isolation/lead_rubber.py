@@ -35,9 +35,10 @@ import numpy as np
 from benchmark.foundation.errors import ParameterError
 from benchmark.simulator.isolation.base import (BearingParameters, require_nonnegative, require_positive,
                                       require_range)
-from benchmark.simulator.isolation.park_wen import park_wen_advance, park_wen_rates, park_wen_tangent
+from benchmark.simulator.isolation.park_wen import (park_wen_advance, park_wen_closed_form, park_wen_rates,
+                                                   park_wen_tangent)
 
-__all__ = ["LeadRubberBearing", "TYPE_ID", "N_PARAMS", "lead_rubber_step"]
+__all__ = ["LeadRubberBearing", "TYPE_ID", "N_PARAMS", "lead_rubber_step", "lead_rubber_step_closed_form"]
 
 TYPE_ID = 1
 N_PARAMS = 8
@@ -164,6 +165,26 @@ def lead_rubber_tangent(params, state, dx, dy, vx1, vy1, tangent):
     ``[:, 0:2]`` = d f / d u [N/m] (Q_d dz/du, :func:`park_wen_tangent`), ``[:, 2:4]`` = d f / d v = 0."""
     kxx, kxy, kyx, kyy = park_wen_tangent(state[0], state[1], dx, dy, params[3], params[4], params[5], params[6])
     q = params[2]
+    tangent[0, 0] = q * kxx
+    tangent[0, 1] = q * kxy
+    tangent[1, 0] = q * kyx
+    tangent[1, 1] = q * kyy
+    tangent[0, 2] = 0.0
+    tangent[0, 3] = 0.0
+    tangent[1, 2] = 0.0
+    tangent[1, 3] = 0.0
+
+
+@numba.njit(cache=True, inline="always")
+def lead_rubber_step_closed_form(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out, tangent):
+    """Closed-form update (:func:`park_wen_closed_form`: exact flow along the chords of the path) of
+    ``state = [z_x, z_y]`` over one step: writes the hysteretic force Q_d z [N] into
+    ``force_out`` and its tangent (2 x 4, d f/d u1 [N/m], d f/d v1 = 0) into ``tangent``."""
+    kxx, kxy, kyx, kyy = park_wen_closed_form(state, 0, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,
+                                           params[3], params[4], params[5], params[6])
+    q = params[2]
+    force_out[0] = q * state[0]
+    force_out[1] = q * state[1]
     tangent[0, 0] = q * kxx
     tangent[0, 1] = q * kxy
     tangent[1, 0] = q * kyx

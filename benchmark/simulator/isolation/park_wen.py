@@ -54,7 +54,8 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["park_wen_rates", "park_wen_advance", "park_wen_substeps", "park_wen_tangent", "MAX_SUBSTEPS"]
+__all__ = ["park_wen_rates", "park_wen_advance", "park_wen_closed_form", "park_wen_chord", "park_wen_substeps", "park_wen_tangent",
+           "MAX_SUBSTEPS", "CHORD_MAX_PIECES"]
 
 #: Hard cap on the sub-steps of one structural step (guards against NaN/inf path lengths).
 MAX_SUBSTEPS = 200_000
@@ -344,3 +345,211 @@ def park_wen_tangent(zx: float, zy: float, dx: float, dy: float,
     gx = _g(dx * zx, beta, gamma) * zx
     gy = _g(dy * zy, beta, gamma) * zy
     return (A - zx * gx) * iy, -zx * gy * iy, -zy * gx * iy, (A - zy * gy) * iy
+
+
+#: Largest number of pieces (a zero crossing of a component of z ends a piece) of one chord.
+CHORD_MAX_PIECES = 6
+_K_SMALL = 1.0e-2   # below this chord "stiffness" sqrt(A q) the tangent is the instantaneous one
+
+
+@numba.njit(cache=True, inline="always")
+def _scaled_solution(a: float, p0: float, s: float):
+    r"""``(scale, Phi, Psi)`` of the chord solution at ``s``: :math:`z(s) = (\mathrm{scale}\, z_0 + A e \Psi)/\Phi`.
+
+    :math:`\Phi'' = a\Phi`, :math:`\Phi(0) = 1`, :math:`\Phi'(0) = p_0`, :math:`\Psi = \int_0^s\Phi`;
+    for ``a > 0`` both are multiplied by :math:`2e^{-ks}` (``scale``) so that nothing overflows.
+    """
+    if a > 1.0e-24:
+        k = math.sqrt(a)
+        ik = 1.0 / k
+        em1 = math.expm1(-k * s)          # E - 1
+        e2m1 = em1 * (em1 + 2.0)          # E^2 - 1
+        w = em1 * ik
+        u = e2m1 * ik
+        return 2.0 * (1.0 + em1), 2.0 + e2m1 - p0 * u, p0 * w * w - u
+    if a < -1.0e-24:
+        k = math.sqrt(-a)
+        sn = math.sin(k * s)
+        h = math.sin(0.5 * k * s) / k
+        return 1.0, math.cos(k * s) + p0 * sn / k, sn / k + 2.0 * p0 * h * h
+    return 1.0, 1.0 + p0 * s, s * (1.0 + 0.5 * p0 * s)
+
+
+@numba.njit(cache=True, inline="always")
+def _crossing(a: float, p0: float, psi_star: float) -> float:
+    r"""Smallest ``s > 0`` with :math:`\Psi(s) = \psi^*` (> 0) for the chord solution (2.0 if none)."""
+    if a > 1.0e-24:
+        k = math.sqrt(a)
+        t = 2.0 * p0 * psi_star + a * psi_star * psi_star
+        inner = k * psi_star + t / (math.sqrt(1.0 + t) + 1.0)
+        return math.log1p(k * inner / (k + p0)) / k
+    if a < -1.0e-24:
+        k = math.sqrt(-a)
+        r = math.sqrt(k * k + p0 * p0)
+        x = (-a * psi_star - p0) / r
+        if x > 1.0:
+            return 2.0
+        return (math.atan2(p0, k) + math.asin(x)) / k
+    return 2.0 * psi_star / (1.0 + math.sqrt(1.0 + 2.0 * p0 * psi_star))
+
+
+@numba.njit(cache=True, inline="always")
+def park_wen_chord(zx: float, zy: float, ex: float, ey: float, A: float, beta: float, gamma: float):
+    r"""Exact Park–Wen update along a straight chord, and its tangent.
+
+    Along a straight displacement increment :math:`\Delta u = Y e` (``e`` the chord in units of
+    the yield displacement), parametrised by :math:`s \in [0, 1]`, the model reads
+    :math:`dz/ds = A e - z\,p`, :math:`p = z^T G e`, :math:`G = \mathrm{diag}(\beta + \gamma\,
+    \mathrm{sgn}(e_j z_j))`. While no component of ``z`` crosses zero, ``G`` is constant and
+    :math:`p` obeys the Riccati equation :math:`p' = a - p^2`, :math:`a = A\,e^T G e`; with
+    :math:`\Phi = \exp\int_0^s p` (:math:`\Phi'' = a\Phi`: cosh/sinh, cos/sin or linear) the
+    solution is :math:`z(s) = (z_0 + A e \Psi(s))/\Phi(s)`, :math:`\Psi = \int_0^s \Phi`. Where a
+    component unloads (:math:`z_j e_j < 0`) and reaches zero, at the root of
+    :math:`\Psi(s) = -z_{0j}/(A e_j)` (closed form), its factor switches to loading and the
+    solution restarts from there. No sub-steps, no iteration, unconditionally stable: the update
+    is the exact flow of the model along the chord.
+
+    Returns
+    -------
+    (zx, zy, kxx, kxy, kyx, kyy)
+        The end state and its derivative :math:`\partial z_1 / \partial e` (dimensionless; divide
+        by Y for :math:`\partial z_1 / \partial u_1`), exact for the last piece with a
+        hyperbolic solution (the usual case), else the model's instantaneous tangent there.
+    """
+    rem = 1.0
+    kxx = A
+    kxy = 0.0
+    kyx = 0.0
+    kyy = A
+    lg = beta + gamma
+    for _ in range(CHORD_MAX_PIECES):
+        cx = ex * rem
+        cy = ey * rem
+        gx = lg if cx * zx >= 0.0 else beta - gamma
+        gy = lg if cy * zy >= 0.0 else beta - gamma
+        a = A * (gx * cx * cx + gy * cy * cy)
+        p0 = gx * zx * cx + gy * zy * cy
+        scale, phi, psi = _scaled_solution(a, p0, 1.0)
+        iphi = 1.0 / phi
+        nx = (scale * zx + A * cx * psi) * iphi
+        ny = (scale * zy + A * cy * psi) * iphi
+        # a component unloading through zero: the first crossing ends this piece
+        s_ev = 2.0
+        comp = -1
+        # (the end values are no test: past a crossing the frozen-G solution is meaningless)
+        if zx * cx < 0.0:
+            s_ev = _crossing(a, p0, -zx / (A * cx))
+            comp = 0
+        if zy * cy < 0.0:
+            s_y = _crossing(a, p0, -zy / (A * cy))
+            if s_y < s_ev:
+                s_ev = s_y
+                comp = 1
+        if comp < 0 or not (s_ev < 1.0):
+            if a > _K_SMALL * _K_SMALL:
+                # d z1 / d c of z1 = (2E z0 + A c Psi)/Phi, through k = sqrt(a) and p0
+                # (scale, phi, psi) above are the s = 1 values this differentiates
+                k = math.sqrt(a)
+                ik = 1.0 / k
+                ik2 = ik * ik
+                E = 0.5 * scale
+                E2 = E * E
+                w = 1.0 - E
+                u1 = 1.0 - E2
+                t1 = 2.0 * E2 * ik - u1 * ik2
+                dphi_k = -2.0 * E2 + p0 * t1
+                dphi_p = u1 * ik
+                dpsi_k = t1 + 2.0 * p0 * w * ik2 * (E - w * ik)
+                dpsi_p = w * w * ik2
+                dks = A * ik
+                # b = x
+                dkb = dks * gx * cx
+                dpb = gx * zx
+                dE = -E * dkb
+                dPhi = dphi_k * dkb + dphi_p * dpb
+                dPsi = dpsi_k * dkb + dpsi_p * dpb
+                kxx = (2.0 * zx * dE + A * psi + A * cx * dPsi - nx * dPhi) * iphi
+                kyx = (2.0 * zy * dE + A * cy * dPsi - ny * dPhi) * iphi
+                # b = y
+                dkb = dks * gy * cy
+                dpb = gy * zy
+                dE = -E * dkb
+                dPhi = dphi_k * dkb + dphi_p * dpb
+                dPsi = dpsi_k * dkb + dpsi_p * dpb
+                kxy = (2.0 * zx * dE + A * cx * dPsi - nx * dPhi) * iphi
+                kyy = (2.0 * zy * dE + A * psi + A * cy * dPsi - ny * dPhi) * iphi
+            else:
+                hx = (lg if cx * nx >= 0.0 else beta - gamma) * nx
+                hy = (lg if cy * ny >= 0.0 else beta - gamma) * ny
+                kxx = A - nx * hx
+                kxy = -nx * hy
+                kyx = -ny * hx
+                kyy = A - ny * hy
+            return nx, ny, kxx, kxy, kyx, kyy
+        scale, phi, psi = _scaled_solution(a, p0, s_ev)
+        nx = (scale * zx + A * cx * psi) / phi
+        ny = (scale * zy + A * cy * psi) / phi
+        if comp == 0:
+            nx = 0.0
+        else:
+            ny = 0.0
+        zx = nx
+        zy = ny
+        rem *= 1.0 - s_ev
+    # more zero crossings than pieces allowed (not seen): finish with the last piece's flow
+    cx = ex * rem
+    cy = ey * rem
+    gx = lg if cx * zx >= 0.0 else beta - gamma
+    gy = lg if cy * zy >= 0.0 else beta - gamma
+    a = A * (gx * cx * cx + gy * cy * cy)
+    p0 = gx * zx * cx + gy * zy * cy
+    scale, phi, psi = _scaled_solution(a, p0, 1.0)
+    return ((scale * zx + A * cx * psi) / phi, (scale * zy + A * cy * psi) / phi, kxx, kxy, kyx, kyy)
+
+
+@numba.njit(cache=True, inline="always")
+def park_wen_closed_form(state: np.ndarray, offset: int,
+                         ux0: float, uy0: float, ux1: float, uy1: float,
+                         vx0: float, vy0: float, vx1: float, vy1: float, dt: float,
+                         yield_displacement: float, A: float, beta: float, gamma: float):
+    r"""Advance ``state[offset:offset+2]`` along one step by the closed-form chord update.
+
+    The step's cubic Hermite path (that of :func:`park_wen_advance`) is split at the reversals
+    of a component of the direction of motion; each monotone piece is replaced by its chord and
+    advanced exactly along it (:func:`park_wen_chord`). Parameters as :func:`park_wen_advance`.
+
+    Returns
+    -------
+    (kxx, kxy, kyx, kyy) : floats
+        The tangent :math:`\partial z_1/\partial u_1` [1/m] of the last piece's update.
+    """
+    iy = 1.0 / yield_displacement
+    zx = state[offset]
+    zy = state[offset + 1]
+    dx0 = vx0 * dt
+    dy0 = vy0 * dt
+    ax, bx = _hermite_coefficients(ux0, ux1, dx0, vx1 * dt)
+    ay, by = _hermite_coefficients(uy0, uy1, dy0, vy1 * dt)
+    kink_x = _may_change_sign(ax, bx, dx0)
+    kink_y = _may_change_sign(ay, by, dy0)
+    kxx = 0.0
+    kxy = 0.0
+    kyx = 0.0
+    kyy = 0.0
+    if not (kink_x or kink_y):
+        zx, zy, kxx, kxy, kyx, kyy = park_wen_chord(zx, zy, (ux1 - ux0) * iy, (uy1 - uy0) * iy, A, beta, gamma)
+    else:
+        s0 = 0.0
+        px0 = 0.0
+        py0 = 0.0
+        while s0 < 1.0:
+            s1 = _segment_end(s0, ax, bx, dx0, ay, by, dy0, kink_x, kink_y)
+            px1 = _travel(s1, ax, bx, dx0)
+            py1 = _travel(s1, ay, by, dy0)
+            zx, zy, kxx, kxy, kyx, kyy = park_wen_chord(zx, zy, (px1 - px0) * iy, (py1 - py0) * iy, A, beta, gamma)
+            s0 = s1
+            px0 = px1
+            py0 = py1
+    state[offset] = zx
+    state[offset + 1] = zy
+    return kxx * iy, kxy * iy, kyx * iy, kyy * iy

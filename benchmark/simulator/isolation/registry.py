@@ -40,13 +40,14 @@ from benchmark.foundation.errors import ParameterError
 from benchmark.simulator.isolation import friction_pendulum, lead_rubber, linear
 from benchmark.simulator.isolation.base import BearingParameters
 from benchmark.simulator.isolation.friction_pendulum import (FrictionPendulumBearing, friction_pendulum_step,
-                                                   friction_pendulum_tangent)
-from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing, lead_rubber_step, lead_rubber_tangent
+                                                   friction_pendulum_step_closed_form, friction_pendulum_tangent)
+from benchmark.simulator.isolation.lead_rubber import (LeadRubberBearing, lead_rubber_step, lead_rubber_step_closed_form,
+                                             lead_rubber_tangent)
 from benchmark.simulator.isolation.linear import LinearBearing, linear_step
 
 __all__ = [
     "BEARING_TYPES", "BEARING_NAMES", "MAX_STATES", "MAX_PARAMS", "bearing_type", "bearing_step",
-    "bearing_tangent",
+    "bearing_step_closed_form", "bearing_tangent",
     "bearing_total_force", "linear_part", "LinearBearing", "LeadRubberBearing",
     "FrictionPendulumBearing", "BearingParameters",
 ]
@@ -152,6 +153,30 @@ def bearing_step(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1,
     else:
         force_out[0] = np.nan
         force_out[1] = np.nan
+
+
+@numba.njit(cache=True, inline="always")
+def bearing_step_closed_form(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out, tangent):
+    """Closed-form update of one bearing over one structural step, with its tangent.
+
+    Same contract as :func:`bearing_step` (hysteretic force at the end of the step into
+    ``force_out``), but the Park–Wen types advance each monotone piece of the path by the
+    model's exact flow along its chord
+    (:func:`benchmark.simulator.isolation.park_wen.park_wen_closed_form`; no sub-steps, no
+    iteration, unconditionally stable) instead of RK4 sub-steps, and write into ``tangent`` (2 x 4, the layout of :func:`bearing_tangent`) the
+    derivatives of that update's force with respect to the end displacement and velocity.
+    Linear and unknown types as in :func:`bearing_step` (tangent zero).
+    """
+    if type_id == 1:
+        lead_rubber_step_closed_form(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out, tangent)
+    elif type_id == 2:
+        friction_pendulum_step_closed_form(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out,
+                                        tangent)
+    else:
+        bearing_step(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out)
+        for a in range(2):
+            for b in range(4):
+                tangent[a, b] = 0.0
 
 
 @numba.njit(cache=True)
