@@ -11,7 +11,7 @@ Layout of a file written by :func:`write_result` (format ``sbib-result``, versio
     /run/time_histories/<field>   one dataset per time history; attrs ``units``,
                                   ``description``, ``axes``
     /run/energy/<term>            energy terms (n,) [J]; attrs ``units``, ``description``
-    /run/peaks                    attrs: the peaks of :func:`benchmark.simulator.evaluation.peaks` (SI),
+    /run/peaks                    attrs: the peaks of :func:`benchmark.simulator.peaks.peaks_of` (SI),
                                   each with ``<name>_units``
     /reference/...                the uncontrolled reference run, same layout (optional)
     /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``,
@@ -41,7 +41,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.simulator.evaluation import PEAK_UNITS, peaks
+from benchmark.simulator.peaks import PEAK_UNITS, Peaks, peaks_of
 from benchmark.simulator.evaluation import J_DESCRIPTIONS
 from benchmark.foundation.provenance import provenance
 from benchmark.simulator.criteria import CRITERIA
@@ -116,8 +116,10 @@ class StoredResult:
         Field -> units string as stored.
     attrs : dict
         The file's root attributes (provenance, ...).
-    peaks : dict
-        Stored peaks (SI), if any.
+    peak_record : dict
+        The peaks stored in the file under their ``peak_*`` names (SI), if any
+        (:meth:`benchmark.simulator.peaks.Peaks.as_record` of the run when written). ``r.peaks``
+        computes :class:`~benchmark.simulator.peaks.Peaks` from the histories read back.
     """
 
     arrays: dict[str, np.ndarray] = field(default_factory=dict)
@@ -125,7 +127,12 @@ class StoredResult:
     info: dict[str, Any] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
     attrs: dict[str, Any] = field(default_factory=dict)
-    peaks: dict[str, float] = field(default_factory=dict)
+    peak_record: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def peaks(self) -> Peaks:
+        """Named peaks of the histories read back (:func:`benchmark.simulator.peaks.peaks_of`)."""
+        return peaks_of(self)
 
     def __getattr__(self, name: str) -> np.ndarray:
         arrays = self.__dict__.get("arrays", {})
@@ -194,7 +201,7 @@ def _write_run(group: Any, result: Any, dtype: Any = np.float64) -> None:
     info = items.get("info") or {}
     group.attrs["info_json"] = json.dumps(info, default=_json_default)
     try:
-        pk = peaks(result)
+        pk = peaks_of(result).as_record()
     except InputError:
         pk = {}
     pg = group.create_group("peaks")
@@ -334,7 +341,7 @@ def read_result(path: str | os.PathLike, which: str = "run") -> StoredResult:
             out.energy[name] = _as_float64(ds[()])
         out.info = json.loads(_attr(g.attrs.get("info_json", "{}")))
         if "peaks" in g:
-            out.peaks = {k: _attr(v) for k, v in g["peaks"].attrs.items() if not k.endswith("_units")}
+            out.peak_record = {k: _attr(v) for k, v in g["peaks"].attrs.items() if not k.endswith("_units")}
         out.attrs = {k: _attr(v) for k, v in f.attrs.items()}
     return out
 

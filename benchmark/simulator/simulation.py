@@ -24,6 +24,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from benchmark.foundation.cache import Cache
 from benchmark.foundation.errors import InputError, NumericalError
 from benchmark.simulator.linear_model import state_space_matrices
 from benchmark.simulator.stepping import discretize_foh
@@ -33,10 +34,11 @@ from benchmark.simulator.stepping import STATUS_MESSAGES, STATUS_NOT_CONVERGED, 
 from controllers.base import ControllerSession
 from controllers.registry import get_controller
 from benchmark.simulator.control import control_context
-from benchmark.simulator.peaks import Peaks, peaks_of
+from benchmark.simulator.peaks import PEAK_RECORD_KEYS, Peaks, peaks_of
 from benchmark.simulator import kernel_args
 from controllers.measurements import measurement_layout
 from benchmark.simulator.isolation.registry import LinearBearing
+from benchmark.simulator.isolation.configurations import check_substep_tolerance
 from benchmark.simulator.stepping import energy_histories, total_bearing_forces
 from benchmark.foundation.kernel_cache import ensure_fresh_once
 from benchmark.simulator.authority import controller_authority_warnings
@@ -226,6 +228,22 @@ def _ground_acceleration(record: Any) -> np.ndarray:
     return np.ascontiguousarray(ag)
 
 
+def check_control_step(control_step: Any) -> float:
+    """``control_step`` [s] as a float, checked once for every API that takes one
+    (:func:`simulate`, :func:`benchmark.simulator.case.run_case`, ``compare``).
+
+    Raises
+    ------
+    InputError
+        A step that is not a positive, finite number of seconds (the message names the CLI's
+        ``--control-step`` and the keyword ``control_step``).
+    """
+    if isinstance(control_step, bool) or not (isinstance(control_step, (int, float, np.floating))
+                                              and np.isfinite(control_step) and control_step > 0):
+        raise InputError(f"--control-step {control_step!r}: expected a positive number of seconds (control_step)")
+    return float(control_step)
+
+
 def choose_integration_step(control_step: float, record_dt: float,
                             max_step: float | None = None) -> tuple[float, int]:
     """The integration step [s] and the number of integration steps per control step.
@@ -258,8 +276,7 @@ def choose_integration_step(control_step: float, record_dt: float,
     """
     if max_step is None:
         max_step = DEFAULT_INTEGRATION_STEP
-    if not (isinstance(control_step, (int, float, np.floating)) and np.isfinite(control_step) and control_step > 0):
-        raise InputError(f"control_step: expected a positive time in s, got {control_step!r}")
+    control_step = check_control_step(control_step)
     limit = min(float(max_step), float(record_dt))
     k = max(1, int(np.ceil(control_step / limit * (1 - 1e-9))))
     h = control_step / k
@@ -268,8 +285,11 @@ def choose_integration_step(control_step: float, record_dt: float,
     return float(h), k
 
 
-_DISCRETE_CACHE: dict = {}
-_DIGESTS: dict = {}
+#: The FOH-discretised plant of a building at an integration step (:func:`_discrete_system`),
+#: keyed on the superstructure's matrices, the bearings' linear parts and the step.
+DISCRETE_SYSTEMS = Cache("simulator.discrete_systems", size=16)
+#: Digest of a superstructure's matrices by object (hashing costs about 4 ms a run).
+SUPERSTRUCTURE_DIGESTS = Cache("simulator.superstructure_digests", size=16)
 
 
 def _superstructure_digest(sup) -> str:
@@ -280,7 +300,7 @@ def _superstructure_digest(sup) -> str:
     superstructure is a frozen dataclass, so one object keeps one digest; the memo holds the
     object itself so that its ``id`` cannot be reused while the entry lives.
     """
-    hit = _DIGESTS.get(id(sup))
+    hit = SUPERSTRUCTURE_DIGESTS.get(id(sup))
     if hit is not None and hit[0] is sup:
         return hit[1]
     digest = hashlib.sha1()
@@ -288,10 +308,8 @@ def _superstructure_digest(sup) -> str:
         a = np.ascontiguousarray(arr, dtype=np.float64)
         digest.update(str(a.shape).encode())
         digest.update(a.tobytes())
-    if len(_DIGESTS) > 16:
-        _DIGESTS.clear()
-    _DIGESTS[id(sup)] = (sup, digest.hexdigest())
-    return _DIGESTS[id(sup)][1]
+    SUPERSTRUCTURE_DIGESTS.put(id(sup), (sup, digest.hexdigest()))
+    return SUPERSTRUCTURE_DIGESTS.get(id(sup))[1]
 
 
 def _discrete_system(building, dt: float):
@@ -302,7 +320,7 @@ def _discrete_system(building, dt: float):
     sup = building.superstructure
     Kb, Cb = building.isolation_linear_matrices()
     key = (_superstructure_digest(sup), Kb.tobytes(), Cb.tobytes(), float(dt))
-    hit = _DISCRETE_CACHE.get(key)
+    hit = DISCRETE_SYSTEMS.get(key)
     if hit is not None:
         return hit
     mats = state_space_matrices(sup, Kb, Cb)
@@ -317,11 +335,7 @@ def _discrete_system(building, dt: float):
              for name in ("C_acc", "D_acc_g", "D_acc_ag", "Mg", "momentum")}
     extra["Kq"] = np.ascontiguousarray(mats["Kg"][:nq, :nq])
     extra["Cq"] = np.ascontiguousarray(mats["Cg"][:nq, :nq])
-    value = (mats, Kb, Cb, plant, extra)
-    if len(_DISCRETE_CACHE) > 16:
-        _DISCRETE_CACHE.clear()
-    _DISCRETE_CACHE[key] = value
-    return value
+    return DISCRETE_SYSTEMS.put(key, (mats, Kb, Cb, plant, extra))
 
 
 def _resolve_controller(controller: Any):
@@ -423,13 +437,16 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         raise InputError(f"record {name!r}: dt = {record_dt!r}; expected a positive step in s")
     max_step = DEFAULT_INTEGRATION_STEP if integration_step is None else integration_step
     if not (isinstance(max_step, (int, float)) and np.isfinite(max_step) and max_step > 0):
-        raise InputError(f"integration_step: expected a positive time in s, got {integration_step!r}")
+        raise InputError(f"--integration-step {integration_step!r}: expected a positive number of seconds, "
+                         "e.g. 0.0025 (integration_step)")
     if int(max_halvings) != max_halvings or max_halvings < 0:
         raise InputError(f"max_halvings: expected a whole number >= 0, got {max_halvings!r}")
     dt, ratio = choose_integration_step(control_step, record_dt, float(max_step))
     if (ag_record.shape[0] - 1) * record_dt < ratio * dt * (1 - 1e-9):
         raise InputError(f"record {name!r}: {ag_record.shape[0]} samples ({(ag_record.shape[0] - 1) * record_dt:g} s) "
                          f"is shorter than one control step ({ratio * dt:g} s)")
+    if substep_tolerance is not None:
+        substep_tolerance = check_substep_tolerance(substep_tolerance)
     if not (np.isfinite(fixed_point_tolerance) and fixed_point_tolerance > 0):
         raise InputError(f"fixed_point_tolerance: expected > 0, got {fixed_point_tolerance!r}")
     if int(max_iterations) < 1:
@@ -487,8 +504,6 @@ def _simulate_once(building, record, ag, dt, ratio, controller, substep_toleranc
     n = ag.shape[0]
     isolation = building.isolation
     if substep_tolerance is not None:
-        if not (np.isfinite(substep_tolerance) and substep_tolerance > 0):
-            raise InputError(f"substep_tolerance: expected > 0, got {substep_tolerance!r}")
         isolation = isolation.with_substep_tolerance(substep_tolerance)
     packed = isolation.pack()
     b_type = np.ascontiguousarray(packed.type_ids, dtype=np.int64)
@@ -503,8 +518,7 @@ def _simulate_once(building, record, ag, dt, ratio, controller, substep_toleranc
     nv = nq + 3
     nz = 2 * nv
 
-    # ---- devices and controller
-    controller = _resolve_controller(controller)
+    # ---- devices and controller (resolved by simulate)
     devices = building.devices if controller is not None else None
     if controller is not None and devices is None:
         raise InputError("simulate: a controller was given but the building has no devices "
@@ -797,17 +811,10 @@ def reduction_error(building, record, n_modes: int, **kwargs) -> dict:
     red = simulate(building.reduced(n_modes), record, **kwargs)
     kept = building.superstructure.mass_participation()[:n_modes].sum(axis=0)
 
-    def peaks(r: SimulationResult) -> dict[str, float]:
-        return {
-            "peak_base_displacement": float(np.max(np.hypot(r.base_displacement[:, 0], r.base_displacement[:, 1]))),
-            "peak_base_shear": float(np.max(np.hypot(r.base_shear[:, 0], r.base_shear[:, 1]))),
-            "peak_structure_shear": float(np.max(np.hypot(r.structure_shear[:, 0], r.structure_shear[:, 1]))),
-            "peak_drift_ratio": float(np.max(np.hypot(r.drift_ratio[..., 0], r.drift_ratio[..., 1]))),
-            "peak_floor_acceleration": float(np.max(np.hypot(r.floor_acceleration_absolute[..., 0],
-                                                             r.floor_acceleration_absolute[..., 1]))),
-        }
-
-    pf, pr = peaks(full), peaks(red)
+    quantities = ("base_displacement", "base_shear", "structure_shear", "drift_ratio", "floor_acceleration")
+    full_peaks, red_peaks = peaks_of(full), peaks_of(red)
+    pf = {PEAK_RECORD_KEYS[q]: getattr(full_peaks, q) for q in quantities}
+    pr = {PEAK_RECORD_KEYS[q]: getattr(red_peaks, q) for q in quantities}
     out = {"n_modes": int(n_modes), "mass_participation": {"x": float(kept[0]), "y": float(kept[1]),
                                                           "theta": float(kept[2])},
            "elapsed_full_s": full.info["elapsed_s"], "elapsed_reduced_s": red.info["elapsed_s"]}
