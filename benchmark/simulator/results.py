@@ -216,7 +216,30 @@ _DERIVED_HISTORIES = ("base_acceleration", "base_acceleration_absolute", "floor_
 
 def derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl) -> dict[str, np.ndarray]:
     """The histories linear in the kernel's ``X = [z, g_bearings, g_devices, ag]`` (SI), in one
-    matrix product ``X @ W`` (a single BLAS call instead of a dozen small ones on strided views)."""
+    matrix product ``X @ W`` (a single BLAS call instead of a dozen small ones on strided views).
+
+    Parameters
+    ----------
+    building : Building
+        The building run.
+    z : (n, nz) numpy.ndarray
+        The kernel's state history.
+    gb, gd : (n, 3) numpy.ndarray
+        Generalised hysteretic bearing force and device force at the base centre of mass [N, N·m].
+    ag : (n, 2) numpy.ndarray
+        Ground acceleration [m/s²].
+    mats : dict
+        Continuous matrices of :func:`benchmark.simulator.linear_model.state_space_matrices`.
+    Kb, Cb : numpy.ndarray
+        The bearings' linear stiffness and damping at the base (3, 3).
+    d_infl : (n_devices, 3) numpy.ndarray
+        Device influence rows.
+
+    Returns
+    -------
+    dict
+        The histories of :data:`_DERIVED_HISTORIES` by name.
+    """
     sup = building.superstructure
     nq = sup.n_q
     nv = nq + 3
@@ -284,11 +307,46 @@ def derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl) -> dict[str
 
 def build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_infl, isolation, session, info,
                  bearing_histories, **settings) -> SimulationResult:
-    """The :class:`SimulationResult` of a kernel run: its own histories (``out``, the kernel's
-    :class:`benchmark.simulator.kernel_args.Outputs`) at once, the others (:data:`_DERIVED_HISTORIES`,
-    energies) derived on first access. ``dt`` [s] the integration step, ``ag`` (n, 2) the ground
-    acceleration on it, ``mats``/``Kb``/``Cb``/``extra`` the plant's matrices, ``packed`` the packed
-    isolation, ``d_infl`` the device influence rows, ``settings`` recorded in ``info``."""
+    """The :class:`SimulationResult` of a kernel run: its own histories at once, the others
+    (:data:`_DERIVED_HISTORIES`, energies) derived on first access.
+
+    Parameters
+    ----------
+    building : Building
+        The building run.
+    record : records.Record
+        The record (name, source and orientation go to ``info``).
+    ag : (n, 2) numpy.ndarray
+        Ground acceleration on the integration grid [m/s²].
+    dt : float
+        Integration step [s].
+    out : benchmark.simulator.kernel_args.Outputs
+        The kernel's histories.
+    mats : dict
+        Continuous matrices of :func:`benchmark.simulator.linear_model.state_space_matrices`.
+    Kb, Cb : numpy.ndarray
+        The bearings' linear stiffness and damping at the base (3, 3) [N/m, N·s/m].
+    extra : dict
+        Contiguous energy matrices of the plant (``Mg``, ``Kq``, ``Cq``, ``momentum``).
+    packed : object
+        The packed isolation layer (``IsolationLayer.pack()``).
+    d_infl : (n_devices, 3) numpy.ndarray
+        Device influence rows.
+    isolation : IsolationLayer
+        The isolation layer as run.
+    session : controllers.base.ControllerSession or None
+        The controller's session (``None`` without devices).
+    info : dict
+        The caller's ``info``, completed here.
+    bearing_histories : bool
+        Whether the per-bearing histories were kept.
+    **settings
+        Run settings recorded in ``info["settings"]``.
+
+    Returns
+    -------
+    SimulationResult
+    """
     z, gb, gd, fd, v, meas, desired, iters = out.z, out.gb, out.gd, out.fd, out.v, out.meas, out.desired, out.iters
     sup = building.superstructure
     nq = sup.n_q
