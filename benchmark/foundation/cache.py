@@ -23,7 +23,8 @@ class CacheLike(Protocol):
 
     name: str
 
-    def clear(self) -> None: ...
+    def clear(self) -> None:
+        """Forget every entry."""
 
     def __len__(self) -> int: ...
 
@@ -36,6 +37,16 @@ def register_cache(cache: Any) -> Any:
 
     A name already held by another live cache gets a numeric suffix (two worker caches of one
     kind may coexist); entries are held weakly, so a cache dies with its owner.
+
+    Parameters
+    ----------
+    cache : object
+        The cache.
+
+    Returns
+    -------
+    object
+        ``cache`` itself.
     """
     name = cache.name
     k = 2
@@ -77,7 +88,15 @@ class Cache:
         register_cache(self)
 
     def get(self, key: Hashable, default: Any = None) -> Any:
-        """The value under ``key`` (marked recently used), else ``default``."""
+        """The value under ``key`` (marked recently used), else ``default``.
+
+        Parameters
+        ----------
+        key : hashable
+            The entry's key.
+        default : object, optional
+            Returned on a miss.
+        """
         try:
             self._entries.move_to_end(key)
         except KeyError:
@@ -85,7 +104,15 @@ class Cache:
         return self._entries[key]
 
     def put(self, key: Hashable, value: Any) -> Any:
-        """Store ``value`` under ``key`` (dropping the oldest entries beyond ``size``); returns it."""
+        """Store ``value`` under ``key`` (dropping the oldest entries beyond ``size``); returns it.
+
+        Parameters
+        ----------
+        key : hashable
+            The entry's key.
+        value : object
+            What to store.
+        """
         self._entries[key] = value
         self._entries.move_to_end(key)
         while len(self._entries) > self.size:
@@ -93,7 +120,15 @@ class Cache:
         return value
 
     def get_or_compute(self, key: Hashable, compute: Callable[[], Any]) -> Any:
-        """The value under ``key``, computed by ``compute()`` and stored on a miss."""
+        """The value under ``key``, computed by ``compute()`` and stored on a miss.
+
+        Parameters
+        ----------
+        key : hashable
+            The entry's key.
+        compute : callable
+            Called without arguments on a miss.
+        """
         sentinel = _MISSING
         value = self.get(key, sentinel)
         return self.put(key, compute()) if value is sentinel else value
@@ -114,7 +149,15 @@ class Cache:
 
 class FunctionCache:
     """A ``functools.lru_cache``-wrapped function under a name, so that it can be listed and
-    cleared like a :class:`Cache` (``len`` is its current size)."""
+    cleared like a :class:`Cache` (``len`` is its current size).
+
+    Parameters
+    ----------
+    name : str
+        What it holds.
+    function : callable
+        The ``lru_cache``-wrapped function.
+    """
 
     def __init__(self, name: str, function: Any) -> None:
         self.name = str(name)
@@ -134,7 +177,13 @@ class FunctionCache:
 
 class WeakKeyCache:
     """A named cache keyed weakly by objects: an entry lives as long as its key object (e.g. one
-    design model per building, gone with the building)."""
+    design model per building, gone with the building).
+
+    Parameters
+    ----------
+    name : str
+        What it holds.
+    """
 
     def __init__(self, name: str) -> None:
         self.name = str(name)
@@ -142,11 +191,27 @@ class WeakKeyCache:
         register_cache(self)
 
     def get(self, key: Any, default: Any = None) -> Any:
-        """The value under ``key``, else ``default``."""
+        """The value under ``key``, else ``default``.
+
+        Parameters
+        ----------
+        key : object
+            A weakly referenceable key.
+        default : object, optional
+            Returned on a miss.
+        """
         return self._entries.get(key, default)
 
     def put(self, key: Any, value: Any) -> Any:
-        """Store ``value`` under ``key`` (held while ``key`` lives); returns it."""
+        """Store ``value`` under ``key`` (held while ``key`` lives); returns it.
+
+        Parameters
+        ----------
+        key : object
+            A weakly referenceable key.
+        value : object
+            What to store.
+        """
         self._entries[key] = value
         return value
 

@@ -188,6 +188,13 @@ class ReferenceCache:
 
     A building is keyed by identity and kept alive by the cache while its entry lives, so a
     caller that reuses one building (a comparison, an ensemble, a study) runs each reference once.
+
+    Parameters
+    ----------
+    size : int
+        Most runs kept (the least recently used goes first).
+    name : str
+        Its name in :func:`benchmark.foundation.cache.caches`.
     """
 
     def __init__(self, size: int = 8, name: str = "simulator.references") -> None:

@@ -145,7 +145,25 @@ def make_outputs(n: int, nz: int, nb: int, n_bstates: int, nd: int, n_control: i
 
 
 class KernelRun(NamedTuple):
-    """Everything one kernel run needs, packed from a building and a controller by :func:`pack_run`."""
+    """Everything one kernel run needs, packed from a building and a controller by :func:`pack_run`.
+
+    Parameters
+    ----------
+    bearings, devices, sensors, control, settings : Bearings, Devices, Sensors, Control, Settings
+        The kernel's arguments.
+    isolation : IsolationLayer
+        The isolation layer as run (sub-step tolerance applied).
+    packed : object
+        Its packed form (``IsolationLayer.pack()``), for the result.
+    bearing_state0 : numpy.ndarray
+        (n_bearings, n_states) initial hysteretic states of every bearing.
+    n_bearings : int
+        Bearings of the layer.
+    session : controllers.base.ControllerSession or None
+        The controller's session; None without devices.
+    n_control, n_meas : int
+        Control steps of the run and length of the measurement vector.
+    """
 
     bearings: Bearings
     devices: Devices
@@ -181,7 +199,9 @@ def pack_run(building: Any, record: Any, plant_extra: dict, n: int, dt: float, r
     n : int
         Samples of the run.
     dt : float
-        Integration step [s]; ``ratio`` steps make a control step.
+        Integration step [s].
+    ratio : int
+        Integration steps per control step.
     controller : controller object or None
         Already resolved (:func:`benchmark.simulator.simulation.simulate`); ``None``: no devices.
     substep_tolerance, noise, seed, slew_rate, info, fixed_point_tolerance, max_iterations,

@@ -290,13 +290,20 @@ class OracleModel:
                 "device_force_total": dev @ self.G}
 
     def result(self, X: np.ndarray, voltages: np.ndarray | None = None) -> "OracleResult":
-        """The run of states ``X`` as an :class:`OracleResult` (``voltages`` as in :meth:`outputs`).
+        """The run of states ``X`` as an :class:`OracleResult`.
 
         Its histories carry the names of :class:`~benchmark.simulator.simulation.SimulationResult`, so
         :func:`benchmark.simulator.peaks.peaks_of` computes the peaks of both the same way.
         ``floor_acceleration_absolute`` here is the superstructure's acceleration relative to the
         base frame :math:`-M^{-1}(K u_s + C \\dot u_s)` as the oracle computes it (the kernel's
         absolute floor accelerations equal it: :math:`\\ddot u_s + R(\\ddot u_b + \\ddot u_g)`).
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            States (n, n_states) of :meth:`solve`.
+        voltages : numpy.ndarray, optional
+            (n, n_devices) as in :meth:`outputs`.
         """
         voltage = np.zeros((len(X), 0)) if voltages is None else np.asarray(voltages)
         return OracleResult(states=X, outputs=self.outputs(X, voltages), voltage=voltage, elapsed_s=0.0)
@@ -310,6 +317,19 @@ class OracleResult:
     :class:`~benchmark.simulator.simulation.SimulationResult` (``r.base_displacement``,
     ``r.drift_ratio``, ``r.floor_acceleration_absolute``, ``r.device_force_total``, ...), and
     ``r.peaks`` is :func:`benchmark.simulator.peaks.peaks_of` of them, as for a kernel run.
+
+    Parameters
+    ----------
+    states : numpy.ndarray
+        (n, n_states) state history.
+    outputs : dict
+        Histories of :meth:`OracleModel.outputs` (SI).
+    voltage : numpy.ndarray
+        (n, n_devices) voltages [V].
+    elapsed_s : float
+        Wall time [s].
+    info : dict
+        Controller, tolerance, step and method of the integration.
     """
 
     states: np.ndarray

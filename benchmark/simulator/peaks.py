@@ -122,7 +122,18 @@ class Peaks:
 
     def relative_differences(self, reference: "Peaks") -> dict[str, float]:
         """``self / reference - 1`` for every field (0 where both are 0, inf where only the
-        reference is): how far two runs of one case agree, e.g. the kernel against the oracle."""
+        reference is): how far two runs of one case agree, e.g. the kernel against the oracle.
+
+        Parameters
+        ----------
+        reference : Peaks
+            The peaks compared with.
+
+        Returns
+        -------
+        dict
+            Field name -> relative difference [-].
+        """
         out = {}
         for f in fields(self):
             a, b = getattr(self, f.name), getattr(reference, f.name)
@@ -136,7 +147,17 @@ class Peaks:
 
 
 def result_array(result: Any, name: str, ndim: int) -> np.ndarray:
-    """Field ``name`` of ``result`` as a float array of ``ndim`` dimensions (:class:`InputError` if not)."""
+    """Field ``name`` of ``result`` as a float array of ``ndim`` dimensions (:class:`InputError` if not).
+
+    Parameters
+    ----------
+    result : object
+        A run (any object with the field).
+    name : str
+        The field.
+    ndim : int
+        Its expected number of dimensions.
+    """
     try:
         value = np.asarray(getattr(result, name), dtype=float)
     except AttributeError:
@@ -167,7 +188,13 @@ def _abs_peak(a: np.ndarray, column: int | None = None) -> float:
 
 
 def n_devices(result: Any) -> int:
-    """Number of devices of ``result`` (columns of ``device_force``; 0 without devices)."""
+    """Number of devices of ``result`` (columns of ``device_force``; 0 without devices).
+
+    Parameters
+    ----------
+    result : object
+        A run.
+    """
     df = getattr(result, "device_force", None)
     if df is None:
         return 0

@@ -63,6 +63,13 @@ ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "device")
 class SimulationResult:
     """Time histories of one run (SI; ``n`` samples at the integration step, time along axis 0).
 
+    Parameters
+    ----------
+    state : ndarray (n, n_z) or None, optional
+        Full state history of the kernel (kept on request: ``record_states``); None otherwise.
+    ground_acceleration : ndarray (n, 2) or None, optional
+        Ground acceleration (x, y) [m/s²] the run was driven by; None when not kept.
+
     Attributes
     ----------
     t : (n,) [s]

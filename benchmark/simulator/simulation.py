@@ -81,6 +81,11 @@ def check_control_step(control_step: Any) -> float:
     """``control_step`` [s] as a float, checked once for every API that takes one
     (:func:`simulate`, :func:`benchmark.simulator.case.run_case`, ``compare``).
 
+    Parameters
+    ----------
+    control_step : float
+        The control step [s].
+
     Raises
     ------
     InputError

@@ -437,6 +437,11 @@ def check_substep_tolerance(substep_tolerance: Any) -> float:
     """``substep_tolerance`` as a float, checked in one place for :func:`get_isolation` and
     :func:`benchmark.simulator.simulation.simulate`.
 
+    Parameters
+    ----------
+    substep_tolerance : float
+        Relative sub-step tolerance of the hysteretic bearings and devices [-].
+
     Raises
     ------
     ParameterError
