@@ -57,8 +57,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmark.foundation.errors import InputError
-from benchmark.simulator.evaluation import corner_responses, peaks, plan_corners
+from benchmark.simulator.evaluation import corner_responses, plan_corners
 from benchmark.simulator.evaluation import J_DESCRIPTIONS, PEAK_UNITS
 from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, ISOLATION_NAMES
 from benchmark.simulator.results import write_result
@@ -154,11 +153,6 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         if progress:
             print(f"sbib run: {msg}", file=sys.stderr, flush=True)
 
-    if control_step is not None and not (math.isfinite(control_step) and control_step > 0):
-        raise InputError(f"--control-step {control_step!r}: expected a positive number of seconds")
-    if integration_step is not None and not (math.isfinite(integration_step) and integration_step > 0):
-        raise InputError(f"--integration-step {integration_step!r}: expected a positive number of seconds, "
-                         "e.g. 0.0025")
     record_options = {"records_dir": records_dir, "baseline_correct": baseline_correct, "format": format,
                       "dt": dt, "units": units}
     choice = resolve_damper(damper, damper_scale)
@@ -202,10 +196,10 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         "integration_step_s": float(result.info.get("integration_step", rec.dt)),
         "notes": list(run.notes),
         "record_flaws": list(rec.metadata.get("flaws", [])),
-        "peaks": _clean(run.peaks),
+        "peaks": _clean(run.peaks.as_record()),
         "J": {k: v for k, v in _clean(J).items()},
         "criteria": key_json(),
-        "reference_peaks": _clean(peaks(reference)),
+        "reference_peaks": _clean(reference.peaks.as_record()),
         "corners": {"corners_m": corners["corners"].tolist(),
                     "peak_corner_base_displacement": corners["peak_corner_base_displacement"].tolist(),
                     "peak_corner_drift_ratio": corners["peak_corner_drift_ratio"].tolist()},

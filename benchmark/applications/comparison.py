@@ -2,7 +2,7 @@
 
 For each record and orientation the uncontrolled building (no devices) is the reference; each
 controller's run is evaluated against it (:func:`benchmark.simulator.evaluation.evaluate`, J1–J9) and its
-peaks kept (:func:`benchmark.simulator.evaluation.peaks`). Runs are independent and go to a process pool
+peaks kept (:meth:`benchmark.simulator.peaks.Peaks.as_record`, the ``peak_*`` file names). Runs are independent and go to a process pool
 (one task per run; the tasks of one record go to the same worker so that its reference run is
 computed once); :func:`benchmark.foundation.progress.progress_bar` shows progress. The result prints as
 a table (J's per run, mean and max over records per controller, the key of the J's), converts
@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import copy
 import sys
-import math
 import os
 import time
 from dataclasses import dataclass, field
@@ -24,9 +23,9 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from benchmark.foundation.cache import register_cache
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.building import Building
-from benchmark.simulator.evaluation import peaks
 from controllers.registry import controller_names
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from benchmark.foundation.atomic import atomic_path
@@ -378,7 +377,7 @@ _BUILDING_OVERRIDE: Any = None  # a caller's Building (or {damper: Building}), i
 #: orientation, with every controller of one pair in a row, so the pair in hand and the one
 #: before it are all a worker needs; the default cache's 8 full uncontrolled runs (~11 MB each)
 #: only raised a worker's peak memory.
-_WORKER_REFERENCES = ReferenceCache(size=2)
+_WORKER_REFERENCES = register_cache(ReferenceCache(size=2, name="compare.worker_references"))
 
 
 def _init_worker(building: Any) -> None:
@@ -459,11 +458,11 @@ def _run_one(task) -> tuple:
     result, reference = out.result, out.reference
     run = ComparisonRun(record=label[0] if label else record_name, orientation=orientation,
                         controller=_controller_label(spec),
-                        J=out.J, peaks=out.peaks,
+                        J=out.J, peaks=out.peaks.as_record(),
                         histories=_histories(result, _HISTORY_STEP, full_devices=bool(settings.get("dampers"))),
                         elapsed_s=time.perf_counter() - t0,
                         synthetic=bool(getattr(record, "synthetic", False)), damper=damper)
-    return run, peaks(reference), _histories(reference, _HISTORY_STEP)
+    return run, reference.peaks.as_record(), _histories(reference, _HISTORY_STEP)
 
 
 def _damper_buildings(dampers, devices, damper_scale, isolation, n_modes) -> tuple[dict, dict]:
@@ -558,8 +557,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     labels = [_controller_label(s) for s in specs]
     if len(set(labels)) != len(labels):
         raise InputError(f"--controllers: duplicate names {labels}")
-    if control_step is not None and not (math.isfinite(control_step) and control_step > 0):
-        raise InputError(f"--control-step: expected a positive number of seconds, got {control_step}")
+    # the control step is checked once, per record, by choose_control_step (_check_records)
     settings = {"control_step": None if control_step is None else float(control_step), "isolation": isolation,
                 "records_dir": None if records_dir is None else str(records_dir), "n_modes": n_modes,
                 "synthetic": bool(synthetic), "seed": int(seed), "noise": noise,

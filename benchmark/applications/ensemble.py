@@ -572,7 +572,7 @@ def simulate_case(case: Case) -> dict[str, Any]:
     Returns
     -------
     dict
-        The peaks of :func:`benchmark.simulator.evaluation.peaks` and the criteria J1–J9.
+        The peaks of :meth:`benchmark.simulator.peaks.Peaks.as_record` and the criteria J1–J9.
     """
 
     return run_ensemble_case(case)
@@ -589,7 +589,7 @@ def simulate_peaks_case(case: Case) -> dict[str, Any]:
     Returns
     -------
     dict
-        The peaks of :func:`benchmark.simulator.evaluation.peaks` (SI).
+        The peaks of :meth:`benchmark.simulator.peaks.Peaks.as_record` (SI).
     """
 
     return run_ensemble_case(case, evaluate_criteria=False)

@@ -142,7 +142,7 @@ def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, fl
     Returns
     -------
     dict
-        The peaks of :func:`benchmark.simulator.evaluation.peaks` (SI) and ``J1``..``J9`` (NaN where a
+        The peaks of :meth:`benchmark.simulator.peaks.Peaks.as_record` (SI) and ``J1``..``J9`` (NaN where a
         criterion is undefined, e.g. J6 without devices).
 
     Raises
@@ -174,7 +174,7 @@ def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, fl
     # the one way to run a case; the reference of a motion is run once per building (cached)
     run = run_case(Case(record=motion, controller=controller, building=building, control_step=control_step,
                         options=kwargs), reference=evaluate_criteria or controller is None)
-    out = {name: float(value) for name, value in run.peaks.items()}
+    out = {name: float(value) for name, value in run.peaks.as_record().items()}
     if evaluate_criteria:
         for name, value in run.J.items():
             out[name] = math.nan if value is None else float(value)

@@ -365,7 +365,7 @@ def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration
         record = _record(reference_duration)
         best, _, result, _, _ = time_call(lambda: _simulate(building, record), repeat=repeat, warmup=1)
     ref = oracle.simulate_oracle(building, record, controller="clipped-optimal")
-    diff, worst = _max_relative_difference(oracle.kernel_peaks(result), ref.peaks)
+    diff, worst = _max_relative_difference(result.peaks.as_dict(), ref.peaks.as_dict())
     ratio = ref.elapsed_s / best
     same_voltage = float(np.mean(np.asarray(result.voltage) == ref.voltage))
     cases.append(BenchCase("vs-solve_ivp", project_s=best, reference_s=ref.elapsed_s, ratio=ratio,
@@ -374,7 +374,7 @@ def bench_single_run(repeat: int = 7, reference: bool = True, reference_duration
                            note=f"{reference_duration:g}-s record; largest peak difference in {worst}; "
                                 f"solve_ivp {ref.info['method']} rtol 1e-7, max step = record step, restarted every control step; "
                                 f"{100 * same_voltage:.2f} % of voltage samples identical",
-                           details={"kernel_peaks": oracle.kernel_peaks(result), "reference_peaks": ref.peaks,
+                           details={"kernel_peaks": result.peaks.as_dict(), "reference_peaks": ref.peaks.as_dict(),
                                     "voltage_agreement": same_voltage}))
     return cases
 
@@ -409,7 +409,7 @@ def _element_costs(building: Any, linear_building: Any, record: Any, floor: Call
             cpu[key].append(time.process_time() - c0)
     best = {k: min(v) for k, v in cpu.items()}
     r_cf = best["single_cf"] / floor_cpu
-    diff, worst = _max_relative_difference(oracle.kernel_peaks(results["single_cf"]), oracle.kernel_peaks(rk4_result))
+    diff, worst = _max_relative_difference(results["single_cf"].peaks.as_dict(), rk4_result.peaks.as_dict())
     target = FLOOR_TARGETS["nonlinear-run"]
     cf_case = BenchCase("single-run-cf", project_s=best["single_cf"], vs_floor=r_cf, max_relative_difference=diff,
                         target=f"<= {target:g}x floor", met=r_cf <= target,

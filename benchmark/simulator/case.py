@@ -23,11 +23,13 @@ from typing import Any
 
 import numpy as np
 
+from benchmark.foundation.cache import register_cache
 from benchmark.foundation.errors import InputError, NumericalError
 from benchmark.simulator.building import Building
-from benchmark.simulator.evaluation import evaluate, peaks
+from benchmark.simulator.evaluation import evaluate
+from benchmark.simulator.peaks import Peaks, peaks_of
 from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
-from benchmark.simulator.simulation import SimulationResult, simulate
+from benchmark.simulator.simulation import SimulationResult, check_control_step, simulate
 from controllers.registry import get_controller
 from damper.models.base import DamperModel
 from records.record import Record
@@ -67,9 +69,7 @@ def choose_control_step(record_dt: float | None = None, requested: float | None 
         A requested step that is not a positive number of seconds (names ``--control-step``).
     """
     if requested is not None:
-        if not (isinstance(requested, (int, float)) and math.isfinite(requested) and requested > 0):
-            raise InputError(f"--control-step {requested!r}: expected a positive number of seconds")
-        return float(requested), ""
+        return check_control_step(requested), ""
     return DEFAULT_CONTROL_STEP, ""
 
 
@@ -145,8 +145,9 @@ class CaseResult:
         cannot act on the devices).
     J : dict
         J1-J9 of :func:`benchmark.simulator.evaluation.evaluate` (``None`` where undefined).
-    peaks : dict
-        Peak responses of :func:`benchmark.simulator.evaluation.peaks` (SI).
+    peaks : Peaks or None
+        Peak responses of ``result`` (:func:`benchmark.simulator.peaks.peaks_of`, SI); files and
+        JSON write them under their ``peak_*`` names with :meth:`Peaks.as_record`.
     """
 
     case: Case
@@ -157,7 +158,7 @@ class CaseResult:
     control_step: float
     notes: list[str] = field(default_factory=list)
     J: dict = field(default_factory=dict)
-    peaks: dict = field(default_factory=dict)
+    peaks: Peaks | None = None
 
 
 def _record_key(record: Record) -> tuple:
@@ -190,11 +191,14 @@ class ReferenceCache:
 
     Parameters
     ----------
-    size : int, optional
-        Number of runs kept (least recently used dropped).
+    size : int
+        Most runs kept (the least recently used goes first).
+    name : str
+        Its name in :func:`benchmark.foundation.cache.caches`.
     """
 
-    def __init__(self, size: int = 8) -> None:
+    def __init__(self, size: int = 8, name: str = "simulator.references") -> None:
+        self.name = str(name)
         self.size = int(size)
         self._entries: OrderedDict[tuple, tuple[Building, SimulationResult]] = OrderedDict()
 
@@ -236,9 +240,13 @@ class ReferenceCache:
         """Forget every entry."""
         self._entries.clear()
 
+    def __len__(self) -> int:
+        return len(self._entries)
 
-#: The process-wide cache :func:`run_case` uses by default.
-REFERENCES = ReferenceCache()
+
+#: The process-wide cache :func:`run_case` uses by default (``cache=`` gives another; listed by
+#: :func:`benchmark.foundation.cache.caches`, emptied by ``REFERENCES.clear()`` or ``clear_caches()``).
+REFERENCES = register_cache(ReferenceCache())
 
 
 def resolve_case_record(case: Case) -> Record:
@@ -260,8 +268,8 @@ def resolve_case_record(case: Case) -> Record:
 def _case_building(case: Case, with_devices: bool) -> Building:
     if case.building is not None:
         return case.building if with_devices else case.building.without_devices()
-    tolerance = case.options.get("substep_tolerance")
-    layer = get_isolation(case.isolation or DEFAULT_NONLINEAR, substep_tolerance=tolerance)
+    # substep_tolerance (an option) is applied once, by simulate
+    layer = get_isolation(case.isolation or DEFAULT_NONLINEAR)
     return Building.default(isolation=layer, devices="default" if with_devices else None, n_modes=case.n_modes,
                             damper_model=case.damper_model)
 
@@ -327,7 +335,7 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
                 notes.append(note)
     out = CaseResult(case=case, record=record, building=building, result=result,
                      reference=ref if ref is not None else result, control_step=float(control_step), notes=notes)
-    out.peaks = peaks(result)
+    out.peaks = peaks_of(result)
     if ref is not None:
         out.J = evaluate(result, ref)
     return out

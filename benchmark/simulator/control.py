@@ -10,11 +10,11 @@ the building as data. :func:`design_model` wraps a building as a
 
 from __future__ import annotations
 
-import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from benchmark.foundation.cache import WeakKeyCache
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.building import Building
 from benchmark.simulator.linear_model import linear_model
@@ -23,7 +23,8 @@ from controllers.lqg import LinearPlant
 
 __all__ = ["BuildingDesignModel", "design_model", "control_context"]
 
-_DESIGN_MODELS: "weakref.WeakKeyDictionary[Building, BuildingDesignModel]" = weakref.WeakKeyDictionary()
+#: One design model per building, alive while the building is (designs cached on it are shared).
+DESIGN_MODELS = WeakKeyCache("simulator.design_models")
 
 
 @dataclass(eq=False)
@@ -77,14 +78,16 @@ def design_model(building: Building) -> BuildingDesignModel:
         raise InputError("the building has no device layout (building.devices); a controller needs "
                          "devices to command")
     try:
-        return _DESIGN_MODELS[building]
-    except (KeyError, TypeError):
-        pass
+        hit = DESIGN_MODELS.get(building)
+    except TypeError:  # a building that cannot be weakly referenced
+        hit = None
+    if hit is not None:
+        return hit
     dm = BuildingDesignModel(building=building, device_models=tuple(devices.models),
                              device_positions=np.asarray(devices.xy, dtype=float),
                              device_directions=np.asarray(devices.directions, dtype=int))
     try:
-        _DESIGN_MODELS[building] = dm
+        DESIGN_MODELS.put(building, dm)
     except TypeError:  # a building that cannot be weakly referenced: no sharing
         pass
     return dm

@@ -32,9 +32,9 @@ the numbering of J6 and J9 as unverified; the project **chooses** the assignment
 keeps it fixed. J6 and J9 are not ratios to the reference run (the reference has no devices);
 they are ``None`` for a run without devices. A ratio whose reference value is zero is ``None``.
 
-:func:`peaks` returns the un-normalised values under the names of the ``sbib run --json``
-output (SI units). ``peak_device_force`` is the peak of the resultant *total* device force (the
-numerator of J6). :func:`corner_responses` adds the responses at the outer corners of the
+The un-normalised values are :class:`benchmark.simulator.peaks.Peaks`, computed by
+:func:`benchmark.simulator.peaks.peaks_of` (the only place peaks are computed; ``device_force`` is
+the peak of the resultant *total* device force, the numerator of J6). :func:`corner_responses` adds the responses at the outer corners of the
 plan, where torsion makes them largest (the floors are assumed to share the base's plan).
 
 References
@@ -53,94 +53,14 @@ from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import load_superstructure
 from benchmark.simulator.criteria import CRITERIA
 from benchmark.simulator.criteria import J_NAMES as _CRITERIA_NAMES
+from benchmark.simulator.peaks import PEAK_NAMES, PEAK_UNITS, n_devices, peaks_of, result_array
 
-__all__ = ["evaluate", "peaks", "corner_responses", "plan_corners", "PEAK_NAMES", "PEAK_UNITS",
+__all__ = ["evaluate", "corner_responses", "plan_corners", "PEAK_NAMES", "PEAK_UNITS",
            "J_NAMES", "J_DESCRIPTIONS"]
 
-#: names of :func:`peaks` (the ``peaks`` object of ``sbib run --json``), in order
-PEAK_NAMES: tuple[str, ...] = (
-    "peak_base_shear", "peak_structure_shear", "peak_base_displacement", "peak_drift_ratio",
-    "peak_floor_acceleration", "rms_base_displacement", "rms_floor_acceleration",
-    "peak_device_force",
-)
-#: SI units of the peaks
-PEAK_UNITS: dict[str, str] = {
-    "peak_base_shear": "N", "peak_structure_shear": "N", "peak_base_displacement": "m",
-    "peak_drift_ratio": "1", "peak_floor_acceleration": "m/s^2", "rms_base_displacement": "m",
-    "rms_floor_acceleration": "m/s^2", "peak_device_force": "N",
-}
 #: J1..J9 and their one-line descriptions, from the single definition table benchmark.simulator.criteria
 J_NAMES: tuple[str, ...] = _CRITERIA_NAMES
 J_DESCRIPTIONS: dict[str, str] = {k: c.description for k, c in CRITERIA.items()}
-
-
-def _array(result: Any, name: str, ndim: int) -> np.ndarray:
-    try:
-        value = np.asarray(getattr(result, name), dtype=float)
-    except AttributeError:
-        raise InputError(f"result has no field {name!r}; expected a SimulationResult") from None
-    if value.ndim != ndim:
-        raise InputError(f"result.{name} has shape {value.shape}; expected {ndim} dimensions")
-    return value
-
-
-def _resultant(a: np.ndarray) -> np.ndarray:
-    """x–y resultant of the last axis' first two components."""
-    return np.hypot(a[..., 0], a[..., 1])
-
-
-def _peak(a: np.ndarray) -> float:
-    return float(np.max(a)) if a.size else 0.0
-
-
-def _rms_time(a: np.ndarray) -> np.ndarray:
-    """RMS over time (axis 0) of a resultant array."""
-    return np.sqrt(np.mean(a * a, axis=0)) if a.shape[0] else np.zeros(a.shape[1:])
-
-
-def _n_devices(result: Any) -> int:
-    df = getattr(result, "device_force", None)
-    if df is None:
-        return 0
-    df = np.asarray(df)
-    return int(df.shape[1]) if df.ndim == 2 else 0
-
-
-def peaks(result: Any) -> dict[str, float]:
-    """Un-normalised peak and RMS responses of one run (SI), keys :data:`PEAK_NAMES`.
-
-    Parameters
-    ----------
-    result : SimulationResult
-        A run (fields as in ``docs/ARCHITECTURE.md``; a result read back by
-        :func:`benchmark.simulator.results.read_result` works too).
-
-    Returns
-    -------
-    dict
-        ``peak_base_shear`` [N], ``peak_structure_shear`` [N], ``peak_base_displacement`` [m],
-        ``peak_drift_ratio`` [-], ``peak_floor_acceleration`` [m/s²], ``rms_base_displacement``
-        [m], ``rms_floor_acceleration`` [m/s², largest floor], ``peak_device_force`` [N, total].
-    """
-    base_shear = _resultant(_array(result, "base_shear", 2))
-    structure_shear = _resultant(_array(result, "structure_shear", 2))
-    ub = _resultant(_array(result, "base_displacement", 2))
-    drift = _resultant(_array(result, "drift_ratio", 3))
-    acc = _resultant(_array(result, "floor_acceleration_absolute", 3))
-    if _n_devices(result):
-        device_total = _resultant(_array(result, "device_force_total", 2))
-    else:
-        device_total = np.zeros(0)
-    return {
-        "peak_base_shear": _peak(base_shear),
-        "peak_structure_shear": _peak(structure_shear),
-        "peak_base_displacement": _peak(ub),
-        "peak_drift_ratio": _peak(drift),
-        "peak_floor_acceleration": _peak(acc),
-        "rms_base_displacement": float(_rms_time(ub)) if ub.size else 0.0,
-        "rms_floor_acceleration": _peak(_rms_time(acc)),
-        "peak_device_force": _peak(device_total),
-    }
 
 
 def _ratio(a: float, b: float) -> float | None:
@@ -184,21 +104,21 @@ def evaluate(result: Any, reference: Any) -> dict[str, float | None]:
         If the runs are not of the same record, orientation and isolation.
     """
     _check_same_case(result, reference)
-    p = peaks(result)
-    p0 = peaks(reference)
+    p = peaks_of(result)
+    p0 = peaks_of(reference)
     J: dict[str, float | None] = {
-        "J1": _ratio(p["peak_base_shear"], p0["peak_base_shear"]),
-        "J2": _ratio(p["peak_structure_shear"], p0["peak_structure_shear"]),
-        "J3": _ratio(p["peak_base_displacement"], p0["peak_base_displacement"]),
-        "J4": _ratio(p["peak_drift_ratio"], p0["peak_drift_ratio"]),
-        "J5": _ratio(p["peak_floor_acceleration"], p0["peak_floor_acceleration"]),
+        "J1": _ratio(p.base_shear, p0.base_shear),
+        "J2": _ratio(p.structure_shear, p0.structure_shear),
+        "J3": _ratio(p.base_displacement, p0.base_displacement),
+        "J4": _ratio(p.drift_ratio, p0.drift_ratio),
+        "J5": _ratio(p.floor_acceleration, p0.floor_acceleration),
         "J6": None,
-        "J7": _ratio(p["rms_base_displacement"], p0["rms_base_displacement"]),
-        "J8": _ratio(p["rms_floor_acceleration"], p0["rms_floor_acceleration"]),
+        "J7": _ratio(p.rms_base_displacement, p0.rms_base_displacement),
+        "J8": _ratio(p.rms_floor_acceleration, p0.rms_floor_acceleration),
         "J9": None,
     }
-    if _n_devices(result):
-        J["J6"] = _ratio(p["peak_device_force"], p["peak_base_shear"])
+    if n_devices(result):
+        J["J6"] = _ratio(p.device_force, p.base_shear)
         energy = getattr(result, "energy", None) or {}
         if "device" in energy and "input" in energy:
             e_dev = np.asarray(energy["device"], dtype=float)
@@ -257,8 +177,8 @@ def corner_responses(result: Any, corners: np.ndarray | None = None,
         storey_heights = s.storey_heights if storey_heights is None else storey_heights
     corners = np.asarray(corners, dtype=float).reshape(-1, 2)
     h = np.asarray(storey_heights, dtype=float)
-    ub = _array(result, "base_displacement", 2)          # (n, 3)
-    us = _array(result, "floor_displacement", 3)         # (n, 8, 3), relative to the base
+    ub = result_array(result, "base_displacement", 2)          # (n, 3)
+    us = result_array(result, "floor_displacement", 3)         # (n, 8, 3), relative to the base
     if us.shape[1] != h.size:
         raise InputError(f"corner_responses: {us.shape[1]} floors but {h.size} storey heights")
     cx, cy = corners[:, 0], corners[:, 1]

@@ -25,20 +25,26 @@ argument        fields
 :class:`Outputs`  the histories the kernel writes
 ==============  ===========================================================================
 
-Each is built once per run (:func:`benchmark.simulator.simulation.simulate`), and the plant and the
+Each is built once per run (:func:`pack_run`, called by :func:`benchmark.simulator.simulation.simulate`), and the plant and the
 sensor rows once per building and record step (cached). Numba compiles the kernel once per
 combination of field types, which are fixed here (float64 C-contiguous arrays, int64 ids).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
-from controllers.measurements import MeasurementLayout
+from benchmark.foundation.errors import InputError
+from benchmark.simulator.control import control_context
+from benchmark.simulator.isolation.registry import LinearBearing
+from benchmark.simulator.sensors import n_measurements, noise_samples
+from controllers.base import ControllerSession
+from controllers.measurements import MeasurementLayout, measurement_layout
 
-__all__ = ["Plant", "Bearings", "Devices", "Sensors", "Control", "Settings", "Outputs", "make_outputs"]
+__all__ = ["Plant", "Bearings", "Devices", "Sensors", "Control", "Settings", "Outputs", "make_outputs",
+           "KernelRun", "pack_run"]
 
 
 class Plant(NamedTuple):
@@ -287,3 +293,168 @@ def make_outputs(n: int, nz: int, nb: int, n_bstates: int, nd: int, n_control: i
                    bstate=np.zeros((n if record_states else 1, nb, n_bstates)),
                    fd=np.zeros((n, nd)), v=np.zeros((n, nd)), meas=np.zeros((n_control, n_meas)),
                    desired=np.full((n_control, nd), np.nan), iters=np.zeros(n, dtype=np.int64))
+
+
+class KernelRun(NamedTuple):
+    """Everything one kernel run needs, packed from a building and a controller by :func:`pack_run`.
+
+    Parameters
+    ----------
+    bearings, devices, sensors, control, settings : Bearings, Devices, Sensors, Control, Settings
+        The kernel's arguments.
+    isolation : IsolationLayer
+        The isolation layer as run (sub-step tolerance applied).
+    packed : object
+        Its packed form (``IsolationLayer.pack()``), for the result.
+    bearing_state0 : numpy.ndarray
+        (n_bearings, n_states) initial hysteretic states of every bearing.
+    n_bearings : int
+        Bearings of the layer.
+    session : controllers.base.ControllerSession or None
+        The controller's session; None without devices.
+    n_control, n_meas : int
+        Control steps of the run and length of the measurement vector.
+    """
+
+    bearings: Bearings
+    devices: Devices
+    sensors: Sensors
+    control: Control
+    settings: Settings
+    isolation: Any          # the isolation layer as run (sub-step tolerance applied)
+    packed: Any             # its packed form (``IsolationLayer.pack()``), for the result
+    bearing_state0: np.ndarray  # (n_bearings, n_states) initial hysteretic states of every bearing
+    n_bearings: int
+    session: Any            # the ControllerSession, or None without devices
+    n_control: int
+    n_meas: int
+
+
+def _f64(a: Any) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def pack_run(building: Any, record: Any, plant_extra: dict, n: int, dt: float, ratio: int, controller: Any, *,
+             substep_tolerance: float | None, noise: Any, seed: int | None, slew_rate: float | None,
+             info: dict | None, fixed_point_tolerance: float, max_iterations: int, blowup_limit: float,
+             bearing_histories: bool, record_states: bool, newton: bool, integrator: int = 0) -> KernelRun:
+    """Pack ``building`` and a resolved ``controller`` into the kernel's arguments (SI).
+
+    Parameters
+    ----------
+    building : Building
+    record : records.Record
+        Only its name goes to the controller's context.
+    plant_extra : dict
+        The sensor rows ``C_acc``, ``D_acc_g``, ``D_acc_ag`` of the discretised plant.
+    n : int
+        Samples of the run.
+    dt : float
+        Integration step [s].
+    ratio : int
+        Integration steps per control step.
+    controller : controller object or None
+        Already resolved (:func:`benchmark.simulator.simulation.simulate`); ``None``: no devices.
+    substep_tolerance, noise, seed, slew_rate, info, fixed_point_tolerance, max_iterations,
+    blowup_limit, bearing_histories, record_states, newton
+        As in :func:`benchmark.simulator.simulation.simulate` (already checked there).
+    integrator : int
+        The bearings' update (:data:`benchmark.simulator.stepping.INTEGRATORS`: 0 RK4 sub-steps,
+        1 the closed-form update).
+
+    Returns
+    -------
+    KernelRun
+
+    Raises
+    ------
+    InputError
+        A controller without devices, or a compiled controller designed for another control step
+        or device count.
+    """
+    isolation = building.isolation
+    if substep_tolerance is not None:
+        isolation = isolation.with_substep_tolerance(substep_tolerance)
+    packed = isolation.pack()
+    b_type = np.ascontiguousarray(packed.type_ids, dtype=np.int64)
+    b_params = np.ascontiguousarray(packed.params, dtype=np.float64)
+    b_state = np.ascontiguousarray(packed.states, dtype=np.float64).copy()
+    b_xy = np.ascontiguousarray(building.superstructure.bearing_xy, dtype=np.float64)
+
+    devices = building.devices if controller is not None else None
+    if controller is not None and devices is None:
+        raise InputError("simulate: a controller was given but the building has no devices "
+                         "(Building.default(devices='default') or building.with_devices(...))")
+    session = None
+    compiled = None
+    if devices is not None:
+        if substep_tolerance is not None:
+            devices = devices.with_substep_tolerance(substep_tolerance)
+        d_model, d_params, d_state, _ = devices.pack()
+        d_infl = np.ascontiguousarray(devices.influence())
+
+        context = control_context(building, control_step=ratio * dt, slew_rate=slew_rate,
+                                  info=dict(info or {}, record=getattr(record, "name", "")))
+        session = ControllerSession(controller, context)
+        compiled = session.compiled
+        if compiled is not None:
+            if abs(compiled.control_step - ratio * dt) > 1e-9 * ratio * dt:
+                raise InputError(f"controller {session.name!r} was designed for a control step of "
+                                 f"{compiled.control_step:g} s, the run uses {ratio * dt:g} s")
+            if compiled.n_devices != d_infl.shape[0] or compiled.n_meas != n_measurements(d_infl.shape[0]):
+                raise InputError(f"controller {session.name!r} expects {compiled.n_devices} devices and "
+                                 f"{compiled.n_meas} measurements; the building has {d_infl.shape[0]} "
+                                 f"devices ({n_measurements(d_infl.shape[0])} measurements)")
+    else:
+        d_model = np.zeros(0, dtype=np.int64)
+        d_params = np.zeros((0, 1))
+        d_state = np.zeros((0, 1))
+        d_infl = np.zeros((0, 3))
+    nd = d_infl.shape[0]
+    n_meas = n_measurements(nd)
+    n_control = (n - 1) // ratio + 1 if nd else 0
+    noise_arr, meas_range = noise_samples(noise if nd else None, n_control, nd, seed)
+
+    if compiled is not None:
+        ctrl_mode = 1
+        Ac, Bc, Cc, Dc = compiled.Ac, compiled.Bc, compiled.Cc, compiled.Dc
+        law_id, law_params = compiled.law_id, compiled.law_params
+        v_max, slew = compiled.v_max, compiled.slew_rate
+        xc, voltage = compiled.initial_state()
+    else:
+        ctrl_mode = 2 if session is not None else 0
+        Ac = np.zeros((0, 0))
+        Bc = np.zeros((0, n_meas))
+        Cc = np.zeros((nd, 0))
+        Dc = np.zeros((nd, n_meas))
+        law_id = 0
+        law_params = np.zeros(nd)
+        v_max = np.zeros(nd) if devices is None else devices.voltage_max
+        slew = np.full(nd, np.inf)
+        xc = np.zeros(0)
+        voltage = np.zeros(nd)
+
+    control = Control(mode=int(ctrl_mode), ratio=int(ratio), dt=float(ratio * dt), Ac=_f64(Ac),
+                      Bc=_f64(Bc), Cc=_f64(Cc), Dc=_f64(Dc), law_id=int(law_id),
+                      law_params=_f64(law_params), v_max=_f64(v_max), slew_rate=_f64(slew),
+                      xc=_f64(xc).copy(), voltage=_f64(voltage).copy())
+    # Linear bearings have no hysteretic force: all of theirs is in the plant's exact step, so
+    # the kernel gets only the others (a linear run's kernel is then the bare linear loop).
+    hysteretic = np.flatnonzero(b_type != LinearBearing.type_id)
+    bearings = Bearings(index=hysteretic.astype(np.int64),
+                        xy=np.ascontiguousarray(b_xy[hysteretic]),
+                        type_id=np.ascontiguousarray(b_type[hysteretic]),
+                        params=np.ascontiguousarray(b_params[hysteretic]),
+                        state=np.ascontiguousarray(b_state[hysteretic]))
+    dev = Devices(influence=_f64(d_infl), model_id=np.ascontiguousarray(d_model, dtype=np.int64),
+                  params=_f64(d_params), state=_f64(d_state))
+    sensors = Sensors(C_acc=plant_extra["C_acc"], D_acc_g=plant_extra["D_acc_g"],
+                      D_acc_ag=plant_extra["D_acc_ag"], noise=_f64(noise_arr), ranges=_f64(meas_range),
+                      layout=measurement_layout(nd))
+    settings = Settings(fp_tol=float(fixed_point_tolerance), max_iter=int(max_iterations),
+                        blowup_limit=float(blowup_limit), record_bearings=bool(bearing_histories),
+                        record_states=bool(bearing_histories and record_states),
+                        newton=bool(newton), integrator=int(integrator))
+    return KernelRun(bearings=bearings, devices=dev, sensors=sensors, control=control, settings=settings,
+                     isolation=isolation, packed=packed, bearing_state0=b_state, n_bearings=int(b_xy.shape[0]),
+                     session=session, n_control=int(n_control), n_meas=int(n_meas))

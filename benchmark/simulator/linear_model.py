@@ -62,6 +62,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from benchmark.foundation.cache import FunctionCache
 from benchmark.foundation.errors import InputError
 from controllers.measurements import measurement_layout, measurement_names
 from benchmark.simulator.isolation.registry import bearing_step
@@ -181,6 +182,10 @@ def _equivalent_cached(type_id: int, params: tuple, state0: tuple, amplitude: fl
     X = np.column_stack([u[last], v[last]])
     (k_eq, c_eq), *_ = np.linalg.lstsq(X, f[last], rcond=None)
     return float(k_eq), float(c_eq)
+
+
+#: Equivalent-linear stiffness and damping of a bearing by type, parameters and amplitude.
+EQUIVALENT_BEARINGS = FunctionCache("simulator.equivalent_bearings", _equivalent_cached)
 
 
 def equivalent_linear_bearing(bearing, amplitude: float, period: float,

@@ -41,13 +41,14 @@ from benchmark.foundation.errors import NumericalError
 from benchmark.simulator.isolation.friction_pendulum import FrictionPendulumBearing
 from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing
 from benchmark.simulator.isolation.linear import LinearBearing
+from benchmark.simulator.peaks import Peaks, peaks_of
 from benchmark.simulator.sensors import noise_samples
 from benchmark.simulator.simulation import _resolve_controller
 from controllers.base import ControllerSession
 from benchmark.simulator.control import control_context
 
 __all__ = ["park_wen_rates", "group_force_and_rates", "OracleModel", "OracleResult",
-           "simulate_oracle", "oracle_peaks", "kernel_peaks"]
+           "simulate_oracle"]
 
 
 def park_wen_rates(z: np.ndarray, v: np.ndarray, Y: float, A: float, beta: float, gamma: float) -> np.ndarray:
@@ -333,91 +334,75 @@ class OracleModel:
                 dev[k] = F
         finally:
             self.voltage[:] = saved
+        floors = X[:, :self.nq].reshape(len(X), -1, 3)
+        rel = np.concatenate([np.zeros((len(X), 1, 3)), floors], axis=1)
+        drift = (rel[:, 1:, :2] - rel[:, :-1, :2]) / np.asarray(self.storey_heights)[None, :, None]
         return {"base_displacement": ub, "base_shear": fb, "structure_shear": elastic @ self.R,
-                "floor_acceleration": floor_acc, "floor_displacement": X[:, :self.nq], "device_force": dev}
+                "floor_acceleration": floor_acc, "floor_displacement": X[:, :self.nq], "device_force": dev,
+                # under the names of SimulationResult, for benchmark.simulator.peaks.peaks_of: the
+                # kernel's absolute floor accelerations equal -M^{-1}(K u_s + C u_s') (see result())
+                "floor_acceleration_absolute": floor_acc.reshape(len(X), -1, 3), "drift_ratio": drift,
+                "device_force_total": dev @ self.G}
 
+    def result(self, X: np.ndarray, voltages: np.ndarray | None = None) -> "OracleResult":
+        """The run of states ``X`` as an :class:`OracleResult`.
 
-def oracle_peaks(out: dict[str, np.ndarray], storey_heights: np.ndarray) -> dict[str, float]:
-    """Peaks of the reference's outputs ``out`` (:meth:`OracleModel.outputs`), named as in
-    :func:`kernel_peaks`; ``storey_heights`` (8,) [m] for the drift ratios.
+        Its histories carry the names of :class:`~benchmark.simulator.simulation.SimulationResult`, so
+        :func:`benchmark.simulator.peaks.peaks_of` computes the peaks of both the same way.
+        ``floor_acceleration_absolute`` here is the superstructure's acceleration relative to the
+        base frame :math:`-M^{-1}(K u_s + C \\dot u_s)` as the oracle computes it (the kernel's
+        absolute floor accelerations equal it: :math:`\\ddot u_s + R(\\ddot u_b + \\ddot u_g)`).
 
-    Parameters
-    ----------
-    out : dict[str, np.ndarray]
-        The reference's outputs.
-    storey_heights : np.ndarray
-        Storey heights [m], for the drift ratios.
-    """
-    rel = np.concatenate([np.zeros((len(out["floor_displacement"]), 1, 3)),
-                          out["floor_displacement"].reshape(-1, 8, 3)], axis=1)
-    drift = (rel[:, 1:, :2] - rel[:, :-1, :2]) / np.asarray(storey_heights)[None, :, None]
-    peaks = {
-        "base_displacement": float(np.hypot(out["base_displacement"][:, 0], out["base_displacement"][:, 1]).max()),
-        "base_rotation": float(np.abs(out["base_displacement"][:, 2]).max()),
-        "base_shear": float(np.hypot(out["base_shear"][:, 0], out["base_shear"][:, 1]).max()),
-        "base_torque": float(np.abs(out["base_shear"][:, 2]).max()),
-        "structure_shear": float(np.hypot(out["structure_shear"][:, 0], out["structure_shear"][:, 1]).max()),
-        "floor_acceleration": float(np.abs(out["floor_acceleration"].reshape(-1, 8, 3)[..., :2]).max()),
-        "drift_ratio": float(np.abs(drift).max()),
-    }
-    if out["device_force"].size:
-        peaks["device_force"] = float(np.abs(out["device_force"]).max())
-    return peaks
-
-
-def kernel_peaks(result: Any) -> dict[str, float]:
-    """The same peaks from ``result``, a :class:`benchmark.simulator.simulation.SimulationResult`.
-
-    ``floor_acceleration`` here is the superstructure's acceleration relative to the base frame
-    :math:`-M^{-1}(K u_s + C \\dot u_s)` as the reference computes it (the kernel's absolute floor
-    accelerations equal it: :math:`\\ddot u_s + R(\\ddot u_b + \\ddot u_g)`).
-
-    Parameters
-    ----------
-    result : Any
-        The kernel's result.
-    """
-    r = result
-    peaks = {
-        "base_displacement": float(np.hypot(r.base_displacement[:, 0], r.base_displacement[:, 1]).max()),
-        "base_rotation": float(np.abs(r.base_displacement[:, 2]).max()),
-        "base_shear": float(np.hypot(r.base_shear[:, 0], r.base_shear[:, 1]).max()),
-        "base_torque": float(np.abs(r.base_shear[:, 2]).max()),
-        "structure_shear": float(np.hypot(r.structure_shear[:, 0], r.structure_shear[:, 1]).max()),
-        "floor_acceleration": float(np.abs(r.floor_acceleration_absolute[..., :2]).max()),
-        "drift_ratio": float(np.abs(r.drift_ratio).max()),
-    }
-    if r.device_force.size:
-        peaks["device_force"] = float(np.abs(r.device_force).max())
-    return peaks
+        Parameters
+        ----------
+        X : numpy.ndarray
+            States (n, n_states) of :meth:`solve`.
+        voltages : numpy.ndarray, optional
+            (n, n_devices) as in :meth:`outputs`.
+        """
+        voltage = np.zeros((len(X), 0)) if voltages is None else np.asarray(voltages)
+        return OracleResult(states=X, outputs=self.outputs(X, voltages), voltage=voltage, elapsed_s=0.0)
 
 
 @dataclass
 class OracleResult:
-    """A reference run: states, outputs and peaks (SI), voltages, wall time.
+    """An oracle run: states, outputs (SI), voltages, wall time.
+
+    The histories of ``outputs`` are also attributes under the names of
+    :class:`~benchmark.simulator.simulation.SimulationResult` (``r.base_displacement``,
+    ``r.drift_ratio``, ``r.floor_acceleration_absolute``, ``r.device_force_total``, ...), and
+    ``r.peaks`` is :func:`benchmark.simulator.peaks.peaks_of` of them, as for a kernel run.
 
     Parameters
     ----------
-    states : np.ndarray
-        States (n_samples, n_states).
+    states : numpy.ndarray
+        (n, n_states) state history.
     outputs : dict
-        Output histories (:meth:`OracleModel.outputs`), SI.
-    peaks : dict
-        Peaks by name (SI).
-    voltage : np.ndarray
-        Device voltages [V].
+        Histories of :meth:`OracleModel.outputs` (SI).
+    voltage : numpy.ndarray
+        (n, n_devices) voltages [V].
     elapsed_s : float
         Wall time [s].
-    info : dict, optional
-        Settings of the run (method, tolerances, …).
+    info : dict
+        Controller, tolerance, step and method of the integration.
     """
 
     states: np.ndarray
     outputs: dict
-    peaks: dict
     voltage: np.ndarray
     elapsed_s: float
     info: dict = field(default_factory=dict)
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        outputs = self.__dict__.get("outputs") or {}
+        if name in outputs:
+            return outputs[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    @property
+    def peaks(self) -> Peaks:
+        """Named peaks (:func:`benchmark.simulator.peaks.peaks_of`), SI."""
+        return peaks_of(self)
 
 
 def simulate_oracle(building: Any, record: Any, controller: Any = None, control_step: float = 0.005,
@@ -485,8 +470,7 @@ def simulate_oracle(building: Any, record: Any, controller: Any = None, control_
     # the voltage acting over the step that ends at each sample (the kernel's convention)
     held = np.vstack([voltage[:1], voltage[:-1]]) if voltage.size else None
     out = model.outputs(X, held)
-    peaks = oracle_peaks(out, model.storey_heights)
-    return OracleResult(states=X, outputs=out, peaks=peaks, voltage=voltage,
+    return OracleResult(states=X, outputs=out, voltage=voltage,
                            elapsed_s=_time.perf_counter() - t_start,
                            info={"controller": None if controller is None else str(getattr(controller, "name", controller)),
                                  "rtol": rtol, "max_step": max_step or dt, "method": method})

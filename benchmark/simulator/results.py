@@ -11,7 +11,7 @@ Layout of a file written by :func:`write_result` (format ``sbib-result``, versio
     /run/time_histories/<field>   one dataset per time history; attrs ``units``,
                                   ``description``, ``axes``
     /run/energy/<term>            energy terms (n,) [J]; attrs ``units``, ``description``
-    /run/peaks                    attrs: the peaks of :func:`benchmark.simulator.evaluation.peaks` (SI),
+    /run/peaks                    attrs: the peaks of :func:`benchmark.simulator.peaks.peaks_of` (SI),
                                   each with ``<name>_units``
     /reference/...                the uncontrolled reference run, same layout (optional)
     /evaluation                   attrs J1..J9 (NaN where undefined) and ``<Jk>_description``,
@@ -25,7 +25,11 @@ single precision unless ``--full-histories``. The file is written to a
 temporary file in the destination directory and renamed when complete
 (:func:`benchmark.foundation.atomic.atomic_path`), so an interrupted run never leaves a partial file.
 :func:`read_result` reads a run back into a :class:`StoredResult` with the same field names as
-:class:`benchmark.simulator.simulation.SimulationResult`, so evaluation and plots work on it unchanged.
+:class:`SimulationResult`, so evaluation and plots work on it unchanged.
+
+:class:`SimulationResult` itself, the run of :func:`benchmark.simulator.simulation.simulate`, lives
+here too, with the histories derived from the kernel's state (:func:`derived_histories`,
+:func:`build_result`): the driver steps, this module makes the result.
 """
 
 from __future__ import annotations
@@ -35,19 +39,367 @@ import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.simulator.evaluation import PEAK_UNITS, peaks
+from benchmark.simulator.peaks import PEAK_UNITS, Peaks, peaks_of
 from benchmark.simulator.evaluation import J_DESCRIPTIONS
 from benchmark.foundation.provenance import provenance
 from benchmark.simulator.criteria import CRITERIA
+from benchmark.simulator.stepping import energy_histories, total_bearing_forces
 
-__all__ = ["write_result", "read_result", "read_evaluation", "StoredResult", "FIELD_UNITS",
+__all__ = ["SimulationResult", "ENERGY_NAMES", "build_result", "derived_histories",
+           "write_result", "read_result", "read_evaluation", "StoredResult", "FIELD_UNITS",
            "FORMAT_NAME", "FORMAT_VERSION"]
+
+#: the energy terms of a run, in the order of :func:`benchmark.simulator.stepping.energy_histories`
+ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "device")
+
+
+@dataclass(eq=False)
+class SimulationResult:
+    """Time histories of one run (SI; ``n`` samples at the integration step, time along axis 0).
+
+    Parameters
+    ----------
+    state : ndarray (n, n_z) or None, optional
+        Full state history of the kernel (kept on request: ``record_states``); None otherwise.
+    ground_acceleration : ndarray (n, 2) or None, optional
+        Ground acceleration (x, y) [m/s²] the run was driven by; None when not kept.
+
+    Attributes
+    ----------
+    t : (n,) [s]
+    base_displacement, base_velocity, base_acceleration : (n, 3)
+        Base centre of mass relative to the ground (x, y [m, m/s, m/s²], θ [rad, rad/s, rad/s²]).
+    base_acceleration_absolute : (n, 3)
+        :math:`\\ddot u_b + \\ddot u_g`.
+    floor_displacement : (n, 8, 3)
+        Floors 1..8 relative to the base (x, y [m], θ [rad]).
+    floor_acceleration_absolute : (n, 8, 3)
+        :math:`\\ddot u_s + R(\\ddot u_b + \\ddot u_g)` [m/s², rad/s²].
+    drift_ratio : (n, 8, 2)
+        Inter-storey drift / storey height at the centres of mass (storey 1 = floor 1 − base).
+    isolation_force : (n, 3)
+        Bearing forces resolved at the base centre of mass :math:`\\sum T_i^T f_i` [N, N·m].
+    device_force_total : (n, 3)
+        Device forces at the base centre of mass [N, N·m].
+    base_shear : (n, 3)
+        ``isolation_force + device_force_total`` (the isolation-level force).
+    structure_shear : (n, 3)
+        First-storey force :math:`R^T(K u_s + C\\dot u_s)` [N, N·m].
+    bearing_force : (n, n_bearings, 2) or None
+        Total force of each bearing (x, y) [N]; ``None`` with ``bearing_histories=False``.
+    bearing_state : (n, n_bearings, n_states) or None
+        Hysteretic states of each bearing (``record_states=True`` and ``bearing_histories=True``).
+    device_displacement, device_velocity, device_force, voltage : (n, n_devices)
+        [m], [m/s], [N] (device sign convention), [V] (held over each control step).
+    energy : dict of (n,) arrays
+        ``input, kinetic, strain, damping, hysteretic, device`` [J]
+        (:func:`benchmark.simulator.stepping.energy_histories`).
+    measurements : (n_control, n_meas)
+        The measurement vectors the controller saw (noise added); empty without a controller.
+    desired_force : (n_control, n_devices)
+        Desired forces of a compiled controller (NaN for pure-Python controllers).
+    iterations : (n,) int
+        Fixed-point iterations of each step.
+    info : dict
+        record, orientation, isolation, controller, settings, elapsed time.
+
+    Notes
+    -----
+    :func:`simulate` returns the kernel's own histories (base motion, device forces, voltages,
+    measurements) at once and derives the others (accelerations, floor responses, drifts,
+    shears, device strokes, energies) on first access, in one pass each
+    (:func:`derived_histories`, :func:`benchmark.simulator.stepping.energy_histories`): a run whose
+    caller reads only a few histories does not pay for the rest. The values are the same either
+    way; pickling (worker processes) and :func:`dataclasses.replace` derive them first.
+    """
+
+    t: np.ndarray
+    base_displacement: np.ndarray
+    base_velocity: np.ndarray
+    base_acceleration: np.ndarray
+    base_acceleration_absolute: np.ndarray
+    floor_displacement: np.ndarray
+    floor_acceleration_absolute: np.ndarray
+    drift_ratio: np.ndarray
+    isolation_force: np.ndarray
+    device_force_total: np.ndarray
+    base_shear: np.ndarray
+    structure_shear: np.ndarray
+    bearing_force: np.ndarray
+    bearing_state: np.ndarray | None
+    device_displacement: np.ndarray
+    device_velocity: np.ndarray
+    device_force: np.ndarray
+    voltage: np.ndarray
+    energy: dict
+    measurements: np.ndarray
+    desired_force: np.ndarray
+    iterations: np.ndarray
+    info: dict = field(default_factory=dict)
+    state: np.ndarray | None = field(default=None, repr=False)
+    ground_acceleration: np.ndarray | None = field(default=None, repr=False)
+
+    def __getattr__(self, name: str) -> Any:
+        # Called only for an attribute not set yet: a derived history of a lazy result.
+        pending = self.__dict__.get("_pending")
+        if pending is None or name not in pending:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        derive = pending[name]
+        values = derive()
+        for key in [k for k, f in pending.items() if f is derive]:
+            del pending[key]
+        for key, value in values.items():  # never over a value set meanwhile
+            self.__dict__.setdefault(key, value)
+        return self.__dict__[name]
+
+    def materialize(self) -> "SimulationResult":
+        """Derive every history not derived yet (see Notes); returns ``self``."""
+        pending = self.__dict__.get("_pending") or {}
+        for name in list(pending):
+            if name in pending:
+                getattr(self, name)
+        return self
+
+    def __getstate__(self) -> dict:
+        self.materialize()
+        state = dict(self.__dict__)
+        state.pop("_pending", None)
+        return state
+
+    @classmethod
+    def _lazy(cls, pending: dict[str, Callable[[], dict]], **values: Any) -> "SimulationResult":
+        # ``values`` the fields known now; ``pending`` maps each other field to the call that
+        # returns it (with its siblings) as a dict
+        self = cls.__new__(cls)
+        self.__dict__.update(values)
+        self.__dict__["_pending"] = dict(pending)
+        return self
+
+    @property
+    def n_samples(self) -> int:
+        return self.t.shape[0]
+
+    @property
+    def dt(self) -> float:
+        return float(self.t[1] - self.t[0]) if self.t.size > 1 else float("nan")
+
+    @property
+    def peaks(self) -> Peaks:
+        """Named peak responses with units (:class:`benchmark.simulator.peaks.Peaks`): e.g.
+        ``result.peaks.base_displacement`` is the peak x–y resultant base displacement [m],
+        where ``base_displacement.max()`` would mix the x, y [m] and θ [rad] columns."""
+        return peaks_of(self)
+
+    def energy_balance_error(self) -> float:
+        """Relative closure error of the energy balance (a number, not the energies).
+
+        Returns
+        -------
+        float
+            :math:`\\max_t |E_{in} - (E_k + E_s + E_d + E_h + E_{dev})| / \\max_t |E_{in}|`:
+            the largest residual of input = kinetic + strain + damping + hysteretic + device
+            energy over the run, relative to the largest input energy (0 when no energy
+            entered). The energies themselves, in J, are ``result.energy`` (a dict of (n,)
+            arrays; see :mod:`benchmark.simulator.stepping`).
+        """
+        e = self.energy
+        residual = e["input"] - (e["kinetic"] + e["strain"] + e["damping"] + e["hysteretic"] + e["device"])
+        scale = np.max(np.abs(e["input"]))
+        return float(np.max(np.abs(residual)) / scale) if scale > 0 else 0.0
+
+
+#: the histories :func:`derived_histories` derives (one pass) and the energy terms, derived
+#: on first access of a :class:`SimulationResult`
+_DERIVED_HISTORIES = ("base_acceleration", "base_acceleration_absolute", "floor_displacement",
+                      "floor_acceleration_absolute", "drift_ratio", "isolation_force", "base_shear",
+                      "structure_shear", "device_displacement", "device_velocity")
+
+
+def derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl) -> dict[str, np.ndarray]:
+    """The histories linear in the kernel's ``X = [z, g_bearings, g_devices, ag]`` (SI), in one
+    matrix product ``X @ W`` (a single BLAS call instead of a dozen small ones on strided views).
+
+    Parameters
+    ----------
+    building : Building
+        The building run.
+    z : (n, nz) numpy.ndarray
+        The kernel's state history.
+    gb, gd : (n, 3) numpy.ndarray
+        Generalised hysteretic bearing force and device force at the base centre of mass [N, N·m].
+    ag : (n, 2) numpy.ndarray
+        Ground acceleration [m/s²].
+    mats : dict
+        Continuous matrices of :func:`benchmark.simulator.linear_model.state_space_matrices`.
+    Kb, Cb : numpy.ndarray
+        The bearings' linear stiffness and damping at the base (3, 3).
+    d_infl : (n_devices, 3) numpy.ndarray
+        Device influence rows.
+
+    Returns
+    -------
+    dict
+        The histories of :data:`_DERIVED_HISTORIES` by name.
+    """
+    sup = building.superstructure
+    nq = sup.n_q
+    nv = nq + 3
+    nz = z.shape[1]
+    n = z.shape[0]
+    nd = d_infl.shape[0]
+    X = np.empty((n, nz + 8))
+    X[:, :nz] = z
+    X[:, nz:nz + 3] = gb
+    X[:, nz + 3:nz + 6] = gd
+    X[:, nz + 6:] = ag
+    A_v = mats["A"][nv:]                        # (nv, nz): accelerations from the state
+    Bg_v = mats["B_g"][nv:]                     # (nv, 3): from the nonlinear forces
+    Bag_v = mats["B_ag"][nv:]                   # (nv, 2): from the ground acceleration
+    L_v = np.hstack([A_v, Bg_v, Bg_v, Bag_v])   # (nv, nz + 8): [q̈; ü_b] = L_v X
+    basis = sup.basis
+    KR = basis.T @ (sup.K.T @ sup.R)            # (nq, 3)
+    CR = basis.T @ (sup.C.T @ sup.R)
+    blocks = {}
+    cols = []
+
+    def add(name, w):
+        blocks[name] = slice(sum(c.shape[1] for c in cols), sum(c.shape[1] for c in cols) + w.shape[1])
+        cols.append(w)
+
+    add("acc", L_v[nq:].T)                              # ü_b (q̈ is used only through basis q̈ below)
+    # u_s = basis q: the state itself for the full superstructure (basis = I), a product otherwise
+    identity_basis = basis.shape[0] == nq and np.array_equal(basis, np.eye(nq))
+    if not identity_basis:
+        Wus = np.zeros((nz + 8, basis.shape[0]))
+        Wus[:nq] = basis.T
+        add("us", Wus)
+    add("floor_rel_acc", L_v[:nq].T @ basis.T)          # basis q̈
+    Wss = np.zeros((nz + 8, 3))
+    Wss[:nq] = KR
+    Wss[nv:nv + nq] = CR
+    add("structure_shear", Wss)                         # Rᵀ(K u_s + C u̇_s)
+    Wiso = np.zeros((nz + 8, 3))
+    Wiso[nq:nv] = Kb.T
+    Wiso[nv + nq:nz] = Cb.T
+    Wiso[nz:nz + 3] = np.eye(3)
+    add("isolation", Wiso)                              # K_b u_b + C_b u̇_b + g_bearings
+    Wdev = np.zeros((nz + 8, 2 * nd))
+    Wdev[nq:nv, :nd] = d_infl.T
+    Wdev[nv + nq:nz, nd:] = d_infl.T
+    add("devices", Wdev)                                # device displacement, velocity
+    Y = X @ np.hstack(cols)
+    ab = Y[:, blocks["acc"]]
+    base_abs = ab.copy()
+    base_abs[:, :2] += ag
+    us = z[:, :nq].copy() if identity_basis else Y[:, blocks["us"]]
+    floor_abs = Y[:, blocks["floor_rel_acc"]].reshape(n, 8, 3) + base_abs[:, None, :]
+    floor_disp = us.reshape(n, 8, 3)
+    drift = np.empty((n, 8, 2))
+    drift[:, 0] = floor_disp[:, 0, :2]
+    drift[:, 1:] = floor_disp[:, 1:, :2] - floor_disp[:, :-1, :2]
+    drift /= sup.storey_heights[None, :, None]
+    iso = Y[:, blocks["isolation"]]
+    dev = Y[:, blocks["devices"]]
+    return {"base_acceleration": ab, "base_acceleration_absolute": base_abs, "floor_displacement": floor_disp,
+            "floor_acceleration_absolute": floor_abs, "drift_ratio": drift, "isolation_force": iso,
+            "base_shear": iso + gd, "structure_shear": Y[:, blocks["structure_shear"]],
+            "device_displacement": dev[:, :nd], "device_velocity": dev[:, nd:]}
+
+
+def build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_infl, isolation, session, info,
+                 bearing_histories, **settings) -> SimulationResult:
+    """The :class:`SimulationResult` of a kernel run: its own histories at once, the others
+    (:data:`_DERIVED_HISTORIES`, energies) derived on first access.
+
+    Parameters
+    ----------
+    building : Building
+        The building run.
+    record : records.Record
+        The record (name, source and orientation go to ``info``).
+    ag : (n, 2) numpy.ndarray
+        Ground acceleration on the integration grid [m/s²].
+    dt : float
+        Integration step [s].
+    out : benchmark.simulator.kernel_args.Outputs
+        The kernel's histories.
+    mats : dict
+        Continuous matrices of :func:`benchmark.simulator.linear_model.state_space_matrices`.
+    Kb, Cb : numpy.ndarray
+        The bearings' linear stiffness and damping at the base (3, 3) [N/m, N·s/m].
+    extra : dict
+        Contiguous energy matrices of the plant (``Mg``, ``Kq``, ``Cq``, ``momentum``).
+    packed : object
+        The packed isolation layer (``IsolationLayer.pack()``).
+    d_infl : (n_devices, 3) numpy.ndarray
+        Device influence rows.
+    isolation : IsolationLayer
+        The isolation layer as run.
+    session : controllers.base.ControllerSession or None
+        The controller's session (``None`` without devices).
+    info : dict
+        The caller's ``info``, completed here.
+    bearing_histories : bool
+        Whether the per-bearing histories were kept.
+    **settings
+        Run settings recorded in ``info["settings"]``.
+
+    Returns
+    -------
+    SimulationResult
+    """
+    z, gb, gd, fd, v, meas, desired, iters = out.z, out.gb, out.gd, out.fd, out.v, out.meas, out.desired, out.iters
+    sup = building.superstructure
+    nq = sup.n_q
+    nv = nq + 3
+    n = z.shape[0]
+    t = np.arange(n) * dt
+    bearing_force = bstate = None
+    if bearing_histories:
+        # total bearing forces, in place of the hysteretic ones (a compiled loop: no temporaries)
+        bearing_force = total_bearing_forces(z, nq, np.ascontiguousarray(sup.bearing_xy, dtype=np.float64),
+                                             np.ascontiguousarray(packed.params[:, 0]),
+                                             np.ascontiguousarray(packed.params[:, 1]), out.fb)
+        if out.bstate.shape[0] == n:
+            bstate = out.bstate
+    info = dict(info)
+    info.setdefault("record", getattr(record, "name", ""))
+    info.setdefault("record_source", getattr(record, "source", ""))
+    meta = getattr(record, "metadata", None) or {}
+    if "orientation" in meta:
+        info.setdefault("orientation", meta["orientation"])
+    info.setdefault("isolation", getattr(isolation, "name", ""))
+    info["controller"] = "none" if session is None else session.name
+    info["n_devices"] = d_infl.shape[0]
+    info["n_modes"] = sup.n_modes if sup.is_reduced else 24
+    info["integration_step"] = dt
+    info["settings"] = {k: (v if isinstance(v, (int, float, str, type(None))) else repr(v))
+                        for k, v in settings.items()}
+    info["mean_iterations"] = float(iters[1:].mean()) if n > 1 else 0.0
+    info["max_iterations_used"] = int(iters.max()) if n > 1 else 0
+
+    def histories() -> dict[str, np.ndarray]:
+        return derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl)
+
+    def energy() -> dict[str, Any]:
+        e = energy_histories(z, gb, gd, ag, dt, nq, extra["Mg"], extra["Kq"], extra["Cq"], Kb, Cb,
+                             extra["momentum"])
+        return {"energy": {name: e[:, i].copy() for i, name in enumerate(ENERGY_NAMES)}}
+
+    pending: dict[str, Callable[[], dict]] = {name: histories for name in _DERIVED_HISTORIES}
+    pending["energy"] = energy
+    return SimulationResult._lazy(
+        pending, t=t, base_displacement=z[:, nq:nv].copy(), base_velocity=z[:, nv + nq:].copy(),
+        device_force_total=gd.copy(), bearing_force=bearing_force, bearing_state=bstate,
+        device_force=fd, voltage=v, measurements=meas, desired_force=desired, iterations=iters, info=info,
+        state=z, ground_acceleration=ag)
+
 
 FORMAT_NAME = "sbib-result"
 FORMAT_VERSION = 1
@@ -116,8 +468,10 @@ class StoredResult:
         Field -> units string as stored.
     attrs : dict
         The file's root attributes (provenance, ...).
-    peaks : dict
-        Stored peaks (SI), if any.
+    peak_record : dict
+        The peaks stored in the file under their ``peak_*`` names (SI), if any
+        (:meth:`benchmark.simulator.peaks.Peaks.as_record` of the run when written). ``r.peaks``
+        computes :class:`~benchmark.simulator.peaks.Peaks` from the histories read back.
     """
 
     arrays: dict[str, np.ndarray] = field(default_factory=dict)
@@ -125,7 +479,12 @@ class StoredResult:
     info: dict[str, Any] = field(default_factory=dict)
     units: dict[str, str] = field(default_factory=dict)
     attrs: dict[str, Any] = field(default_factory=dict)
-    peaks: dict[str, float] = field(default_factory=dict)
+    peak_record: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def peaks(self) -> Peaks:
+        """Named peaks of the histories read back (:func:`benchmark.simulator.peaks.peaks_of`)."""
+        return peaks_of(self)
 
     def __getattr__(self, name: str) -> np.ndarray:
         arrays = self.__dict__.get("arrays", {})
@@ -194,7 +553,7 @@ def _write_run(group: Any, result: Any, dtype: Any = np.float64) -> None:
     info = items.get("info") or {}
     group.attrs["info_json"] = json.dumps(info, default=_json_default)
     try:
-        pk = peaks(result)
+        pk = peaks_of(result).as_record()
     except InputError:
         pk = {}
     pg = group.create_group("peaks")
@@ -334,7 +693,7 @@ def read_result(path: str | os.PathLike, which: str = "run") -> StoredResult:
             out.energy[name] = _as_float64(ds[()])
         out.info = json.loads(_attr(g.attrs.get("info_json", "{}")))
         if "peaks" in g:
-            out.peaks = {k: _attr(v) for k, v in g["peaks"].attrs.items() if not k.endswith("_units")}
+            out.peak_record = {k: _attr(v) for k, v in g["peaks"].attrs.items() if not k.endswith("_units")}
         out.attrs = {k: _attr(v) for k, v in f.attrs.items()}
     return out
 

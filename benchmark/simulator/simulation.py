@@ -1,9 +1,12 @@
 """Run the building under a ground motion: :func:`simulate` -> :class:`SimulationResult`.
 
-:func:`simulate` assembles the building into arrays (exactly discretised linear part, packed
-bearings and devices, measurement matrices, noise, compiled controller), runs the numba
-kernel of :mod:`benchmark.simulator.stepping`, and derives every output of docs/ARCHITECTURE.md from the
-state history. ``controller=None`` is the uncontrolled reference run: no devices at all.
+:func:`simulate` reads as validate → build → step → result: it checks its inputs (once; the
+CLI only parses), builds the kernel's arguments (the exactly discretised plant, cached per
+building and step, and :func:`benchmark.simulator.kernel_args.pack_run`: packed bearings and
+devices, measurement rows, noise, compiled controller), runs the numba kernel of
+:mod:`benchmark.simulator.stepping`, and hands the state history to
+:func:`benchmark.simulator.results.build_result`, which derives every output of
+docs/ARCHITECTURE.md (:class:`~benchmark.simulator.results.SimulationResult`). ``controller=None`` is the uncontrolled reference run: no devices at all.
 A controller with a compiled form (every built-in) runs inside the kernel; any other object
 with ``step(measurements) -> voltages`` is called from Python once per control step, the
 kernel advancing one control step per call (slower, same results).
@@ -19,30 +22,27 @@ from __future__ import annotations
 
 import hashlib
 import time as _time
-from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
+from benchmark.foundation.cache import Cache
 from benchmark.foundation.errors import InputError, NumericalError
 from benchmark.simulator.linear_model import state_space_matrices
 from benchmark.simulator.stepping import discretize_foh
 from benchmark.simulator import stepping
-from benchmark.simulator.sensors import n_measurements, noise_samples
 from benchmark.simulator.stepping import STATUS_MESSAGES, STATUS_NOT_CONVERGED, STATUS_CONTROLLER
-from controllers.base import ControllerSession
 from controllers.registry import get_controller
-from benchmark.simulator.control import control_context
-from benchmark.simulator.peaks import Peaks, peaks_of
 from benchmark.simulator import kernel_args
-from controllers.measurements import measurement_layout
-from benchmark.simulator.isolation.registry import LinearBearing
-from benchmark.simulator.stepping import energy_histories, total_bearing_forces
+from benchmark.simulator.peaks import PEAK_RECORD_KEYS, peaks_of
+from benchmark.simulator.results import ENERGY_NAMES, SimulationResult, build_result
+from benchmark.simulator.isolation.configurations import check_substep_tolerance
 from benchmark.foundation.kernel_cache import ensure_fresh_once
 from benchmark.simulator.authority import controller_authority_warnings
 from records.resample import interpolate_onto
 
 __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES", "choose_integration_step",
+           "check_control_step",
            "DEFAULT_INTEGRATION_STEP", "DEFAULT_MAX_HALVINGS"]
 
 #: The building's integration step [s]: the benchmark's 0.005 s (Narasimhan et al. 2006). A
@@ -50,163 +50,7 @@ __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES", "c
 DEFAULT_INTEGRATION_STEP = 0.005
 #: Times a run whose fixed point does not converge is started again with half the step.
 DEFAULT_MAX_HALVINGS = 3
-ENERGY_NAMES = ("input", "kinetic", "strain", "damping", "hysteretic", "device")
 _DEFAULT_BLOWUP = 50.0  # m
-
-
-@dataclass(eq=False)
-class SimulationResult:
-    """Time histories of one run (SI; ``n`` samples at the integration step, time along axis 0).
-
-    Parameters
-    ----------
-    state : ndarray (n, n_z) or None, optional
-        Full state history of the kernel (kept on request: ``record_states``); None otherwise.
-    ground_acceleration : ndarray (n, 2) or None, optional
-        Ground acceleration (x, y) [m/s²] the run was driven by; None when not kept.
-
-    Attributes
-    ----------
-    t : (n,) [s]
-    base_displacement, base_velocity, base_acceleration : (n, 3)
-        Base centre of mass relative to the ground (x, y [m, m/s, m/s²], θ [rad, rad/s, rad/s²]).
-    base_acceleration_absolute : (n, 3)
-        :math:`\\ddot u_b + \\ddot u_g`.
-    floor_displacement : (n, 8, 3)
-        Floors 1..8 relative to the base (x, y [m], θ [rad]).
-    floor_acceleration_absolute : (n, 8, 3)
-        :math:`\\ddot u_s + R(\\ddot u_b + \\ddot u_g)` [m/s², rad/s²].
-    drift_ratio : (n, 8, 2)
-        Inter-storey drift / storey height at the centres of mass (storey 1 = floor 1 − base).
-    isolation_force : (n, 3)
-        Bearing forces resolved at the base centre of mass :math:`\\sum T_i^T f_i` [N, N·m].
-    device_force_total : (n, 3)
-        Device forces at the base centre of mass [N, N·m].
-    base_shear : (n, 3)
-        ``isolation_force + device_force_total`` (the isolation-level force).
-    structure_shear : (n, 3)
-        First-storey force :math:`R^T(K u_s + C\\dot u_s)` [N, N·m].
-    bearing_force : (n, n_bearings, 2) or None
-        Total force of each bearing (x, y) [N]; ``None`` with ``bearing_histories=False``.
-    bearing_state : (n, n_bearings, n_states) or None
-        Hysteretic states of each bearing (``record_states=True`` and ``bearing_histories=True``).
-    device_displacement, device_velocity, device_force, voltage : (n, n_devices)
-        [m], [m/s], [N] (device sign convention), [V] (held over each control step).
-    energy : dict of (n,) arrays
-        ``input, kinetic, strain, damping, hysteretic, device`` [J]
-        (:func:`benchmark.simulator.stepping.energy_histories`).
-    measurements : (n_control, n_meas)
-        The measurement vectors the controller saw (noise added); empty without a controller.
-    desired_force : (n_control, n_devices)
-        Desired forces of a compiled controller (NaN for pure-Python controllers).
-    iterations : (n,) int
-        Fixed-point iterations of each step.
-    info : dict
-        record, orientation, isolation, controller, settings, elapsed time.
-
-    Notes
-    -----
-    :func:`simulate` returns the kernel's own histories (base motion, device forces, voltages,
-    measurements) at once and derives the others (accelerations, floor responses, drifts,
-    shears, device strokes, energies) on first access, in one pass each
-    (:func:`_derived_histories`, :func:`benchmark.simulator.stepping.energy_histories`): a run whose
-    caller reads only a few histories does not pay for the rest. The values are the same either
-    way; pickling (worker processes) and :func:`dataclasses.replace` derive them first.
-    """
-
-    t: np.ndarray
-    base_displacement: np.ndarray
-    base_velocity: np.ndarray
-    base_acceleration: np.ndarray
-    base_acceleration_absolute: np.ndarray
-    floor_displacement: np.ndarray
-    floor_acceleration_absolute: np.ndarray
-    drift_ratio: np.ndarray
-    isolation_force: np.ndarray
-    device_force_total: np.ndarray
-    base_shear: np.ndarray
-    structure_shear: np.ndarray
-    bearing_force: np.ndarray
-    bearing_state: np.ndarray | None
-    device_displacement: np.ndarray
-    device_velocity: np.ndarray
-    device_force: np.ndarray
-    voltage: np.ndarray
-    energy: dict
-    measurements: np.ndarray
-    desired_force: np.ndarray
-    iterations: np.ndarray
-    info: dict = field(default_factory=dict)
-    state: np.ndarray | None = field(default=None, repr=False)
-    ground_acceleration: np.ndarray | None = field(default=None, repr=False)
-
-    def __getattr__(self, name: str) -> Any:
-        # Called only for an attribute not set yet: a derived history of a lazy result.
-        pending = self.__dict__.get("_pending")
-        if pending is None or name not in pending:
-            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        derive = pending[name]
-        values = derive()
-        for key in [k for k, f in pending.items() if f is derive]:
-            del pending[key]
-        for key, value in values.items():  # never over a value set meanwhile
-            self.__dict__.setdefault(key, value)
-        return self.__dict__[name]
-
-    def materialize(self) -> "SimulationResult":
-        """Derive every history not derived yet (see Notes); returns ``self``."""
-        pending = self.__dict__.get("_pending") or {}
-        for name in list(pending):
-            if name in pending:
-                getattr(self, name)
-        return self
-
-    def __getstate__(self) -> dict:
-        self.materialize()
-        state = dict(self.__dict__)
-        state.pop("_pending", None)
-        return state
-
-    @classmethod
-    def _lazy(cls, pending: dict[str, Callable[[], dict]], **values: Any) -> "SimulationResult":
-        # ``values`` the fields known now; ``pending`` maps each other field to the call that
-        # returns it (with its siblings) as a dict
-        self = cls.__new__(cls)
-        self.__dict__.update(values)
-        self.__dict__["_pending"] = dict(pending)
-        return self
-
-    @property
-    def n_samples(self) -> int:
-        return self.t.shape[0]
-
-    @property
-    def dt(self) -> float:
-        return float(self.t[1] - self.t[0]) if self.t.size > 1 else float("nan")
-
-    @property
-    def peaks(self) -> Peaks:
-        """Named peak responses with units (:class:`benchmark.simulator.peaks.Peaks`): e.g.
-        ``result.peaks.base_displacement`` is the peak x–y resultant base displacement [m],
-        where ``base_displacement.max()`` would mix the x, y [m] and θ [rad] columns."""
-        return peaks_of(self)
-
-    def energy_balance_error(self) -> float:
-        """Relative closure error of the energy balance (a number, not the energies).
-
-        Returns
-        -------
-        float
-            :math:`\\max_t |E_{in} - (E_k + E_s + E_d + E_h + E_{dev})| / \\max_t |E_{in}|`:
-            the largest residual of input = kinetic + strain + damping + hysteretic + device
-            energy over the run, relative to the largest input energy (0 when no energy
-            entered). The energies themselves, in J, are ``result.energy`` (a dict of (n,)
-            arrays; see :mod:`benchmark.simulator.stepping`).
-        """
-        e = self.energy
-        residual = e["input"] - (e["kinetic"] + e["strain"] + e["damping"] + e["hysteretic"] + e["device"])
-        scale = np.max(np.abs(e["input"]))
-        return float(np.max(np.abs(residual)) / scale) if scale > 0 else 0.0
 
 
 # --------------------------------------------------------------------------- helpers
@@ -231,6 +75,27 @@ def _ground_acceleration(record: Any) -> np.ndarray:
     ag = np.zeros((acc.shape[0], 2))
     ag[:, :acc.shape[1]] = acc
     return np.ascontiguousarray(ag)
+
+
+def check_control_step(control_step: Any) -> float:
+    """``control_step`` [s] as a float, checked once for every API that takes one
+    (:func:`simulate`, :func:`benchmark.simulator.case.run_case`, ``compare``).
+
+    Parameters
+    ----------
+    control_step : float
+        The control step [s].
+
+    Raises
+    ------
+    InputError
+        A step that is not a positive, finite number of seconds (the message names the CLI's
+        ``--control-step`` and the keyword ``control_step``).
+    """
+    if isinstance(control_step, bool) or not (isinstance(control_step, (int, float, np.floating))
+                                              and np.isfinite(control_step) and control_step > 0):
+        raise InputError(f"--control-step {control_step!r} (control_step): expected a positive time in seconds")
+    return float(control_step)
 
 
 def choose_integration_step(control_step: float, record_dt: float,
@@ -265,8 +130,7 @@ def choose_integration_step(control_step: float, record_dt: float,
     """
     if max_step is None:
         max_step = DEFAULT_INTEGRATION_STEP
-    if not (isinstance(control_step, (int, float, np.floating)) and np.isfinite(control_step) and control_step > 0):
-        raise InputError(f"control_step: expected a positive time in s, got {control_step!r}")
+    control_step = check_control_step(control_step)
     limit = min(float(max_step), float(record_dt))
     k = max(1, int(np.ceil(control_step / limit * (1 - 1e-9))))
     h = control_step / k
@@ -275,8 +139,11 @@ def choose_integration_step(control_step: float, record_dt: float,
     return float(h), k
 
 
-_DISCRETE_CACHE: dict = {}
-_DIGESTS: dict = {}
+#: The FOH-discretised plant of a building at an integration step (:func:`_discrete_system`),
+#: keyed on the superstructure's matrices, the bearings' linear parts and the step.
+DISCRETE_SYSTEMS = Cache("simulator.discrete_systems", size=16)
+#: Digest of a superstructure's matrices by object (hashing costs about 4 ms a run).
+SUPERSTRUCTURE_DIGESTS = Cache("simulator.superstructure_digests", size=16)
 
 
 def _superstructure_digest(sup) -> str:
@@ -287,7 +154,7 @@ def _superstructure_digest(sup) -> str:
     superstructure is a frozen dataclass, so one object keeps one digest; the memo holds the
     object itself so that its ``id`` cannot be reused while the entry lives.
     """
-    hit = _DIGESTS.get(id(sup))
+    hit = SUPERSTRUCTURE_DIGESTS.get(id(sup))
     if hit is not None and hit[0] is sup:
         return hit[1]
     digest = hashlib.sha1()
@@ -295,10 +162,8 @@ def _superstructure_digest(sup) -> str:
         a = np.ascontiguousarray(arr, dtype=np.float64)
         digest.update(str(a.shape).encode())
         digest.update(a.tobytes())
-    if len(_DIGESTS) > 16:
-        _DIGESTS.clear()
-    _DIGESTS[id(sup)] = (sup, digest.hexdigest())
-    return _DIGESTS[id(sup)][1]
+    SUPERSTRUCTURE_DIGESTS.put(id(sup), (sup, digest.hexdigest()))
+    return SUPERSTRUCTURE_DIGESTS.get(id(sup))[1]
 
 
 def _discrete_system(building, dt: float):
@@ -309,7 +174,7 @@ def _discrete_system(building, dt: float):
     sup = building.superstructure
     Kb, Cb = building.isolation_linear_matrices()
     key = (_superstructure_digest(sup), Kb.tobytes(), Cb.tobytes(), float(dt))
-    hit = _DISCRETE_CACHE.get(key)
+    hit = DISCRETE_SYSTEMS.get(key)
     if hit is not None:
         return hit
     mats = state_space_matrices(sup, Kb, Cb)
@@ -324,11 +189,7 @@ def _discrete_system(building, dt: float):
              for name in ("C_acc", "D_acc_g", "D_acc_ag", "Mg", "momentum")}
     extra["Kq"] = np.ascontiguousarray(mats["Kg"][:nq, :nq])
     extra["Cq"] = np.ascontiguousarray(mats["Cg"][:nq, :nq])
-    value = (mats, Kb, Cb, plant, extra)
-    if len(_DISCRETE_CACHE) > 16:
-        _DISCRETE_CACHE.clear()
-    _DISCRETE_CACHE[key] = value
-    return value
+    return DISCRETE_SYSTEMS.put(key, (mats, Kb, Cb, plant, extra))
 
 
 def _resolve_controller(controller: Any):
@@ -442,13 +303,16 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         raise InputError(f"record {name!r}: dt = {record_dt!r}; expected a positive step in s")
     max_step = DEFAULT_INTEGRATION_STEP if integration_step is None else integration_step
     if not (isinstance(max_step, (int, float)) and np.isfinite(max_step) and max_step > 0):
-        raise InputError(f"integration_step: expected a positive time in s, got {integration_step!r}")
+        raise InputError(f"--integration-step {integration_step!r}: expected a positive number of seconds, "
+                         "e.g. 0.0025 (integration_step)")
     if int(max_halvings) != max_halvings or max_halvings < 0:
         raise InputError(f"max_halvings: expected a whole number >= 0, got {max_halvings!r}")
     dt, ratio = choose_integration_step(control_step, record_dt, float(max_step))
     if (ag_record.shape[0] - 1) * record_dt < ratio * dt * (1 - 1e-9):
         raise InputError(f"record {name!r}: {ag_record.shape[0]} samples ({(ag_record.shape[0] - 1) * record_dt:g} s) "
                          f"is shorter than one control step ({ratio * dt:g} s)")
+    if substep_tolerance is not None:
+        substep_tolerance = check_substep_tolerance(substep_tolerance)
     if not (np.isfinite(fixed_point_tolerance) and fixed_point_tolerance > 0):
         raise InputError(f"fixed_point_tolerance: expected > 0, got {fixed_point_tolerance!r}")
     if int(max_iterations) < 1:
@@ -504,113 +368,30 @@ def _simulate_once(building, record, ag, dt, ratio, controller, substep_toleranc
     does not converge, :class:`NumericalError` for the other failures."""
     t_start = _time.perf_counter()
     n = ag.shape[0]
-    isolation = building.isolation
-    if substep_tolerance is not None:
-        if not (np.isfinite(substep_tolerance) and substep_tolerance > 0):
-            raise InputError(f"substep_tolerance: expected > 0, got {substep_tolerance!r}")
-        isolation = isolation.with_substep_tolerance(substep_tolerance)
-    packed = isolation.pack()
-    b_type = np.ascontiguousarray(packed.type_ids, dtype=np.int64)
-    b_params = np.ascontiguousarray(packed.params, dtype=np.float64)
-    b_state = np.ascontiguousarray(packed.states, dtype=np.float64).copy()
-    sup = building.superstructure
-    b_xy = np.ascontiguousarray(sup.bearing_xy, dtype=np.float64)
-    nb = b_xy.shape[0]
-
-    mats, Kb, Cb, plant, plant_extra = _discrete_system(building, dt)
-    nq = sup.n_q
+    nq = building.superstructure.n_q
     nv = nq + 3
     nz = 2 * nv
+    # build: the plant (cached per building and step), then bearings, devices and controller
+    mats, Kb, Cb, plant, plant_extra = _discrete_system(building, dt)
+    run = kernel_args.pack_run(building, record, plant_extra, n, dt, ratio, controller,
+                               substep_tolerance=substep_tolerance, noise=noise, seed=seed, slew_rate=slew_rate,
+                               info=info, fixed_point_tolerance=fixed_point_tolerance,
+                               max_iterations=max_iterations, blowup_limit=blowup_limit,
+                               bearing_histories=bearing_histories, record_states=record_states,
+                               newton=bool(integrator == "closed-form" if newton is None else newton),
+                               integrator=stepping.INTEGRATORS[integrator])
+    bearings, dev, sensors, control, settings = run.bearings, run.devices, run.sensors, run.control, run.settings
+    session, n_control, n_meas = run.session, run.n_control, run.n_meas
+    nd = dev.influence.shape[0]
 
-    # ---- devices and controller
-    controller = _resolve_controller(controller)
-    devices = building.devices if controller is not None else None
-    if controller is not None and devices is None:
-        raise InputError("simulate: a controller was given but the building has no devices "
-                         "(Building.default(devices='default') or building.with_devices(...))")
-    session = None
-    compiled = None
-    if devices is not None:
-        if substep_tolerance is not None:
-            devices = devices.with_substep_tolerance(substep_tolerance)
-        d_model, d_params, d_state, _ = devices.pack()
-        d_infl = np.ascontiguousarray(devices.influence())
-
-        context = control_context(building, control_step=ratio * dt, slew_rate=slew_rate,
-                                               info=dict(info or {}, record=getattr(record, "name", "")))
-        session = ControllerSession(controller, context)
-        compiled = session.compiled
-        if compiled is not None:
-            if abs(compiled.control_step - ratio * dt) > 1e-9 * ratio * dt:
-                raise InputError(f"controller {session.name!r} was designed for a control step of "
-                                 f"{compiled.control_step:g} s, the run uses {ratio * dt:g} s")
-            if compiled.n_devices != d_infl.shape[0] or compiled.n_meas != n_measurements(d_infl.shape[0]):
-                raise InputError(f"controller {session.name!r} expects {compiled.n_devices} devices and "
-                                 f"{compiled.n_meas} measurements; the building has {d_infl.shape[0]} "
-                                 f"devices ({n_measurements(d_infl.shape[0])} measurements)")
-    else:
-        d_model = np.zeros(0, dtype=np.int64)
-        d_params = np.zeros((0, 1))
-        d_state = np.zeros((0, 1))
-        d_infl = np.zeros((0, 3))
-    nd = d_infl.shape[0]
-    n_meas = n_measurements(nd)
-    n_control = (n - 1) // ratio + 1 if nd else 0
-    noise_arr, meas_range = noise_samples(noise if nd else None, n_control, nd, seed)
-
-    if compiled is not None:
-        ctrl_mode = 1
-        Ac, Bc, Cc, Dc = compiled.Ac, compiled.Bc, compiled.Cc, compiled.Dc
-        law_id, law_params = compiled.law_id, compiled.law_params
-        v_max, slew = compiled.v_max, compiled.slew_rate
-        xc, voltage = compiled.initial_state()
-    else:
-        ctrl_mode = 2 if session is not None else 0
-        Ac = np.zeros((0, 0))
-        Bc = np.zeros((0, n_meas))
-        Cc = np.zeros((nd, 0))
-        Dc = np.zeros((nd, n_meas))
-        law_id = 0
-        law_params = np.zeros(nd)
-        v_max = np.zeros(nd) if devices is None else devices.voltage_max
-        slew = np.full(nd, np.inf)
-        xc = np.zeros(0)
-        voltage = np.zeros(nd)
-
-    def f64(a):
-        return np.ascontiguousarray(a, dtype=np.float64)
-
-    control = kernel_args.Control(mode=int(ctrl_mode), ratio=int(ratio), dt=float(ratio * dt), Ac=f64(Ac),
-                                  Bc=f64(Bc), Cc=f64(Cc), Dc=f64(Dc), law_id=int(law_id),
-                                  law_params=f64(law_params), v_max=f64(v_max), slew_rate=f64(slew),
-                                  xc=f64(xc).copy(), voltage=f64(voltage).copy())
-    # Linear bearings have no hysteretic force: all of theirs is in the plant's exact step, so
-    # the kernel gets only the others (a linear run's kernel is then the bare linear loop).
-    hysteretic = np.flatnonzero(b_type != LinearBearing.type_id)
-    bearings = kernel_args.Bearings(index=hysteretic.astype(np.int64),
-                                    xy=np.ascontiguousarray(b_xy[hysteretic]),
-                                    type_id=np.ascontiguousarray(b_type[hysteretic]),
-                                    params=np.ascontiguousarray(b_params[hysteretic]),
-                                    state=np.ascontiguousarray(b_state[hysteretic]))
-    dev = kernel_args.Devices(influence=f64(d_infl), model_id=np.ascontiguousarray(d_model, dtype=np.int64),
-                              params=f64(d_params), state=f64(d_state))
-    sensors = kernel_args.Sensors(C_acc=plant_extra["C_acc"], D_acc_g=plant_extra["D_acc_g"],
-                                  D_acc_ag=plant_extra["D_acc_ag"], noise=f64(noise_arr), ranges=f64(meas_range),
-                                  layout=measurement_layout(nd))
-    settings = kernel_args.Settings(fp_tol=float(fixed_point_tolerance), max_iter=int(max_iterations),
-                                    blowup_limit=float(blowup_limit), record_bearings=bool(bearing_histories),
-                                    record_states=bool(bearing_histories and record_states),
-                                    newton=bool(integrator == "closed-form" if newton is None else newton),
-                                    integrator=stepping.INTEGRATORS[integrator])
-
-    # ---- outputs
-    out = kernel_args.make_outputs(n, nz, nb, b_state.shape[1], nd, n_control, n_meas,
+    # step
+    out = kernel_args.make_outputs(n, nz, run.n_bearings, run.bearing_state0.shape[1], nd, n_control, n_meas,
                                    settings.record_bearings, settings.record_states)
     if settings.record_states:
-        out.bstate[0] = b_state
+        out.bstate[0] = run.bearing_state0
     stepping.initial_forces(dt, bearings, dev, control.voltage, out.fb[0], out.fd[0], out.gb[0], out.gd[0])
 
-    if ctrl_mode == 2:
+    if control.mode == 2:
         y = np.empty(n_meas)
         g_tot = np.empty(3)
         status, k_fail = 0, 0
@@ -635,10 +416,11 @@ def _simulate_once(building, record, ag, dt, ratio, controller, substep_toleranc
     if status:
         raise _numerical_error(status, k_fail, dt, out.z, nq, nv, session)
 
-    result = _build_result(building, record, ag, dt, out, mats, Kb, Cb, plant_extra, packed, d_infl, isolation,
-                           session, dict(info or {}), bearing_histories=settings.record_bearings,
-                           control_step=ratio * dt, substep_tolerance=substep_tolerance,
-                           fixed_point_tolerance=fixed_point_tolerance, seed=seed, noise=noise)
+    # result
+    result = build_result(building, record, ag, dt, out, mats, Kb, Cb, plant_extra, run.packed, dev.influence,
+                          run.isolation, session, dict(info or {}), bearing_histories=settings.record_bearings,
+                          control_step=ratio * dt, substep_tolerance=substep_tolerance,
+                          fixed_point_tolerance=fixed_point_tolerance, seed=seed, noise=noise)
     result.info["elapsed_s"] = _time.perf_counter() - t_start
     return result
 
@@ -664,130 +446,6 @@ def _numerical_error(status, k, dt, z_out, nq, nv, session, halvings: int = 0) -
                 "sub-steps in one integration step also stops here: soften it or loosen substep_tolerance")
     return NumericalError(STATUS_MESSAGES.get(status, f"kernel status {status}"), time=(k + 1) * dt,
                           state=state, hint=hint)
-
-
-#: the histories :func:`_derived_histories` derives (one pass) and the energy terms, derived
-#: on first access of a :class:`SimulationResult`
-_DERIVED_HISTORIES = ("base_acceleration", "base_acceleration_absolute", "floor_displacement",
-                      "floor_acceleration_absolute", "drift_ratio", "isolation_force", "base_shear",
-                      "structure_shear", "device_displacement", "device_velocity")
-
-
-def _derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl) -> dict[str, np.ndarray]:
-    """The histories linear in the kernel's ``X = [z, g_bearings, g_devices, ag]`` (SI), in one
-    matrix product ``X @ W`` (a single BLAS call instead of a dozen small ones on strided views)."""
-    sup = building.superstructure
-    nq = sup.n_q
-    nv = nq + 3
-    nz = z.shape[1]
-    n = z.shape[0]
-    nd = d_infl.shape[0]
-    X = np.empty((n, nz + 8))
-    X[:, :nz] = z
-    X[:, nz:nz + 3] = gb
-    X[:, nz + 3:nz + 6] = gd
-    X[:, nz + 6:] = ag
-    A_v = mats["A"][nv:]                        # (nv, nz): accelerations from the state
-    Bg_v = mats["B_g"][nv:]                     # (nv, 3): from the nonlinear forces
-    Bag_v = mats["B_ag"][nv:]                   # (nv, 2): from the ground acceleration
-    L_v = np.hstack([A_v, Bg_v, Bg_v, Bag_v])   # (nv, nz + 8): [q̈; ü_b] = L_v X
-    basis = sup.basis
-    KR = basis.T @ (sup.K.T @ sup.R)            # (nq, 3)
-    CR = basis.T @ (sup.C.T @ sup.R)
-    blocks = {}
-    cols = []
-
-    def add(name, w):
-        blocks[name] = slice(sum(c.shape[1] for c in cols), sum(c.shape[1] for c in cols) + w.shape[1])
-        cols.append(w)
-
-    add("acc", L_v[nq:].T)                              # ü_b (q̈ is used only through basis q̈ below)
-    # u_s = basis q: the state itself for the full superstructure (basis = I), a product otherwise
-    identity_basis = basis.shape[0] == nq and np.array_equal(basis, np.eye(nq))
-    if not identity_basis:
-        Wus = np.zeros((nz + 8, basis.shape[0]))
-        Wus[:nq] = basis.T
-        add("us", Wus)
-    add("floor_rel_acc", L_v[:nq].T @ basis.T)          # basis q̈
-    Wss = np.zeros((nz + 8, 3))
-    Wss[:nq] = KR
-    Wss[nv:nv + nq] = CR
-    add("structure_shear", Wss)                         # Rᵀ(K u_s + C u̇_s)
-    Wiso = np.zeros((nz + 8, 3))
-    Wiso[nq:nv] = Kb.T
-    Wiso[nv + nq:nz] = Cb.T
-    Wiso[nz:nz + 3] = np.eye(3)
-    add("isolation", Wiso)                              # K_b u_b + C_b u̇_b + g_bearings
-    Wdev = np.zeros((nz + 8, 2 * nd))
-    Wdev[nq:nv, :nd] = d_infl.T
-    Wdev[nv + nq:nz, nd:] = d_infl.T
-    add("devices", Wdev)                                # device displacement, velocity
-    Y = X @ np.hstack(cols)
-    ab = Y[:, blocks["acc"]]
-    base_abs = ab.copy()
-    base_abs[:, :2] += ag
-    us = z[:, :nq].copy() if identity_basis else Y[:, blocks["us"]]
-    floor_abs = Y[:, blocks["floor_rel_acc"]].reshape(n, 8, 3) + base_abs[:, None, :]
-    floor_disp = us.reshape(n, 8, 3)
-    drift = np.empty((n, 8, 2))
-    drift[:, 0] = floor_disp[:, 0, :2]
-    drift[:, 1:] = floor_disp[:, 1:, :2] - floor_disp[:, :-1, :2]
-    drift /= sup.storey_heights[None, :, None]
-    iso = Y[:, blocks["isolation"]]
-    dev = Y[:, blocks["devices"]]
-    return {"base_acceleration": ab, "base_acceleration_absolute": base_abs, "floor_displacement": floor_disp,
-            "floor_acceleration_absolute": floor_abs, "drift_ratio": drift, "isolation_force": iso,
-            "base_shear": iso + gd, "structure_shear": Y[:, blocks["structure_shear"]],
-            "device_displacement": dev[:, :nd], "device_velocity": dev[:, nd:]}
-
-
-def _build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_infl, isolation, session, info,
-                  bearing_histories, **settings):
-    z, gb, gd, fd, v, meas, desired, iters = out.z, out.gb, out.gd, out.fd, out.v, out.meas, out.desired, out.iters
-    sup = building.superstructure
-    nq = sup.n_q
-    nv = nq + 3
-    n = z.shape[0]
-    t = np.arange(n) * dt
-    bearing_force = bstate = None
-    if bearing_histories:
-        # total bearing forces, in place of the hysteretic ones (a compiled loop: no temporaries)
-        bearing_force = total_bearing_forces(z, nq, np.ascontiguousarray(sup.bearing_xy, dtype=np.float64),
-                                             np.ascontiguousarray(packed.params[:, 0]),
-                                             np.ascontiguousarray(packed.params[:, 1]), out.fb)
-        if out.bstate.shape[0] == n:
-            bstate = out.bstate
-    info = dict(info)
-    info.setdefault("record", getattr(record, "name", ""))
-    info.setdefault("record_source", getattr(record, "source", ""))
-    meta = getattr(record, "metadata", None) or {}
-    if "orientation" in meta:
-        info.setdefault("orientation", meta["orientation"])
-    info.setdefault("isolation", getattr(isolation, "name", ""))
-    info["controller"] = "none" if session is None else session.name
-    info["n_devices"] = d_infl.shape[0]
-    info["n_modes"] = sup.n_modes if sup.is_reduced else 24
-    info["integration_step"] = dt
-    info["settings"] = {k: (v if isinstance(v, (int, float, str, type(None))) else repr(v))
-                        for k, v in settings.items()}
-    info["mean_iterations"] = float(iters[1:].mean()) if n > 1 else 0.0
-    info["max_iterations_used"] = int(iters.max()) if n > 1 else 0
-
-    def histories() -> dict[str, np.ndarray]:
-        return _derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl)
-
-    def energy() -> dict[str, Any]:
-        e = energy_histories(z, gb, gd, ag, dt, nq, extra["Mg"], extra["Kq"], extra["Cq"], Kb, Cb,
-                             extra["momentum"])
-        return {"energy": {name: e[:, i].copy() for i, name in enumerate(ENERGY_NAMES)}}
-
-    pending: dict[str, Callable[[], dict]] = {name: histories for name in _DERIVED_HISTORIES}
-    pending["energy"] = energy
-    return SimulationResult._lazy(
-        pending, t=t, base_displacement=z[:, nq:nv].copy(), base_velocity=z[:, nv + nq:].copy(),
-        device_force_total=gd.copy(), bearing_force=bearing_force, bearing_state=bstate,
-        device_force=fd, voltage=v, measurements=meas, desired_force=desired, iterations=iters, info=info,
-        state=z, ground_acceleration=ag)
 
 
 # --------------------------------------------------------------------------- reduced order
@@ -817,17 +475,10 @@ def reduction_error(building, record, n_modes: int, **kwargs) -> dict:
     red = simulate(building.reduced(n_modes), record, **kwargs)
     kept = building.superstructure.mass_participation()[:n_modes].sum(axis=0)
 
-    def peaks(r: SimulationResult) -> dict[str, float]:
-        return {
-            "peak_base_displacement": float(np.max(np.hypot(r.base_displacement[:, 0], r.base_displacement[:, 1]))),
-            "peak_base_shear": float(np.max(np.hypot(r.base_shear[:, 0], r.base_shear[:, 1]))),
-            "peak_structure_shear": float(np.max(np.hypot(r.structure_shear[:, 0], r.structure_shear[:, 1]))),
-            "peak_drift_ratio": float(np.max(np.hypot(r.drift_ratio[..., 0], r.drift_ratio[..., 1]))),
-            "peak_floor_acceleration": float(np.max(np.hypot(r.floor_acceleration_absolute[..., 0],
-                                                             r.floor_acceleration_absolute[..., 1]))),
-        }
-
-    pf, pr = peaks(full), peaks(red)
+    quantities = ("base_displacement", "base_shear", "structure_shear", "drift_ratio", "floor_acceleration")
+    full_peaks, red_peaks = peaks_of(full), peaks_of(red)
+    pf = {PEAK_RECORD_KEYS[q]: getattr(full_peaks, q) for q in quantities}
+    pr = {PEAK_RECORD_KEYS[q]: getattr(red_peaks, q) for q in quantities}
     out = {"n_modes": int(n_modes), "mass_participation": {"x": float(kept[0]), "y": float(kept[1]),
                                                           "theta": float(kept[2])},
            "elapsed_full_s": full.info["elapsed_s"], "elapsed_reduced_s": red.info["elapsed_s"]}

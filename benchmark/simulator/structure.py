@@ -59,6 +59,7 @@ from pathlib import Path
 import numpy as np
 import scipy.linalg
 
+from benchmark.foundation.cache import FunctionCache
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.paths import structure_file
 from benchmark.foundation.textfile import read_text
@@ -363,6 +364,10 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
     basis.setflags(write=False)
     return Superstructure(**arrays, base_mass=base_mass, base_inertia=base_inertia,
                           damping_ratio=zeta, basis=basis, source=str(path))
+
+
+#: Superstructures read from their files, by path and modification time.
+SUPERSTRUCTURE_FILES = FunctionCache("simulator.superstructure_files", _load_cached)
 
 
 def load_superstructure(path: str | os.PathLike | None = None) -> Superstructure:

@@ -28,7 +28,8 @@ import pytest
 from benchmark.simulator.building import Building
 from benchmark.simulator.devices import DeviceLayout
 from benchmark.simulator.isolation.linear import LinearBearing
-from benchmark.simulator.oracle import OracleModel, group_force_and_rates, kernel_peaks, oracle_peaks
+from benchmark.simulator.oracle import OracleModel, group_force_and_rates
+from benchmark.simulator.peaks import peaks_of
 from benchmark.simulator.simulation import simulate
 from records import Record, load_benchmark_record
 
@@ -39,8 +40,6 @@ from records import Record, load_benchmark_record
 # controller); the names below are the ones these tests use.
 Oracle = OracleModel
 _group_force_and_rates = group_force_and_rates
-_peaks_oracle = oracle_peaks
-_peaks_kernel = kernel_peaks
 
 
 def _truncate(record: Record, seconds: float) -> Record:
@@ -54,9 +53,10 @@ def _compare(building, record, controller=None, voltage=None, rel=5e-3, method="
     result = simulate(building, record, controller=controller, **kwargs)
     oracle = Oracle(building, record, voltage=voltage)
     X = oracle.solve(len(record.acceleration), method=method)
-    ref = _peaks_oracle(oracle.outputs(X), building.superstructure.storey_heights)
-    mine = _peaks_kernel(result)
-    errors = {k: mine[k] / ref[k] - 1 for k in ref}
+    # one function, peaks_of, on both sides
+    ref = peaks_of(oracle.result(X)).as_dict()
+    mine = peaks_of(result).as_dict()
+    errors = {k: mine[k] / ref[k] - 1 for k in ref if ref[k]}
     for key in ref:
         assert mine[key] == pytest.approx(ref[key], rel=rel), (key, errors)
     return errors, result, X

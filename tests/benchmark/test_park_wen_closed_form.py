@@ -13,7 +13,8 @@ from benchmark.simulator.building import Building
 from benchmark.simulator.isolation import FrictionPendulumBearing, LeadRubberBearing, bearing_total_force
 from benchmark.simulator.isolation.park_wen import park_wen_chord
 from benchmark.simulator.isolation.registry import bearing_step_closed_form
-from benchmark.simulator.reference import ReferenceModel, kernel_peaks, reference_peaks
+from benchmark.simulator.oracle import OracleModel
+from benchmark.simulator.peaks import peaks_of
 from benchmark.simulator.simulation import simulate
 from records import load_benchmark_record
 
@@ -188,8 +189,8 @@ def test_closed_form_building_matches_solve_ivp(shared_dir, records_dir, name, o
     record = full.replace(acceleration=np.ascontiguousarray(full.acceleration[:n]))
     result = simulate(building, record, integrator="closed-form")
     assert result.energy_balance_error() <= 1e-3
-    oracle = ReferenceModel(building, record)
-    ref = reference_peaks(oracle.outputs(oracle.solve(n)), building.superstructure.storey_heights)
-    mine = kernel_peaks(result)
+    oracle = OracleModel(building, record)
+    ref = peaks_of(oracle.result(oracle.solve(n))).as_dict()
+    mine = peaks_of(result).as_dict()
     for key in ref:
         assert mine[key] == pytest.approx(ref[key], rel=5e-3), key

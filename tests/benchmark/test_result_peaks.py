@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import fields
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from benchmark.simulator.evaluation import J_NAMES, evaluate, peaks
-from benchmark.simulator.peaks import PEAK_FIELD_UNITS, Peaks, peaks_of
+from benchmark.simulator.evaluation import J_NAMES, evaluate
+from benchmark.simulator.peaks import PEAK_FIELD_UNITS, PEAK_NAMES, PEAK_RECORD_KEYS, Peaks, peaks_of
 
 
 def fake_result(n_devices=0, rotation=0.0, n=2001):
@@ -49,14 +50,24 @@ def test_peaks_of_a_known_response_are_named_and_in_si():
     assert "base_displacement" in str(p) and " m" in str(p)
 
 
-def test_resultant_peaks_equal_the_evaluation_numerators():
+def test_file_record_uses_the_one_mapping_of_fields_to_keys():
     r = fake_result(n_devices=1)
-    p, q = peaks_of(r), peaks(r)
-    assert p.base_displacement == q["peak_base_displacement"]
-    assert p.drift_ratio == q["peak_drift_ratio"]
-    assert p.floor_acceleration == q["peak_floor_acceleration"]
-    assert p.rms_floor_acceleration == q["rms_floor_acceleration"]
-    assert p.device_force == q["peak_device_force"]
+    p = peaks_of(r)
+    q = p.as_record()
+    assert tuple(q) == PEAK_NAMES
+    assert all(q[key] == getattr(p, name) for name, key in PEAK_RECORD_KEYS.items())
+    assert q["peak_base_displacement"] == p.base_displacement
+    assert q["peak_device_force"] == p.device_force
+    assert p.base_torque == pytest.approx(float(np.max(np.abs(r.base_shear[:, 2]))))
+
+
+def test_relative_differences_of_two_runs():
+    p = peaks_of(fake_result(n_devices=1))
+    q = dataclasses.replace(p, base_shear=2 * p.base_shear)
+    d = p.relative_differences(q)
+    assert d["base_shear"] == pytest.approx(-0.5) and d["base_displacement"] == 0.0
+    none = peaks_of(fake_result())
+    assert none.relative_differences(none)["device_force"] == 0.0
 
 
 def test_simulation_result_has_named_peaks_and_js(shared_dir):

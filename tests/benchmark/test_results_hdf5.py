@@ -10,7 +10,8 @@ import pytest
 
 import benchmark.simulator.results as results_module
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.simulator.evaluation import evaluate, peaks
+from benchmark.simulator.evaluation import evaluate
+from benchmark.simulator.peaks import peaks_of
 from benchmark.simulator.isolation import get_isolation
 from benchmark.simulator.results import FIELD_UNITS, read_evaluation, read_result, write_result
 
@@ -60,7 +61,8 @@ def test_round_trip_with_units_provenance_and_evaluation(tmp_path):
     assert back.info == run.info
     assert back.units["base_displacement"] == "m, m, rad"
     assert back.units["voltage"] == "V"
-    assert back.peaks == pytest.approx(peaks(run))
+    assert back.peak_record == pytest.approx(peaks_of(run).as_record())
+    assert back.peaks == peaks_of(run)  # double precision: the same histories, the same peaks
     assert back.attrs["record"] == "kobe" and back.attrs["record_source"] == "/x/kobe.txt"
     assert back.attrs["package"] == "sbib" and "git_commit" in back.attrs
     assert "lead-rubber" in back.attrs["isolation_json"]

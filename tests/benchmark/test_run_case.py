@@ -34,7 +34,7 @@ def test_run_case_equals_simulate_and_caches_the_reference(short_kobe, building)
     np.testing.assert_array_equal(a.reference.base_displacement,
                                   simulate(building.without_devices(), short_kobe).base_displacement)
     assert set(a.J) >= {f"J{i}" for i in range(1, 10)} and a.J["J3"] < 1.0
-    assert a.peaks["peak_base_displacement"] == pytest.approx(
+    assert a.peaks.base_displacement == pytest.approx(
         np.max(np.hypot(*a.result.base_displacement[:, :2].T)))
 
 

@@ -88,7 +88,7 @@ def test_compare_one_record_writes_table_json_hdf5_and_plots(building, records_d
     assert [r.controller for r in result.runs] == ["passive-off", "half-when-moving"]
     for run in result.runs:
         assert set(run.J) == {f"J{i}" for i in range(1, 10)}
-        assert run.peaks["peak_base_displacement"] > 0
+        assert run.peaks["peak_base_displacement"] > 0  # ComparisonRun.peaks: the file record (peak_* names)
     table = result.table()
     assert "passive-off" in table and "mean" in table
     doc = json.loads(json.dumps(result.to_json()))

@@ -55,7 +55,7 @@ import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Iterable, NamedTuple
+from typing import Any, Iterable, NamedTuple
 
 import numpy as np
 
@@ -450,6 +450,27 @@ ISOLATION_NAMES: tuple[str, ...] = tuple(_NAMED)
 DEFAULT_NONLINEAR = "friction-lrb"
 
 
+def check_substep_tolerance(substep_tolerance: Any) -> float:
+    """``substep_tolerance`` as a float, checked in one place for :func:`get_isolation` and
+    :func:`benchmark.simulator.simulation.simulate`.
+
+    Parameters
+    ----------
+    substep_tolerance : float
+        Relative sub-step tolerance of the hysteretic bearings and devices [-].
+
+    Raises
+    ------
+    ParameterError
+        A tolerance that is not a finite number in (0, 2].
+    """
+    if isinstance(substep_tolerance, bool) or not (isinstance(substep_tolerance, (int, float))
+                                                   and math.isfinite(substep_tolerance)
+                                                   and 0 < substep_tolerance <= 2):
+        raise ParameterError(f"substep_tolerance = {substep_tolerance!r}: expected in (0, 2]")
+    return float(substep_tolerance)
+
+
 def get_isolation(name: str, substep_tolerance: float | None = None) -> IsolationLayer:
     """Return a named isolation layer, or one read from a ``.json`` file path.
 
@@ -473,8 +494,5 @@ def get_isolation(name: str, substep_tolerance: float | None = None) -> Isolatio
         raise InputError(f"isolation {name!r} unknown: expected one of {', '.join(ISOLATION_NAMES)} "
                          "or a .json configuration file")
     if substep_tolerance is not None:
-        if not (isinstance(substep_tolerance, (int, float)) and math.isfinite(substep_tolerance)
-                and 0 < substep_tolerance <= 2):
-            raise ParameterError(f"substep_tolerance = {substep_tolerance!r}: expected in (0, 2]")
-        layer = layer.with_substep_tolerance(substep_tolerance)
+        layer = layer.with_substep_tolerance(check_substep_tolerance(substep_tolerance))
     return layer
