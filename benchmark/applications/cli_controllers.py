@@ -49,8 +49,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="use the synthetic benchmark-like records (rows say 'kobe (synthetic)')")
     add_record_options(p, orientation=False, several=True)  # --records-dir, --format, --dt, --units, ...
     p.add_argument("--control-step", type=float, default=None,
-                   help="control step [s], a whole multiple of each record's step (default: the benchmark's "
-                        "0.005 s when it is one, else the multiple nearest to it, said on stderr)")
+                   help="control step [s], any positive time (default: the benchmark's 0.005 s); a record "
+                        "at another step is interpolated onto the integration step, e.g. --control-step 0.01")
     p.add_argument("--n-modes", type=int, default=None, help="reduced superstructure (default: all modes)")
     p.add_argument("--jobs", type=int, default=None, help="worker processes (default: all cores)")
     p.add_argument("--json", action="store_true", help="print {\"runs\": [...]} as JSON instead of the table")
