@@ -213,6 +213,9 @@ class Settings(NamedTuple):
         Keep the per-bearing hysteretic states.
     newton : bool
         Newton iteration on the base's 3 DOF (else plain fixed-point iteration).
+    integrator : int
+        The bearings' update: 0 RK4 sub-steps, 1 the closed-form chord update
+        (:data:`benchmark.simulator.stepping.INTEGRATORS`).
     """
 
     fp_tol: float

@@ -219,11 +219,6 @@ def peaks_of(result: Any) -> Peaks:
     -------
     Peaks
 
-    Parameters
-    ----------
-    result : Any
-        A simulation result, or a run holding one.
-
     Raises
     ------
     InputError

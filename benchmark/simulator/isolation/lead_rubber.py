@@ -179,7 +179,25 @@ def lead_rubber_tangent(params, state, dx, dy, vx1, vy1, tangent):
 def lead_rubber_step_closed_form(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out, tangent):
     """Closed-form update (:func:`park_wen_closed_form`: exact flow along the chords of the path) of
     ``state = [z_x, z_y]`` over one step: writes the hysteretic force Q_d z [N] into
-    ``force_out`` and its tangent (2 x 4, d f/d u1 [N/m], d f/d v1 = 0) into ``tangent``."""
+    ``force_out`` and its tangent (2 x 4, d f/d u1 [N/m], d f/d v1 = 0) into ``tangent``.
+
+    Parameters
+    ----------
+    params : ndarray
+        The bearing's packed parameters (its ``pack()``, float64, SI).
+    state : ndarray
+        Its hysteretic state ``[z_x, z_y]``, advanced in place.
+    ux0, uy0, ux1, uy1 : float
+        Bearing displacement (x, y) at the start and the end of the step [m].
+    vx0, vy0, vx1, vy1 : float
+        Bearing velocity (x, y) at the start and the end of the step [m/s].
+    dt : float
+        Step length [s].
+    force_out : ndarray, shape (2,)
+        Receives the hysteretic force (x, y) at the end of the step [N].
+    tangent : ndarray, shape (2, 4)
+        Receives d force / d (ux1, uy1) [N/m] and d force / d (vx1, vy1) [N s/m].
+    """
     kxx, kxy, kyx, kyy = park_wen_closed_form(state, 0, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt,
                                            params[3], params[4], params[5], params[6])
     q = params[2]

@@ -409,6 +409,16 @@ def park_wen_chord(zx: float, zy: float, ex: float, ey: float, A: float, beta: f
     solution restarts from there. No sub-steps, no iteration, unconditionally stable: the update
     is the exact flow of the model along the chord.
 
+    Parameters
+    ----------
+    zx, zy : float
+        Hysteretic state at the start of the chord [-].
+    ex, ey : float
+        The chord (x, y) in units of the yield displacement [-].
+    A, beta, gamma : float
+        Park–Wen parameters [-].
+
+
     Returns
     -------
     (zx, zy, kxx, kxy, kyx, kyy)
@@ -517,6 +527,24 @@ def park_wen_closed_form(state: np.ndarray, offset: int,
     The step's cubic Hermite path (that of :func:`park_wen_advance`) is split at the reversals
     of a component of the direction of motion; each monotone piece is replaced by its chord and
     advanced exactly along it (:func:`park_wen_chord`). Parameters as :func:`park_wen_advance`.
+
+    Parameters
+    ----------
+    state : ndarray
+        Bearing states; ``state[offset:offset+2]`` (z_x, z_y) is advanced in place.
+    offset : int
+        Index of z_x in ``state``.
+    ux0, uy0, ux1, uy1 : float
+        Displacement (x, y) at the start and the end of the step [m].
+    vx0, vy0, vx1, vy1 : float
+        Velocity (x, y) at the start and the end of the step [m/s].
+    dt : float
+        Step length [s].
+    yield_displacement : float
+        Yield displacement Y [m].
+    A, beta, gamma : float
+        Park–Wen parameters [-].
+
 
     Returns
     -------

@@ -166,6 +166,26 @@ def bearing_step_closed_form(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy
     iteration, unconditionally stable) instead of RK4 sub-steps, and write into ``tangent`` (2 x 4, the layout of :func:`bearing_tangent`) the
     derivatives of that update's force with respect to the end displacement and velocity.
     Linear and unknown types as in :func:`bearing_step` (tangent zero).
+
+    Parameters
+    ----------
+    type_id : int
+        The bearing type (0 linear, 1 lead-rubber, 2 friction pendulum).
+
+    params : ndarray
+        The bearing's packed parameters (its ``pack()``, float64, SI).
+    state : ndarray
+        Its hysteretic state ``[z_x, z_y]``, advanced in place.
+    ux0, uy0, ux1, uy1 : float
+        Bearing displacement (x, y) at the start and the end of the step [m].
+    vx0, vy0, vx1, vy1 : float
+        Bearing velocity (x, y) at the start and the end of the step [m/s].
+    dt : float
+        Step length [s].
+    force_out : ndarray, shape (2,)
+        Receives the hysteretic force (x, y) at the end of the step [N].
+    tangent : ndarray, shape (2, 4)
+        Receives d force / d (ux1, uy1) [N/m] and d force / d (vx1, vy1) [N s/m].
     """
     if type_id == 1:
         lead_rubber_step_closed_form(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out, tangent)
