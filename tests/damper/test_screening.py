@@ -212,7 +212,8 @@ def test_csv_reader_fills_and_flags_nan_and_drops_bad_time(tmp_path, clean_synth
     cols = lines[header].split(",")
     rows = [ln.split(",") for ln in lines[header + 1:]]
     n = len(rows)
-    i_force, i_disp = cols.index("force"), cols.index("displacement")
+    names = [c.split("[")[0].strip() for c in cols]  # the header names each column with its unit
+    i_force, i_disp = names.index("force"), names.index("displacement")
     for k in range(n // 3, n // 3 + 5):
         rows[k][i_force] = "nan"
     rows[2 * n // 3][i_disp] = "nan"
