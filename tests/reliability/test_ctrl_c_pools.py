@@ -42,7 +42,9 @@ def _command(kind: str, tmp_path: Path) -> tuple[list[str], Path]:
     """The command line of ``kind`` and the result file it would write."""
     if kind == "compare":
         out = tmp_path / "compare.h5"
-        args = ["compare", "--records", "kobe,elcentro", "--orientations", "FN-x",
+        # all seven records: long enough (14 runs) that the command is still running when the
+        # signals come, however fast the machine (with two records it could end first)
+        args = ["compare", "--records", "all", "--orientations", "FN-x",
                 "--controllers", "passive-off,clipped-optimal", "--jobs", "2", "--no-progress", "--out", str(out)]
     elif kind == "ensemble":
         cfg = tmp_path / "ens.toml"
@@ -96,6 +98,9 @@ def _interrupt(kind: str, tmp_path: Path, preexec_fn, moment: str, signals: int,
             if moment == "running-later":
                 time.sleep(1.5)
         workers = _children(proc.pid)
+        if proc.poll() is not None:
+            pytest.fail(f"{kind} ended (exit {proc.returncode}) before the first SIGINT: the test's command is "
+                        "too short for this machine")
         t0 = time.monotonic()
         for i in range(signals):
             if i:
