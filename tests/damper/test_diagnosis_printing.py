@@ -24,11 +24,15 @@ def test_printed_values_are_the_final_ones(monkeypatch, capsys):
     result = SimpleNamespace(model_kind="normalized", error_before=0.2, error_after=0.1,
                              selection=SimpleNamespace(steps=[step]), final_model=final, unexplained=True,
                              unexplained_in=[("voltage_rate", 0.4, 0.02)],
-                             data=SimpleNamespace(input_name="current"))
-    monkeypatch.setattr(cli_diagnose, "read_test_file", lambda f: f)
+                             data=SimpleNamespace(input_name="current"), validation=None, settings={},
+                             to_json=lambda: {})
+    monkeypatch.setattr(cli_diagnose, "read_test_file", lambda f, **options: f)
+    monkeypatch.setattr(cli_diagnose, "screening_summary", lambda tests, keep=False: {})
+    monkeypatch.setattr(cli_diagnose, "screening_lines", lambda tests, keep=False: [])
     monkeypatch.setattr(cli_diagnose, "diagnose", lambda *a, **k: result)
     args = argparse.Namespace(data=["x"], validate=None, quiet=True, holdout=None, coarse_samples=None,
-                              model="normalized", effects=None, out=None, json=False)
+                              model="normalized", effects=None, out=None, json=False, keep_flagged=False,
+                              time_budget=None)
     assert cli_diagnose.run(args) == 0
     out = capsys.readouterr().out
     assert "velocity = 0.01183 m/s" in out and "0.01174" not in out

@@ -133,7 +133,7 @@ def test_write_is_atomic(tmp_path):
 
 
 def test_oscillator_file_is_not_a_building_device(tmp_path):
-    from damper import hysteresis_benchmark as hb
+    from damper.hysteresis import noel_schoukens as hb
     from damper.hysteresis.files import save_model
     path = save_model(tmp_path / "osc.json", hb.true_system(), fs=750.0)
     mf = read_model_file(path)
