@@ -41,7 +41,7 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
 ``excursion``
     A fault's lurch: next to a stuck, frozen or clipped channel or a gap (within one dominant
     period), the velocity runs beyond :data:`EXCURSION_FACTOR` times the test's own 99.5th
-    percentile of \|velocity\| (a rig losing control before it freezes). The whole flank, out to
+    percentile of the absolute velocity (a rig losing control before it freezes). The whole flank, out to
     where the velocity is back inside that percentile, is an unusable input span. Far from a
     fault a fast stretch is data (an earthquake-like test has rare pulses): it is not flagged.
 ``island``
