@@ -37,7 +37,7 @@ from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import InputError
 from damper.io.data import parse_utfsm_name, read_csv, read_utfsm
 from damper.io.screening import screening_of
-from damper.diagnosis.effects import EFFECT_NAMES, EFFECTS
+from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import format_parameters, input_word, write_report
@@ -147,7 +147,7 @@ def register(subparsers) -> None:
             "it. The error left there (the held-out residual) is traced against displacement, "
             "velocity, acceleration, time and the coil input; each variable it depends on points to "
             "candidate effects, each an extra force term:\n"
-            + "".join(f"\t{name}: {EFFECTS[name].description}\n" for name in EFFECT_NAMES)
+            + "".join(f"\t{name}: {EFFECTS[name].description}\n" for name in effect_names())
             + "An effect is kept when it lowers the held-out Bayesian information criterion (BIC: "
             "the held-out error, penalised by the number of parameters), i.e. when it pays for "
             "its extra parameters; structure no effect explains is reported as unexplained.\n\n"
@@ -168,7 +168,7 @@ def register(subparsers) -> None:
     p.add_argument("--time-budget", type=float, default=None, metavar="SECONDS",
                    help="no new round of the effect selection after this many seconds (the run "
                         "ends cleanly and says so)")
-    p.add_argument("--effects", nargs="+", choices=EFFECT_NAMES, metavar="EFFECT",
+    p.add_argument("--effects", nargs="+", choices=effect_names(), metavar="EFFECT",
                    help="restrict the candidates to these effects (default: the whole library)")
     p.add_argument("--coarse-samples", type=int, default=None, metavar="N",
                    help="speed-up: fit on the tests thinned to about N samples in all (all tests "

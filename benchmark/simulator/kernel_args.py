@@ -443,7 +443,7 @@ def pack_run(building: Any, record: Any, plant_extra: dict, n: int, dt: float, r
                       xc=_f64(xc).copy(), voltage=_f64(voltage).copy())
     # Linear bearings have no hysteretic force: all of theirs is in the plant's exact step, so
     # the kernel gets only the others (a linear run's kernel is then the bare linear loop).
-    hysteretic = np.flatnonzero(b_type != LinearBearing.type_id)
+    hysteretic = np.flatnonzero(b_type != LinearBearing.kernel)
     bearings = Bearings(index=hysteretic.astype(np.int64),
                         xy=np.ascontiguousarray(b_xy[hysteretic]),
                         type_id=np.ascontiguousarray(b_type[hysteretic]),

@@ -214,7 +214,7 @@ def equivalent_linear_bearing(bearing, amplitude: float, period: float,
         raise InputError(f"amplitude: expected a positive displacement in m, got {amplitude!r}")
     if not (np.isfinite(period) and period > 0):
         raise InputError(f"period: expected a positive period in s, got {period!r}")
-    return _equivalent_cached(int(bearing.type_id), tuple(float(x) for x in bearing.to_array()),
+    return _equivalent_cached(int(bearing.kernel), tuple(float(x) for x in bearing.to_array()),
                               tuple(float(x) for x in bearing.initial_state()), float(amplitude),
                               float(period), int(steps_per_cycle))
 

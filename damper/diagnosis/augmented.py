@@ -42,7 +42,7 @@ import numpy as np
 from damper.fitting import least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.diagnosis.effects import EFFECTS, EFFECT_NAMES, Effect, Motion, get_effect
+from damper.diagnosis.effects import EFFECTS, Effect, Motion, effect_names, get_effect
 from damper.models.series_dashpot import SpencerBoucWen
 from damper.models.response import simulate
 from damper.models.voltage_laws import Tabulated, VoltageLaw
@@ -182,7 +182,7 @@ class AugmentedModel:
                         "voltage_lag": "its field lag"}.get(name, name)
                 raise ParameterError(f"augmented model: the {kind} base already has {term}; "
                                      f"do not add the {name} effect")
-        order = {n: i for i, n in enumerate(EFFECT_NAMES)}
+        order = {n: i for i, n in enumerate(effect_names())}
         effects = tuple(sorted(effects, key=lambda e: (_ROLE_ORDER[e.role], order[e.name])))
         object.__setattr__(self, "effects", effects)
         held = tuple(str(p) for p in self.held)

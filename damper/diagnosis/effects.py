@@ -82,6 +82,7 @@ from typing import ClassVar
 import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
+from benchmark.foundation.registry import Registry
 from damper.models.field_filter import first_order_filter
 from damper.models.series_dashpot import SeriesDashpotBoucWen
 
@@ -100,6 +101,8 @@ __all__ = [
     "Fade",
     "EFFECTS",
     "EFFECT_NAMES",
+    "effect_names",
+    "register_effect",
     "get_effect",
 ]
 
@@ -308,6 +311,49 @@ class Effect:
         return f"{self.name}({self.parameter_name}={self.value:.6g} {self.unit})"
 
 
+_ROLES = ("series", "input", "factor", "additive")
+
+
+def _check_effect(cls: type) -> str | None:
+    if getattr(cls, "role", None) not in _ROLES:
+        return f"role {getattr(cls, 'role', None)!r}; expected one of {', '.join(_ROLES)}"
+    for attr in ("parameter_name", "unit", "description"):
+        if not isinstance(getattr(cls, attr, None), str):
+            return f"no {attr} (a class attribute, a str)"
+    return None
+
+
+#: Registered effects by name, in the order the loop lists candidates (filled by :func:`register_effect`).
+EFFECTS: Registry = Registry("effect", Effect, _check_effect)
+
+
+def register_effect(cls):
+    """Register an effect class under its ``name`` (a class decorator) and return it.
+
+    A new effect is one decorated frozen dataclass deriving from :class:`Effect` (one field named
+    by ``parameter_name``; ``role``, ``unit``, ``neutral``, bounds, ``description``, ``traces``):
+    the residual loop then lists it among its candidates, the model file reads it and
+    ``sbib diagnose --effects`` accepts it.
+
+    Parameters
+    ----------
+    cls : type
+        An :class:`Effect` subclass.
+
+    Returns
+    -------
+    type
+        ``cls`` itself.
+
+    Raises
+    ------
+    InputError
+        If ``cls`` is not an :class:`Effect` subclass, has no name, an unknown role, or its name
+        is already taken by another class.
+    """
+    return EFFECTS.register(cls)
+
+
 def _rms(a: np.ndarray) -> float:
     return float(np.sqrt(np.mean(np.square(a)))) if a.size else 0.0
 
@@ -324,6 +370,7 @@ def _zero_throughout(motions, field: str, what: str) -> str | None:
 
 # ------------------------------------------------------------------------------- the library
 
+@register_effect
 @dataclass(frozen=True)
 class Stiffness(Effect):
     """Linear elastic force :math:`\\kappa_x x` [N] (accumulator stiffness; seed eq. 3).
@@ -354,6 +401,7 @@ class Stiffness(Effect):
         return self.kappa_x * motion.x
 
 
+@register_effect
 @dataclass(frozen=True)
 class Offset(Effect):
     """Constant force :math:`f_0` [N] (accumulator preload).
@@ -383,6 +431,7 @@ class Offset(Effect):
         return np.full(motion.n_samples, self.f0)
 
 
+@register_effect
 @dataclass(frozen=True)
 class Inertia(Effect):
     """Inertial force :math:`m\\ddot x` [N] (fluid and piston mass).
@@ -417,6 +466,46 @@ class Inertia(Effect):
         return self.mass * motion.xddot
 
 
+@register_effect
+@dataclass(frozen=True)
+class VoltageLag(Effect):
+    """First-order field dynamics: the base model sees :math:`u` with :math:`\\tau\\dot u = v - u`.
+
+    Parameters
+    ----------
+    tau : float
+        Time constant [s], >= 0 (``0``: no lag). Spencer et al. (1997) write
+        :math:`\\eta = 1/\\tau`.
+    """
+
+    tau: float
+    name: ClassVar[str] = "voltage_lag"
+    role: ClassVar[str] = "input"
+    parameter_name: ClassVar[str] = "tau"
+    unit: ClassVar[str] = "s"
+    lower: ClassVar[float] = 0.0
+    upper: ClassVar[float] = 10.0
+    description: ClassVar[str] = "first-order filter tau*du/dt = v - u on the coil input"
+    traces: ClassVar[tuple[str, ...]] = ("voltage_rate", "voltage")
+
+    def __post_init__(self) -> None:
+        self._validate()
+
+    @classmethod
+    def scale(cls, motions, force_rms):
+        return 0.01
+
+    @classmethod
+    def not_identifiable(cls, motions):
+        if all(np.ptp(m.v) == 0.0 for m in motions):
+            return "the coil input is constant in every test"
+        return None
+
+    def transform_input(self, motion, v):
+        return first_order_filter(motion.t, v, self.tau)
+
+
+@register_effect
 @dataclass(frozen=True)
 class QuadraticDamping(Effect):
     """Turbulent (velocity-squared) loss :math:`c_2\\dot x|\\dot x|` [N].
@@ -447,6 +536,7 @@ class QuadraticDamping(Effect):
         return self.c2 * motion.xdot * np.abs(motion.xdot)
 
 
+@register_effect
 @dataclass(frozen=True)
 class ShearThinning(Effect):
     """Shear-thinning (Herschel-Bulkley) post-yield force :math:`k\\,\\mathrm{sgn}(\\dot x)|\\dot x|^{1/2}` [N].
@@ -486,6 +576,7 @@ class ShearThinning(Effect):
         return self.k * np.sign(motion.xdot) * np.abs(motion.xdot) ** self.exponent
 
 
+@register_effect
 @dataclass(frozen=True)
 class Asymmetry(Effect):
     """Different force levels in extension and compression: factor :math:`1 + a\\,\\mathrm{sgn}F_\\text{base}`.
@@ -518,6 +609,7 @@ class Asymmetry(Effect):
         return 1.0 + self.ratio * np.sign(base_force)
 
 
+@register_effect
 @dataclass(frozen=True)
 class Direction(Effect):
     """Different force levels in the two directions of motion: factor :math:`1 + d\\,\\mathrm{sgn}\\,\\dot x`.
@@ -560,6 +652,7 @@ class Direction(Effect):
         return 1.0 + self.ratio * np.sign(motion.xdot)
 
 
+@register_effect
 @dataclass(frozen=True)
 class Fade(Effect):
     """Slow linear change of the force level over a test: factor :math:`1 + \\phi\\,(t - t_0)`.
@@ -597,44 +690,7 @@ class Fade(Effect):
         return g
 
 
-@dataclass(frozen=True)
-class VoltageLag(Effect):
-    """First-order field dynamics: the base model sees :math:`u` with :math:`\\tau\\dot u = v - u`.
-
-    Parameters
-    ----------
-    tau : float
-        Time constant [s], >= 0 (``0``: no lag). Spencer et al. (1997) write
-        :math:`\\eta = 1/\\tau`.
-    """
-
-    tau: float
-    name: ClassVar[str] = "voltage_lag"
-    role: ClassVar[str] = "input"
-    parameter_name: ClassVar[str] = "tau"
-    unit: ClassVar[str] = "s"
-    lower: ClassVar[float] = 0.0
-    upper: ClassVar[float] = 10.0
-    description: ClassVar[str] = "first-order filter tau*du/dt = v - u on the coil input"
-    traces: ClassVar[tuple[str, ...]] = ("voltage_rate", "voltage")
-
-    def __post_init__(self) -> None:
-        self._validate()
-
-    @classmethod
-    def scale(cls, motions, force_rms):
-        return 0.01
-
-    @classmethod
-    def not_identifiable(cls, motions):
-        if all(np.ptp(m.v) == 0.0 for m in motions):
-            return "the coil input is constant in every test"
-        return None
-
-    def transform_input(self, motion, v):
-        return first_order_filter(motion.t, v, self.tau)
-
-
+@register_effect
 @dataclass(frozen=True)
 class RollOff(Effect):
     """Low-velocity roll-off: the base model in series with a dashpot :math:`c_s = \\kappa_w / v_r`.
@@ -682,12 +738,19 @@ class RollOff(Effect):
         return SeriesDashpotBoucWen.from_bouc_wen(base, self.velocity)
 
 
-#: The library, in the order the loop lists candidates.
-EFFECTS: dict[str, type[Effect]] = {cls.name: cls for cls in (
-    Stiffness, Offset, Inertia, VoltageLag, QuadraticDamping, ShearThinning, Asymmetry, Direction,
-    Fade, RollOff)}
-#: The library's names.
+#: The library (the effect names the residual loop lists, in their registration order).
 EFFECT_NAMES: tuple[str, ...] = tuple(EFFECTS)
+
+
+def effect_names() -> tuple[str, ...]:
+    """Names of every registered effect: the library's, then those registered since.
+
+    Returns
+    -------
+    tuple of str
+        Registered names, in the order the residual loop lists its candidates.
+    """
+    return tuple(EFFECTS)
 
 
 def get_effect(name: str) -> type[Effect]:
@@ -698,8 +761,7 @@ def get_effect(name: str) -> type[Effect]:
     name : str
         Effect name (:data:`damper.diagnosis.effects.EFFECTS`).
     """
-    try:
-        return EFFECTS[name]
-    except KeyError:
-        raise InputError(f"effect: unknown name {name!r}; expected one of "
-                         + ", ".join(EFFECT_NAMES)) from None
+    cls = EFFECTS.get(name) if isinstance(name, str) else None
+    if cls is None:
+        raise InputError(f"effect: unknown name {name!r}; expected one of " + ", ".join(effect_names()))
+    return cls

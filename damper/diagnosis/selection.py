@@ -52,7 +52,7 @@ from benchmark.foundation.errors import InputError, NumericalError, ParameterErr
 from damper.diagnosis.augmented import BASE_DECLARES, AugmentedModel, Parametrization, refit
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size, trace_residual
-from damper.diagnosis.effects import EFFECT_NAMES, Effect, get_effect
+from damper.diagnosis.effects import Effect, effect_names, get_effect
 # the package's one relative RMS error (mask and weights), re-exported here for the loop
 from damper.identification.metrics import relative_rms_error
 
@@ -484,14 +484,14 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
     """
     if not 0.0 <= min_gain < 1.0:
         raise InputError(f"min_gain: expected 0 <= min_gain < 1, got {min_gain}")
-    names = list(EFFECT_NAMES if candidates is None else candidates)
+    names = list(effect_names() if candidates is None else candidates)
     for n in names:
         get_effect(n)
     # the base may declare a term already (kappa_x x; the Spencer-type base's c1 and field lag)
     names = [n for n in names if n not in BASE_DECLARES[model.base_kind]]
     motions = list(data.motions)
     f_rms = data.force_rms("train")
-    scales = {n: get_effect(n).scale(motions, f_rms) for n in EFFECT_NAMES}
+    scales = {n: get_effect(n).scale(motions, f_rms) for n in effect_names()}
     measured_h = data.measured("heldout")
     norm_h = float(np.linalg.norm(measured_h))
     steps, rounds = [], []

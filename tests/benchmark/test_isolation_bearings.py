@@ -63,7 +63,7 @@ def run_kernel(bearing, u, v, t):
     fx, fy = bearing.force(state, *U[0], *V[0])
     out[0] = fx, fy
     for k in range(1, t.size):
-        bearing_step(bearing.type_id, p, state, U[k - 1, 0], U[k - 1, 1], U[k, 0], U[k, 1],
+        bearing_step(bearing.kernel, p, state, U[k - 1, 0], U[k - 1, 1], U[k, 0], U[k, 1],
                      V[k - 1, 0], V[k - 1, 1], V[k, 0], V[k, 1], t[k] - t[k - 1], hyst)
         bearing_total_force(p, U[k, 0], U[k, 1], V[k, 0], V[k, 1], hyst, total)
         out[k] = total
@@ -176,9 +176,9 @@ def test_lead_rubber_initial_stiffness_and_post_yield_branch():
 def test_linear_bearing_kernel_returns_zero_hysteretic_force():
     b = LinearBearing(919.422e3, 27.717e3)
     out = np.full(2, 7.0)
-    bearing_step(b.type_id, b.to_array(), np.zeros(0), 0.0, 0.0, 0.01, 0.02, 0.0, 0.0, 1.0, 2.0, 0.005, out)
+    bearing_step(b.kernel, b.to_array(), np.zeros(0), 0.0, 0.0, 0.01, 0.02, 0.0, 0.0, 1.0, 2.0, 0.005, out)
     assert np.all(out == 0.0)
-    assert linear_part(b.type_id, b.to_array()) == (919.422e3, 27.717e3)
+    assert linear_part(b.kernel, b.to_array()) == (919.422e3, 27.717e3)
     assert b.force(np.zeros(0), 0.1, 0.2, 1.0, 0.0) == pytest.approx((919.422e3 * 0.1 + 27.717e3, 919.422e3 * 0.2))
 
 

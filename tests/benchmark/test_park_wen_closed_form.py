@@ -125,7 +125,7 @@ def _run_closed_form(bearing, u, v, t):
     out = np.zeros((t.size, 2))
     out[0] = bearing.force(state, *U[0], *V[0])
     for k in range(1, t.size):
-        bearing_step_closed_form(bearing.type_id, p, state, U[k - 1, 0], U[k - 1, 1], U[k, 0], U[k, 1],
+        bearing_step_closed_form(bearing.kernel, p, state, U[k - 1, 0], U[k - 1, 1], U[k, 0], U[k, 1],
                                  V[k - 1, 0], V[k - 1, 1], V[k, 0], V[k, 1], t[k] - t[k - 1], hyst, tangent)
         bearing_total_force(p, U[k, 0], U[k, 1], V[k, 0], V[k, 1], hyst, total)
         out[k] = total

@@ -9,6 +9,14 @@ The flat parameter array (``to_array()``) of *every* type starts with its **line
 
 so that the building core can read the linear part without knowing the type, and the
 numba kernel returns only the remaining (hysteretic) force. See :mod:`benchmark.simulator.isolation.registry`.
+
+Adding a bearing type is **one class** decorated with :func:`register_bearing`: a frozen dataclass
+of SI parameters deriving from :class:`BearingParameters`, with a ``name`` (the one name it is
+looked up under, in isolation files and :func:`benchmark.simulator.isolation.registry.bearing_type`)
+and a ``kernel``: the compiled kernel family that advances it (:data:`BEARING_KERNELS`). A type that
+packs its parameters into an existing family's layout (for example a high-damping rubber bearing
+written as a Park–Wen element in the lead-rubber layout) needs no kernel edit; a new family adds
+its numba step beside the class and one branch to each dispatch kernel of the registry.
 """
 
 from __future__ import annotations
@@ -19,8 +27,19 @@ from typing import ClassVar
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
+from benchmark.foundation.registry import Registry
 
-__all__ = ["BearingParameters", "require_positive", "require_nonnegative", "require_range"]
+__all__ = ["BearingParameters", "BEARINGS", "BEARING_KERNELS", "KERNEL_LINEAR", "KERNEL_LEAD_RUBBER",
+           "KERNEL_FRICTION_PENDULUM", "register_bearing", "require_positive", "require_nonnegative",
+           "require_range"]
+
+#: Kernel family ids: the number the building's stepping kernel dispatches on (never chosen per type).
+KERNEL_LINEAR = 0
+KERNEL_LEAD_RUBBER = 1
+KERNEL_FRICTION_PENDULUM = 2
+#: kernel family id -> the module whose numba step advances it
+BEARING_KERNELS: dict[int, str] = {KERNEL_LINEAR: "linear", KERNEL_LEAD_RUBBER: "lead_rubber",
+                                   KERNEL_FRICTION_PENDULUM: "friction_pendulum"}
 
 
 def _check_number(cls_name: str, field: str, value: object) -> float:
@@ -96,12 +115,13 @@ def require_range(obj: object, field: str, low: float, high: float,
 class BearingParameters:
     """Base class of the bearing parameter dataclasses (frozen, SI units).
 
-    Subclasses define ``name``, ``type_id``, ``n_states`` and implement :meth:`to_array`,
-    :meth:`initial_state`, :meth:`linear_part`, :meth:`rates` and :meth:`force`.
+    Subclasses define ``name``, ``kernel`` (:data:`BEARING_KERNELS`), ``n_states`` and implement
+    :meth:`to_array`, :meth:`initial_state`, :meth:`linear_part`, :meth:`rates` and :meth:`force`,
+    and are registered with :func:`register_bearing`.
     """
 
     name: ClassVar[str]
-    type_id: ClassVar[int]
+    kernel: ClassVar[int]
     n_states: ClassVar[int]
 
     def to_array(self) -> np.ndarray:
@@ -173,3 +193,40 @@ class BearingParameters:
         fx, fy = self.force(state, ux, uy, vx, vy)
         k, c = self.linear_part()
         return fx - k * ux - c * vx, fy - k * uy - c * vy
+
+
+def _check_kernel(cls: type) -> str | None:
+    kernel = getattr(cls, "kernel", None)
+    if isinstance(kernel, bool) or kernel not in BEARING_KERNELS:
+        return (f"kernel {kernel!r} is not a bearing kernel family; expected one of "
+                + ", ".join(f"{k} ({v})" for k, v in BEARING_KERNELS.items()))
+    if not isinstance(getattr(cls, "n_states", None), int):
+        return "no n_states (a class attribute: the number of internal states)"
+    return None
+
+
+#: Registered bearing types by name (filled by :func:`register_bearing`).
+BEARINGS: Registry = Registry("bearing type", BearingParameters, _check_kernel)
+
+
+def register_bearing(cls):
+    """Register a bearing type under its ``name`` (a class decorator) and return it.
+
+    Parameters
+    ----------
+    cls : type
+        A :class:`BearingParameters` subclass with a ``name``, a ``kernel`` of
+        :data:`BEARING_KERNELS` and ``n_states``.
+
+    Returns
+    -------
+    type
+        ``cls`` itself.
+
+    Raises
+    ------
+    InputError
+        If ``cls`` is not a :class:`BearingParameters` subclass, names an unknown kernel family,
+        or its name is already taken by another class.
+    """
+    return BEARINGS.register(cls)

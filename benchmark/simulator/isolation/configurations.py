@@ -216,7 +216,7 @@ class IsolationLayer:
             p = group.bearing.to_array()
             s = group.bearing.initial_state()
             for i in group.indices:
-                type_ids[i] = group.bearing.type_id
+                type_ids[i] = group.bearing.kernel
                 params[i, :p.size] = p
                 states[i, :s.size] = s
                 n_states[i] = group.bearing.n_states

@@ -37,15 +37,14 @@ import numba
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from benchmark.simulator.isolation.base import (BearingParameters, require_nonnegative, require_positive,
+from benchmark.simulator.isolation.base import (BearingParameters, KERNEL_FRICTION_PENDULUM, register_bearing, require_nonnegative, require_positive,
                                       require_range)
 from benchmark.simulator.isolation.park_wen import (park_wen_advance, park_wen_closed_form, park_wen_rates,
                                                    park_wen_tangent)
 
-__all__ = ["FrictionPendulumBearing", "TYPE_ID", "N_PARAMS", "friction_pendulum_step",
+__all__ = ["FrictionPendulumBearing", "N_PARAMS", "friction_pendulum_step",
            "friction_pendulum_step_closed_form", "friction_coefficient"]
 
-TYPE_ID = 2
 N_PARAMS = 11
 
 
@@ -65,6 +64,7 @@ def friction_coefficient(speed: float | np.ndarray, mu_max: float, mu_min: float
     return mu_max - (mu_max - mu_min) * np.exp(-rate_parameter * np.abs(speed))
 
 
+@register_bearing
 @dataclass(frozen=True)
 class FrictionPendulumBearing(BearingParameters):
     """Friction pendulum bearing.
@@ -102,7 +102,7 @@ class FrictionPendulumBearing(BearingParameters):
     substep_tolerance: float = 0.75
 
     name: ClassVar[str] = "friction-pendulum"
-    type_id: ClassVar[int] = TYPE_ID
+    kernel: ClassVar[int] = KERNEL_FRICTION_PENDULUM
     n_states: ClassVar[int] = 2
 
     def __post_init__(self) -> None:

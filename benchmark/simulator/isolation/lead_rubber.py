@@ -33,17 +33,17 @@ import numba
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from benchmark.simulator.isolation.base import (BearingParameters, require_nonnegative, require_positive,
+from benchmark.simulator.isolation.base import (BearingParameters, KERNEL_LEAD_RUBBER, register_bearing, require_nonnegative, require_positive,
                                       require_range)
 from benchmark.simulator.isolation.park_wen import (park_wen_advance, park_wen_closed_form, park_wen_rates,
                                                    park_wen_tangent)
 
-__all__ = ["LeadRubberBearing", "TYPE_ID", "N_PARAMS", "lead_rubber_step", "lead_rubber_step_closed_form"]
+__all__ = ["LeadRubberBearing", "N_PARAMS", "lead_rubber_step", "lead_rubber_step_closed_form"]
 
-TYPE_ID = 1
 N_PARAMS = 8
 
 
+@register_bearing
 @dataclass(frozen=True)
 class LeadRubberBearing(BearingParameters):
     """Lead-rubber bearing (bilinear, biaxial Park–Wen hysteresis).
@@ -77,7 +77,7 @@ class LeadRubberBearing(BearingParameters):
     substep_tolerance: float = 0.75
 
     name: ClassVar[str] = "lead-rubber"
-    type_id: ClassVar[int] = TYPE_ID
+    kernel: ClassVar[int] = KERNEL_LEAD_RUBBER
     n_states: ClassVar[int] = 2
 
     def __post_init__(self) -> None:

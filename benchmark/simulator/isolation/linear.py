@@ -17,14 +17,15 @@ from typing import ClassVar
 import numba
 import numpy as np
 
-from benchmark.simulator.isolation.base import BearingParameters, require_nonnegative, require_positive
+from benchmark.simulator.isolation.base import (BearingParameters, KERNEL_LINEAR, register_bearing, require_nonnegative,
+                                                 require_positive)
 
-__all__ = ["LinearBearing", "TYPE_ID", "N_PARAMS", "linear_step"]
+__all__ = ["LinearBearing", "N_PARAMS", "linear_step"]
 
-TYPE_ID = 0
 N_PARAMS = 2
 
 
+@register_bearing
 @dataclass(frozen=True)
 class LinearBearing(BearingParameters):
     """Linear elastomeric bearing.
@@ -41,7 +42,7 @@ class LinearBearing(BearingParameters):
     c: float = 0.0
 
     name: ClassVar[str] = "linear"
-    type_id: ClassVar[int] = TYPE_ID
+    kernel: ClassVar[int] = KERNEL_LINEAR
     n_states: ClassVar[int] = 0
 
     def __post_init__(self) -> None:

@@ -27,8 +27,12 @@ Contract with the building core
   iteration on the base uses them. A type without one (zeros) still converges, by the kernel's
   fixed-point fallback, only more slowly.
 
-Adding a bearing type means writing its module and adding one line to ``_TYPES`` and one
-branch each to :func:`bearing_step` and :func:`bearing_tangent`.
+Adding a bearing type is one class decorated with
+:func:`benchmark.simulator.isolation.base.register_bearing` (registry :data:`BEARINGS`); the
+integer the kernels below dispatch on is the class's kernel *family*
+(:data:`benchmark.simulator.isolation.base.BEARING_KERNELS`), never an id chosen per type. A new
+family adds its numba step beside its class and one branch each to :func:`bearing_step`,
+:func:`bearing_step_closed_form` and :func:`bearing_tangent`.
 """
 
 from __future__ import annotations
@@ -38,7 +42,8 @@ import numpy as np
 
 from benchmark.foundation.errors import ParameterError
 from benchmark.simulator.isolation import friction_pendulum, lead_rubber, linear
-from benchmark.simulator.isolation.base import BearingParameters
+from benchmark.simulator.isolation.base import (BEARING_KERNELS, BEARINGS, KERNEL_FRICTION_PENDULUM,
+                                                 KERNEL_LEAD_RUBBER, KERNEL_LINEAR, BearingParameters)
 from benchmark.simulator.isolation.friction_pendulum import (FrictionPendulumBearing, friction_pendulum_step,
                                                    friction_pendulum_step_closed_form, friction_pendulum_tangent)
 from benchmark.simulator.isolation.lead_rubber import (LeadRubberBearing, lead_rubber_step, lead_rubber_step_closed_form,
@@ -46,49 +51,55 @@ from benchmark.simulator.isolation.lead_rubber import (LeadRubberBearing, lead_r
 from benchmark.simulator.isolation.linear import LinearBearing, linear_step
 
 __all__ = [
-    "BEARING_TYPES", "BEARING_NAMES", "MAX_STATES", "MAX_PARAMS", "bearing_type", "bearing_step",
+    "BEARINGS", "BEARING_NAMES", "bearing_names", "KERNEL_N_PARAMS", "MAX_STATES", "MAX_PARAMS", "bearing_type", "bearing_step",
     "bearing_step_closed_form", "bearing_tangent",
     "bearing_total_force", "linear_part", "LinearBearing", "LeadRubberBearing",
     "FrictionPendulumBearing", "BearingParameters",
 ]
 
-_TYPES: tuple[type[BearingParameters], ...] = (LinearBearing, LeadRubberBearing, FrictionPendulumBearing)
+#: kernel family -> length of its packed parameter array (the layout every type of the family packs into)
+KERNEL_N_PARAMS: dict[int, int] = {KERNEL_LINEAR: linear.N_PARAMS, KERNEL_LEAD_RUBBER: lead_rubber.N_PARAMS,
+                                   KERNEL_FRICTION_PENDULUM: friction_pendulum.N_PARAMS}
+#: the built-in bearing type names ("linear", "lead-rubber", "friction-pendulum"); :func:`bearing_names`
+#: also lists the types registered since
+BEARING_NAMES: tuple[str, ...] = tuple(BEARINGS)
+#: largest number of internal states of any kernel family (the Park–Wen families: z_x, z_y)
+MAX_STATES: int = 2
+#: largest parameter-array length of any kernel family
+MAX_PARAMS: int = max(KERNEL_N_PARAMS.values())
 
-#: type id -> parameter class
-BEARING_TYPES: dict[int, type[BearingParameters]] = {cls.type_id: cls for cls in _TYPES}
-#: bearing type names ("linear", "lead-rubber", "friction-pendulum")
-BEARING_NAMES: tuple[str, ...] = tuple(cls.name for cls in _TYPES)
-#: largest number of internal states of any type
-MAX_STATES: int = max(cls.n_states for cls in _TYPES)
-#: largest parameter-array length of any type
-MAX_PARAMS: int = max(linear.N_PARAMS, lead_rubber.N_PARAMS, friction_pendulum.N_PARAMS)
-
-assert sorted(BEARING_TYPES) == list(range(len(_TYPES)))
+assert set(KERNEL_N_PARAMS) == set(BEARING_KERNELS)
+assert all(cls.n_states <= MAX_STATES for cls in BEARINGS.values())
 
 
-def bearing_type(key: int | str) -> type[BearingParameters]:
-    """Return the parameter class of a bearing type.
+def bearing_names() -> tuple[str, ...]:
+    """Names of every registered bearing type (built-in and registered since).
+
+    Returns
+    -------
+    tuple of str
+        Registered names, in registration order.
+    """
+    return tuple(BEARINGS)
+
+
+def bearing_type(key: str) -> type[BearingParameters]:
+    """Return the parameter class of a registered bearing type.
 
     Parameters
     ----------
-    key : int or str
-        Type id (0 linear, 1 lead-rubber, 2 friction pendulum) or name (:data:`BEARING_NAMES`).
+    key : str
+        Registered name (:func:`bearing_names`).
 
     Raises
     ------
     ParameterError
         If the type is unknown (the message lists the known ones).
     """
-    if isinstance(key, str):
-        for cls in _TYPES:
-            if cls.name == key:
-                return cls
-        raise ParameterError(f"bearing type {key!r} unknown: expected one of {', '.join(BEARING_NAMES)}")
-    try:
-        return BEARING_TYPES[int(key)]
-    except (KeyError, TypeError, ValueError):
-        raise ParameterError(f"bearing type id {key!r} unknown: expected one of "
-                             f"{sorted(BEARING_TYPES)}") from None
+    cls = BEARINGS.get(key) if isinstance(key, str) else None
+    if cls is None:
+        raise ParameterError(f"bearing type {key!r} unknown: expected one of {', '.join(bearing_names())}")
+    return cls
 
 
 def linear_part(type_id: int, params: np.ndarray) -> tuple[float, float]:
@@ -97,11 +108,17 @@ def linear_part(type_id: int, params: np.ndarray) -> tuple[float, float]:
     Parameters
     ----------
     type_id : int
-        Bearing type id (checked only: the layout is the same for every type).
+        Kernel family id (checked only: the layout starts with ``k, c`` in every family).
     params : ndarray
         The bearing's packed parameters; returns ``params[0], params[1]``.
+
+    Raises
+    ------
+    ParameterError
+        If ``type_id`` is not a kernel family.
     """
-    bearing_type(type_id)
+    if isinstance(type_id, bool) or type_id not in BEARING_KERNELS:
+        raise ParameterError(f"bearing kernel family {type_id!r} unknown: expected one of {sorted(BEARING_KERNELS)}")
     return float(params[0]), float(params[1])
 
 
@@ -118,7 +135,7 @@ def bearing_step(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1,
     Parameters
     ----------
     type_id
-        Bearing type id (:mod:`benchmark.simulator.isolation.registry`).
+        Kernel family id of the bearing (:data:`benchmark.simulator.isolation.base.BEARING_KERNELS`).
     params
         Packed bearing parameters (``pack()`` of the bearing's parameters, float64).
     state
@@ -144,11 +161,11 @@ def bearing_step(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1,
     force_out
         Array of 2 the force (x, y) [N] is written into.
     """
-    if type_id == 0:
+    if type_id == KERNEL_LINEAR:
         linear_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out)
-    elif type_id == 1:
+    elif type_id == KERNEL_LEAD_RUBBER:
         lead_rubber_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out)
-    elif type_id == 2:
+    elif type_id == KERNEL_FRICTION_PENDULUM:
         friction_pendulum_step(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out)
     else:
         force_out[0] = np.nan
@@ -187,9 +204,9 @@ def bearing_step_closed_form(type_id, params, state, ux0, uy0, ux1, uy1, vx0, vy
     tangent : ndarray, shape (2, 4)
         Receives d force / d (ux1, uy1) [N/m] and d force / d (vx1, vy1) [N s/m].
     """
-    if type_id == 1:
+    if type_id == KERNEL_LEAD_RUBBER:
         lead_rubber_step_closed_form(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out, tangent)
-    elif type_id == 2:
+    elif type_id == KERNEL_FRICTION_PENDULUM:
         friction_pendulum_step_closed_form(params, state, ux0, uy0, ux1, uy1, vx0, vy0, vx1, vy1, dt, force_out,
                                         tangent)
     else:
@@ -238,7 +255,7 @@ def bearing_tangent(type_id, params, state, dx, dy, vx1, vy1, tangent):
     Parameters
     ----------
     type_id
-        Bearing type id (:mod:`benchmark.simulator.isolation.registry`).
+        Kernel family id of the bearing (:data:`benchmark.simulator.isolation.base.BEARING_KERNELS`).
     params
         Packed bearing parameters (``pack()`` of the bearing's parameters, float64).
     state
@@ -254,9 +271,9 @@ def bearing_tangent(type_id, params, state, dx, dy, vx1, vy1, tangent):
     tangent
         Array (2, 2) the derivatives d f_h / d u [N/m] are written into.
     """
-    if type_id == 1:
+    if type_id == KERNEL_LEAD_RUBBER:
         lead_rubber_tangent(params, state, dx, dy, vx1, vy1, tangent)
-    elif type_id == 2:
+    elif type_id == KERNEL_FRICTION_PENDULUM:
         friction_pendulum_tangent(params, state, dx, dy, vx1, vy1, tangent)
     else:
         for a in range(2):
