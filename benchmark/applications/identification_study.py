@@ -500,8 +500,8 @@ def _figures(folder: Path, grid, fig6_test, large: dict, comparison=None) -> lis
     written = []
     for k, label in ((0, "0V"), (len(grid.voltages) - 1, f"{grid.voltages[-1]:g}V")):
         idents = {m: grid.identifications[m][k] for m in grid.identifications}
-        written.append(plots.plot_loops(idents, folder / f"fig01_loops_{label}.png"))
-    written.append(plots.plot_loops(large, folder / "fig01_loops_large_0V.png",
+        written.append(plots.plot_identified_loops(idents, folder / f"fig01_loops_{label}.png"))
+    written.append(plots.plot_identified_loops(large, folder / "fig01_loops_large_0V.png",
                                     title="±0.4 m, 0.8 Hz loop at 0 V (cf. seed Fig. 1)"))
     if "extended" in large:
         ext0 = large["extended"]

@@ -27,9 +27,10 @@ from benchmark.foundation.figures import save_figure
 from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
 from damper.diagnosis.effects import EFFECTS
+from damper.lab.plots import draw_loops
 
 __all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
-           "plot_loops"]
+           "plot_heldout_loops"]
 
 #: trace variable -> (axis text, quantity kind of benchmark.foundation.display_units); the coil input's
 #: kind ("voltage" or "current") is the tests' own
@@ -176,7 +177,7 @@ def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
     return _save(fig, Path(path))
 
 
-def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
+def plot_heldout_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
     """Force-displacement and force-velocity loops of each test (held-out part).
 
     Parameters
@@ -204,19 +205,19 @@ def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
     for j, i in enumerate(idx):
         m, k = data.motions[i], data.heldout[i]
         r0, col = 2 * (j // n_cols), j % n_cols
-        for row, (z, label) in enumerate(((to_display(m.x, "displacement"), axis_label("displacement", "displacement")),
-                                          (to_display(m.xdot, "velocity"), axis_label("velocity", "velocity")))):
-            ax = grid[r0 + row, col]
+        pair = (grid[r0, col], grid[r0 + 1, col])
+        curves = [(to_display(data.forces[i][k], "force"), "measured", {"color": "k", "lw": 1.0}),
+                  (to_display(before[i][k], "force"), diagnosis.model_kind, {"color": "0.55", "lw": 0.9, "ls": "--"}),
+                  (to_display(after[i][k], "force"), "augmented", {"color": "tab:red", "lw": 0.9})]
+        draw_loops(pair, to_display(m.x, "displacement")[k], to_display(m.xdot, "velocity")[k], curves,
+                   (axis_label("displacement", "displacement"), axis_label("velocity", "velocity")),
+                   axis_label("force", "force"))
+        for ax in pair:
             ax.set_visible(True)
             ax.ticklabel_format(useOffset=False)  # plain tick values, no "1e-14" offset text
             ax.locator_params(axis="x", nbins=4)  # four ticks: long values ("-0.0075") do not collide
-            ax.plot(z[k], to_display(data.forces[i][k], "force"), color="k", lw=1.0, label="measured")
-            ax.plot(z[k], to_display(before[i][k], "force"), color="0.55", lw=0.9, ls="--", label=diagnosis.model_kind)
-            ax.plot(z[k], to_display(after[i][k], "force"), color="tab:red", lw=0.9, label="augmented")
-            ax.set_xlabel(label)
-            ax.grid(True, alpha=0.3)
-            if col == 0:
-                ax.set_ylabel(axis_label("force", "force"))
+            if col != 0:
+                ax.set_ylabel("")
         grid[r0, col].set_title(m.name, fontsize=10)
     grid[0, 0].legend(fontsize=9)
     fig.tight_layout()
@@ -348,7 +349,7 @@ def write_report(diagnosis, out_dir) -> dict[str, Path]:
     out.mkdir(parents=True, exist_ok=True)
     plots = {"residual trace": plot_residual_trace(diagnosis, out / "residual_trace.png"),
              "force histories": plot_force_histories(diagnosis, out / "force_histories.png"),
-             "loops": plot_loops(diagnosis, out / "loops.png")}
+             "loops": plot_heldout_loops(diagnosis, out / "loops.png")}
     md = atomic_write_text(out / "report.md", report_markdown(diagnosis, plots))
     js = atomic_write_text(out / "diagnosis.json", json.dumps(diagnosis.to_json(), indent=2) + "\n")
     return {"report": md, "json": js, **{k.replace(" ", "_"): v for k, v in plots.items()}}

@@ -33,8 +33,9 @@ import numpy as np  # noqa: E402
 from benchmark.foundation.figures import save_figure  # noqa: E402
 from benchmark.foundation.display_units import display_unit, parameter_kind, to_display  # noqa: E402
 from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
+from damper.lab.plots import draw_loops  # noqa: E402
 
-__all__ = ["plot_loops", "plot_inclination", "plot_elastic_removed", "plot_test_signals",
+__all__ = ["plot_identified_loops", "plot_inclination", "plot_elastic_removed", "plot_test_signals",
            "plot_parameters_vs_voltage", "plot_force_errors", "plot_fit", "plot_parameters_vs_level",
            "plot_error_anatomy"]
 
@@ -50,7 +51,7 @@ def _save(fig, path) -> Path:
     return save_figure(fig, path, dpi=110)
 
 
-def plot_loops(identifications: dict, path, title: str = "") -> Path:
+def plot_identified_loops(identifications: dict, path, title: str = "") -> Path:
     """Fig. 1: loops of the test (dashed) and of each identified model (solid), kN vs m, m/s.
 
     ``identifications``: ``model name -> Identification`` of the same test.
@@ -67,14 +68,10 @@ def plot_loops(identifications: dict, path, title: str = "") -> Path:
     first = next(iter(identifications.values()))
     w = first.window
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for ax, xs, label in ((a1, first.x[w], "Displacement (m)"), (a2, first.xdot[w], "Velocity (m/s)")):
-        ax.plot(xs, first.force[w] * 1e-3, "k--", lw=1.4, label="device under test")
-        for m, ident in identifications.items():
-            ax.plot(xs, ident.fit.force[w] * 1e-3, color=_COLORS.get(m), lw=1.0,
-                    label=f"{m} Bouc-Wen (err {100 * ident.errors['rel_rms_error']:.2f} %)")
-        ax.set_xlabel(label)
-        ax.set_ylabel("Force (kN)")
-        ax.grid(alpha=0.3)
+    curves = [(first.force[w] * 1e-3, "device under test", {"color": "k", "ls": "--", "lw": 1.4})]
+    curves += [(ident.fit.force[w] * 1e-3, f"{m} Bouc-Wen (err {100 * ident.errors['rel_rms_error']:.2f} %)",
+                {"color": _COLORS.get(m), "lw": 1.0}) for m, ident in identifications.items()]
+    draw_loops((a1, a2), first.x[w], first.xdot[w], curves)
     a1.legend(fontsize=8, loc="upper left")
     fig.suptitle(title or f"Loops at {first.level:g} {first.level_unit} (cf. seed Fig. 1)")
     fig.tight_layout()

@@ -15,7 +15,40 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.figures import save_figure
 
-__all__ = ["plot_loops"]
+__all__ = ["plot_loops", "draw_loops"]
+
+
+def draw_loops(axes, x, xdot, curves, x_labels: tuple[str, str] = ("Displacement (m)", "Velocity (m/s)"),
+               force_label: str = "Force (kN)") -> None:
+    """Draw force against displacement (``axes[0]``) and against velocity (``axes[1]``).
+
+    The one loop drawing of the project: :func:`plot_loops` (tests and responses), the
+    identification's Fig. 1 (:func:`damper.identification.plots.plot_identified_loops`) and the
+    residual loop's held-out loops (:func:`damper.diagnosis.report.plot_heldout_loops`) all draw
+    through it, each in its own units.
+
+    Parameters
+    ----------
+    axes : pair of matplotlib Axes
+        Force-displacement and force-velocity panels.
+    x : ndarray
+        Displacement, in the unit of ``x_labels[0]``.
+    xdot : ndarray
+        Velocity, in the unit of ``x_labels[1]``.
+    curves : sequence of (ndarray, str, dict)
+        ``(force, legend label, matplotlib line keywords)`` per curve, force in the unit of
+        ``force_label``.
+    x_labels : tuple of str, optional
+        Axis labels of the two panels.
+    force_label : str, optional
+        Label of the force axis.
+    """
+    for ax, z, label in zip(axes, (x, xdot), x_labels):
+        for force, name, style in curves:
+            ax.plot(z, force, label=name, **style)
+        ax.set_xlabel(label)
+        ax.set_ylabel(force_label)
+        ax.grid(True, alpha=0.3)
 
 
 def _series(item):
@@ -61,8 +94,7 @@ def plot_loops(items, path, labels: Sequence[str] | None = None, title: str | No
     n_panels = 3 if kappa_x is not None else 2
     fig, axes = plt.subplots(1, n_panels, figsize=(5.0 * n_panels, 4.2))
     for (x, xd, f, _), label, style in zip(series, labels, styles):
-        axes[0].plot(x, f / 1e3, style, lw=1.2, label=label)
-        axes[1].plot(xd, f / 1e3, style, lw=1.2, label=label)
+        draw_loops(axes[:2], x, xd, [(f / 1e3, label, {"ls": style, "lw": 1.2})])
         if kappa_x is not None:
             axes[2].plot(xd, (f - kappa_x * x) / 1e3, style, lw=1.2, label=label)
     if kappa_x is not None:
@@ -73,11 +105,7 @@ def plot_loops(items, path, labels: Sequence[str] | None = None, title: str | No
         axes[2].set_xlabel("Velocity (m/s)")
         axes[2].set_ylabel("Force $-\\ \\kappa_x x$ (kN)")
         axes[2].set_title("Force minus elastic part")
-    axes[0].set_xlabel("Displacement (m)")
-    axes[0].set_ylabel("Force (kN)")
     axes[0].set_title("Force-displacement")
-    axes[1].set_xlabel("Velocity (m/s)")
-    axes[1].set_ylabel("Force (kN)")
     axes[1].set_title("Force-velocity")
     for ax in axes:
         ax.grid(True, alpha=0.3)

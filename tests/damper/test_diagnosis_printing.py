@@ -44,7 +44,7 @@ def test_loop_figure_fits_the_report_page(tmp_path):
     import numpy as np
     from matplotlib.image import imread
 
-    from damper.diagnosis.report import plot_loops
+    from damper.diagnosis.report import plot_heldout_loops
 
     t = np.linspace(0, 2, 400)
     motions = [SimpleNamespace(x=0.01 * np.sin(3 * t) + 1e-14, xdot=0.03 * np.cos(3 * t), name=f"test{i}")
@@ -54,6 +54,6 @@ def test_loop_figure_fits_the_report_page(tmp_path):
                            forces=[force(m) for m in motions])
     model = SimpleNamespace(force=force)
     diagnosis = SimpleNamespace(data=data, base_model=model, final_model=model, model_kind="normalized")
-    path = plot_loops(diagnosis, tmp_path / "loops.png")
+    path = plot_heldout_loops(diagnosis, tmp_path / "loops.png")
     height, width = imread(path).shape[:2]
     assert width <= 1000 and height > width / 2, (width, height)
