@@ -29,7 +29,7 @@ from damper.io.data import parse_row
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
 
-__all__ = ["ForceData", "read_data", "read_csv", "read_hdf5", "write_displacement_csv",
+__all__ = ["ForceData", "read_data", "read_force_csv", "read_hdf5", "write_displacement_csv",
            "save_model", "load_model", "MODEL_KIND"]
 
 MODEL_KIND = "hysteretic_oscillator"
@@ -84,7 +84,7 @@ def read_data(path, need_displacement: bool = True, group: str | None = None) ->
         head = fh.read(8)
     if head == b"\x89HDF\r\n\x1a\n":
         return read_hdf5(path, group, need_displacement)
-    return read_csv(path, need_displacement)
+    return read_force_csv(path, need_displacement)
 
 
 def _column(cell: str, path: Path, line: int) -> str:
@@ -99,7 +99,7 @@ def _column(cell: str, path: Path, line: int) -> str:
     return name
 
 
-def read_csv(path, need_displacement: bool = True) -> ForceData:
+def read_force_csv(path, need_displacement: bool = True) -> ForceData:
     """Read a ``time, force[, displacement]`` CSV file (module docstring).
 
     Parameters
