@@ -1,6 +1,6 @@
 """Ensembles: records × controllers × parameter grids × synthetic-motion seeds, on all cores.
 
-An ensemble is a list of :class:`Case` objects expanded from an :class:`EnsembleConfig`
+An ensemble is a list of :class:`EnsembleMember` objects expanded from an :class:`EnsembleConfig`
 (usually a TOML file, see ``examples/ensemble.toml``) and a *run function*
 ``run(case) -> dict[str, float | numpy.ndarray]`` applied to each case:
 
@@ -71,7 +71,7 @@ from benchmark.foundation.progress import progress_bar
 from benchmark.applications.damper_choice import resolve_damper, resolve_layout
 
 __all__ = [
-    "Case",
+    "EnsembleMember",
     "EnsembleConfig",
     "EnsembleSummary",
     "EnsembleResults",
@@ -130,8 +130,11 @@ def _fmt(value: float) -> str:
 
 
 @dataclass(frozen=True)
-class Case:
-    """One run of an ensemble.
+class EnsembleMember:
+    """One member of an ensemble: a grid point (motion, controller, parameters) with its seeds.
+
+    :func:`benchmark.applications.ensemble_simulation.run_ensemble_case` turns it into a
+    :class:`benchmark.simulator.case.Case` and runs it.
 
     Parameters
     ----------
@@ -397,11 +400,11 @@ class EnsembleConfig:
                         out.append((template, orientation, True, realisation, pga))
         return out
 
-    def cases(self) -> list[Case]:
+    def cases(self) -> list[EnsembleMember]:
         """Expand into cases: motions × controllers × grid (cartesian product, in this order)."""
         names = [name for name, _ in self.grid]
         grid_points = list(itertools.product(*[values for _, values in self.grid]))
-        cases: list[Case] = []
+        cases: list[EnsembleMember] = []
         for record, orientation, synthetic, realisation, pga in self.motions():
             motion = (f"synthetic={record}#{realisation}" if synthetic else f"record={record}")
             motion += f"|orientation={orientation}"
@@ -418,7 +421,7 @@ class EnsembleConfig:
                     if self.building:  # another device is another case (and another seed)
                         key += "".join(f"|{n}={Path(v).name if n != 'damper_scale' else v}"
                                        for n, v in zip(("damper", "devices", "damper_scale"), self.building) if v)
-                    cases.append(Case(index=len(cases), key=key, record=record, orientation=orientation,
+                    cases.append(EnsembleMember(index=len(cases), key=key, record=record, orientation=orientation,
                                       synthetic=synthetic, realisation=realisation, pga=pga,
                                       controller=controller, parameters=tuple(zip(names, point)),
                                       seed=derive_seed(self.base_seed, key), motion_seed=motion_seed,
@@ -482,10 +485,10 @@ def _flatten(table: Mapping[str, Any], prefix: str = "") -> Iterable[tuple[str, 
 # ---------------------------------------------------------------------------------------------
 # Run functions
 # ---------------------------------------------------------------------------------------------
-_RESOLVED: dict[str, Callable[[Case], dict[str, Any]]] = {}
+_RESOLVED: dict[str, Callable[[EnsembleMember], dict[str, Any]]] = {}
 
 
-def resolve_run_function(spec: str | Callable[[Case], dict[str, Any]]) -> Callable[[Case], dict[str, Any]]:
+def resolve_run_function(spec: str | Callable[[EnsembleMember], dict[str, Any]]) -> Callable[[EnsembleMember], dict[str, Any]]:
     """Return the run function for a name in :data:`RUN_FUNCTIONS`, ``"module:function"`` or a callable.
 
     Parameters
@@ -517,7 +520,7 @@ def resolve_run_function(spec: str | Callable[[Case], dict[str, Any]]) -> Callab
     return function
 
 
-def probe_case(case: Case) -> dict[str, Any]:
+def probe_case(case: EnsembleMember) -> dict[str, Any]:
     """A cheap deterministic run function for checking the ensemble machinery and a cluster.
 
     Draws from ``numpy.random.default_rng(case.seed)`` and the motion seed, so its results
@@ -529,7 +532,7 @@ def probe_case(case: Case) -> dict[str, Any]:
 
     Parameters
     ----------
-    case : Case
+    case : EnsembleMember
         One case of the ensemble (:class:`benchmark.simulator.case.Case`).
 
     Returns
@@ -556,7 +559,7 @@ def probe_case(case: Case) -> dict[str, Any]:
     }
 
 
-def simulate_case(case: Case) -> dict[str, Any]:
+def simulate_case(case: EnsembleMember) -> dict[str, Any]:
     """Run function of the benchmark: one simulation evaluated against the uncontrolled run.
 
     The motion is the benchmark record ``case.record`` (or a synthetic benchmark-like
@@ -566,7 +569,7 @@ def simulate_case(case: Case) -> dict[str, Any]:
 
     Parameters
     ----------
-    case : Case
+    case : EnsembleMember
         One case of the ensemble (:class:`benchmark.simulator.case.Case`).
 
     Returns
@@ -578,12 +581,12 @@ def simulate_case(case: Case) -> dict[str, Any]:
     return run_ensemble_case(case)
 
 
-def simulate_peaks_case(case: Case) -> dict[str, Any]:
+def simulate_peaks_case(case: EnsembleMember) -> dict[str, Any]:
     """Run function ``"peaks"``: like :func:`simulate_case` without the uncontrolled run (no J's).
 
     Parameters
     ----------
-    case : Case
+    case : EnsembleMember
         One case of the ensemble (:class:`benchmark.simulator.case.Case`).
 
     Returns
@@ -653,7 +656,7 @@ def journal_path(out: str | os.PathLike) -> Path:
     return out.with_name(out.name + ".journal")
 
 
-def _execute(run: str | Callable[[Case], dict[str, Any]], case: Case) -> JournalEntry:
+def _execute(run: str | Callable[[EnsembleMember], dict[str, Any]], case: EnsembleMember) -> JournalEntry:
     """Run one case on a worker; a NumericalError becomes a failed entry, other errors propagate."""
     function = resolve_run_function(run)
     start = time.perf_counter()
@@ -672,7 +675,7 @@ def _execute(run: str | Callable[[Case], dict[str, Any]], case: Case) -> Journal
     return JournalEntry(key=case.key, status="ok", result=result, elapsed_s=time.perf_counter() - start)
 
 
-def _local_results(run: Any, cases: list[Case], jobs: int, mp_context: str | None) -> Iterable[JournalEntry]:
+def _local_results(run: Any, cases: list[EnsembleMember], jobs: int, mp_context: str | None) -> Iterable[JournalEntry]:
     """Yield entries as cases finish, on ``jobs`` local processes (in-process when jobs == 1)."""
     if jobs == 1:
         for case in cases:
@@ -695,7 +698,7 @@ def _local_results(run: Any, cases: list[Case], jobs: int, mp_context: str | Non
                 yield entry
 
 
-def _dask_results(run: Any, cases: list[Case], scheduler: str | None, client: Any) -> Iterable[JournalEntry]:
+def _dask_results(run: Any, cases: list[EnsembleMember], scheduler: str | None, client: Any) -> Iterable[JournalEntry]:
     """Yield entries as cases finish on a Dask cluster (``client`` or a new client of ``scheduler``)."""
     try:
         import distributed
@@ -726,7 +729,7 @@ def _dask_results(run: Any, cases: list[Case], scheduler: str | None, client: An
 
 def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
                  scheduler: str | None = None, client: Any = None,
-                 run: str | Callable[[Case], dict[str, Any]] | None = None,
+                 run: str | Callable[[EnsembleMember], dict[str, Any]] | None = None,
                  progress: bool = True, checkpoint_seconds: float = 60.0,
                  mp_context: str | None = None, max_cases: int | None = None) -> EnsembleSummary:
     """Run (or resume) an ensemble and write its results to one HDF5 file.
@@ -828,7 +831,7 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
 # ---------------------------------------------------------------------------------------------
 # HDF5
 # ---------------------------------------------------------------------------------------------
-def write_hdf5(config: EnsembleConfig, cases: list[Case], entries: Mapping[str, JournalEntry],
+def write_hdf5(config: EnsembleConfig, cases: list[EnsembleMember], entries: Mapping[str, JournalEntry],
                out: str | os.PathLike, run_label: str | None = None) -> bool:
     """Write the HDF5 file of an ensemble from its journal entries, atomically.
 
@@ -839,7 +842,7 @@ def write_hdf5(config: EnsembleConfig, cases: list[Case], entries: Mapping[str, 
     ----------
     config : EnsembleConfig
         The ensemble (its TOML text and settings are stored as attributes).
-    cases : list of Case
+    cases : list of EnsembleMember
         ``config.cases()``.
     entries : mapping of str to JournalEntry
         Finished runs by case key (the journal's entries).
@@ -955,7 +958,7 @@ class EnsembleResults:
         Parameters
         ----------
         **criteria
-            Case fields or parameters and the values they must equal (e.g. ``record="kobe"``).
+            EnsembleMember fields or parameters and the values they must equal (e.g. ``record="kobe"``).
         """
         m = np.ones(self.n_cases, dtype=bool)
         for name, value in criteria.items():

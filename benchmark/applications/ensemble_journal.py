@@ -46,7 +46,7 @@ class JournalEntry:
     Parameters
     ----------
     key : str
-        The case key (:attr:`benchmark.applications.ensemble.Case.key`), unique within an ensemble.
+        The case key (:attr:`benchmark.applications.ensemble.EnsembleMember.key`), unique within an ensemble.
     status : str
         ``"ok"`` or ``"failed"`` (a :class:`~benchmark.foundation.errors.NumericalError` in the run).
     result : dict

@@ -1,7 +1,7 @@
 """The ensemble's simulation run function: one case → peaks and J1–J9.
 
-A case (:class:`benchmark.applications.ensemble.Case`) names a motion, a controller and grid parameters.
-:func:`run_case` loads or generates the motion, scales it, builds the building with the
+A case (:class:`benchmark.applications.ensemble.EnsembleMember`) names a motion, a controller and grid parameters.
+:func:`run_ensemble_case` loads or generates the motion, scales it, builds the building with the
 overrides, simulates it with the controller (:func:`benchmark.simulator.simulation.simulate`) and
 evaluates it against the uncontrolled run of the same motion and building
 (:func:`benchmark.simulator.evaluation.evaluate`), like :mod:`benchmark.applications.comparison` does for the
@@ -44,7 +44,7 @@ from benchmark.simulator.isolation.configurations import BearingGroup
 from benchmark.simulator.devices import DeviceLayout, DeviceSlot
 from benchmark.applications.damper_choice import resolve_damper, resolve_layout
 
-__all__ = ["run_case", "load_motion", "build_building", "SIMULATION_PARAMETERS"]
+__all__ = ["run_ensemble_case", "load_motion", "build_building", "SIMULATION_PARAMETERS"]
 
 #: Plain grid parameters (besides ``isolation.<field>`` and ``device.<field>``).
 SIMULATION_PARAMETERS = ("control_step", "n_modes", "substep_tolerance")
@@ -134,7 +134,7 @@ def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, fl
 
     Parameters
     ----------
-    case : benchmark.applications.ensemble.Case
+    case : benchmark.applications.ensemble.EnsembleMember
         The case.
     evaluate_criteria : bool
         Also run the uncontrolled building (cached per motion) and return J1–J9.
