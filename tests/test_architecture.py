@@ -65,3 +65,21 @@ def test_libraries_do_not_load_the_simulator_or_the_applications(library):
             "print(bad); raise SystemExit(1 if bad else 0)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, cwd=ROOT)
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_nothing_imports_the_command_line_entry_point():
+    """``benchmark.applications.cli`` sits on top of every command module: a module that imports it
+    back (as ``speed`` once did to call ``main``) closes an import cycle through the CLI."""
+    found = []
+    for package in PACKAGES:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            if path.relative_to(ROOT).as_posix() in ("benchmark/applications/cli.py", "benchmark/__main__.py"):
+                continue
+            for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+                names = ([a.name for a in node.names] if isinstance(node, ast.Import)
+                         else [node.module or ""] if isinstance(node, ast.ImportFrom) else [])
+                if any(n == "benchmark.applications.cli" for n in names) or (
+                        isinstance(node, ast.ImportFrom) and node.module == "benchmark.applications"
+                        and any(a.name == "cli" for a in node.names)):
+                    found.append(f"{path.relative_to(ROOT)}:{node.lineno}")
+    assert not found, "imports of the CLI entry point: " + ", ".join(found)

@@ -66,7 +66,8 @@ from benchmark.foundation.errors import DataNotFoundError
 from benchmark.simulator.building import Building
 from benchmark.simulator.simulation import simulate
 from benchmark.simulator import oracle
-from benchmark.applications.cli import main
+from benchmark.applications.cli_run import run_command
+from benchmark.applications.identification_study import run_identify_study
 from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
 from benchmark.foundation.figures import save_figure
 from benchmark.foundation.atomic import atomic_write_text
@@ -441,41 +442,6 @@ def _element_costs(building: Any, linear_building: Any, record: Any, floor: Call
     return [cf_case, bearing_case, damper_case]
 
 
-_SUITE_SCRIPT = r"""
-import json, resource, sys, time
-t0 = time.perf_counter()
-from benchmark.applications import speed
-from benchmark.applications.comparison import compare
-import benchmark.simulator.simulation, benchmark.simulator.evaluation
-t_import = time.perf_counter() - t0
-t1 = time.perf_counter()
-speed._simulate(speed._building(), speed._record(1.0))   # load (or compile) every kernel
-t_first = time.perf_counter() - t1
-counts = speed.compile_counts()
-args = json.loads(sys.argv[1])
-times = []
-for _ in range(args["repeat"]):
-    t2 = time.perf_counter()
-    res = compare(records="all", orientations="both", controllers=list(args["controllers"]),
-                  jobs=args["jobs"], synthetic=args["synthetic"], progress=False)
-    times.append(time.perf_counter() - t2)
-# peak memory of the suite run itself (parent and workers), before the one-process pass that
-# measures the parallel efficiency runs every case in this process
-suite_self_kb = speed.own_peak_rss_kb()
-serial = []
-if args.get("serial"):
-    t3 = time.perf_counter()
-    compare(records="all", orientations="both", controllers=list(args["controllers"]),
-            jobs=1, synthetic=args["synthetic"], progress=False)
-    serial.append(time.perf_counter() - t3)
-ru_self, ru_child = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
-self_kb, child_kb = suite_self_kb, ru_child.ru_maxrss
-cpu_s = ru_self.ru_utime + ru_self.ru_stime + ru_child.ru_utime + ru_child.ru_stime
-print("BENCH-JSON " + json.dumps({"import_s": t_import, "first_run_s": t_first, "suite_s": times, "serial_s": serial,
-      "n_runs": len(res.runs), "cpu_total_s": cpu_s, "peak_rss_parent_mb": self_kb / 1024, "peak_rss_worker_mb": child_kb / 1024,
-      "peak_rss_after_serial_mb": speed.own_peak_rss_kb() / 1024,
-      "compile": counts}))
-"""
 
 
 def own_peak_rss_kb() -> float:
@@ -497,10 +463,11 @@ def own_peak_rss_kb() -> float:
     return float(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)
 
 
-def _run_script(script: str, args: dict, timeout: float) -> dict:
+def _run_suite_process(args: dict, timeout: float) -> dict:
+    """Run :mod:`benchmark.applications.bench_suite` in a fresh interpreter (cold start, own memory)."""
     env = dict(os.environ)
-    proc = subprocess.run([sys.executable, "-c", script, json.dumps(args)], capture_output=True, text=True,
-                          timeout=timeout, env=env)
+    proc = subprocess.run([sys.executable, "-m", "benchmark.applications.bench_suite", json.dumps(args)],
+                          capture_output=True, text=True, timeout=timeout, env=env)
     for line in proc.stdout.splitlines():
         if line.startswith("BENCH-JSON "):
             return json.loads(line[len("BENCH-JSON "):])
@@ -533,8 +500,8 @@ def bench_suite(jobs: int = 2, controllers: Sequence[str] = SUITE_CONTROLLERS, r
     synthetic = not _records_available()
     args = {"jobs": jobs, "controllers": list(controllers), "repeat": repeat, "synthetic": synthetic,
             "serial": jobs > 1}
-    first = _run_script(_SUITE_SCRIPT, args, timeout)
-    second = _run_script(_SUITE_SCRIPT, {**args, "repeat": 1, "serial": False}, timeout)
+    first = _run_suite_process(args, timeout)
+    second = _run_suite_process({**args, "repeat": 1, "serial": False}, timeout)
     warm = min(first["suite_s"] + second["suite_s"])
     n_runs = first["n_runs"]
     label = "synthetic records" if synthetic else "benchmark records"
@@ -602,11 +569,8 @@ def bench_result_file(record: str = "kobe", controller: str = "clipped-optimal")
 
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "run.h5"
-        sink = io.StringIO()
-        with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
-            status = main(["run", "--record", record, "--controller", controller, "--out", str(path), "--json"])
-        if status != 0:
-            raise RuntimeError(f"sbib run exited with {status}: {sink.getvalue()[-1500:]}")
+        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+            run_command(record, controller=controller, out=str(path))  # what `sbib run --out` writes
         mb = path.stat().st_size / 1e6
     return [BenchCase("result-file", target=f"<= {RESULT_FILE_TARGET_MB:g} MB", met=mb <= RESULT_FILE_TARGET_MB,
                       note=f"sbib run --record {record} --controller {controller} --out: {mb:.2f} MB "
@@ -625,13 +589,10 @@ def bench_identify(repeat: int = 1) -> list[BenchCase]:
     """
 
     with tempfile.TemporaryDirectory() as tmp:
-        def run() -> int:
+        def run() -> None:
             sink = io.StringIO()
             with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
-                status = main(["identify", "--out", str(Path(tmp) / "identify")])
-            if status != 0:
-                raise RuntimeError(f"sbib identify exited with {status}: {sink.getvalue()[-1500:]}")
-            return status
+                run_identify_study(Path(tmp) / "identify")  # what `sbib identify` runs
 
         t0 = time.perf_counter()
         run()
