@@ -35,7 +35,8 @@ from controllers.registry import get_controller
 from records.resolve import resolve_record
 from records.resolve import looks_like_file
 from records.catalogue import ORIENTATION_ALIASES
-from benchmark.simulator.case import Case, ReferenceCache, choose_control_step, run_case
+from benchmark.simulator.simulation import check_control_step
+from benchmark.simulator.case import DEFAULT_CONTROL_STEP, Case, ReferenceCache, run_case
 from benchmark.simulator.criteria import J_NAMES, key_json, key_lines  # the single definition table of the J's
 from benchmark.foundation.progress import progress_bar
 from benchmark.applications import model_comparison
@@ -360,13 +361,10 @@ def _check_records(record_list: list[str], orientation: str, settings: dict,
         seen.add(label)
         labels[spec] = label
         units[label] = record.metadata.get("units_assumed", "")
-        step, note = choose_control_step(record.dt, settings.get("control_step"))  # names --control-step
-        steps[label] = step
+        steps[label] = settings["control_step"] or DEFAULT_CONTROL_STEP  # checked once, in compare()
         for flaw in record.metadata.get("flaws", []):
             if "implausible" in flaw:
                 messages.append(f"sbib compare: warning: {flaw}")
-        if note:
-            messages.append(f"sbib compare: {label}: {note}")
     return labels, units, steps, messages
 
 
@@ -517,7 +515,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         Worker processes (default: all cores; 1 runs in this process).
     control_step : float or None
         [s]; ``None``: the benchmark's 0.005 s, whatever the record's step (the simulator
-        integrates on a step that divides it, :func:`benchmark.simulator.case.choose_control_step`).
+        integrates on a step that divides it, :func:`benchmark.simulator.simulation.choose_integration_step`).
     noise : optional
         Measurement noise (e.g. :class:`controllers.noise.MeasurementNoise`), seeded by ``seed``.
     n_modes : int, optional
@@ -557,8 +555,8 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     labels = [_controller_label(s) for s in specs]
     if len(set(labels)) != len(labels):
         raise InputError(f"--controllers: duplicate names {labels}")
-    # the control step is checked once, per record, by choose_control_step (_check_records)
-    settings = {"control_step": None if control_step is None else float(control_step), "isolation": isolation,
+    # the control step is checked once, here, before any run (any record step fits it)
+    settings = {"control_step": None if control_step is None else check_control_step(control_step), "isolation": isolation,
                 "records_dir": None if records_dir is None else str(records_dir), "n_modes": n_modes,
                 "synthetic": bool(synthetic), "seed": int(seed), "noise": noise,
                 "format": None if format in (None, "auto") else format, "dt": dt, "units": units,

@@ -35,42 +35,11 @@ from damper.models.base import DamperModel
 from records.record import Record
 from records.resolve import resolve_record
 
-__all__ = ["Case", "CaseResult", "ReferenceCache", "REFERENCES", "run_case", "choose_control_step",
+__all__ = ["Case", "CaseResult", "ReferenceCache", "REFERENCES", "run_case",
            "DEFAULT_CONTROL_STEP", "resolve_case_record", "with_record_note"]
 
 #: The benchmark's control sample time [s] (Narasimhan et al. 2006), used when it fits the record.
 DEFAULT_CONTROL_STEP = 0.005
-
-
-def choose_control_step(record_dt: float | None = None, requested: float | None = None) -> tuple[float, str]:
-    """Return the control step [s] and a note (always empty now; kept for the callers' loop).
-
-    The control step no longer depends on the record: the simulator integrates on a step that
-    divides it (:func:`benchmark.simulator.simulation.choose_integration_step`) and interpolates
-    the record onto that step.
-
-    Parameters
-    ----------
-    record_dt : float, optional
-        The record's time step [s]; not used (a record at any step runs at any control step).
-    requested : float, optional
-        ``--control-step`` as given; ``None`` gives the benchmark's 0.005 s.
-
-    Returns
-    -------
-    step : float
-        The requested step, else :data:`DEFAULT_CONTROL_STEP`.
-    note : str
-        Empty.
-
-    Raises
-    ------
-    InputError
-        A requested step that is not a positive number of seconds (names ``--control-step``).
-    """
-    if requested is not None:
-        return check_control_step(requested), ""
-    return DEFAULT_CONTROL_STEP, ""
 
 
 @dataclass(frozen=True)
@@ -97,7 +66,9 @@ class Case:
     damper_model : DamperModel or str, optional
         Model of every device of the default layout (default: the virtual benchmark damper).
     control_step : float, optional
-        Control sample time [s]; ``None``: the benchmark's 0.005 s (:func:`choose_control_step`).
+        Control sample time [s]; ``None``: the benchmark's 0.005 s (:data:`DEFAULT_CONTROL_STEP`).
+        Checked when the case is made (:func:`benchmark.simulator.simulation.check_control_step`);
+        any record step fits it (the simulator integrates on a step that divides it).
     record_options : dict
         Keyword arguments of :func:`records.resolve.resolve_record` (``records_dir``,
         ``baseline_correct``, ``format``, ``dt``, ``units``, ``synthetic``, ``seed``).
@@ -120,6 +91,11 @@ class Case:
     record_options: dict = field(default_factory=dict)
     options: dict = field(default_factory=dict)
     label: str = ""
+
+    def __post_init__(self) -> None:
+        # the one check of the control step on the way into run_case (names --control-step)
+        if self.control_step is not None:
+            object.__setattr__(self, "control_step", check_control_step(self.control_step))
 
 
 @dataclass
@@ -320,7 +296,7 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
     notes = [f for f in record.metadata.get("flaws", []) if "implausible" in str(f)]
     # without a controller the control step sets only the time grid, which the reference of a
     # controlled run shares
-    control_step, _ = choose_control_step(record.dt, case.control_step)
+    control_step = DEFAULT_CONTROL_STEP if case.control_step is None else case.control_step
     building = _case_building(case, with_devices=controller is not None)
     options = dict(case.options)
     info = {"record": record.name, "orientation": record.metadata.get("orientation", case.orientation),

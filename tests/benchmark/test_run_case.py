@@ -8,7 +8,7 @@ import pytest
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.building import Building
-from benchmark.simulator.case import Case, ReferenceCache, choose_control_step, run_case
+from benchmark.simulator.case import Case, ReferenceCache, run_case
 from benchmark.simulator.simulation import simulate
 from records import load_benchmark_record
 
@@ -52,11 +52,13 @@ def test_record_by_name_and_the_seeds_orientation_name(records_dir):
 def test_control_step_does_not_depend_on_the_record_step(short_kobe):
     # the simulator integrates on a step that divides the control step (issue 22): any record
     # step fits the benchmark's 0.005 s and any requested step
-    assert choose_control_step(0.01) == (0.005, "")
-    assert choose_control_step(0.005) == (0.005, "")
-    assert choose_control_step(0.01, 0.015) == (0.015, "")
+    assert Case(record="kobe").control_step is None  # run_case then uses the benchmark's 0.005 s
+    assert Case(record="kobe", control_step=0.015).control_step == 0.015
+    # checked once, when the case is made, before anything is read or run
     with pytest.raises(InputError, match="--control-step"):
-        choose_control_step(0.01, -0.015)
+        Case(record="kobe", control_step=-0.015)
+    with pytest.raises(InputError, match="--control-step"):
+        Case(record="kobe", control_step="fast")
 
 
 def test_bad_record_is_an_input_error():
