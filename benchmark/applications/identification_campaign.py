@@ -18,7 +18,8 @@ Every signal uses a few voltage levels (:data:`DEFAULT_LEVELS`), as an experimen
 supply; the residual loop then reads those levels as the nodes of its voltage laws. The tests
 are split into a *training* set (the loop fits on it) and a *held-out* set of different
 realizations, amplitudes and switching rates (the loop chooses terms and reports its error on
-it). All amplitudes are in metres, frequencies in hertz, voltages in volts (SI throughout).
+it). All amplitudes are in metres, frequencies in hertz, voltages in volts (SI throughout). The
+signals are the virtual laboratory's (:mod:`damper.lab.protocols`).
 """
 
 from __future__ import annotations
@@ -30,9 +31,9 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from damper.lab.laboratory import general_test, resolve_device
+from damper.lab.protocols import random_motion, random_voltage, square_voltage, staircase_voltage
 
-__all__ = ["Campaign", "DEFAULT_LEVELS", "DEFAULT_SAMPLE_RATE", "random_motion", "random_voltage",
-           "staircase_voltage", "square_voltage", "laboratory_campaign"]
+__all__ = ["Campaign", "DEFAULT_LEVELS", "DEFAULT_SAMPLE_RATE", "laboratory_campaign"]
 
 #: Coil voltage levels of the campaign, as fractions of the device's voltage range.
 DEFAULT_LEVELS = (0.0, 0.25, 0.5, 0.75, 1.0)
@@ -70,111 +71,6 @@ def _time(duration: float, sample_rate: float) -> np.ndarray:
     if not (duration > 0 and sample_rate > 0):
         raise InputError(f"campaign: duration and sample rate must be > 0, got {duration}, {sample_rate}")
     return np.arange(0.0, duration, 1.0 / sample_rate)
-
-
-def _ramp_in(t: np.ndarray, ramp: float) -> np.ndarray:
-    """A smooth 0 -> 1 window over the first ``ramp`` seconds (the motion starts at rest)."""
-    s = np.clip(t / ramp, 0.0, 1.0) if ramp > 0 else np.ones_like(t)
-    return s * s * (3.0 - 2.0 * s)
-
-
-def random_motion(t: np.ndarray, rms: float, band: tuple[float, float], seed: int,
-                  components: int = 24) -> tuple[np.ndarray, np.ndarray]:
-    """Band-limited random displacement and its exact velocity.
-
-    A sum of ``components`` sines with frequencies spread over ``band`` [Hz] (random within each
-    sub-band), random phases and amplitudes falling as 1/f (so the velocity spectrum is flat),
-    scaled to the displacement RMS ``rms`` [m] and started from rest by a one-second smooth ramp.
-
-    Parameters
-    ----------
-    t : np.ndarray
-        Sample times [s], increasing.
-    rms : float
-        RMS displacement [m].
-    band : tuple[float, float]
-        Frequency band ``(low, high)`` [Hz].
-    seed : int
-        Seed of the random generator (the same seed gives the same result).
-    components : int, optional
-        Number of sinusoids summed.
-    """
-    lo, hi = band
-    if not (0 < lo < hi):
-        raise InputError(f"random motion: band must satisfy 0 < low < high, got {band}")
-    rng = np.random.default_rng(seed)
-    edges = np.geomspace(lo, hi, components + 1)
-    f = edges[:-1] + rng.random(components) * np.diff(edges)
-    phase = rng.uniform(0.0, 2.0 * np.pi, components)
-    amp = 1.0 / f
-    w = 2.0 * np.pi * f
-    x = np.sin(np.outer(t, w) + phase) @ amp
-    xd = (np.cos(np.outer(t, w) + phase) * w) @ amp
-    win = _ramp_in(t, 1.0)
-    dwin = np.gradient(win, t)
-    x, xd = win * x, win * xd + dwin * x
-    scale = rms / float(np.sqrt(np.mean(x ** 2)))
-    return scale * x, scale * xd
-
-
-def staircase_voltage(t: np.ndarray, levels: Sequence[float], hold: float) -> np.ndarray:
-    """The voltage held at each of ``levels`` for ``hold`` seconds in turn (cycling).
-
-    Parameters
-    ----------
-    t : np.ndarray
-        Sample times [s], increasing.
-    levels : Sequence[float]
-        Voltages [V] in turn.
-    hold : float
-        Holding time [s] of each level.
-    """
-    k = (np.floor(t / hold).astype(int)) % len(levels)
-    return np.asarray(levels, dtype=float)[k]
-
-
-def square_voltage(t: np.ndarray, low: float, high: float, period: float) -> np.ndarray:
-    """A square wave between ``low`` and ``high`` [V] of ``period`` [s], starting low.
-
-    Parameters
-    ----------
-    t : np.ndarray
-        Sample times [s], increasing.
-    low : float
-        Low voltage [V].
-    high : float
-        High voltage [V].
-    period : float
-        Period [s].
-    """
-    return np.where(np.mod(t, period) < 0.5 * period, low, high)
-
-
-def random_voltage(t: np.ndarray, levels: Sequence[float], hold: tuple[float, float], seed: int) -> np.ndarray:
-    """The voltage jumping to a random level of ``levels`` after each random hold in ``hold`` [s].
-
-    Parameters
-    ----------
-    t : np.ndarray
-        Sample times [s], increasing.
-    levels : Sequence[float]
-        Voltages [V] to choose from.
-    hold : tuple[float, float]
-        Shortest and longest holding time ``(min, max)`` [s].
-    seed : int
-        Seed of the random generator (the same seed gives the same result).
-    """
-    rng = np.random.default_rng(seed)
-    levels = np.asarray(levels, dtype=float)
-    v = np.empty_like(t)
-    start, current = 0, rng.choice(levels)
-    while start < t.size:
-        end = int(np.searchsorted(t, t[start] + rng.uniform(*hold)))
-        end = max(end, start + 1)
-        v[start:end] = current
-        start = end
-        current = rng.choice(levels[levels != current]) if levels.size > 1 else current
-    return v
 
 
 def laboratory_campaign(device, sample_rate: float = DEFAULT_SAMPLE_RATE,
@@ -227,7 +123,7 @@ def laboratory_campaign(device, sample_rate: float = DEFAULT_SAMPLE_RATE,
         return motion
 
     def rand(rms, band, s):
-        return lambda t: random_motion(t, rms, band, seed=s)
+        return lambda t: random_motion(t, rms, band, np.random.default_rng(s))
 
     # Spans of a seismic damper's service (the seed's own large loop: ±0.4 m at 0.8 Hz, 2 m/s):
     # strokes from 0.1 to 3 times ``stroke``, velocities to about 1.5 m/s, voltage held from
@@ -241,7 +137,7 @@ def laboratory_campaign(device, sample_rate: float = DEFAULT_SAMPLE_RATE,
         run("small: sine ±{:g} m 2 Hz, steps".format(small), 7.0, sine(small, 2.0),
             lambda t: staircase_voltage(t, volts[::-1], 0.7), 3),
         run("random motion, random voltage (a)", 30.0, rand(0.6 * stroke, (0.3, 4.0), seed + 11),
-            lambda t: random_voltage(t, volts, (0.01, 0.3), seed + 12), 4),
+            lambda t: random_voltage(t, volts, (0.01, 0.3), np.random.default_rng(seed + 12)), 4),
     )
     heldout = (
         run("switching: sine ±{:g} m 0.7 Hz, 0.1 s".format(0.8 * stroke), 8.0, sine(0.8 * stroke, 0.7),
@@ -249,7 +145,7 @@ def laboratory_campaign(device, sample_rate: float = DEFAULT_SAMPLE_RATE,
         run("small: sine ±{:g} m 1.5 Hz, steps".format(0.2 * stroke), 6.0, sine(0.2 * stroke, 1.5),
             lambda t: staircase_voltage(t, volts, 0.5), 6),
         run("random motion, random voltage (b)", 30.0, rand(0.6 * stroke, (0.1, 4.0), seed + 21),
-            lambda t: random_voltage(t, volts, (0.01, 0.5), seed + 22), 7),
+            lambda t: random_voltage(t, volts, (0.01, 0.5), np.random.default_rng(seed + 22)), 7),
     )
     return Campaign(train=train, heldout=heldout)
 

@@ -12,7 +12,8 @@ from benchmark.foundation.errors import InputError, ParameterError
 from damper.diagnosis.augmented import AugmentedModel
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.diagnosis.effects import Asymmetry, RollOff, Stiffness, VoltageLag
-from benchmark.applications.identification_campaign import laboratory_campaign, random_voltage
+from benchmark.applications.identification_campaign import laboratory_campaign
+from damper.lab.protocols import random_voltage
 from benchmark.applications.identification_closed_loop import (CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED, ORIGINAL,
                                                PROPOSED, building_model, claim_object, claim_summary,
                                                closed_form_models)
@@ -45,7 +46,7 @@ def test_campaign_runs_steps_switching_small_and_random_tests_through_the_labora
 
 def test_random_voltage_uses_only_the_levels_and_switches():
     t = np.arange(0.0, 10.0, 0.01)
-    v = random_voltage(t, (0.0, 0.5, 1.0), (0.05, 0.3), seed=3)
+    v = random_voltage(t, (0.0, 0.5, 1.0), (0.05, 0.3), np.random.default_rng(3))
     assert set(np.unique(v)) <= {0.0, 0.5, 1.0}
     assert np.count_nonzero(np.diff(v)) > 20
 

@@ -9,7 +9,7 @@ from benchmark.applications.cli import main
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from damper.diagnosis import DiagnosisData, diagnose
 from damper.diagnosis.coarse import Progress, decimate, decimation_factor
-from damper.lab.protocols import random_voltage_levels, random_voltage_test
+from damper.lab.protocols import random_motion, random_voltage, random_voltage_test, smooth_ramp
 from damper.io.dyke import is_dyke_file, read_dyke
 
 DYKE = "hysteresis_data/dyke_mr_damper_random_voltage/ransim_u_converted.csv"
@@ -30,9 +30,40 @@ def test_random_voltage_protocol_switches_and_is_reproducible():
 
 def test_random_voltage_levels_hold_times():
     t = np.arange(0, 200.0, 0.001)
-    v = random_voltage_levels(t, 0.5, (0.0, 1.0), np.random.default_rng(0))
+    v = random_voltage(t, (0.0, 1.0), 0.5, np.random.default_rng(0))
     n = np.count_nonzero(np.diff(v)) + 1
     assert 200.0 / n == pytest.approx(0.5, rel=0.15)
+
+
+@pytest.mark.parametrize("spacing", ["stratified", "log-uniform"])
+def test_random_motion_velocity_is_the_derivative_of_the_displacement(spacing):
+    """The velocity is exact (analytic, ramp included): a 4th-order central difference of the
+    displacement on a 0.1 ms grid agrees to its own truncation error. The smoothstep window is
+    only C1 at the ramp's ends, where the difference is O(h) wrong in the second derivative:
+    about 3e-6 of the peak velocity here; a velocity from a wrong ramp derivative is off by 1e-2."""
+    t = np.arange(0.0, 6.0, 1e-4)
+    x, xd = random_motion(t, 0.02, (0.2, 4.0), np.random.default_rng(1), components=12, spacing=spacing, ramp=1.0)
+    h = t[1] - t[0]
+    fd = (-x[4:] + 8 * x[3:-1] - 8 * x[1:-3] + x[:-4]) / (12 * h)
+    assert np.max(np.abs(fd - xd[2:-2])) <= 1e-5 * np.max(np.abs(xd))
+    assert x[0] == 0.0 and xd[0] == 0.0  # from rest
+    assert np.sqrt(np.mean(x ** 2)) == pytest.approx(0.02, rel=1e-12)
+    w, dw = smooth_ramp(np.array([0.0, 0.5, 1.0, 2.0]), 1.0)
+    np.testing.assert_allclose(w, [0.0, 0.5, 1.0, 1.0])
+    np.testing.assert_allclose(dw, [0.0, 1.5, 0.0, 0.0])
+
+
+def test_random_voltage_between_given_levels_holds_within_the_range():
+    t = np.arange(0.0, 60.0, 0.001)
+    levels = (0.0, 0.5, 1.0)
+    v = random_voltage(t, levels, (0.05, 0.3), np.random.default_rng(3))
+    assert set(np.unique(v)) <= set(levels)
+    jumps = np.flatnonzero(np.diff(v)) + 1
+    holds = np.diff(t[jumps])
+    assert holds.min() >= 0.05 - 1e-3 and holds.max() <= 0.3 + 1e-3  # each hold drawn in the range
+    assert np.all(v[jumps] != v[jumps - 1])  # every switch goes to another level
+    with pytest.raises(InputError, match="hold"):
+        random_voltage(t, levels, (0.3, 0.05), np.random.default_rng(3))
 
 
 def test_decimation_keeps_levels_nodes_and_enough_samples_per_period():
