@@ -83,3 +83,33 @@ def test_nothing_imports_the_command_line_entry_point():
                         and any(a.name == "cli" for a in node.names)):
                     found.append(f"{path.relative_to(ROOT)}:{node.lineno}")
     assert not found, "imports of the CLI entry point: " + ", ".join(found)
+
+
+def test_architecture_names_where_each_concept_lives_and_the_names_exist():
+    """docs/ARCHITECTURE.md's "One concept, one place" table: every dotted name in it is importable
+    (a module, or an attribute of one), so the table cannot drift from the code."""
+    import importlib
+    import re
+
+    text = (ROOT / "docs" / "ARCHITECTURE.md").read_text(encoding="utf-8")
+    section = text.split("## One concept, one place", 1)[1].split("\n## ", 1)[0]
+    names = sorted({n for n in re.findall(r"`([a-z_]+(?:\.[A-Za-z_]+)+)", section)
+                    if n.split(".")[0] in PACKAGES})
+    assert len(names) >= 15, names
+    missing = []
+    for name in names:
+        parts = name.split(".")
+        for cut in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:cut]))
+            except ImportError:
+                continue
+            try:
+                for attr in parts[cut:]:
+                    obj = getattr(obj, attr)
+            except AttributeError:
+                missing.append(name)
+            break
+        else:
+            missing.append(name)
+    assert not missing, missing
