@@ -35,43 +35,16 @@ from pathlib import Path
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import InputError
-from damper.io.data import parse_utfsm_name, read_csv, read_utfsm
+from damper.io.reader import read_test
 from damper.io.screening import screening_of
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import format_parameters, input_word, write_report
-from damper.io.dyke import is_dyke_file, read_dyke
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 from benchmark.applications.model_files import write_diagnosis_models
 
-__all__ = ["register", "run", "read_test_file"]
-
-
-def read_test_file(path: str, keep_flagged: bool = False):
-    """Read a damper test, screened (:mod:`damper.io.screening`): UTFSM preprocessed ``.txt`` (by
-    its name pattern), a Dyke record (CSV with columns t, D [cm], Y [V], V [cm/s], F [N];
-    :mod:`damper.io.dyke`) or damper CSV. The flagged samples are masked out of fits and
-    errors unless ``keep_flagged``.
-
-    Parameters
-    ----------
-    path : str
-        Test file: UTFSM ``.txt``, Dyke CSV or a plain damper CSV.
-    keep_flagged : bool
-        Keep the samples the screening flags in fits and errors (the findings are still reported).
-    """
-    p = Path(path)
-    if p.suffix.lower() == ".txt":
-        try:
-            parse_utfsm_name(p)
-        except InputError:
-            pass
-        else:
-            return read_utfsm(p, keep_flagged=keep_flagged)
-    if p.is_file() and is_dyke_file(p):
-        return read_dyke(p, keep_flagged=keep_flagged)
-    return read_csv(p, keep_flagged=keep_flagged)
+__all__ = ["register", "run"]
 
 
 def _label(test) -> str:
@@ -195,8 +168,8 @@ def run(args) -> int:
     """
 
     keep = bool(getattr(args, "keep_flagged", False))
-    tests = [read_test_file(f, keep_flagged=keep) for f in args.data]
-    validate = [read_test_file(f, keep_flagged=keep) for f in args.validate] if args.validate else None
+    tests = [read_test(f, keep_flagged=keep) for f in args.data]
+    validate = [read_test(f, keep_flagged=keep) for f in args.validate] if args.validate else None
     screened_tests = tests + (validate or [])
     screening = screening_summary(screened_tests, keep)
     progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))

@@ -21,7 +21,8 @@ from records.options import orientation_name
 
 from benchmark.foundation.display_units import format_si
 from benchmark.foundation.progress import progress_bar
-from damper.identification.measured import identify_files, read_test
+from damper.identification.measured import identify_files
+from damper.io.reader import read_test
 from benchmark.applications.model_files import write_identified_models
 
 __all__ = ["register"]

@@ -1,8 +1,8 @@
 """Identification of measured constant-voltage (or constant-current) tests, e.g. the UTFSM files.
 
-Each file is read once (:func:`damper.io.data.read_utfsm` for UTFSM names
-``<amp>mm<freq>Hz<cur>A.txt``, :func:`damper.io.data.read_csv` otherwise; both screen the data,
-:mod:`damper.io.screening`, and the flagged samples count neither in the fits nor in the errors)
+Each file is read once (:func:`damper.io.reader.read_test`: UTFSM names ``<amp>mm<freq>Hz<cur>A.txt``,
+Dyke records or damper CSV; every reader screens the data, :mod:`damper.io.screening`, and the
+flagged samples count neither in the fits nor in the errors)
 and identified with :func:`~damper.identification.identify.identify` (closed form, refinement,
 uncertainty). When several files share one voltage/current (different amplitudes or
 frequencies):
@@ -32,30 +32,10 @@ from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
 from damper.identification.refine import parameters_at_bounds, refine_common
 from damper.models.response import simulate
-from damper.io.data import parse_utfsm_name, read_csv, read_utfsm
+from damper.io.reader import read_test
 from damper.identification import plots
 
-__all__ = ["read_test", "identify_files", "held_out_errors", "fit_levels"]
-
-
-def read_test(path, keep_flagged: bool = False):
-    """Read one test file, screened: UTFSM name pattern → :func:`damper.io.data.read_utfsm`, else
-    CSV (``keep_flagged``: the flagged samples stay in fits and errors).
-
-    Parameters
-    ----------
-    path : str or Path
-        A UTFSM preprocessed file or a damper CSV.
-    keep_flagged : bool
-        Keep the samples the screening flags in fits and errors.
-    """
-
-    path = Path(path)
-    try:
-        parse_utfsm_name(path)
-    except InputError:
-        return read_csv(path, keep_flagged=keep_flagged)
-    return read_utfsm(path, keep_flagged=keep_flagged)
+__all__ = ["identify_files", "held_out_errors", "fit_levels"]
 
 
 def _level_key(ident: Identification) -> str:
@@ -156,7 +136,7 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     ----------
     files : sequence of path-like or DamperTest
         Test files (all read before the first identification, so that a bad file stops the
-        call at once), or tests already read (:func:`read_test`).
+        call at once), or tests already read (:func:`damper.io.reader.read_test`).
     models : sequence of {"normalized", "extended"}
     n_bootstrap : int
         Cycle-bootstrap refits per identification.

@@ -26,7 +26,7 @@ def test_printed_values_are_the_final_ones(monkeypatch, capsys):
                              unexplained_in=[("voltage_rate", 0.4, 0.02)],
                              data=SimpleNamespace(input_name="current"), validation=None, settings={},
                              to_json=lambda: {})
-    monkeypatch.setattr(cli_diagnose, "read_test_file", lambda f, **options: f)
+    monkeypatch.setattr(cli_diagnose, "read_test", lambda f, **options: f)
     monkeypatch.setattr(cli_diagnose, "screening_summary", lambda tests, keep=False: {})
     monkeypatch.setattr(cli_diagnose, "screening_lines", lambda tests, keep=False: [])
     monkeypatch.setattr(cli_diagnose, "diagnose", lambda *a, **k: result)

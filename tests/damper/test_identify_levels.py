@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 import pytest
 
-import damper.identification.measured as measured
+import damper.io.reader as reader
 from benchmark.applications.cli import main
 from damper.io.data import write_csv
 from damper.identification.identify import identify
@@ -64,13 +64,13 @@ def test_one_model_per_level_predicts_every_test(level_tests):
 def test_identify_reads_every_file_once_and_prints_levels(level_files, level_tests, tmp_path, monkeypatch,
                                                           capsys):
     calls = []
-    original = measured.read_csv
+    original = reader.read_csv
 
     def counting(path, **kw):
         calls.append(str(path))
         return original(path, **kw)
 
-    monkeypatch.setattr(measured, "read_csv", counting)
+    monkeypatch.setattr(reader, "read_csv", counting)
     assert main(["identify", "--data", *level_files, "--model", "normalized", "--bootstrap", "0",
                  "--no-plots", "--out", str(tmp_path)]) == 0
     assert sorted(calls) == sorted(level_files)  # each file once
