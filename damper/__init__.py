@@ -51,6 +51,11 @@ EXPORTS = {
     "read_csv": "damper.io.data",
     "write_csv": "damper.io.data",
     "read_utfsm": "damper.io.data",
+    "read_test": "damper.io.reader",
+    "read_model_file": "damper.io.model_file",
+    "write_model_file": "damper.io.model_file",
+    "ModelFile": "damper.io.model_file",
+    "random_voltage_test": "damper.lab.protocols",
     "periodic_test": "damper.lab.laboratory",
     "general_test": "damper.lab.laboratory",
     "identify": "damper.identification.identify",
@@ -58,6 +63,7 @@ EXPORTS = {
     "diagnose": "damper.diagnosis.loop",
     "Diagnosis": "damper.diagnosis.loop",
     "AugmentedModel": "damper.diagnosis.augmented",
+    "register_effect": "damper.diagnosis.effects",
 }
 
 __all__ = list(EXPORTS)

@@ -54,3 +54,18 @@ def test_damper_simulate_is_the_function_not_a_module():
 
     importlib.import_module("damper.models.response")   # importing the module must not rebind it
     assert callable(damper.simulate) and damper.simulate.__module__ == "damper.models.response"
+
+
+def test_the_damper_facade_carries_the_lab_to_building_chain(tmp_path):
+    """``import damper`` is enough to read any test file, fit and write a model file and read it back
+    (the issue asks the façade for identify, diagnose and the model-file loader)."""
+    import damper
+
+    for name in ("read_test", "identify", "diagnose", "read_model_file", "write_model_file", "register_model",
+                 "register_effect", "random_voltage_test"):
+        assert callable(getattr(damper, name)), name
+    test = damper.periodic_test("virtual", amplitude=0.05, frequency=1.0, voltage=0.0, cycles=3,
+                                sample_rate=200.0, noise=0.0, seed=1)
+    damper.write_csv(test, tmp_path / "t.csv")
+    again = damper.read_test(tmp_path / "t.csv")
+    assert again.force.size == test.force.size
