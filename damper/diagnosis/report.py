@@ -259,12 +259,13 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
     n_rows = max(1, -(-len(idx) // n_cols))
     fig = plt.figure(figsize=(11.0, 4.4 * n_rows if len(idx) > 1 else 5.0))
     outer = fig.add_gridspec(n_rows, n_cols, hspace=0.45, wspace=0.22)
-    base_label, final_label = diagnosis.model_kind, "augmented"
+    base_label, final_label = f"{diagnosis.model_kind} (base)", "augmented"
     if diagnosis.effects:
         final_label += " (+ " + ", ".join(diagnosis.effects) + ")"
+    handles, labels, shaded = [], [], False
     for j, i in enumerate(idx):
         m, k = data.motions[i], data.heldout[i]
-        start, stop = force_window(m.x, k, reversals)
+        start, stop = force_window(m.x, k, reversals) or (0, 0)  # idx: tests with held-out samples
         cell = outer[j // n_cols, j % n_cols].subgridspec(2, 1, height_ratios=(2.2, 1.2), hspace=0.08)
         ax_f = fig.add_subplot(cell[0])
         ax_r = fig.add_subplot(cell[1], sharex=ax_f)
@@ -276,31 +277,31 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
         ax_f.plot(t, f_m, color="k", lw=1.3, label="measured")
         ax_f.plot(t, to_display(before[i][sl], "force"), color="0.5", lw=1.0, ls="--", label=base_label)
         ax_f.plot(t, to_display(after[i][sl], "force"), color="tab:red", lw=1.0, label=final_label)
-        rms = float(np.sqrt(np.nanmean(measured ** 2))) if shown.any() else math.nan
-        for model, color, ls, name in ((before[i], "0.5", "--", base_label), (after[i], "tab:red", "-", "augmented")):
-            r = measured - model[sl]
-            rel = float(np.sqrt(np.nanmean(r ** 2))) / rms if rms > 0 else math.nan
-            ax_r.plot(t, to_display(r, "force"), color=color, lw=0.9, ls=ls,
-                      label=f"{name}: {rel:.3f} of the force RMS")
+        for model, color, ls in ((before[i], "0.5", "--"), (after[i], "tab:red", "-")):
+            ax_r.plot(t, to_display(measured - model[sl], "force"), color=color, lw=0.9, ls=ls)
         ax_r.axhline(0.0, color="k", lw=0.6)
         if not shown.all():  # where the error does not count: shaded
+            shaded = True
             for a, b in _spans(~shown):
                 for ax in (ax_f, ax_r):
-                    ax.axvspan(t[a], t[min(b, t.size - 1)], color="tab:orange", alpha=0.12, lw=0)
+                    ax.axvspan(t[a], t[min(b, t.size - 1)], color="tab:orange", alpha=0.15, lw=0)
         eb, ea = diagnosis.errors_by_test[m.name]
-        ax_f.set_title(f"{m.name}: held-out error {eb:.3f} → {ea:.3f} (window "
-                       f"{t[0]:.2f}–{t[-1]:.2f} s of {m.t[k][0]:.2f}–{m.t[k][-1]:.2f} s)", fontsize=9.5)
+        ax_f.set_title(f"{m.name}: held-out error {eb:.3f} → {ea:.3f}", fontsize=9.5)
         ax_f.set_ylabel(axis_label("force", "force"))
         ax_r.set_ylabel(axis_label("F − F̂", "force"))
         ax_r.set_xlabel(axis_label("time", "time"))
         ax_f.tick_params(labelbottom=False)
         for ax in (ax_f, ax_r):
             ax.grid(True, alpha=0.3)
-        ax_f.legend(fontsize=8, loc="best")
-        ax_r.legend(fontsize=7.5, loc="upper right")
-    fig.suptitle("Held-out force (top) and residual (bottom) over a window of each test", fontsize=11)
+        if j == 0:
+            handles, labels = ax_f.get_legend_handles_labels()
+    if idx:
+        fig.legend(handles, labels, loc="upper center", ncol=3, fontsize=9, frameon=False,
+                   bbox_to_anchor=(0.5, 0.965 if len(idx) <= 1 else 0.982))
+    fig.suptitle("Held-out force (top) and residual F − F̂ (bottom) over a window of a few strokes"
+                 + ("; shaded: samples the error does not count" if shaded else ""), fontsize=11)
     fig.subplots_adjust(left=0.08, right=0.98, bottom=0.09 if len(idx) <= 1 else 0.05,
-                        top=0.88 if len(idx) <= 1 else 0.93)
+                        top=0.86 if len(idx) <= 1 else 0.93)
     return _save(fig, Path(path), dpi)
 
 
@@ -341,7 +342,7 @@ def plot_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90, reversals: in
     for j, i in enumerate(idx):
         m, k = data.motions[i], data.heldout[i]
         # the window of the force plot: a long random held-out part drawn whole is a scribble
-        start, stop = force_window(m.x, k, reversals)
+        start, stop = force_window(m.x, k, reversals) or (0, 0)
         k = k.copy()
         k[:start], k[stop:] = False, False
         r0, col = 2 * (j // n_cols), j % n_cols
