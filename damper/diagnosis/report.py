@@ -257,8 +257,12 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
     idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
     n_cols = 1 if len(idx) <= 1 else 2  # about 990 px wide at 90 dpi: legible on the report page
     n_rows = max(1, -(-len(idx) // n_cols))
-    fig = plt.figure(figsize=(11.0, 4.4 * n_rows if len(idx) > 1 else 5.0))
-    outer = fig.add_gridspec(n_rows, n_cols, hspace=0.45, wspace=0.22)
+    # heights in inches: a header (title, legend) and a footer of fixed size, 4 in per row of tests
+    header, footer, row = 0.85, 0.5, 4.0
+    height = header + footer + row * n_rows
+    fig = plt.figure(figsize=(11.0, height))
+    outer = fig.add_gridspec(n_rows, n_cols, hspace=0.38, wspace=0.22, left=0.08, right=0.98,
+                             top=1.0 - header / height, bottom=footer / height)
     base_label, final_label = f"{diagnosis.model_kind} (base)", "augmented"
     if diagnosis.effects:
         final_label += " (+ " + ", ".join(diagnosis.effects) + ")"
@@ -297,11 +301,10 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
             handles, labels = ax_f.get_legend_handles_labels()
     if idx:
         fig.legend(handles, labels, loc="upper center", ncol=3, fontsize=9, frameon=False,
-                   bbox_to_anchor=(0.5, 0.965 if len(idx) <= 1 else 0.982))
+                   bbox_to_anchor=(0.5, 1.0 - 0.3 / height))
     fig.suptitle("Held-out force (top) and residual F − F̂ (bottom) over a window of a few strokes"
-                 + ("; shaded: samples the error does not count" if shaded else ""), fontsize=11)
-    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.09 if len(idx) <= 1 else 0.05,
-                        top=0.86 if len(idx) <= 1 else 0.93)
+                 + ("; shaded: samples the error does not count" if shaded else ""), fontsize=11,
+                 y=1.0 - 0.08 / height, va="top")
     return _save(fig, Path(path), dpi)
 
 
