@@ -321,31 +321,47 @@ _DIAGNOSIS_CASES = {
 }
 
 
+def _finding_groups(findings: list[dict], kept: bool) -> list[str]:
+    """The findings of one file, one line per kind and channel (a fault yields dozens of spans:
+    the page says how many, where and how many samples; report.md lists each)."""
+    groups: dict[tuple, list[dict]] = {}
+    for f in sorted(findings, key=lambda f: float(f.get("t_start") or 0.0)):
+        groups.setdefault((f.get("kind"), f.get("channel")), []).append(f)
+    lines = []
+    for (kind, channel), group in groups.items():
+        t0 = min(float(f.get("t_start") or 0.0) for f in group)
+        t1 = max(float(f.get("t_end") or 0.0) for f in group)
+        where = f"{_num(t0, 3)} s" if t0 == t1 else f"{_num(t0, 3)}–{_num(t1, 3)} s"
+        n = sum(int(f.get("n_samples") or 0) for f in group)
+        excluded = any(f.get("excluded") for f in group)
+        tail = "excluded" if excluded else "reported only"
+        if kept and excluded and kind != "nan":
+            tail = "kept (--keep-flagged)"
+        spans = f"{len(group)} spans in {where}" if len(group) > 1 else f"at {where}"
+        first = "first: " if len(group) > 1 else ""
+        lines.append(f"<b>{_e(kind)}</b> ({_e(channel)}) {spans}, {n} samples [{tail}]; "
+                     f"{first}{_e(group[0].get('message'))}")
+    return lines
+
+
 def _screening_table(screening: dict) -> str:
-    """One row per file: samples, excluded, findings (what, where, how many), estimated lags."""
+    """One row per file: samples, excluded, findings (what, where, how many), estimated lag."""
     rows = []
     for name, doc in screening.items():
         if not isinstance(doc, dict):
             continue
         findings = [f for f in doc.get("findings") or [] if isinstance(f, dict)]
-        items = []
-        for f in findings:
-            t0, t1 = f.get("t_start"), f.get("t_end")
-            where = f"{_num(t0, 3)} s" if t0 == t1 else f"{_num(t0, 3)}–{_num(t1, 3)} s"
-            tail = "excluded" if f.get("excluded") else "reported only"
-            if doc.get("kept_flagged") and f.get("excluded") and f.get("kind") != "nan":
-                tail = "kept (--keep-flagged)"
-            items.append(f"<b>{_e(f.get('kind'))}</b> ({_e(f.get('channel'))}) at {where}, "
-                         f"{_e(f.get('n_samples'))} samples: {_e(f.get('message'))} [{tail}]")
+        items = _finding_groups(findings, bool(doc.get("kept_flagged")))
         est = doc.get("estimates") or {}
         lag = est.get("force_velocity_lag_s")
         rows.append([_e(name), _e(doc.get("n_samples", "–")), _e(doc.get("n_excluded", "–")),
                      "<br>".join(items) or "nothing found",
-                     "–" if lag is None else f"{_num(1e3 * float(lag), 2)} ms"])
+                     "–" if lag is None else f"{_num(1e3 * float(lag), 1)} ms"])
     if not rows:
         return ""
-    return _table(["file", "samples", "excluded from fit and error", "findings (what, where, how many)",
-                   "force lags velocity by"], rows, left=(0, 3))
+    return _table(["file", "samples", "excluded from fit and error",
+                   "findings (what, where, how many samples; each span in report.md)",
+                   "force–velocity lag (estimated)"], rows, left=(0, 3))
 
 
 def _diagnosis_section(root: Path) -> str:

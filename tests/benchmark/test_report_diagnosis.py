@@ -25,10 +25,13 @@ def test_measured_cases_show_window_trace_and_screening(tmp_path):
             "effects": [{"name": "shear_thinning"}, {"name": "inertia"}], "unexplained_in": []}
     finding = {"kind": "clipped", "channel": "force", "t_start": 19.85, "t_end": 19.88, "n_samples": 87,
                "message": "force at its clipping level 4545.45", "excluded": True}
+    second = {**finding, "t_start": 19.59, "t_end": 19.62, "n_samples": 102}
+    idle = {"kind": "idle", "channel": "displacement", "t_start": 2.0, "t_end": 4.0, "n_samples": 400,
+            "message": "no motion", "excluded": False}
     _case(tmp_path, "dyke", {**base, "settings": {"seconds": 41.5, "stopped_by_budget": True, "time_budget": 20,
                                                    "decimation": 14},
                              "screening": {"ransim_u_converted.csv": {
-                                 "n_samples": 60096, "n_excluded": 1469, "findings": [finding],
+                                 "n_samples": 60096, "n_excluded": 1469, "findings": [finding, idle, second],
                                  "estimates": {"force_velocity_lag_s": 0.0021}, "kept_flagged": False}}})
     _case(tmp_path, "utfsm_1A", {**base, "model": "normalized", "settings": {"seconds": 20.0},
                                  "screening": {"10mm1Hz1A.txt": {"n_samples": 3000, "n_excluded": 0,
@@ -42,8 +45,11 @@ def test_measured_cases_show_window_trace_and_screening(tmp_path):
         for image in ("force_window.png", "residual_trace.png"):
             assert f'src="diagnosis/{case}/{image}"' in section
     # the screening: what, where, how many, excluded; a clean file says so; the estimated lag
-    assert "clipped" in section and "19.850–19.880 s" in section and "87 samples" in section
-    assert "1469" in section and "[excluded]" in section and "2.10 ms" in section
+    # one line per kind and channel: how many spans, where, how many samples in all
+    assert "<b>clipped</b> (force) 2 spans in 19.590–19.880 s, 189 samples [excluded]" in section
+    assert "<b>idle</b> (displacement) at 2.000–4.000 s, 400 samples [reported only]" in section
+    assert section.index("<b>idle</b>") < section.index("<b>clipped</b>")      # in time order
+    assert "1469" in section and "2.1 ms" in section
     assert "10mm1Hz1A.txt" in section and "nothing found" in section
     # the budget that cut the Dyke loop short is said, the others are not
     assert section.count("cut short") == 1 and "ended the effect selection" in section
