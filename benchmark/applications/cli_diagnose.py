@@ -33,10 +33,9 @@ import sys
 import textwrap
 from pathlib import Path
 
-from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import InputError
 from damper.io.reader import read_test
-from damper.io.screening import screening_of
+from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
@@ -45,40 +44,6 @@ from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 from benchmark.applications.model_files import write_diagnosis_models
 
 __all__ = ["register", "run"]
-
-
-def _label(test) -> str:
-    """The file a test was read from (its name when it was not read from a file)."""
-    return Path(test.source).name if test.source else (test.name or "test")
-
-
-def screening_summary(tests, keep_flagged: bool = False) -> dict:
-    """The ``screening`` entry of the summary JSON: per file its findings and excluded samples."""
-    out = {}
-    for test in tests:
-        doc = screening_of(test).to_json()
-        doc["kept_flagged"] = bool(keep_flagged)
-        doc["n_excluded"] = int(test.n_samples - test.usable.sum())
-        out[_label(test)] = doc
-    return out
-
-
-def screening_lines(tests, keep_flagged: bool = False) -> list[str]:
-    """The screening findings as report lines (one per finding, one summary per test)."""
-    lines = []
-    for test in tests:
-        scr = screening_of(test)
-        label = _label(test)
-        if scr.estimate_line():
-            lines.append(f"screening {label}: estimated {scr.estimate_line()}")
-        if not scr.findings:
-            lines.append(f"screening {label}: nothing found")
-            continue
-        lines += [f"screening {label}: {f.line(kept=keep_flagged)}" for f in scr.findings]
-        n_out = int(test.n_samples - test.usable.sum())
-        lines.append(f"screening {label}: {n_out} of {test.n_samples} samples excluded from fit "
-                     "and error" + (" (--keep-flagged: only missing values)" if keep_flagged else ""))
-    return lines
 
 
 def _fraction(text: str) -> float:
@@ -186,13 +151,8 @@ def run(args) -> int:
                       time_budget=budget)
     doc = {**result.to_json(), "screening": screening}
     if args.out:
-        paths = write_report(result, args.out)
-        # the screening is the reader's: added here to the report and the summary JSON
-        atomic_write_text(paths["json"], json.dumps(doc, indent=2) + "\n")
-        md = Path(paths["report"])
-        atomic_write_text(md, md.read_text(encoding="utf-8") + "\n## Screening of the data\n\n"
-                          + "\n".join(f"- {line}" for line in screening_lines(screened_tests, keep))
-                          + "\n")
+        # the screening (the reader's) goes into report.md and diagnosis.json
+        paths = write_report(result, args.out, tests=screened_tests, keep_flagged=keep)
         models = write_diagnosis_models(result, args.out, args.data)  # damper.io.model_file format
         if progress:
             progress(f"report written to {paths['report']}; models: {models['base_model']}, "

@@ -313,31 +313,112 @@ def _grid_ends_and_middle(rows: list[dict]) -> list[dict]:
     return keep
 
 
+#: What each case of the main job's diagnosis is (``diagnosis/<case>/``); other folders are named as they are.
+_DIAGNOSIS_CASES = {
+    "virtual": "the virtual benchmark damper (two periodic tests at 0 V, 1 % noise)",
+    "utfsm_1A": "the measured UTFSM damper, its six sinusoidal tests at 1 A (last 25 % of each held out)",
+    "dyke": "Dyke's measured prototype damper, random motion and switching voltage (last 30 % held out)",
+}
+
+
+def _finding_groups(findings: list[dict], kept: bool) -> list[str]:
+    """The findings of one file, one line per kind and channel (a fault yields dozens of spans:
+    the page says how many, where and how many samples; report.md lists each)."""
+    groups: dict[tuple, list[dict]] = {}
+    for f in sorted(findings, key=lambda f: float(f.get("t_start") or 0.0)):
+        groups.setdefault((f.get("kind"), f.get("channel")), []).append(f)
+    lines = []
+    for (kind, channel), group in groups.items():
+        t0 = min(float(f.get("t_start") or 0.0) for f in group)
+        t1 = max(float(f.get("t_end") or 0.0) for f in group)
+        where = f"{_num(t0, 3)} s" if t0 == t1 else f"{_num(t0, 3)}–{_num(t1, 3)} s"
+        n = sum(int(f.get("n_samples") or 0) for f in group)
+        excluded = any(f.get("excluded") for f in group)
+        tail = "excluded" if excluded else "reported only"
+        if kept and excluded and kind != "nan":
+            tail = "kept (--keep-flagged)"
+        spans = f"{len(group)} spans in {where}" if len(group) > 1 else f"at {where}"
+        first = "first: " if len(group) > 1 else ""
+        lines.append(f"<b>{_e(kind)}</b> ({_e(channel)}) {spans}, {n} samples [{tail}]; "
+                     f"{first}{_e(group[0].get('message'))}")
+    return lines
+
+
+def _screening_table(screening: dict) -> str:
+    """One row per file: samples, excluded, findings (what, where, how many), estimated lag."""
+    rows = []
+    for name, doc in screening.items():
+        if not isinstance(doc, dict):
+            continue
+        findings = [f for f in doc.get("findings") or [] if isinstance(f, dict)]
+        items = _finding_groups(findings, bool(doc.get("kept_flagged")))
+        est = doc.get("estimates") or {}
+        lag = est.get("force_velocity_lag_s")
+        rows.append([_e(name), _e(doc.get("n_samples", "–")), _e(doc.get("n_excluded", "–")),
+                     "<br>".join(items) or "nothing found",
+                     "–" if lag is None else f"{_num(1e3 * float(lag), 1)} ms"])
+    if not rows:
+        return ""
+    return _table(["file", "samples", "excluded from fit and error",
+                   "findings (what, where, how many samples; each span in report.md)",
+                   "force–velocity lag (estimated)"], rows, left=(0, 3))
+
+
 def _diagnosis_section(root: Path) -> str:
     folder = root / "diagnosis"
     out = ['<h2 id="diagnosis">Diagnosis: what the damper models lack</h2>']
     found = sorted(p.parent for p in folder.glob("*/diagnosis.json")) if folder.is_dir() else []
     if not found:
         return out[0] + _missing("the residual loop (diagnosis/*/diagnosis.json)")
+    order = list(_DIAGNOSIS_CASES)
+    found.sort(key=lambda p: (order.index(p.name) if p.name in order else len(order), p.name))
     out.append("<p>Held-out relative RMS force error of the base model before and after the "
-               "residual loop, the effects it added (in order) and the structure left unexplained.</p>")
-    rows, figures = [], []
+               "residual loop, the effects it added (in order) and the structure left unexplained. "
+               "Measured data are screened first: flagged samples count neither in the fit nor in "
+               "the error.</p>")
+    rows, cases = [], []
     for case in found:
         d = _read_json(case / "diagnosis.json") or {}
         effects = d.get("effects") or []
         names = ", ".join(str(e.get("name")) for e in effects if isinstance(e, dict)) or "none"
         unexplained = ", ".join(f"{u.get('variable')} ({_num(u.get('share'), 2)})"
                                 for u in d.get("unexplained_in") or [] if isinstance(u, dict)) or "none"
+        settings = d.get("settings") or {}
+        seconds = _num(settings.get("seconds"), 1)
+        if settings.get("stopped_by_budget"):
+            seconds += f" (cut short by its {_num(settings.get('time_budget'), 0)} s budget)"
         rows.append([_link(root, case / "diagnosis.json", case.name), _e(d.get("model", "?")),
-                     _pct(d.get("error_before")), _pct(d.get("error_after")), _e(names), _e(unexplained)])
-        data = [case / "diagnosis.json", case / "report.md"]
-        figures.append(_figure(root, case / "loops.png",
-                               f"{case.name}: held-out loops, measured, base model and augmented model.", data))
-        figures.append(_figure(root, case / "residual_trace.png",
-                               f"{case.name}: held-out residual against each variable, before and after.", data))
+                     _pct(d.get("error_before")), _pct(d.get("error_after")), _e(names), _e(unexplained),
+                     seconds])
+        cases.append((case, d))
     out.append(_table(["data", "base model", "error before", "error after", "effects added",
-                       "unexplained in (share)"], rows, left=(0, 1, 4, 5)))
-    out.extend(figures)
+                       "unexplained in (share)", "loop time [s]"], rows, left=(0, 1, 4, 5, 6)))
+    if not any(case.name == "dyke" for case, _ in cases):
+        out.append('<p class="note">The shared Dyke recording (a real damper under random motion and '
+                   "switching voltage) joins this section with <code>sbib study --dyke</code> (its "
+                   "Spencer base fit takes about half a minute of one core); alone: <code>sbib diagnose "
+                   "--data …/ransim_u_converted.csv --model spencer --holdout 0.3</code>.</p>")
+    for case, d in cases:
+        data = [case / "diagnosis.json", case / "report.md"]
+        out.append(f'<h3 id="diagnosis-{_e(case.name)}">{_e(case.name)}: '
+                   f"{_e(_DIAGNOSIS_CASES.get(case.name, 'data of ' + case.name))}</h3>")
+        settings = d.get("settings") or {}
+        if settings.get("stopped_by_budget"):
+            out.append(f'<p class="note">The time budget ({_num(settings.get("time_budget"), 0)} s) ended '
+                       "the effect selection: the model found so far is shown.</p>")
+        if settings.get("decimation", 1) and settings.get("decimation", 1) > 1:
+            out.append(f'<p class="note">Fitted on one sample in {_e(settings.get("decimation"))} '
+                       "(errors, figures and verdict on every sample).</p>")
+        screening = d.get("screening")
+        if isinstance(screening, dict) and screening:
+            out.append("<p>Screening of the measured data:</p>" + _screening_table(screening))
+        out.append(_figure(root, case / "force_window.png",
+                           f"{case.name}: measured force, base model and augmented model over a window of "
+                           "the held-out part (top) and the residual of each (bottom).", data))
+        out.append(_figure(root, case / "residual_trace.png",
+                           f"{case.name}: held-out residual against each variable, before and after.", data))
+        out.append(_figure(root, case / "loops.png",
+                           f"{case.name}: held-out loops, measured, base model and augmented model.", data))
     return "".join(out)
 
 

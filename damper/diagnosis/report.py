@@ -8,7 +8,10 @@
 * ``residual_trace.png`` -- the held-out residual against each variable, before (grey) and after
   (colour), with its binned partial dependence;
 * ``force_histories.png`` -- measured force and the two models over each test's held-out part;
-* ``loops.png`` -- force-displacement and force-velocity loops on the held-out part;
+* ``force_window.png`` -- measured force and the two models over a readable window of each test's
+  held-out part (a few displacement reversals), with the residual of both below (the seed
+  paper's force and force-error histories, its Figs. 6 and 11);
+* ``loops.png`` -- force-displacement and force-velocity loops over the same window;
 * ``diagnosis.json`` -- :meth:`Diagnosis.to_json`.
 
 Every file is written atomically; plots use the Agg backend.
@@ -27,10 +30,11 @@ from benchmark.foundation.figures import save_figure
 from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
 from damper.diagnosis.effects import EFFECTS
+from damper.io.screening import screening_lines, screening_summary
 from damper.lab.plots import draw_loops
 
 __all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
-           "plot_heldout_loops"]
+           "plot_force_window", "force_window", "plot_heldout_loops"]
 
 #: trace variable -> (axis text, quantity kind of benchmark.foundation.display_units); the coil input's
 #: kind ("voltage" or "current") is the tests' own
@@ -177,8 +181,143 @@ def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
     return _save(fig, Path(path))
 
 
-def plot_heldout_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Path:
-    """Force-displacement and force-velocity loops of each test (held-out part).
+def force_window(x: np.ndarray, scored: np.ndarray, reversals: int = 6,
+                 hysteresis: float = 0.1, max_samples: int = 6000) -> tuple[int, int] | None:
+    """A readable window ``[start, stop)`` of the scored samples: from the first scored sample to
+    the ``reversals``-th displacement reversal after it, and at most ``max_samples`` long.
+
+    A reversal counts when the displacement comes back from its running extreme by more than
+    ``hysteresis`` times its range over the scored span, so that noise and small wiggles of a
+    random motion do not end the window early: a sinusoidal test shows ``reversals / 2`` cycles,
+    a random one its same number of large strokes.
+
+    Parameters
+    ----------
+    x : np.ndarray
+        Displacement of the test [m].
+    scored : np.ndarray
+        Boolean mask of the samples to show (e.g. the held-out samples that count in the error).
+    reversals : int, optional
+        Reversals the window spans.
+    hysteresis : float, optional
+        Return, as a fraction of the displacement range, that makes a reversal.
+    max_samples : int, optional
+        Longest window [samples].
+
+    Returns
+    -------
+    tuple of int or None
+        ``(start, stop)`` sample indices, or None when no sample is scored.
+    """
+    idx = np.flatnonzero(scored)
+    if idx.size == 0:
+        return None
+    start, last = int(idx[0]), int(idx[-1])
+    seg = np.asarray(x, dtype=float)[start:last + 1]
+    band = hysteresis * float(np.ptp(seg))
+    stop = last + 1
+    count, direction = 0, 0
+    high = low = seg[0]  # running extremes; one of them is the current stroke's once moving
+    for i, value in enumerate(seg):
+        high, low = max(high, value), min(low, value)
+        if direction >= 0 and high - value > band:  # falling back from a maximum
+            count += direction > 0
+            direction, low = -1, value
+        elif direction <= 0 and value - low > band:  # rising back from a minimum
+            count += direction < 0
+            direction, high = 1, value
+        if count >= reversals:
+            stop = start + i + 1
+            break
+    return start, min(stop, start + max_samples)
+
+
+def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, dpi: int = 90) -> Path:
+    """Measured force and both models over a readable window of each test's held-out part
+    (:func:`force_window`), and below it the residual of each model in the same window.
+
+    Samples the error does not count (screened out, or the warm-up) are left blank in the
+    measured force; the models are drawn through them.
+
+    Parameters
+    ----------
+    diagnosis
+        Result of :func:`damper.diagnosis.loop.diagnose`.
+    path
+        Image file to write (format from the suffix).
+    max_tests : int, optional
+        At most this many tests are drawn (the first ones).
+    reversals : int, optional
+        Displacement reversals each window spans.
+    dpi : int, optional
+        Resolution of the image [dots per inch].
+    """
+    plt = _pyplot()
+    data = diagnosis.data
+    before, after = _forces(diagnosis)
+    idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
+    n_cols = 1 if len(idx) <= 1 else 2  # about 990 px wide at 90 dpi: legible on the report page
+    n_rows = max(1, -(-len(idx) // n_cols))
+    # heights in inches: a header (title, legend) and a footer of fixed size, 4 in per row of tests
+    header, footer, row = 0.85, 0.5, 4.0
+    height = header + footer + row * n_rows
+    fig = plt.figure(figsize=(11.0, height))
+    outer = fig.add_gridspec(n_rows, n_cols, hspace=0.38, wspace=0.22, left=0.08, right=0.98,
+                             top=1.0 - header / height, bottom=footer / height)
+    base_label, final_label = f"{diagnosis.model_kind} (base)", "augmented"
+    if diagnosis.effects:
+        final_label += " (+ " + ", ".join(diagnosis.effects) + ")"
+    handles, labels, shaded = [], [], False
+    for j, i in enumerate(idx):
+        m, k = data.motions[i], data.heldout[i]
+        start, stop = force_window(m.x, k, reversals) or (0, 0)  # idx: tests with held-out samples
+        cell = outer[j // n_cols, j % n_cols].subgridspec(2, 1, height_ratios=(2.2, 1.2), hspace=0.08)
+        ax_f = fig.add_subplot(cell[0])
+        ax_r = fig.add_subplot(cell[1], sharex=ax_f)
+        sl = slice(start, stop)
+        t = m.t[sl]
+        shown = k[sl]
+        measured = np.where(shown, data.forces[i][sl], np.nan)
+        f_m = to_display(measured, "force")
+        ax_f.plot(t, f_m, color="k", lw=1.3, label="measured")
+        ax_f.plot(t, to_display(before[i][sl], "force"), color="0.5", lw=1.0, ls="--", label=base_label)
+        ax_f.plot(t, to_display(after[i][sl], "force"), color="tab:red", lw=1.0, label=final_label)
+        for model, color, ls in ((before[i], "0.5", "--"), (after[i], "tab:red", "-")):
+            ax_r.plot(t, to_display(measured - model[sl], "force"), color=color, lw=0.9, ls=ls)
+        ax_r.axhline(0.0, color="k", lw=0.6)
+        if not shown.all():  # where the error does not count: shaded
+            shaded = True
+            for a, b in _spans(~shown):
+                for ax in (ax_f, ax_r):
+                    ax.axvspan(t[a], t[min(b, t.size - 1)], color="tab:orange", alpha=0.15, lw=0)
+        eb, ea = diagnosis.errors_by_test[m.name]
+        ax_f.set_title(f"{m.name}: held-out error {eb:.3f} → {ea:.3f}", fontsize=9.5)
+        ax_f.set_ylabel(axis_label("force", "force"))
+        ax_r.set_ylabel(axis_label("F − F̂", "force"))
+        ax_r.set_xlabel(axis_label("time", "time"))
+        ax_f.tick_params(labelbottom=False)
+        for ax in (ax_f, ax_r):
+            ax.grid(True, alpha=0.3)
+        if j == 0:
+            handles, labels = ax_f.get_legend_handles_labels()
+    if idx:
+        fig.legend(handles, labels, loc="upper center", ncol=3, fontsize=9, frameon=False,
+                   bbox_to_anchor=(0.5, 1.0 - 0.3 / height))
+    fig.suptitle("Held-out force (top) and residual F − F̂ (bottom) over a window of a few strokes"
+                 + ("; shaded: samples the error does not count" if shaded else ""), fontsize=11,
+                 y=1.0 - 0.08 / height, va="top")
+    return _save(fig, Path(path), dpi)
+
+
+def _spans(mask: np.ndarray) -> list[tuple[int, int]]:
+    """``(first, last)`` index of each run of True in ``mask``."""
+    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
+
+
+def plot_heldout_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90, reversals: int = 6) -> Path:
+    """Force-displacement and force-velocity loops of each test over the window of its held-out
+    part that :func:`plot_force_window` shows (:func:`force_window`).
 
     Parameters
     ----------
@@ -190,6 +329,8 @@ def plot_heldout_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Pa
         At most this many tests are drawn (the first ones).
     dpi : int, optional
         Resolution of the image [dots per inch].
+    reversals : int, optional
+        Displacement reversals each window spans.
     """
     plt = _pyplot()
     data = diagnosis.data
@@ -204,6 +345,10 @@ def plot_heldout_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90) -> Pa
         ax.set_visible(False)
     for j, i in enumerate(idx):
         m, k = data.motions[i], data.heldout[i]
+        # the window of the force plot: a long random held-out part drawn whole is a scribble
+        start, stop = force_window(m.x, k, reversals) or (0, 0)
+        k = k.copy()
+        k[:start], k[stop:] = False, False
         r0, col = 2 * (j // n_cols), j % n_cols
         pair = (grid[r0, col], grid[r0 + 1, col])
         curves = [(to_display(data.forces[i][k], "force"), "measured", {"color": "k", "lw": 1.0}),
@@ -335,7 +480,7 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
     return "\n".join(lines)
 
 
-def write_report(diagnosis, out_dir) -> dict[str, Path]:
+def write_report(diagnosis, out_dir, tests=None, keep_flagged: bool = False) -> dict[str, Path]:
     """Write the report, plots and JSON into ``out_dir`` (created); return the paths by kind.
 
     Parameters
@@ -344,12 +489,25 @@ def write_report(diagnosis, out_dir) -> dict[str, Path]:
         Result of :func:`damper.diagnosis.loop.diagnose`.
     out_dir
         Directory to write into (created).
+    tests : sequence of DamperTest, optional
+        The tests as read (fitted and ``--validate`` ones): their screening
+        (:func:`damper.io.screening.screening_summary`) goes into ``report.md`` ("Screening of
+        the data") and under ``screening`` in ``diagnosis.json``.
+    keep_flagged : bool
+        The flagged samples were kept in fit and error (``--keep-flagged``).
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     plots = {"residual trace": plot_residual_trace(diagnosis, out / "residual_trace.png"),
+             "force window": plot_force_window(diagnosis, out / "force_window.png"),
              "force histories": plot_force_histories(diagnosis, out / "force_histories.png"),
              "loops": plot_heldout_loops(diagnosis, out / "loops.png")}
-    md = atomic_write_text(out / "report.md", report_markdown(diagnosis, plots))
-    js = atomic_write_text(out / "diagnosis.json", json.dumps(diagnosis.to_json(), indent=2) + "\n")
+    text = report_markdown(diagnosis, plots)
+    doc = diagnosis.to_json()
+    if tests is not None:
+        doc["screening"] = screening_summary(tests, keep_flagged)
+        text += ("\n## Screening of the data\n\n"
+                 + "\n".join(f"- {line}" for line in screening_lines(tests, keep_flagged)) + "\n")
+    md = atomic_write_text(out / "report.md", text)
+    js = atomic_write_text(out / "diagnosis.json", json.dumps(doc, indent=2) + "\n")
     return {"report": md, "json": js, **{k.replace(" ", "_"): v for k, v in plots.items()}}

@@ -65,6 +65,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
@@ -75,7 +76,7 @@ from scipy.signal import savgol_filter
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
-           "screening_of", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR"]
+           "screening_of", "screening_summary", "screening_lines", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR"]
 
 #: A time step this many times the median step is a gap.
 GAP_FACTOR = 2.5
@@ -748,3 +749,55 @@ def screening_of(test: Any) -> Screening:
     """
     result = getattr(test, "metadata", {}).get("screening")
     return result if isinstance(result, Screening) else screen(test)
+
+
+def _label(test: Any) -> str:
+    """The file a test was read from (its name when it was not read from a file)."""
+    return Path(test.source).name if getattr(test, "source", None) else (getattr(test, "name", None) or "test")
+
+
+def screening_summary(tests: Sequence[Any], keep_flagged: bool = False) -> dict:
+    """The screening of each test as JSON: file name -> :meth:`Screening.to_json` plus
+    ``kept_flagged`` and ``n_excluded`` (the samples left out of fits and errors as read).
+
+    Parameters
+    ----------
+    tests : sequence of DamperTest
+        Tests, screened when read or not (:func:`screening_of`).
+    keep_flagged : bool
+        The user kept the flagged samples (``--keep-flagged``).
+    """
+    out = {}
+    for test in tests:
+        doc = screening_of(test).to_json()
+        doc["kept_flagged"] = bool(keep_flagged)
+        doc["n_excluded"] = int(test.n_samples - test.usable.sum())
+        out[_label(test)] = doc
+    return out
+
+
+def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[str]:
+    """The screening findings as report lines (the estimated lags, one line per finding, one
+    summary per test).
+
+    Parameters
+    ----------
+    tests : sequence of DamperTest
+        Tests, screened when read or not (:func:`screening_of`).
+    keep_flagged : bool
+        The user kept the flagged samples (``--keep-flagged``).
+    """
+    lines = []
+    for test in tests:
+        scr = screening_of(test)
+        label = _label(test)
+        if scr.estimate_line():
+            lines.append(f"screening {label}: estimated {scr.estimate_line()}")
+        if not scr.findings:
+            lines.append(f"screening {label}: nothing found")
+            continue
+        lines += [f"screening {label}: {f.line(kept=keep_flagged)}" for f in scr.findings]
+        n_out = int(test.n_samples - test.usable.sum())
+        lines.append(f"screening {label}: {n_out} of {test.n_samples} samples excluded from fit "
+                     "and error" + (" (--keep-flagged: only missing values)" if keep_flagged else ""))
+    return lines
