@@ -45,6 +45,7 @@ import dataclasses
 from benchmark.applications.damper_choice import parse_scale, resolve_damper, resolve_layout
 from controllers.user import is_user_controller_spec
 from benchmark.foundation.pools import WorkerPool
+from benchmark.applications.identification_validation import measured_from_runs
 
 __all__ = ["ComparisonRun", "ComparisonResult", "compare", "parse_list", "J_NAMES"]
 
@@ -122,12 +123,18 @@ class ComparisonResult:
         Down-sampled histories of the uncontrolled runs, for the plots.
     settings : dict, optional
         The comparison's settings (records, controllers, isolation, control step, seed, …).
+    measured : dict, optional
+        Full-rate runs of the controllers named in ``compare(measure=...)``, by ``(record,
+        orientation, controller)``: each a
+        :class:`~benchmark.applications.identification_validation.MeasuredRun` (device histories
+        at the record step and the reference's responses). Kept in memory only.
     """
 
     runs: list
     references: dict          # (record, orientation) -> peaks of the uncontrolled run
     reference_histories: dict = field(default_factory=dict, repr=False)
     settings: dict = field(default_factory=dict)
+    measured: dict = field(default_factory=dict, repr=False)
 
     @property
     def controllers(self) -> list[str]:
@@ -438,9 +445,11 @@ def _run_chunk(tasks: list) -> list:
 
 def _run_one(task) -> tuple:
     """Worker: one controlled run and its reference (cached per worker), through the one way to
-    run a case (:func:`benchmark.simulator.case.run_case`)."""
+    run a case (:func:`benchmark.simulator.case.run_case`); with ``measure`` also the run in full
+    (:func:`~benchmark.applications.identification_validation.measured_from_runs`)."""
     record_name, orientation, spec, settings_key, *label = task
     damper = label[1] if len(label) > 1 else ""
+    measure = len(label) > 2 and label[2]
     t0 = time.perf_counter()
     settings = dict(settings_key)
     record = _record(record_name, orientation, settings_key)
@@ -460,7 +469,8 @@ def _run_one(task) -> tuple:
                         histories=_histories(result, _HISTORY_STEP, full_devices=bool(settings.get("dampers"))),
                         elapsed_s=time.perf_counter() - t0,
                         synthetic=bool(getattr(record, "synthetic", False)), damper=damper)
-    return run, reference.peaks.as_record(), _histories(reference, _HISTORY_STEP)
+    full = measured_from_runs(record_name, orientation, record, result, reference) if measure else None
+    return run, reference.peaks.as_record(), _histories(reference, _HISTORY_STEP), full
 
 
 def _damper_buildings(dampers, devices, damper_scale, isolation, n_modes) -> tuple[dict, dict]:
@@ -494,7 +504,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
             synthetic: bool = False, building: Any = None, progress: bool = True, format: str = "auto",
             dt: float | None = None, units: str | None = None, baseline_correct: bool = False,
             warn: bool = True, dampers: Sequence[str] | str | None = None, devices: Any = None,
-            damper_scale: Any = None) -> ComparisonResult:
+            damper_scale: Any = None, measure: Sequence[str] = ()) -> ComparisonResult:
     """Run every record × orientation × controller and evaluate each against the uncontrolled run.
 
     Parameters
@@ -541,6 +551,10 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         controllers (each run names its model under ``damper``; :meth:`ComparisonResult.model_differences`).
     devices, damper_scale : optional
         ``--devices N|LAYOUT.json`` and ``--damper-scale F|FORCE`` (same module), for every damper.
+    measure : sequence of str, optional
+        Controllers whose runs are also kept in full (``ComparisonResult.measured``): the main
+        job hands them to the identification study's validation, which runs the same building,
+        records and controller, instead of running them again.
     """
     record_list = _parse_records(records, BENCHMARK_RECORDS)
     orientation_list = parse_list(_canonical_orientations(orientations), ORIENTATIONS, "orientations",
@@ -575,7 +589,10 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     settings_key = tuple(sorted(settings.items(), key=lambda kv: kv[0]))
     labels_by_spec, record_units, control_steps, messages = _check_records(record_list, orientation_list[0],
                                                                             settings, warn)
-    tasks = [(rec, ori, spec, settings_key, labels_by_spec[rec], damper)
+    unknown = sorted(set(measure) - set(labels))
+    if unknown:
+        raise InputError(f"measure: {unknown} are not among the controllers {labels}")
+    tasks = [(rec, ori, spec, settings_key, labels_by_spec[rec], damper, _controller_label(spec) in measure)
              for rec in record_list for ori in orientation_list for spec in specs for damper in damper_names]
     n_jobs = max(1, min(jobs or os.cpu_count() or 1, len(tasks)))
 
@@ -607,11 +624,13 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     if warn:  # after the runs: a run that fails says so in one line (with the record's flag)
         for message in messages:
             print(message, file=sys.stderr, flush=True)
-    runs, references, ref_hist = [], {}, {}
-    for run, ref_peaks, ref_histories in outcomes:
+    runs, references, ref_hist, measured = [], {}, {}, {}
+    for run, ref_peaks, ref_histories, full in outcomes:
         runs.append(run)
         references[(run.record, run.orientation)] = ref_peaks
         ref_hist[(run.record, run.orientation)] = ref_histories
+        if full is not None:
+            measured[run.key] = full
     if isinstance(building, dict):  # several dampers: each model replayed under the first one's runs
         model_comparison.add_replays(runs, building)
     public_settings = {k: v for k, v in settings.items() if k != "noise"}
@@ -623,4 +642,4 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     if damper_info is not None:
         public_settings["damper"] = damper_info  # model, scale and its basis, input mapping, notes
     return ComparisonResult(runs=runs, references=references, reference_histories=ref_hist,
-                            settings=public_settings)
+                            settings=public_settings, measured=measured)

@@ -81,7 +81,7 @@ from benchmark.foundation.errors import InputError
 from benchmark.foundation.pools import stop_pool
 from damper.identification.plots import plot_error_anatomy
 from benchmark.simulator.building import Building
-from benchmark.applications.identification_validation import measure_run
+from benchmark.applications.identification_validation import MeasuredRun, measure_run
 from benchmark.applications.identification_validation import validate_in_building
 from benchmark.applications.identification_ceiling import pick_damper, structural_ceiling, summarize_ceiling
 from records.catalogue import canonical_orientation
@@ -228,7 +228,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                        progress: bool = True, plots: bool = True, kappa_x: str | float = "large-loop",
                        compare_free_kappa_x: bool = True, ceiling: bool = True,
                        jobs: int | None = None, close_loop: bool = True,
-                       campaign_scale: float = 0.5, full_histories: bool = False) -> dict:
+                       campaign_scale: float = 0.5, full_histories: bool = False,
+                       measured: Sequence[MeasuredRun] = ()) -> dict:
     """Run the identification study and write its outputs to ``out``; return the summary.
 
     Parameters
@@ -279,6 +280,11 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
     full_histories : bool
         Keep every device's histories in double precision in ``identification.h5`` (default:
         single precision and one device per validation run, about 8 MB instead of 120 MB).
+    measured : sequence of MeasuredRun, optional
+        Validation runs of this device under ``controller`` already made elsewhere, with their
+        references (:func:`~benchmark.applications.identification_validation.measured_from_runs`;
+        the main job's suite runs the same building, records and controller): the records and
+        orientations found there are not run again.
 
     Returns
     -------
@@ -326,12 +332,17 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
             loop_job = start_loops(model, pool, campaign_scale=campaign_scale, progress=say)
         building = None
         measuring: list = []
+        given = {(m.record_name, canonical_orientation(m.orientation)): m for m in measured}
         if validate:
             building = Building.default(damper_model=model)
-            # The runs with the device under test need no identified model: start them now.
+            # The runs with the device under test need no identified model: start them now
+            # (those handed over are not run again).
             if pool is not None:
-                measuring = [pool.submit(measure_run, building, r, o, controller, records_dir, synthetic)
+                measuring = [given[(r, o)] if (r, o) in given else
+                             pool.submit(measure_run, building, r, o, controller, records_dir, synthetic)
                              for r, o in pairs]
+            elif all(p in given for p in pairs):
+                measuring = [given[p] for p in pairs]
         t0 = time.perf_counter()
         grid = identify_voltage_grid(model, voltages=voltages, protocol=protocol, progress=tick,
                                      kappa_x=kappa_x, executor=pool, jobs=1)
@@ -355,6 +366,16 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         large = dict(zip(grid.models, results[:len(grid.models)]))
         lag_fits = dict(zip(names, results[len(grid.models):]))
         timings["identification_s"] = time.perf_counter() - t0
+        runs_measured = None
+        ceiling_jobs: list = []
+        t_ceiling = time.perf_counter()
+        if validate and measuring:
+            runs_measured = [m if isinstance(m, MeasuredRun) else m.result() for m in measuring]
+            if ceiling and pool is not None:
+                # The ceiling needs only the measured runs and the grid's models: its tasks fill
+                # the workers now instead of waiting for the validation (same tasks, same order).
+                ceiling_jobs = [pool.submit(structural_ceiling, *task)
+                                for task in _ceiling_tasks(model, runs_measured, identified)]
         closed = None
         claim_names = None
         if close_loop:
@@ -388,12 +409,11 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                 files["figures"] = _figures(*args)
         if validate:
             t0 = time.perf_counter()
-            measured = [f.result() for f in measuring] if measuring else None
             lags = {m: lf.tau for m, lf in lag_fits.items()}
             validation = validate_in_building(building, identified, lags=lags, records=records,
                                               orientations=orientations, controller=controller,
                                               rerun=rerun, records_dir=records_dir, synthetic=synthetic,
-                                              progress=tick, executor=pool, jobs=1, measured=measured,
+                                              progress=tick, executor=pool, jobs=1, measured=runs_measured,
                                               figures=figure_folder if plots else None)
             timings["validation_s"] = time.perf_counter() - t0
             validation_json = validation.to_json()
@@ -404,18 +424,18 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                                                         json.dumps(validation_json, indent=2)))
 
             if ceiling and validation.runs:
-                t0 = time.perf_counter()
-                forms = {m: identified[m] for m in ("normalized", "extended") if m in identified}
-                tasks = []
-                for r in validation.runs:  # each task gets only the damper it measures
-                    d = pick_damper(r.displacement)
-                    tasks.append((model, r.t, r.displacement[:, d], r.velocity[:, d], forms,
-                                  DEFAULT_CEILING_VOLTAGES, r.record, r.orientation, d))
-                ceiling_entries = [e for run_entries in run_tasks(
-                    structural_ceiling, tasks, pool, progress=lambda _: tick("ceiling"))
-                    for e in run_entries]
+                if ceiling_jobs:
+                    found = []
+                    for job in ceiling_jobs:
+                        found.append(job.result())
+                        tick("ceiling")
+                else:
+                    t_ceiling = time.perf_counter()
+                    found = run_tasks(structural_ceiling, _ceiling_tasks(model, validation.runs, identified),
+                                      pool, progress=lambda _: tick("ceiling"))
+                ceiling_entries = [e for run_entries in found for e in run_entries]
                 ceiling_summary = summarize_ceiling(ceiling_entries)
-                timings["ceiling_s"] = time.perf_counter() - t0
+                timings["ceiling_s"] = time.perf_counter() - t_ceiling
                 files["ceiling"] = str(atomic_write_text(out / "ceiling.json", json.dumps(
                     {"voltages_V": list(DEFAULT_CEILING_VOLTAGES), "summary": ceiling_summary,
                      "entries": [e.to_dict() for e in ceiling_entries]}, indent=2)))
@@ -475,6 +495,19 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
                                                      for v, i in zip(g.voltages, g.identifications["extended"])}
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=float))
     return summary
+
+
+def _ceiling_tasks(model, runs, identified: dict) -> list[tuple]:
+    """Arguments of :func:`structural_ceiling` for each validation run (measured or validated:
+    both carry the record, orientation and the devices' motion); each task gets only the damper
+    it measures."""
+    forms = {m: identified[m] for m in ("normalized", "extended") if m in identified}
+    tasks = []
+    for r in runs:
+        d = pick_damper(r.displacement)
+        tasks.append((model, r.t, r.displacement[:, d], r.velocity[:, d], forms, DEFAULT_CEILING_VOLTAGES,
+                      r.record_name if isinstance(r, MeasuredRun) else r.record, r.orientation, d))
+    return tasks
 
 
 def _claim_figures(validation, validation_json: dict, folder: Path) -> list[str]:

@@ -55,7 +55,7 @@ LAG_SUFFIX = "+lag"
 
 __all__ = ["LAG_SUFFIX", "REGIMES", "REGIME_MARGIN", "field_estimate", "regime_masks", "regime_errors",
            "RunValidation", "ValidationResult", "MeasuredRun", "run_errors", "replay",
-           "measure_run", "compare_run", "validate_in_building"]
+           "measure_run", "measured_from_runs", "compare_run", "validate_in_building"]
 
 
 def run_errors(measured: np.ndarray, predicted: np.ndarray, displacement: np.ndarray) -> dict[str, float]:
@@ -376,7 +376,28 @@ def measure_run(building, record_name: str, orientation: str, controller: str = 
     record = resolve_record(record_name, orientation, records_dir=records_dir, synthetic=synthetic)
     run = run_case(Case(record=record, orientation=orientation, controller=controller, building=building,
                         options={"bearing_histories": False}), cache=None)
-    reference, measured = run.reference, run.result
+    return measured_from_runs(record_name, orientation, record, run.result, run.reference)
+
+
+def measured_from_runs(record_name: str, orientation: str, record, measured, reference) -> MeasuredRun:
+    """The :class:`MeasuredRun` of a controlled run and its uncontrolled reference.
+
+    What :func:`measure_run` returns, from runs made elsewhere (the main job's suite runs the
+    same building, records and controller and hands its runs over instead of repeating them).
+
+    Parameters
+    ----------
+    record_name : str
+        Record name.
+    orientation : str
+        ``FN-x`` or ``FP-x``.
+    record
+        The record of the runs.
+    measured : benchmark.simulator.results.SimulationResult
+        The run with the dampers under the controller.
+    reference : benchmark.simulator.results.SimulationResult
+        The uncontrolled run (no devices) of the same record.
+    """
     ref = SimpleNamespace(info=dict(getattr(reference, "info", {}) or {}), device_force=None,
                           **{k: np.asarray(getattr(reference, k)) for k in _REFERENCE_FIELDS})
     return MeasuredRun(record_name, orientation, record, np.asarray(measured.t),

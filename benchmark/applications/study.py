@@ -18,6 +18,11 @@ import json
 import time
 from pathlib import Path
 
+try:  # CPU time of this process and its ended children (Unix)
+    import resource
+except ImportError:  # pragma: no cover - Windows: this process only
+    resource = None  # type: ignore[assignment]
+
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError
 from benchmark.foundation.beside import run_beside
@@ -59,12 +64,14 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
     out.mkdir(parents=True, exist_ok=True)
     summary: dict = {"steps": {}}
     t0 = time.perf_counter()
+    cpu0 = cpu = _cpu_s()
 
     # records: catalogue check and figures (synthetic benchmark-like records if no file is found)
 
     summary["steps"]["records"] = write_records_report(out / "records", records_dir=records_dir,
                                                        per_record_plots=not quick)
     summary["steps"]["records"].setdefault("output", str(out / "records"))
+    summary["steps"]["records"]["cpu_s"], cpu = _cpu_s() - cpu, _cpu_s()
 
     synthetic = summary["steps"]["records"].get("synthetic", False) if isinstance(
         summary["steps"]["records"], dict) else False
@@ -76,8 +83,9 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
 
     # benchmark suite: every record x orientation under several controllers (J1-J9)
     step = time.perf_counter()
-    summary["steps"]["suite"] = _suite(out / "suite", records_dir, synthetic, quick)
+    summary["steps"]["suite"], measured = _suite(out / "suite", records_dir, synthetic, quick)
     summary["steps"]["suite"]["elapsed_s"] = time.perf_counter() - step
+    summary["steps"]["suite"]["cpu_s"], cpu = _cpu_s() - cpu, _cpu_s()
 
     # The residual loop (on the virtual damper and, when present, on the measured UTFSM tests)
     # needs one core: it runs in a process of its own beside the identification study, whose
@@ -88,7 +96,7 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
         # identification of the virtual benchmark damper (the seed paper's study)
         step = time.perf_counter()
         summary["steps"]["identification"] = _identification(out / "identification", records_dir,
-                                                             synthetic, quick)
+                                                             synthetic, quick, measured)
         summary["steps"]["identification"]["elapsed_s"] = time.perf_counter() - step
         if diagnosis is not None:
             summary["steps"]["diagnosis"] = diagnosis.result()
@@ -101,8 +109,11 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
     finally:
         if side is not None:
             side.shutdown(cancel_futures=True)
+    # the workers' CPU counts once they have ended: the diagnosis's process is in this figure
+    summary["steps"]["identification"]["cpu_s_with_diagnosis"] = _cpu_s() - cpu
 
     summary["elapsed_s"] = time.perf_counter() - t0
+    summary["cpu_s"] = _cpu_s() - cpu0
     # one page to open first: tables and key figures, each linking to its data (benchmark/applications/report.py)
     summary["report"] = str(out / REPORT_NAME)
     atomic_write_text(out / "summary.json", json.dumps(summary, indent=2, default=str))
@@ -112,14 +123,18 @@ def run_study(out: str | Path, records_dir: str | None = None, quick: bool = Fal
 
 #: Controllers of the main job's comparison.
 STUDY_CONTROLLERS = ("passive-off", "passive-on", "clipped-optimal", "modulated", "skyhook", "lyapunov")
+#: The identification study's validation controller: the suite keeps its runs in full and hands
+#: them over (the same building, records and controller), so that they are not run twice.
+VALIDATION_CONTROLLER = "clipped-optimal"
 
 
-def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> dict:
+def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> tuple[dict, list]:
     folder.mkdir(parents=True, exist_ok=True)
     result = compare(records=("kobe", "elcentro") if quick else "all",
                      orientations="FN-x" if quick else "both",
                      controllers=STUDY_CONTROLLERS[:3] if quick else STUDY_CONTROLLERS,
-                     records_dir=records_dir, synthetic=synthetic, progress=True)
+                     records_dir=records_dir, synthetic=synthetic, progress=True,
+                     measure=(VALIDATION_CONTROLLER,))
     h5 = result.write_hdf5(folder / "comparison.h5")
     # The figures take ~6 s of one core while the suite's workers are done: a forked child
     # (which inherits the results) draws half of them beside this process.
@@ -128,17 +143,28 @@ def _suite(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) 
     atomic_write_text(folder / "comparison.json", json.dumps(result.to_json(), indent=2, default=str))
     atomic_write_text(folder / "table.txt", result.table() + "\n")
     print(result.table())
-    return {"output": str(folder), "hdf5": str(h5), "plots": len(plots), "runs": len(result.runs),
-            "synthetic_records": synthetic, "summary": result.summary(), "criteria": result.to_json()["criteria"]}
+    return ({"output": str(folder), "hdf5": str(h5), "plots": len(plots), "runs": len(result.runs),
+             "synthetic_records": synthetic, "summary": result.summary(), "criteria": result.to_json()["criteria"]},
+            list(result.measured.values()))
+
+
+def _cpu_s() -> float:
+    """CPU seconds of this process and of its children that have ended (workers, forked helpers)."""
+    if resource is None:
+        return time.process_time()
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
 def _plot_part(result, folder: Path, part: tuple[int, int]) -> list[str]:
     return [str(p) for p in result.plot(folder, part)]
 
 
-def _identification(folder: Path, records_dir: str | None, synthetic: bool, quick: bool) -> dict:
+def _identification(folder: Path, records_dir: str | None, synthetic: bool, quick: bool,
+                    measured: list) -> dict:
     kwargs = {"records": ("kobe",), "orientations": ("FP-x",)} if quick else {}
-    summary = run_identify_study(folder, records_dir=records_dir, synthetic=synthetic, **kwargs)
+    summary = run_identify_study(folder, records_dir=records_dir, synthetic=synthetic, measured=measured,
+                                 controller=VALIDATION_CONTROLLER, **kwargs)
     return {"output": str(folder), "summary": summary}
 
 

@@ -96,8 +96,14 @@ class VoltageLaw:
 
     def to_array(self) -> np.ndarray:
         """Packed form ``[kind, length, payload...]`` (``length`` counts the whole segment)."""
-        payload = np.asarray(self._payload(), dtype=np.float64).ravel()
-        return np.concatenate(([float(self.kind), float(payload.size + 2)], payload))
+        # Laws are frozen: the packed form is computed once per instance (a fit packs the same
+        # laws thousands of times, and a tabulated law's PCHIP slopes cost more than the copy).
+        packed = self.__dict__.get("_packed")
+        if packed is None:
+            payload = np.asarray(self._payload(), dtype=np.float64).ravel()
+            packed = np.concatenate(([float(self.kind), float(payload.size + 2)], payload))
+            object.__setattr__(self, "_packed", packed)
+        return packed.copy()
 
     @property
     def is_constant(self) -> bool:

@@ -137,7 +137,7 @@ def test_study_writes_the_report(monkeypatch, tmp_path):
 
     monkeypatch.setattr("records.report.write_records_report", no_records)
     monkeypatch.setattr(study, "write_records_report", no_records, raising=False)   # if imported at module level
-    monkeypatch.setattr(study, "_suite", lambda folder, *a: {"output": str(folder)})
+    monkeypatch.setattr(study, "_suite", lambda folder, *a: ({"output": str(folder)}, []))
     monkeypatch.setattr(study, "_identification", lambda folder, *a: {"output": str(folder)})
     monkeypatch.setattr(study, "_diagnosis", lambda folder, *a: {"output": str(folder)})
     summary = study.run_study(tmp_path / "results", quick=True)
