@@ -49,7 +49,13 @@ name                   role        term                                         
   post-yield force that grows less than linearly with the velocity (concave), which the base
   model and ``quadratic_damping`` (convex) cannot express. The exponent is fixed at 1/2 (MR
   fluids' flow indices are about 0.3-0.9; a single coefficient keeps the term linear, so the
-  loop's first-order screen sees it, and the mix with the linear term spans the range).
+  loop's first-order screen sees it, and the mix with the linear term spans the range). It is
+  also the law of a Bingham plastic in a valve gap near yield: in the slit form of the
+  Buckingham-Reiner relation (the quasi-static parallel-plate model of MR valves, reviewed by
+  Wang & Liao 2011) the flow rate grows with the square of the excess pressure, so the force
+  above the yield force grows with :math:`|\dot x|^{1/2}`. On the measured UTFSM damper joint
+  refits with the exponent set to 0.1-0.75 held out best at 1/2 at 0, 0.5 and 1 A
+  (docs/diagnosis.md).
 * ``fade``: a slow linear change of the force level from the start :math:`t_0` of each test
   (heating thins the fluid); over one test a linear law is the first term of any smooth drift.
 * ``roll_off``: the base model's Bouc-Wen element and viscous dashpot carry their force
