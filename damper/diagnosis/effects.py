@@ -53,7 +53,7 @@ name                   role        term                                         
   also the law of a Bingham plastic in a valve gap near yield: in the slit form of the
   Buckingham-Reiner relation (the quasi-static parallel-plate model of MR valves, reviewed by
   Wang & Liao 2011) the flow rate grows with the square of the excess pressure, so the force
-  above the yield force grows with :math:`|\dot x|^{1/2}`. On the measured UTFSM damper joint
+  above the yield force grows with :math:`|\\dot x|^{1/2}`. On the measured UTFSM damper joint
   refits with the exponent set to 0.1-0.75 held out best at 1/2 at 0, 0.5 and 1 A
   (docs/diagnosis.md).
 * ``fade``: a slow linear change of the force level from the start :math:`t_0` of each test
