@@ -359,9 +359,13 @@ def _screening_table(screening: dict) -> str:
                      "–" if lag is None else f"{_num(1e3 * float(lag), 1)} ms"])
     if not rows:
         return ""
-    return _table(["file", "samples", "excluded from fit and error",
-                   "findings (what, where, how many samples; each span in report.md)",
-                   "force–velocity lag (estimated)"], rows, left=(0, 3))
+    return (_table(["file", "samples", "excluded from fit and error",
+                    "findings (what, where, how many samples; each span in report.md)",
+                    "force–velocity lag (estimated)"], rows, left=(0, 3))
+            + '<p class="note">The force–velocity lag is the cross-correlation delay of the force on the '
+              "velocity: it holds the damper's own hysteresis (a yield-type force lags the velocity by a "
+              "fraction of a period) as well as any offset between the channels, so it is reported, not "
+              "corrected.</p>")
 
 
 def _diagnosis_section(root: Path) -> str:
