@@ -21,7 +21,7 @@ $(VENV)/.installed: pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
-	@echo "compiling the numba kernels once (sbib warm-up, about 2 minutes; later runs load them from the cache)"
+	@echo "compiling the numba kernels once (sbib warm-up, about 6 minutes on 2 cores; later runs load them from the cache)"
 	$(SBIB) warm-up
 	touch $@
 
