@@ -335,6 +335,7 @@ def plot_parameters_vs_level(summaries: Sequence[dict], path, unit: str = "A") -
     unit : str, optional
         Unit of the level: ``"A"`` or ``"V"``.
     """
+    level_unit = unit  # the loop below names each parameter's own unit
     fig, axes = plt.subplots(2, 3, figsize=(13, 7))
     for ax, name in zip(axes.ravel(), PARAMETER_NAMES):
         unit, scale = _UNITS[name]
@@ -347,9 +348,10 @@ def plot_parameters_vs_level(summaries: Sequence[dict], path, unit: str = "A") -
             ax.errorbar(lv, val * scale, yerr=err * scale, fmt="o", color=_COLORS[m], ms=4, alpha=0.7,
                         capsize=2, label=m)
         ax.set_title(f"{_SYMBOLS[name]} [{unit}]")
-        ax.set_xlabel(f"Current ({unit})" if unit == "A" else f"Voltage ({unit})")
+        ax.set_xlabel(f"Current ({level_unit})" if level_unit == "A" else f"Voltage ({level_unit})")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        if ax.get_legend_handles_labels()[0]:  # a panel with no fitted model (kappa_x, normalized only)
+            ax.legend(fontsize=7)
     fig.suptitle("Identified parameters per test")
     fig.tight_layout()
     return _save(fig, path)
