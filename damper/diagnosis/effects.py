@@ -194,6 +194,10 @@ class Effect:
     #: where the missing term shows up: the loop tries the effect whenever the trace names one.
     traces: ClassVar[tuple[str, ...]] = ()
 
+    def __post_init__(self) -> None:
+        # every effect's one parameter is checked on construction (the dataclass __init__ calls this)
+        self._validate()
+
     def _validate(self) -> None:
         raw = getattr(self, self.parameter_name)
         if isinstance(raw, bool):
@@ -396,9 +400,6 @@ class Stiffness(Effect):
     description: ClassVar[str] = "linear elastic force kappa_x*x (accumulator stiffness)"
     traces: ClassVar[tuple[str, ...]] = ("displacement", "loop")
 
-    def __post_init__(self) -> None:
-        self._validate()
-
     @classmethod
     def scale(cls, motions, force_rms):
         return force_rms / max(_pooled_rms(motions, "x"), 1e-12)
@@ -425,9 +426,6 @@ class Offset(Effect):
     unit: ClassVar[str] = "N"
     description: ClassVar[str] = "constant force f0 (accumulator preload)"
     traces: ClassVar[tuple[str, ...]] = ("mean",)
-
-    def __post_init__(self) -> None:
-        self._validate()
 
     @classmethod
     def scale(cls, motions, force_rms):
@@ -456,9 +454,6 @@ class Inertia(Effect):
     lower: ClassVar[float] = 0.0
     description: ClassVar[str] = "inertial force m*xddot (fluid and piston mass)"
     traces: ClassVar[tuple[str, ...]] = ("acceleration",)
-
-    def __post_init__(self) -> None:
-        self._validate()
 
     @classmethod
     def scale(cls, motions, force_rms):
@@ -494,9 +489,6 @@ class VoltageLag(Effect):
     description: ClassVar[str] = "first-order filter tau*du/dt = v - u on the coil input"
     traces: ClassVar[tuple[str, ...]] = ("voltage_rate", "voltage")
 
-    def __post_init__(self) -> None:
-        self._validate()
-
     @classmethod
     def scale(cls, motions, force_rms):
         return 0.01
@@ -531,9 +523,6 @@ class QuadraticDamping(Effect):
     description: ClassVar[str] = "turbulent loss c2*xdot*|xdot|"
     traces: ClassVar[tuple[str, ...]] = ("velocity",)
 
-    def __post_init__(self) -> None:
-        self._validate()
-
     @classmethod
     def scale(cls, motions, force_rms):
         return force_rms / max(_pooled_rms(motions, "xdot") ** 2, 1e-24)
@@ -566,9 +555,6 @@ class ShearThinning(Effect):
     exponent: ClassVar[float] = 0.5
     description: ClassVar[str] = "shear-thinning post-yield force k*sgn(xdot)*|xdot|^0.5"
     traces: ClassVar[tuple[str, ...]] = ("velocity",)
-
-    def __post_init__(self) -> None:
-        self._validate()
 
     @classmethod
     def scale(cls, motions, force_rms):
@@ -603,9 +589,6 @@ class Asymmetry(Effect):
     upper: ClassVar[float] = 0.9
     description: ClassVar[str] = "force level (1+a) in extension, (1-a) in compression"
     traces: ClassVar[tuple[str, ...]] = ("sign", "loop")
-
-    def __post_init__(self) -> None:
-        self._validate()
 
     @classmethod
     def scale(cls, motions, force_rms):
@@ -643,9 +626,6 @@ class Direction(Effect):
     description: ClassVar[str] = "force level (1+d) while xdot > 0, (1-d) while xdot < 0"
     traces: ClassVar[tuple[str, ...]] = ("sign", "loop")
 
-    def __post_init__(self) -> None:
-        self._validate()
-
     @classmethod
     def scale(cls, motions, force_rms):
         return 0.1
@@ -678,9 +658,6 @@ class Fade(Effect):
     unit: ClassVar[str] = "1/s"
     description: ClassVar[str] = "force level changing linearly with the time since the test began"
     traces: ClassVar[tuple[str, ...]] = ("time",)
-
-    def __post_init__(self) -> None:
-        self._validate()
 
     @classmethod
     def scale(cls, motions, force_rms):
@@ -719,9 +696,6 @@ class RollOff(Effect):
     description: ClassVar[str] = ("dashpot c_s = kappa_w/v_r in series with the base model "
                                   "(force rolls off viscously below about v_r)")
     traces: ClassVar[tuple[str, ...]] = ("velocity", "loop")
-
-    def __post_init__(self) -> None:
-        self._validate()
 
     @classmethod
     def scale(cls, motions, force_rms):
