@@ -58,7 +58,7 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.provenance import provenance as base_provenance
-from damper.diagnosis.augmented import AugmentedModel
+from damper.diagnosis.augmented import BASE_MODELS, AugmentedModel
 from damper.models.base import DamperModel
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.diagnosis.effects import EFFECTS, Effect
@@ -92,7 +92,13 @@ _KEYS = {"format", "format_version", "model", "input", "parameters", "effects", 
          "notes"}
 _REQUIRED = ("format", "model", "input", "parameters")
 _COMMON_UNITS = {"kappa_x": "N/m", "kappa_xdot": "N*s/m", "kappa_w": "N", "rho": "1/m", "sigma": "1",
-                 "n": "1", "roll_off_velocity": "m/s", "field_lag": "s", "substep_tolerance": "1"}
+                 "n": "1", "roll_off_velocity": "m/s", "field_lag": "s", "substep_tolerance": "1",
+                 # the Spencer-type base of the residual loop (spencer_bouc_wen): its spring in series
+                 # with the Bouc-Wen element and its series dashpot
+                 "k0": "N/m", "c1": "N*s/m"}
+#: The unit written for a parameter without one in these tables (a user's registered model, or
+#: a parameter earlier versions had no unit for); read back as SI.
+_UNKNOWN_UNIT = "SI"
 # units by model; "{u}" is the input unit (coefficients per volt or per ampere)
 _MODEL_UNITS = {
     "spencer": {"alpha_a": "N/m", "alpha_b": "N/(m*{u})", "c0a": "N*s/m", "c0b": "N*s/(m*{u})", "k0": "N/m",
@@ -223,9 +229,13 @@ class ModelFile:
         return Path(self.path).name if self.path else self.model_name
 
     def augmented(self) -> AugmentedModel:
-        """The model with its effects as an :class:`~damper.diagnosis.augmented.AugmentedModel` (Bouc-Wen bases)."""
-        if not isinstance(self.model, (NormalizedBoucWen, ExtendedBoucWen)):
-            raise InputError(f"{self.label}: effects compose with a normalized or extended Bouc-Wen base, "
+        """The model with its effects as an :class:`~damper.diagnosis.augmented.AugmentedModel`.
+
+        The bases are those of :data:`damper.diagnosis.augmented.BASE_MODELS` (normalized, extended
+        and Spencer-type Bouc-Wen), the bases ``sbib diagnose --model`` fits.
+        """
+        if type(self.model) not in BASE_MODELS.values():
+            raise InputError(f"{self.label}: effects compose with a {_base_names()} base, "
                              f"not {self.model_name}")
         return AugmentedModel(self.model, tuple(self.effects))
 
@@ -288,8 +298,13 @@ class ModelFile:
         name = self.model_name
         changes = {}
         for f in dataclasses.fields(self.model):
+            if f.name == "voltage_range":
+                continue
             unit = parameter_unit(name, f.name, self.input.unit)
-            if unit is not None and unit.startswith("N"):
+            if unit is None:  # scaling it or not would be a guess: a force parameter left unscaled breaks the model
+                raise InputError(f"damper scale: parameter {f.name} of {name} has no known unit, so the force "
+                                 "similitude cannot tell whether to scale it (damper.io.model_file units)")
+            if unit.startswith("N"):
                 value = getattr(self.model, f.name)
                 changes[f.name] = scaled_law(value, factor) if isinstance(value, VoltageLaw) else value * factor
         model = dataclasses.replace(self.model, **changes)
@@ -430,7 +445,7 @@ def write_model_file(path, model, *, input: InputSpec | None = None, effects: Se
             if f.name == "voltage_range":
                 continue
             value = getattr(model, f.name)
-            unit = parameter_unit(name, f.name, spec.unit) or "SI"
+            unit = parameter_unit(name, f.name, spec.unit) or _UNKNOWN_UNIT
             entry = _law_json(value) if isinstance(value, VoltageLaw) else {"value": float(value)}
             params[f.name] = {**entry, "unit": unit}
     doc: dict[str, Any] = {"format": FORMAT, "format_version": FORMAT_VERSION, "model": name,
@@ -559,7 +574,7 @@ def _read_parameters(doc: dict, where: str, name: str, cls, spec: InputSpec) -> 
         unit = parameter_unit(name, key, spec.unit)
         if "unit" not in entry:
             raise InputError(f"{at}: unit missing" + (f"; expected {unit}" if unit else ""))
-        if unit is not None and _norm_unit(entry["unit"]) != _norm_unit(unit):
+        if unit is not None and _norm_unit(entry["unit"]) not in (_norm_unit(unit), _UNKNOWN_UNIT):
             raise InputError(f"{at}: unit {entry['unit']!r}; expected {unit} (SI)")
         if "law" in entry:
             if cls is HystereticOscillator:
@@ -667,8 +682,8 @@ def read_model_file(path) -> ModelFile:
                          f"{spec.unit})") from None
     except TypeError as exc:
         raise InputError(f"{where}: parameters do not fit model {name}: {exc}") from None
-    if effects and not isinstance(model, (NormalizedBoucWen, ExtendedBoucWen)):
-        raise InputError(f"{where}: effects need a normalized_bouc_wen or extended_bouc_wen model, not {name}")
+    if effects and type(model) not in BASE_MODELS.values():
+        raise InputError(f"{where}: effects need a {_base_names()} model, not {name}")
     out = ModelFile(model=model, input=spec, effects=effects,
                     quality=doc.get("quality") or {}, provenance=doc.get("provenance") or {},
                     notes=tuple(str(n) for n in doc.get("notes") or ()), path=str(path))
@@ -678,6 +693,11 @@ def read_model_file(path) -> ModelFile:
         except InputError as exc:
             raise InputError(f"{where}: effects: {exc}") from None
     return out
+
+
+def _base_names() -> str:
+    """The model names effects compose with, for messages ("a or b or c")."""
+    return " or ".join(str(cls.name) for cls in BASE_MODELS.values())
 
 
 def _read_legacy_oscillator(doc: dict, where: str) -> ModelFile:

@@ -225,8 +225,15 @@ class SpencerTypeModel(DamperModel):
         return pack_spencer_type(self.substep_tolerance, **self._kernel_parameters())
 
     def initial_state(self) -> np.ndarray:
-        """``[y, w, u] = [0, 0, v_min]``: at rest, field off."""
-        return np.array([0.0, 0.0, self.voltage_range[0]])
+        """``[y, w, u] = [0, 0, u_off]``: at rest, field off.
+
+        ``u_off`` is 0 V (or 0 A) clipped into ``voltage_range``: a coil without command. A range
+        read from measurements can reach below zero (the Dyke recording's voltage channel dips to
+        -0.44 V), where laws fitted on the measured levels are extrapolated and may be nearly
+        singular; the field must not start there when the command is 0.
+        """
+        lo, hi = self.voltage_range
+        return np.array([0.0, 0.0, min(max(0.0, float(lo)), float(hi))])
 
     def rates(self, state, x: float, xdot: float, v: float) -> np.ndarray:
         """``[ydot, wdot, udot]`` (plain numpy, for the scipy oracle); ``w = z / z0``."""

@@ -10,9 +10,9 @@ import pytest
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from damper.diagnosis.augmented import AugmentedModel
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.diagnosis.effects import Inertia, RollOff, Stiffness
+from damper.diagnosis.effects import Inertia, Offset, RollOff, ShearThinning, Stiffness
 from damper.io.model_file import (FORMAT, InputSpec, capacity_force, read_model_file, write_model_file)
-from damper.models.series_dashpot import SeriesDashpotBoucWen
+from damper.models.series_dashpot import SeriesDashpotBoucWen, SpencerBoucWen
 from damper.models.response import simulate
 from damper.models.voltage_laws import Polynomial, Tabulated
 
@@ -61,6 +61,65 @@ def test_building_model_folds_kernel_effects_and_lists_the_rest(tmp_path):
     ref = aug.simulate(t, x, v=0.5).force
     got = simulate(model, t, x, v=0.5).force
     assert np.max(np.abs(got - ref)) < 1e-3 * np.max(np.abs(ref))
+
+
+def test_spencer_base_with_effects_reads_back_and_runs(tmp_path):
+    """What ``sbib diagnose --model spencer`` writes (a Spencer-type base with the loop's effects)
+    is read back, simulates as written, and gives the building its base with the rest listed."""
+    laws = {k: Tabulated((0.0, 1.1, 2.3), vals) for k, vals in
+            (("kappa_xdot", (20.0, 880.0, 1530.0)), ("kappa_w", (58.0, 650.0, 830.0)),
+             ("c1", (900.0, 27700.0, 29000.0)))}
+    base = SpencerBoucWen(2180.0, 890.0, laws["kappa_xdot"], laws["kappa_w"], laws["c1"], 1.08e4, 0.67, 1.1,
+                          field_lag=0.0067, voltage_range=(0.0, 2.3))
+    written = AugmentedModel(base, (Offset(-140.0), Inertia(3.0), ShearThinning(740.0)))
+    path = write_model_file(tmp_path / "spencer.json", written)
+    mf = read_model_file(path)
+    assert mf.model_name == "spencer_bouc_wen"
+    assert [e.name for e in mf.effects] == ["offset", "inertia", "shear_thinning"]
+    t = np.linspace(0.0, 2.0, 2001)
+    x = 0.01 * np.sin(2 * np.pi * t)
+    np.testing.assert_allclose(mf.augmented().simulate(t, x, v=1.0).force,
+                               written.simulate(t, x, v=1.0).force, rtol=1e-12, atol=1e-9)
+    model, dropped = mf.building_model()
+    assert model == base and [d.split()[0] for d in dropped] == ["offset", "inertia", "shear_thinning"]
+
+
+def test_every_registered_parameter_has_a_unit():
+    """The force similitude scales a parameter by its unit (N...): a parameter without one would be
+    left as it is (the Spencer-type base's k0 and c1 once were, which made a scaled model stiff
+    beyond its sub-step limit); such a model now refuses to scale."""
+    import dataclasses
+
+    from damper.io.model_file import parameter_unit
+    from damper.models.registry import MODELS
+    for name, cls in MODELS.items():
+        for f in dataclasses.fields(cls):
+            if f.name != "voltage_range":
+                assert parameter_unit(name, f.name) is not None, (name, f.name)
+
+
+def test_scaled_spencer_base_scales_its_series_elements(tmp_path):
+    base = SpencerBoucWen(2180.0, 890.0, 600.0, 650.0, 27700.0, 1.08e4, 0.67, 1.1, field_lag=0.0067,
+                          voltage_range=(0.0, 2.3))
+    mf = read_model_file(write_model_file(tmp_path / "s.json", base))
+    big = mf.scaled(400.0).model
+    for p in ("kappa_x", "k0", "kappa_xdot", "kappa_w", "c1"):
+        assert getattr(big, p).value(1.0) == pytest.approx(400.0 * getattr(base, p).value(1.0)) \
+            if hasattr(getattr(base, p), "value") else getattr(big, p) == pytest.approx(400.0 * getattr(base, p))
+    t = np.linspace(0.0, 2.0, 2001)
+    x = 0.01 * np.sin(2 * np.pi * t)
+    np.testing.assert_allclose(simulate(big, t, x, v=1.0).force, 400.0 * simulate(base, t, x, v=1.0).force,
+                               rtol=1e-9, atol=1e-6)
+
+
+def test_field_starts_off_when_the_range_reaches_below_zero():
+    """A range read from measurements may dip below 0 V (the Dyke channel: -0.44 V); the field of a
+    coil without command is 0, not the bottom of the range."""
+    base = SpencerBoucWen(0.0, 890.0, 600.0, 650.0, 27700.0, 1.08e4, 0.67, 1.1, field_lag=0.0067,
+                          voltage_range=(-0.44, 2.3))
+    assert base.initial_state()[2] == 0.0
+    assert SpencerBoucWen(0.0, 890.0, 600.0, 650.0, 27700.0, 1.08e4, 0.67, 1.1,
+                          voltage_range=(0.5, 2.3)).initial_state()[2] == 0.5
 
 
 def test_scaling_multiplies_every_force(tmp_path):
