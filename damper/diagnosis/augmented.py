@@ -41,6 +41,7 @@ import numpy as np
 
 from damper.fitting import least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
+from damper.models.base import with_coarser_substeps
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.diagnosis.effects import EFFECTS, Effect, Motion, effect_names, get_effect
 from damper.models.series_dashpot import SpencerBoucWen
@@ -282,6 +283,7 @@ class AugmentedModel:
                 base = e.series_base(base)
             elif e.role == "input":
                 u = e.transform_input(motion, u)
+        base = with_coarser_substeps(base, motion.substep_scale)  # 1 outside the loop's coarse pass
         base_force = simulate(base, motion.t, motion.x, motion.xdot, u).force
         force = base_force.copy()
         terms: dict[str, np.ndarray] = {}
@@ -566,7 +568,8 @@ def _until_last_fitted(motions, forces, masks):
         idx = np.flatnonzero(k)
         end = max(int(idx[-1]) + 1, 2) if idx.size else 2
         if end < m.n_samples:
-            m = Motion(m.t[:end], m.x[:end], m.xdot[:end], m.xddot[:end], m.v[:end], name=m.name)
+            m = Motion(m.t[:end], m.x[:end], m.xdot[:end], m.xddot[:end], m.v[:end], name=m.name,
+                       substep_scale=m.substep_scale)
             f, k = f[:end], k[:end]
         out_m.append(m)
         out_f.append(f)

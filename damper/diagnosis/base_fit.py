@@ -29,6 +29,7 @@ from scipy.optimize import lsq_linear
 
 from benchmark.foundation.errors import InputError, NumericalError
 from damper.diagnosis.augmented import AugmentedModel, RefitResult, make_base, refit
+from damper.models.base import with_coarser_substeps
 from damper.models.bouc_wen import NormalizedBoucWen
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size
@@ -108,7 +109,8 @@ def _linear_fit(data: DiagnosisData, kind: str, rho: float, sigma: float, n: flo
     for m, f, k in zip(data.motions, data.forces, data.train):
         if not k.any():
             continue
-        w = simulate(probe, m.t, m.x, m.xdot, data.voltage_range()[0]).states[:, 0]
+        w = simulate(with_coarser_substeps(probe, m.substep_scale), m.t, m.x, m.xdot,
+                     data.voltage_range()[0]).states[:, 0]
         phi = hat_weights(m.v, nodes)[k]
         cols = [m.xdot[k], w[k]] if kind == "normalized" else [m.x[k], m.xdot[k], w[k]]
         blocks.append(np.hstack([phi * c[:, None] for c in cols]))
@@ -265,7 +267,8 @@ def _projection(data: DiagnosisData, rho: float, sigma: float, n: float, taus, n
     probe = NormalizedBoucWen(1.0, 1.0, rho, sigma, n, voltage_range=data.voltage_range())
     ws = []
     for m, k in zip(data.motions, data.train):
-        ws.append(simulate(probe, m.t, m.x, m.xdot, data.voltage_range()[0]).states[:, 0]
+        ws.append(simulate(with_coarser_substeps(probe, m.substep_scale), m.t, m.x, m.xdot,
+                           data.voltage_range()[0]).states[:, 0]
                   if k.any() else None)
     out = []
     for tau in taus:

@@ -130,6 +130,10 @@ class Motion:
         reads the current as its input, in the same units).
     name : str
         Label of the test.
+    substep_scale : float
+        Factor on the base model's sub-step tolerance when this motion is simulated (>= 1; 1: the
+        model's own). The residual loop's coarse pass sets it (:mod:`damper.diagnosis.coarse`,
+        :func:`damper.models.base.with_coarser_substeps`).
     """
 
     t: np.ndarray
@@ -138,6 +142,7 @@ class Motion:
     xddot: np.ndarray
     v: np.ndarray
     name: str = ""
+    substep_scale: float = 1.0
 
     def __post_init__(self) -> None:
         t = np.ascontiguousarray(np.asarray(self.t, dtype=np.float64))
@@ -147,6 +152,10 @@ class Motion:
         if not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
             raise InputError(f"Motion {self.name!r}: t: expected finite, strictly increasing times")
         object.__setattr__(self, "t", t)
+        scale = self.substep_scale
+        if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not (1.0 <= scale < math.inf):
+            raise InputError(f"Motion {self.name!r}: substep_scale: expected a number >= 1, got {scale!r}")
+        object.__setattr__(self, "substep_scale", float(scale))
         for field in ("x", "xdot", "xddot", "v"):
             arr = np.asarray(getattr(self, field), dtype=np.float64)
             if arr.ndim == 0:

@@ -33,7 +33,7 @@ import numpy as np
 from benchmark.foundation.errors import ParameterError
 from benchmark.foundation.registry import Registry
 
-__all__ = ["DamperModel", "MODELS", "register_model", "KERNEL_BOUC_WEN", "KERNEL_SPENCER_TYPE", "KERNEL_BINGHAM",
+__all__ = ["DamperModel", "MODELS", "register_model", "with_coarser_substeps", "KERNEL_BOUC_WEN", "KERNEL_SPENCER_TYPE", "KERNEL_BINGHAM",
            "KERNEL_HYPERBOLIC_TANGENT", "KERNELS"]
 
 #: Bouc-Wen family (normalized, extended, Dahl): :func:`damper.models.bouc_wen.bouc_wen_step`.
@@ -98,6 +98,38 @@ class DamperModel(abc.ABC):
         v : float
             Coil input: voltage [V] (or current [A] for a model identified on currents).
         """
+
+
+def with_coarser_substeps(model, factor: float):
+    """``model`` with its ``substep_tolerance`` multiplied by ``factor`` (at most 1), or ``model``.
+
+    The sub-step rules of the hysteretic kernels (:mod:`damper.models.bouc_wen`,
+    :mod:`damper.models.spencer`) take :math:`\\lceil\\lambda\\,\\Delta/\\mathrm{tol}\\rceil` RK4 sub-steps
+    (``lambda`` the stiffness of the hysteresis, ``Delta`` the step's time or stroke) with an
+    error of order :math:`\\mathrm{tol}^4`, so a stiff model fitted to a long test costs about
+    ``1/tol`` per second of test whatever its sampling. The residual loop's coarse pass
+    (:mod:`damper.diagnosis.coarse`) simulates at a coarser tolerance for that reason; every error
+    it reports is computed again at the model's own. A model without a ``substep_tolerance``, or
+    ``factor == 1``, is returned as it is. No check runs again: only the tolerance changes.
+
+    Parameters
+    ----------
+    model : DamperModel
+        Any registered model instance.
+    factor : float
+        Multiplier of the tolerance (>= 1).
+    """
+    tol = getattr(model, "substep_tolerance", None)
+    if tol is None or factor == 1.0:
+        return model
+    coarse = min(1.0, float(tol) * float(factor))
+    if coarse == tol:
+        return model
+    out = object.__new__(type(model))
+    for f in dataclasses.fields(model):
+        object.__setattr__(out, f.name, getattr(model, f.name))
+    object.__setattr__(out, "substep_tolerance", coarse)
+    return out
 
 
 def _check_kernel(cls: type) -> str | None:

@@ -8,7 +8,10 @@ import pytest
 from benchmark.applications.cli import main
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from damper.diagnosis import DiagnosisData, diagnose
-from damper.diagnosis.coarse import Progress, decimate, decimation_factor
+from damper.diagnosis.augmented import AugmentedModel
+from damper.diagnosis.coarse import COARSE_SUBSTEP_SCALE, Progress, decimate, decimation_factor
+from damper.models.base import with_coarser_substeps
+from damper.models.series_dashpot import SpencerBoucWen
 from damper.lab.protocols import random_motion, random_voltage, random_voltage_test, smooth_ramp
 from damper.io.dyke import is_dyke_file, read_dyke
 
@@ -81,6 +84,38 @@ def test_decimation_keeps_levels_nodes_and_enough_samples_per_period():
     assert decimation_factor(data, 100) <= q * 100
     with pytest.raises(InputError, match="coarse_samples"):
         decimation_factor(data, 5)
+
+
+def test_coarser_substeps_changes_only_the_tolerance():
+    m = SpencerBoucWen(2000.0, 900.0, 800.0, 600.0, 2.0e4, 1.0e4, 0.7, 1.1, field_lag=0.007,
+                       voltage_range=(0.0, 2.0))
+    c = with_coarser_substeps(m, 3.0)
+    assert c.substep_tolerance == pytest.approx(3.0 * m.substep_tolerance) and m.substep_tolerance == 0.25
+    assert type(c) is type(m) and c.rho == m.rho and c.c1 is m.c1 and c.voltage_range == m.voltage_range
+    assert with_coarser_substeps(m, 10.0).substep_tolerance == 1.0  # the kernels' cap
+    assert with_coarser_substeps(m, 1.0) is m
+    assert with_coarser_substeps(object, 4.0) is object  # nothing to coarsen: as it is
+
+
+def test_coarse_pass_simulates_at_a_coarser_tolerance_within_its_error():
+    """The decimated motions carry the coarse sub-step scale; on a stiff Spencer-type model (rho
+    1e4 1/m, the Dyke fit's) the force moves by the O(tol**4) RK4 error only: well below 1e-3 of
+    its RMS, the residual the loop works on being ~0.1; at scale 1 it is the model's own force."""
+    test = random_voltage_test("virtual", duration=6.0, sample_rate=1000.0, seed=2)
+    data = DiagnosisData.from_tests([test])
+    coarse = decimate(data, 4)
+    assert all(m.substep_scale == COARSE_SUBSTEP_SCALE for m in coarse.motions)
+    assert all(m.substep_scale == 1.0 for m in data.motions)
+    lo, hi = data.voltage_range()
+    model = AugmentedModel(SpencerBoucWen(2000.0, 900.0, 800.0, 600.0, 2.0e4, 1.0e4, 0.7, 1.1,
+                                          field_lag=0.007, voltage_range=(lo, hi)))
+    m = coarse.motions[0]
+    fine = type(m)(m.t, m.x, m.xdot, m.xddot, m.v, name=m.name)
+    f_coarse, f_fine = model.force(m), model.force(fine)
+    diff = np.linalg.norm(f_coarse - f_fine) / np.linalg.norm(f_fine)
+    assert 0.0 < diff < 1e-3
+    with pytest.raises(InputError, match="substep_scale"):
+        type(m)(m.t, m.x, m.xdot, m.xddot, m.v, substep_scale=0.5)
 
 
 @pytest.mark.slow
