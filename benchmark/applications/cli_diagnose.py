@@ -175,6 +175,9 @@ def run(args) -> int:
             v = result.validation
             print(f"validation on {', '.join(v['tests'])}: relative RMS error "
                   f"{v['error_before']:.4f} -> {v['error_after']:.4f}")
+            for name, c in (v.get("input_clipped") or {}).items():
+                print(f"  {name}: {c['samples']} samples of the coil input outside the fitted tests' range "
+                      f"(by up to {c['largest_excess']:.3g}), held at its edge")
         if result.settings.get("stopped_by_budget"):
             print(f"stopped by the time budget ({result.settings['time_budget']:g} s): the model "
                   "so far is reported")

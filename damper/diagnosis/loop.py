@@ -34,6 +34,7 @@ from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base, fit_spencer_base
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, decimate, decimation_factor
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT, DiagnosisData
+from damper.diagnosis.effects import Motion
 from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, DEFAULT_TOLERANCE,
                                         DEFAULT_TRACE_SHARE,
                                         DEFAULT_TRIALS, SelectionResult, Step, select_effects)
@@ -217,7 +218,16 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
     motions, forces, masks = prepared.motions[n:], prepared.forces[n:], prepared.heldout[n:]
     sums = {"before": [0.0, 0.0], "after": [0.0, 0.0]}
     by_test = {}
+    clipped = {}
+    lo, hi = before.base.voltage_range
     for m, f, k in zip(motions, forces, masks):
+        # another recording's input may reach a little past the range the fitted tests spanned
+        # (the model's laws are checked only over that range): held at its edge, and said so
+        outside = (m.v < lo) | (m.v > hi)
+        if outside.any():
+            excess = float(np.max(np.maximum(lo - m.v, m.v - hi)))
+            clipped[m.name] = {"samples": int(outside.sum()), "largest_excess": excess}
+            m = Motion(m.t, m.x, m.xdot, m.xddot, np.clip(m.v, lo, hi), name=m.name)
         norm2 = float(np.sum(f[k] ** 2))
         errs = {}
         for label, model in (("before", before), ("after", after)):
@@ -229,7 +239,7 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
     return {"tests": [m.name for m in motions],
             "error_before": math.sqrt(sums["before"][0] / sums["before"][1]),
             "error_after": math.sqrt(sums["after"][0] / sums["after"][1]),
-            "errors_by_test": by_test}
+            "errors_by_test": by_test, "input_clipped": clipped}
 
 
 def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolerance: float,

@@ -414,6 +414,9 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
         v = d.validation
         lines[-1:-1] = [f"- Other recordings of the device ({', '.join(v['tests'])}, never fitted): "
                         f"relative RMS force error **{v['error_before']:.4f} → {v['error_after']:.4f}**."]
+        lines[-1:-1] = [f"- {name}: {c['samples']} samples of its {d.data.input_name} lie outside the fitted "
+                        f"tests' range (by up to {c['largest_excess']:.3g}); the models saw them held at its edge."
+                        for name, c in (v.get("input_clipped") or {}).items()]
     if d.settings.get("stopped_by_budget"):
         lines[-1:-1] = [f"- The time budget ({d.settings['time_budget']:g} s) ended the effect "
                         "selection: the model so far is reported."]

@@ -240,6 +240,23 @@ def test_cli_validate_scores_other_recordings_beside_the_holdout(tmp_path, capsy
     assert "validation on 6mm 2Hz 0V" in capsys.readouterr().out
 
 
+def test_validation_recording_past_the_fitted_input_range_is_held_at_its_edge():
+    """Another recording's command may overshoot the fitted tests' range a little (the two halves
+    of the Dyke recording differ by 0.3 mV at -0.44 V): it is scored with its input held at the
+    range's edge and the result says how many samples and by how much (it used to refuse)."""
+    lawful = AugmentedModel(NormalizedBoucWen(Polynomial((2000.0, 800.0)), Polynomial((800.0, 400.0)), 400.0,
+                                              1.0, 1.5, voltage_range=(0.0, 2.0)))
+    fitted = step_voltage_tests(lawful, levels=(0.0, 1.0), noise=0.01, seed=3)
+    other = step_voltage_tests(lawful, levels=(0.0, 1.0), noise=0.01, seed=4)[0]
+    v = other.voltage.copy()
+    v[v > 0.5] = 1.05  # 5 % past the fitted tests' top level
+    other = DamperTest(other.time, other.displacement, other.velocity, other.force, voltage=v, name="other")
+    d = diagnose(fitted, cross_validate=[other], candidates=["offset"])
+    c = d.validation["input_clipped"]["other"]
+    assert c["samples"] == int(np.sum(v > 1.0)) > 0 and c["largest_excess"] == pytest.approx(0.05)
+    assert np.isfinite(d.validation["error_before"]) and d.validation["error_before"] < 0.2
+
+
 def test_time_budget_ends_the_selection_cleanly_and_says_so(tmp_path, capsys):
     tests = sinusoidal_tests(_device(Offset(150.0), Stiffness(3e4)), noise=0.01, seed=9)
     d = diagnose(tests, time_budget=1e-6)
