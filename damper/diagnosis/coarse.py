@@ -32,6 +32,7 @@ chosen models on every sample (:func:`damper.diagnosis.loop.diagnose`).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 import time
@@ -43,7 +44,7 @@ from benchmark.foundation.errors import InputError
 from damper.diagnosis.dataset import DiagnosisData, _dominant_frequency
 from damper.diagnosis.effects import Motion
 
-__all__ = ["decimation_factor", "decimate", "Progress", "DEFAULT_COARSE_SAMPLES",
+__all__ = ["decimation_factor", "decimate", "coarse_pass", "Progress", "DEFAULT_COARSE_SAMPLES",
            "MIN_SAMPLES_PER_PERIOD", "COARSE_SUBSTEP_SCALE"]
 
 #: Factor on the models' sub-step tolerance while the coarse pass simulates (module docstring).
@@ -92,6 +93,23 @@ def decimation_factor(data: DiagnosisData, max_samples: int | None) -> int:
 
 def _take(a: np.ndarray, idx: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(np.asarray(a)[idx])
+
+
+def coarse_pass(data: DiagnosisData, q: int) -> DiagnosisData:
+    """The tests the loop's coarse pass fits: one sample in ``q`` (:func:`decimate`) and, even when
+    ``q = 1``, simulated at :data:`COARSE_SUBSTEP_SCALE` times the models' sub-step tolerance.
+
+    Parameters
+    ----------
+    data : DiagnosisData
+        The prepared tests (:class:`damper.diagnosis.dataset.DiagnosisData`).
+    q : int
+        Keep one sample in ``q`` (≥ 1, :func:`decimation_factor`).
+    """
+    if q > 1:
+        return decimate(data, q)
+    motions = tuple(dataclasses.replace(m, substep_scale=COARSE_SUBSTEP_SCALE) for m in data.motions)
+    return dataclasses.replace(data, motions=motions)
 
 
 def decimate(data: DiagnosisData, q: int) -> DiagnosisData:

@@ -13,9 +13,9 @@
    structured without mattering). Where it lives is reported (``unexplained_in``), no term is
    forced.
 
-Steps 1 and 3 run on the tests decimated to about ``coarse_samples`` fitted samples
-(:mod:`~damper.diagnosis.coarse`); every held-out error, trace and the verdict are computed on
-all samples.
+Steps 1 and 3 run on the tests decimated to about ``coarse_samples`` fitted samples and
+simulated at a coarser sub-step tolerance (:func:`~damper.diagnosis.coarse.coarse_pass`); every
+held-out error, trace and the verdict are computed on all samples at the model's own tolerance.
 
 Errors are relative RMS force errors :math:`\\|F - \\hat F\\|_2/\\|F\\|_2` on the held-out samples.
 """
@@ -32,7 +32,7 @@ from benchmark.foundation.errors import InputError, NumericalError, ParameterErr
 from damper.diagnosis.augmented import AugmentedModel, refit
 from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base, fit_spencer_base
-from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, decimate, decimation_factor
+from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, coarse_pass, decimation_factor
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT, DiagnosisData
 from damper.diagnosis.effects import Motion
 from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, DEFAULT_TOLERANCE,
@@ -326,7 +326,8 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         Receives one-line progress messages (each prefixed with the elapsed time).
     coarse_samples : int or None
         The base fit and the selection run on the tests decimated to about this many fitted
-        samples (:mod:`~damper.diagnosis.coarse`); ``None`` fits every sample.
+        samples, simulated at a coarser sub-step tolerance (:mod:`~damper.diagnosis.coarse`);
+        ``None`` fits every sample at the model's own tolerance.
     polish_nfev : int
         After a coarse pass, the base and the final models are refitted on every sample with at
         most this many residual evaluations and kept where the training error falls. Default 0:
@@ -368,7 +369,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     data = DiagnosisData.from_tests(tests, holdout=holdout, validate=validate)
     nodes = data.nodes()
     q = decimation_factor(data, coarse_samples)
-    work = decimate(data, q)
+    work = data if coarse_samples is None else coarse_pass(data, q)
     if q > 1:
         say(f"coarse pass: one sample in {q} ({sum(int(k.sum()) for k in work.train)} of "
             f"{sum(int(k.sum()) for k in data.train)} fitted samples)")
@@ -382,7 +383,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         say(f"fitting the {model} base model to {len(data.motions)} test(s)"
             + ("" if nodes is None else f" with {data.input_name} laws on nodes {[round(float(v), 4) for v in nodes]}"))
         base = fit_base(work, model, max_nfev=max_nfev, tolerance=tolerance, progress=say).model
-    if q > 1:
+    if work is not data:
         base = _polish(base, data, nodes, polish_nfev, tolerance, say, "base model")
     forces_before = [base.force(m) for m in data.motions]
     residual_before = data.measured("heldout") - data.concat(forces_before, "heldout")
@@ -398,7 +399,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                                deadline=None if time_budget is None else
                                say.start + float(time_budget))
     final = selection.model
-    if q > 1 and selection.steps:
+    if work is not data and selection.steps:  # the steps' errors at every sample and the model's tolerance
         final = _polish(final, data, nodes, polish_nfev, tolerance, say, "final model")
         selection = _full_rate_steps(selection, final, data, base)
     forces_after = [final.force(m) for m in data.motions]
