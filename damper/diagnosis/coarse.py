@@ -116,9 +116,10 @@ def decimate(data: DiagnosisData, q: int) -> DiagnosisData:
     """``data`` with one sample in ``q`` of every test (the first and last samples kept).
 
     The decimated motions are simulated at :data:`COARSE_SUBSTEP_SCALE` times the models' sub-step
-    tolerance (``Motion.substep_scale``). The motion signals (the acceleration already smoothed on the full rate), the forces and the
-    training and held-out masks are sampled alike; the coil-input levels (hence the law nodes
-    and the input range) stay those of ``data``. ``q = 1`` returns ``data`` itself.
+    tolerance (``Motion.substep_scale``). The motion signals (the acceleration already smoothed on
+    the full rate), the forces and the training and held-out masks are sampled alike; the
+    coil-input levels (hence the law nodes and the input range) stay those of ``data``. ``q = 1``
+    returns ``data`` itself.
 
     Parameters
     ----------
