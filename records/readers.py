@@ -25,9 +25,18 @@ Formats
     :func:`write_csv` writes, ``# SYNTHETIC ground motion: <name>; source: <source>; written by
     sbib``, marks a generated motion, which stays ``synthetic`` (with its name and source) when
     read back. An optional
-    header row names the columns and may carry units in brackets (``ax [g]``); a comment
-    ``# units: g`` works too. Time must increase with a uniform step (relative tolerance
+    header row names the columns and may carry units in brackets (``ax [g]``), in
+    parentheses (``Acc (g)``), as a suffix after ``_`` (``acc_g``, ``ax_cm_s2``) or in a row of
+    units under the names (``s, g, g``); a comment ``# units: g`` works too. A column in a
+    velocity or displacement unit (``vel (cm/s)``) is refused. Cells may be quoted, every line
+    may end with the separator, and between semicolons or whitespace a decimal comma
+    (``0,25``) is read as a decimal point; a file of ``1,5`` lines (a decimal comma or integer
+    columns?) is refused. Time must increase with a uniform step (relative tolerance
     ``1e-3``); the record's time origin is moved to zero and the first time kept in metadata.
+
+Values whose magnitude exceeds 1e8 m/s² after conversion (no unit mix-up gives that much) are
+refused as corrupt. PEER velocity (``.VT2``) and displacement (``.DT2``) files are refused, and
+Fortran fixed-width values written without a space between them (``1.2E-02-3.4E-02``) are split.
 
 Units accepted (case-insensitive): ``g``; ``m/s2``, ``m/s^2``, ``m/s/s``, ``m/s**2``;
 ``cm/s2``, ``cm/s^2``, ``cm/s/s``, ``cm/sec^2``, ``gal``; ``mm/s2``, ``mm/s^2``. One g is
@@ -173,15 +182,23 @@ def _to_si(values, factor: float) -> np.ndarray:
         return np.asarray(values, dtype=np.float64) * factor
 
 
+#: Largest acceleration accepted from a file [m/s²] (about 1e7 g).
+_LARGEST_SI = 1e8
+
+
 def _record(path: Path, **fields) -> Record:
     """Build the :class:`Record`; a value that overflows on unit conversion or any other
     inconsistency is reported against the file (the Record alone only knows its name)."""
     acc = np.asarray(fields["acceleration"], dtype=float)
-    bad = ~np.isfinite(acc)
+    # Beyond _LARGEST_SI no unit mix-up reaches (mm/s² read as g gives ~1e5 m/s²): the file is
+    # corrupt, and such values would overflow the record's measures and the integration.
+    with np.errstate(invalid="ignore"):
+        bad = ~(np.abs(acc) <= _LARGEST_SI)
     if bad.any():
         row = int(np.argwhere(bad)[0][0])
-        raise InputError(f"{path}: sample {row + 1} is not finite after conversion to m/s² "
-                         f"(value too large); expected accelerations below about 1e300")
+        raise InputError(f"{path}: sample {row + 1} is {acc[tuple(np.argwhere(bad)[0])]:.3g} m/s² after "
+                         f"conversion; expected accelerations below {_LARGEST_SI:.0e} m/s² (no unit "
+                         "mix-up gives more: a corrupt value?)")
     try:
         return Record(**fields)
     except InputError as exc:
@@ -277,6 +294,18 @@ _NPTS_DT_NEW = re.compile(r"NPTS\s*=\s*([^\s,]+)\s*,?\s*DT\s*=\s*([^\s,]+)", re.
 _NPTS_DT_OLD = re.compile(r"^\s*(\S+)\s+(\S+)\s+NPTS\s*,\s*DT", re.IGNORECASE)
 
 
+#: PEER's other histories: velocity (.VT2) and displacement (.DT2).
+_NOT_ACCELERATION_FILE = {".vt2": "velocity", ".dt2": "displacement"}
+_GLUED = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][-+]?\d+)?")
+
+
+def _fixed_width(token: str) -> list[str]:
+    """Split Fortran fixed-width numbers written without a space between them
+    (``1.2E-02-3.4E-02``), as full-width negative values are in some .AT2 files."""
+    parts = _GLUED.findall(token)
+    return parts if len(parts) > 1 and "".join(parts) == token else [token]
+
+
 def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None = None) -> Record:
     """Read a PEER NGA ``.AT2`` acceleration file (one component).
 
@@ -304,6 +333,14 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
     """
     path, lines = _read_lines(path)
     where = str(path)
+    kind, said = _NOT_ACCELERATION_FILE.get(path.suffix.lower()), f"its suffix {path.suffix}"
+    if kind is None and len(lines) > 2:
+        m = re.search(r"\b(VELOCITY|DISPLACEMENT)\b", lines[2], re.IGNORECASE)
+        kind, said = (m.group(1).lower() if m else None), "line 3"
+    if kind:
+        # a PEER velocity (.VT2) or displacement (.DT2) history read as acceleration would be silently wrong
+        raise InputError(f"{where}: a PEER {kind} history ({said} says so); expected an acceleration "
+                         "file (.AT2)")
     if len(lines) < 5:
         raise InputError(f"{where}: {len(lines)} lines; a PEER .AT2 file has 4 header lines then values")
     m = _NPTS_DT_NEW.search(lines[3]) or _NPTS_DT_OLD.search(lines[3])
@@ -332,7 +369,8 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
     values: list[float] = []
     for lineno, line in enumerate(lines[4:], start=5):
         for token in line.split():
-            values.append(_number(token, path, lineno, "acceleration values"))
+            for part in _fixed_width(token):
+                values.append(_number(part, path, lineno, "acceleration values"))
     if len(values) != npts:
         raise InputError(f"{where}: header says NPTS = {npts} but the file holds {len(values)} values")
     component = lines[1].rsplit(",", 1)[-1].strip() if "," in lines[1] else "component 1"
@@ -395,16 +433,42 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str | N
 _TRAILING_UNIT = re.compile(r"^(.*?)\s*([\[(])\s*([^\[\]()]*?)\s*[\])]\s*$")
 
 
+#: Units of velocity and displacement: a column in one of them is not an acceleration record.
+_NOT_ACCELERATION = {"m/s": "velocity", "cm/s": "velocity", "mm/s": "velocity", "in/s": "velocity",
+                     "ft/s": "velocity", "m/sec": "velocity", "cm/sec": "velocity", "m": "displacement",
+                     "cm": "displacement", "mm": "displacement", "in": "displacement", "ft": "displacement"}
+#: A unit written as a name's suffix after ``_`` (``acc_g``, ``ax_cm_s2``; ``_`` stands for ``/``).
+_SUFFIX_UNIT = re.compile(r"^(.+?)_((?:c|m)?m_s(?:_s|\^?2)|cm_sec(?:_sec|\^?2)|m_sec(?:_sec|\^?2)|g|gal)$",
+                          re.IGNORECASE)
+_SUFFIX_NOT_ACCELERATION = re.compile(r"^.+?_((?:c|m)?m_s(?:ec)?)$", re.IGNORECASE)
+
+
 def _split_header_unit(token: str, where: str) -> tuple[str, str | None]:
     """Split ``"ax [g]"`` into ``("ax", "g")``.
 
     A trailing ``[...]`` is always a unit; a trailing ``(...)`` only when it names a known
-    unit (so ``"N-S (FN)"`` stays a label) or the time unit s/ms.
+    unit (so ``"N-S (FN)"`` stays a label) or the time unit s/ms; a suffix after ``_`` when it
+    is an acceleration unit with ``_`` for ``/`` (``acc_g``, ``ax_cm_s2``). A velocity or
+    displacement unit (``vel (cm/s)``) is refused: the column is not an acceleration.
     """
     m = _TRAILING_UNIT.match(token)
     if not m:
+        suffix = _SUFFIX_UNIT.match(token.strip())
+        if suffix:
+            return suffix.group(1).strip(), suffix.group(2).replace("_", "/")
+        other = _SUFFIX_NOT_ACCELERATION.match(token.strip())
+        if other:
+            unit = other.group(1).replace("_", "/")
+            raise InputError(f"{where}: column {token.strip()!r} is in {unit}, a "
+                             f"{_NOT_ACCELERATION.get(unit.lower(), 'velocity')}; expected acceleration "
+                             "(g, m/s2, cm/s2 or mm/s2)")
         return token.strip(), None
     name, bracket, unit = m.group(1).strip(), m.group(2), m.group(3)
+    kind = _NOT_ACCELERATION.get(unit.lower().replace(" ", ""))
+    if kind and name.lower().replace(" ", "") not in _TIME_NAMES:
+        # a velocity or displacement history read as acceleration would be silently wrong
+        raise InputError(f"{where}: column {token.strip()!r} is in {unit}, a {kind}; expected "
+                         "acceleration (g, m/s2, cm/s2 or mm/s2)")
     if bracket == "(":
         known = unit.lower() in ("s", "sec", "seconds", "ms")
         if not known:
@@ -416,6 +480,8 @@ def _split_header_unit(token: str, where: str) -> tuple[str, str | None]:
         if not known:
             return token.strip(), None
     return name, unit
+
+
 _UNITS_COMMENT = re.compile(r"^#\s*units?\s*[:=]\s*(\S+)", re.IGNORECASE)
 #: write_csv's first line: "# [SYNTHETIC ]ground motion: <name>; source: <source>; written by sbib"
 _WRITTEN_BY_SBIB = re.compile(r"^#\s*(SYNTHETIC\s+)?ground motion:\s*(.*?);\s*source:\s*(.*);\s*written by sbib\s*$")
@@ -423,16 +489,60 @@ _TIME_NAMES = {"t", "time", "times", "time_s", "t_s", "time(s)", "time[s]", "sec
 
 
 def _split_csv(line: str, delimiter: str | None) -> list[str]:
+    """Split one CSV line; quotes around a cell (spreadsheet exports) and one trailing empty
+    cell (a delimiter ending every line) are dropped."""
     parts = line.split(delimiter) if delimiter else line.split()
-    return [p.strip() for p in parts]
+    cells = [p.strip().strip('"').strip("'").strip() for p in parts]
+    if len(cells) > 1 and delimiter and not cells[-1]:
+        cells.pop()
+    return cells
 
 
-def _is_number(token: str) -> bool:
+def _is_number(token: str, decimal_comma: bool = False) -> bool:
     try:
-        float(token)
+        float(token.replace(",", ".") if decimal_comma else token)
     except ValueError:
         return False
     return True
+
+
+def _is_unit_row(line: str, delimiter: str | None) -> bool:
+    """Whether every cell of ``line`` is a unit (``s, g, g``; empty cells allowed)."""
+    cells = _split_csv(line, delimiter)
+    known = 0
+    for cell in cells:
+        unit = cell.strip("[]() ")
+        if not unit:
+            continue
+        if unit.lower() in ("s", "sec", "seconds", "ms") or unit.lower().replace(" ", "") in _NOT_ACCELERATION:
+            known += 1
+            continue
+        try:
+            unit_factor(unit)
+        except InputError:
+            return False
+        known += 1
+    return known > 0
+
+
+def _line_delimiter(line: str) -> str | None:
+    """The column separator of one line: ``;`` before ``,`` (a semicolon file may use decimal
+    commas), then ``,``, else whitespace (tabs or spaces)."""
+    return ";" if ";" in line else ("," if "," in line else None)
+
+
+def _numeric_row(line: str) -> tuple[str | None, bool] | None:
+    """``(delimiter, decimal_comma)`` when every cell of ``line`` is a number, else ``None``.
+
+    Decimal commas (``0,5``) are recognised only where the comma cannot be the separator:
+    between semicolons or whitespace, the export of a spreadsheet in a European locale.
+    """
+    delimiter = _line_delimiter(line)
+    cells = _split_csv(line, delimiter)
+    decimal_comma = delimiter != "," and any("," in c for c in cells)
+    if cells and all(c and _is_number(c, decimal_comma) for c in cells):
+        return delimiter, decimal_comma
+    return None
 
 
 def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None = None,
@@ -468,10 +578,12 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
         stripped = line.strip()
         if not stripped:
             continue
-        if stripped.startswith("#"):
+        if stripped.startswith(("#", "%")):  # '%': the benchmark files' comment mark
             m = _UNITS_COMMENT.match(stripped)
             if m:
                 comment_units = m.group(1)
+            elif stripped.startswith("%") and _header_units(stripped):
+                comment_units = _header_units(stripped)  # "% Acc. in cm/sec^2", as the benchmark writes
             m = _WRITTEN_BY_SBIB.match(stripped)
             if m and not comment_keys:
                 comment_keys = {"synthetic": "true" if m.group(1) else "false", "name": m.group(2),
@@ -481,21 +593,47 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
     if not data_lines:
         raise InputError(f"{where}: no data rows; expected columns time, ax[, ay]")
 
-    first = data_lines[0][1]
-    delimiter = "," if "," in first else (";" if ";" in first else None)
+    # The first row whose cells are all numbers starts the data; its separator is the file's.
+    first_data = next((i for i, (_, line) in enumerate(data_lines) if _numeric_row(line)), None)
+    if first_data is None:
+        if len(data_lines) == 1:
+            raise InputError(f"{where}: header row only; expected data rows time, ax[, ay]")
+        lineno, line = data_lines[1]
+        bad = next((c for c in _split_csv(line, _line_delimiter(line)) if not _is_number(c)), line)
+        raise InputError(f"{where}:{lineno}: {bad!r} is not a number; expected data rows time, ax[, ay] "
+                         "after at most one header row")
+    unit_row: list[str] | None = None
+    if first_data == 2 and _is_unit_row(data_lines[1][1], _numeric_row(data_lines[2][1])[0]):  # type: ignore[index]
+        # a row of units under the names (time, ax / s, g), as some exports write them
+        unit_row = _split_csv(data_lines[1][1], _numeric_row(data_lines[2][1])[0])  # type: ignore[index]
+        del data_lines[1]
+        first_data = 1
+    if first_data > 1:
+        # text lines before the header: one header row is read, anything else must be a comment
+        lineno, line = data_lines[0]
+        raise InputError(f"{where}:{lineno}: {line[:60]!r} is neither the header row nor data; expected "
+                         "one header row (time, ax[, ay]) then data; start other lines with '#'")
+    delimiter, decimal_comma = _numeric_row(data_lines[first_data][1])  # type: ignore[misc]
 
     header_names: list[str] | None = None
     header_units: list[str | None] = []
-    tokens = _split_csv(first, delimiter)
-    if not all(_is_number(t) for t in tokens if t):
+    if first_data == 1:
+        header_line, header = data_lines[0]
         header_names, header_units = [], []
-        for t in tokens:
-            name_part, unit = _split_header_unit(t, where)
+        names = _split_csv(header, delimiter)
+        if unit_row is not None and len(unit_row) == len(names):
+            names = [f"{n} [{u}]" if u else n for n, u in zip(names, unit_row)]
+        for t in names:
+            name_part, unit = _split_header_unit(t, f"{where}:{header_line}")
             header_names.append(name_part)
             header_units.append(unit)
         data_lines = data_lines[1:]
-        if not data_lines:
-            raise InputError(f"{where}: header row only; expected data rows time, ax[, ay]")
+        n_data = len(_split_csv(data_lines[0][1], delimiter))
+        if len(header_names) != n_data:
+            sep = {";": "semicolons", ",": "commas", None: "spaces or tabs"}[delimiter]
+            raise InputError(f"{where}:{header_line}: the header names {len(header_names)} column(s) but the "
+                             f"data rows have {n_data} (separated by {sep}); expected the same separator "
+                             "and one name per column (time, ax[, ay])")
 
     n_columns = len(header_names) if header_names else len(_split_csv(data_lines[0][1], delimiter))
     if n_columns < 2:
@@ -508,8 +646,16 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
             raise InputError(f"{where}:{lineno}: row has {len(parts)} values, expected {n_columns} "
                              "(time, ax[, ay]); ragged rows are not accepted")
         for j, token in enumerate(parts):
+            if decimal_comma:
+                token = token.replace(",", ".")
             rows[i, j] = _number(token, path, lineno, "time" if j == 0 else "acceleration")
     linenos = [lineno for lineno, _ in data_lines]
+    if delimiter == "," and header_names is None and n_columns == 2 and not any(
+            c in line for _, line in data_lines for c in ".eE"):
+        # "0,5" on every line: one value per line with decimal commas, or integer (time, value)?
+        raise InputError(f"{where}:{linenos[0]}: {data_lines[0][1]!r}: a comma and no decimal point on every "
+                         "line: decimal commas (one value per line) or integer time, acceleration columns? "
+                         "Write '.' as the decimal mark, or add a header row (time, ax)")
 
     # units: header brackets, then the '# units:' comment, then the argument, else m/s²
     acc_units = {u for u in header_units[1:] if u} if header_units else set()
@@ -618,6 +764,16 @@ def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2", comm
 
 
 # --------------------------------------------------------------------------- dispatch
+def _first_column_is_time(rows: Sequence[str]) -> bool:
+    """Whether the first whitespace-separated column of ``rows`` (more than two) strictly
+    increases from the first row to the last, as a time column does."""
+    try:
+        first = np.array([float(line.split()[0]) for line in rows])
+    except (ValueError, IndexError):
+        return False
+    return first.size > 2 and bool(np.all(np.diff(first) > 0))
+
+
 def detect_format(path: str | os.PathLike) -> str:
     """Guess a file's format from its name and first lines (``benchmark``, ``at2``, ``single`` or ``csv``).
 
@@ -630,8 +786,10 @@ def detect_format(path: str | os.PathLike) -> str:
     -----
     Rules, in order: suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
     lines or a first line starting with ``PEER`` → at2; a first line starting with ``%`` →
-    benchmark; a comma or semicolon in the first data line → csv; one value per line →
-    single; two values whose first column increases with a constant step → csv (time, a);
+    benchmark, unless its first column is time (below); a comma or semicolon in the first
+    data line → csv; one value per line → single; a header row → csv; numeric columns whose
+    first column increases from the first row to the last → csv (a time column: an
+    acceleration always turns back; whether the step is uniform is the CSV reader's check);
     two values otherwise → benchmark.
     """
     path, lines = _read_lines(path)
@@ -644,9 +802,10 @@ def detect_format(path: str | os.PathLike) -> str:
     if any("NPTS" in line.upper() for line in head) or (head and head[0].upper().startswith("PEER")):
         return "at2"
     nonblank = [line.strip() for line in lines if line.strip()]
-    if nonblank[0].startswith("%"):
+    rows = [line for line in nonblank if not line.startswith(("#", "%"))]
+    data = rows[:50]
+    if nonblank[0].startswith("%") and not _first_column_is_time(rows):
         return "benchmark"
-    data = [line for line in nonblank if not line.startswith(("#", "%"))][:50]
     if not data:
         raise InputError(f"{path}: no data rows; cannot tell the format")
     if "," in data[0] or ";" in data[0]:
@@ -654,17 +813,14 @@ def detect_format(path: str | os.PathLike) -> str:
     width = len(data[0].split())
     if width == 1:
         return "single"
-    if width == 2:
-        try:
-            first = np.array([float(line.split()[0]) for line in data if len(line.split()) == 2])
-        except ValueError:
-            return "csv" if not _is_number(data[0].split()[0]) else "benchmark"
-        steps = np.diff(first)
-        if first.size > 2 and np.all(steps > 0) and np.allclose(steps, steps[0], rtol=1e-3):
-            return "csv"
-        return "benchmark"
     if not all(_is_number(t) for t in data[0].split()):
         return "csv"
+    # a first column that increases over the whole file is time, sampled uniformly or not (the
+    # CSV reader says which); an acceleration always turns back
+    if _first_column_is_time(rows):
+        return "csv"
+    if width == 2:
+        return "benchmark"
     raise InputError(f"{path}: {width} columns without a header; cannot tell the format "
                      "(give format='csv' with a time column, or 'benchmark')")
 

@@ -34,7 +34,7 @@ import textwrap
 from pathlib import Path
 
 from benchmark.foundation.errors import InputError
-from damper.io.reader import read_test
+from damper.io.reader import read_test, require_samples
 from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
@@ -133,8 +133,10 @@ def run(args) -> int:
     """
 
     keep = bool(getattr(args, "keep_flagged", False))
-    tests = [read_test(f, keep_flagged=keep) for f in args.data]
-    validate = [read_test(f, keep_flagged=keep) for f in args.validate] if args.validate else None
+    # a file too short to fit, or one the screening empties, stops here in one line naming it
+    tests = [require_samples(read_test(f, keep_flagged=keep), f) for f in args.data]
+    validate = ([require_samples(read_test(f, keep_flagged=keep), f) for f in args.validate]
+                if args.validate else None)
     screened_tests = tests + (validate or [])
     screening = screening_summary(screened_tests, keep)
     progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))

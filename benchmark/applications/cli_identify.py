@@ -16,13 +16,16 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
+
+from benchmark.foundation.errors import InputError
 from benchmark.applications.identification_study import run_identify_study
 from records.options import orientation_name
 
 from benchmark.foundation.display_units import format_si
 from benchmark.foundation.progress import progress_bar
 from damper.identification.measured import identify_files
-from damper.io.reader import read_test
+from damper.io.reader import read_test, require_samples
 from benchmark.applications.model_files import write_identified_models
 
 __all__ = ["register"]
@@ -127,7 +130,9 @@ def _run_data(args: argparse.Namespace) -> int:
     out = args.out or "results/identify-data"
     # read (and screen) every file once, before any fit: a bad one stops the command with its
     # one-line error before any progress line is written
-    tests = [read_test(path, keep_flagged=args.keep_flagged) for path in args.data]
+    # the fit needs usable samples: a file too short, or one the screening empties, stops here in one line
+    tests = [require_samples(read_test(path, keep_flagged=args.keep_flagged), path) for path in args.data]
+    existed = Path(out).exists()
     # on stderr (tqdm's own write() would go to stdout, where --json puts the JSON)
     print(f"identify: {len(args.data)} file(s) x {len(models)} model(s), {args.bootstrap} bootstrap "
           "refits each", file=sys.stderr, flush=True)
@@ -142,6 +147,14 @@ def _run_data(args: argparse.Namespace) -> int:
                                 out=None if args.no_plots else out, progress=tick)
     finally:
         bar.close()
+    if not result["tests"]:
+        # nothing identified: no model file, no empty output folder; the reasons in one line
+        if not existed and Path(out).is_dir() and not any(Path(out).iterdir()):
+            Path(out).rmdir()
+        files = {test.name: str(path) for path, test in zip(args.data, tests)}  # name the files, not the labels
+        raise InputError("no test identified: " + "; ".join(
+            f"{files.get(key.rsplit(' [', 1)[0], key.rsplit(' [', 1)[0])} [{key.rsplit(' [', 1)[-1]}: {reason}"
+            for key, reason in result["failed"].items()))
     # one model file per model form (damper.io.model_file), read by sbib run/compare --damper
     result["model_files"] = {k: str(v) for k, v in write_identified_models(result, out, args.data).items()}
     if args.json:

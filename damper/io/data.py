@@ -11,7 +11,10 @@ CSV format (SI units, one header line, optional ``#`` comment lines before it)::
 Required columns ``time`` [s], ``displacement`` [m], ``force`` [N]; optional ``velocity``
 [m/s] (the central difference of the displacement when absent) and one of ``voltage`` [V]
 or ``current`` [A] (a constant value may instead be passed to :func:`read_csv`). A header
-name may carry its unit in brackets (``force [N]``); only the SI unit is accepted.
+name may carry its unit in brackets or parentheses (``force [N]``, ``force (N)``); only the
+SI unit is accepted. The columns may be separated by commas, semicolons, tabs or spaces (the
+header line says which); with any separator but the comma, decimal commas (``0,25``) are read
+as decimal points. Cells may be quoted and every line may end with the separator.
 
 UTFSM files (``hysteresis_data/quiroz_utfsm_mr_damper_sinusoidal/Preprocesados``,
 M. Quiroz, MIT licence): whitespace-separated columns t [s], x [mm], ẋ [mm/s], F [N];
@@ -206,12 +209,12 @@ def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: b
 
 
 def _header_name(cell: str, path: Path, line: int) -> str:
-    text = cell.strip()
-    m = re.fullmatch(r"([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\])?", text)
+    text = cell.strip().strip('"').strip("'").strip()
+    m = re.fullmatch(r"([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\]|\(\s*([^)]*)\s*\))?", text)
     if not m:
         raise InputError(f"{path}:{line}: header: unreadable column name {cell!r}; expected "
                          "time, displacement, force[, velocity][, voltage|current]")
-    name, unit = m.group(1).lower(), m.group(2)
+    name, unit = m.group(1).lower(), m.group(2) if m.group(2) is not None else m.group(3)
     if name not in _UNITS:
         raise InputError(f"{path}:{line}: header: unknown column {name!r}; expected "
                          "time, displacement, force[, velocity][, voltage|current]")
@@ -254,6 +257,39 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
     return values
 
 
+def _sniff_delimiter(text: str) -> str | None:
+    """The column separator of a damper CSV, from its first line that is not a comment:
+    ``,``, else ``;``, else a tab, else ``None`` (runs of spaces)."""
+    for line in text.splitlines():
+        stripped = line.strip()
+        if stripped and not stripped.startswith("#"):
+            return next((d for d in (",", ";", "\t") if d in stripped), None)
+    return ","
+
+
+def _split_rows(text: str, delimiter: str | None):
+    """``(line number, cells)`` of each line, quotes handled by :mod:`csv` (``None``: split at spaces)."""
+    if delimiter is None:
+        for line_no, line in enumerate(text.splitlines(), start=1):
+            yield line_no, [c.strip('"') for c in line.split()]
+        return
+    with io.StringIO(text, newline="") as fh:
+        yield from enumerate(csv.reader(fh, delimiter=delimiter), start=1)
+
+
+def _is_float(cell: str) -> bool:
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
+
+
+def _derivative(values: np.ndarray, time: np.ndarray) -> np.ndarray:
+    """d(values)/dt, second-order where there are three samples or more (numpy needs them)."""
+    return np.gradient(values, time, edge_order=2 if time.size > 2 else 1)
+
+
 def read_csv(path, voltage: float | None = None, current: float | None = None,
              name: str | None = None, keep_flagged: bool = False) -> DamperTest:
     """Read a damper test CSV file (format in the module docstring), screened.
@@ -282,7 +318,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
         values or bad time stamps that too little is left.
     """
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise DataNotFoundError(f"{path}: damper test file not found")
     if voltage is not None and current is not None:
         raise InputError("read_csv: give a constant voltage or a current, not both")
@@ -292,32 +328,45 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     rows: list[list[float]] = []
     row_lines: list[int] = []
     text = read_text(path, "damper test file")  # binary or not UTF-8: one-line InputError
-    with io.StringIO(text, newline="") as fh:
-        for line_no, row in enumerate(csv.reader(fh), start=1):
-            if not row or all(not c.strip() for c in row):
-                continue
-            if row[0].lstrip().startswith("#"):
-                text = ",".join(row).lstrip()[1:]
-                if ":" in text:
-                    key, value = text.split(":", 1)
-                    comments[key.strip().lower()] = value.strip()
-                continue
-            if header is None:
-                header = [_header_name(c, path, line_no) for c in row]
-                header_line = line_no
-                missing = [c for c in _REQUIRED if c not in header]
-                if missing:
-                    raise InputError(f"{path}:{line_no}: header: missing column(s) "
-                                     f"{', '.join(missing)}; expected time, displacement, force"
-                                     "[, velocity][, voltage|current]")
-                if len(set(header)) != len(header):
-                    raise InputError(f"{path}:{line_no}: header: repeated column name")
-                if "voltage" in header and "current" in header:
-                    raise InputError(f"{path}:{line_no}: header: expected a voltage or a current "
-                                     "column, not both")
-                continue
-            rows.append(parse_row(path, line_no, header, row, missing=True))
-            row_lines.append(line_no)
+    delimiter = _sniff_delimiter(text)
+    trailing = False  # every line ends with the delimiter (as the Dyke files do)
+    for line_no, row in _split_rows(text, delimiter):
+        if not row or all(not c.strip() for c in row):
+            continue
+        if row[0].lstrip().startswith("#"):
+            comment = (delimiter or " ").join(row).lstrip()[1:]
+            if ":" in comment:
+                key, value = comment.split(":", 1)
+                comments[key.strip().lower()] = value.strip()
+            continue
+        if delimiter != ",":
+            # ';' or tab between the columns: a spreadsheet in a locale with decimal commas
+            row = [c.replace(",", ".") for c in row]
+        if header is None and len(row) > 1 and not row[-1].strip():
+            trailing = True
+        if trailing and len(row) > 1 and not row[-1].strip():
+            row = row[:-1]
+        if header is None:
+            if all(_is_float(c) for c in row):
+                raise InputError(f"{path}:{line_no}: the first line is data, not a header; expected a header "
+                                 "line time, displacement, force[, velocity][, voltage|current]"
+                                 + (" (a UTFSM test is recognised by its file name, "
+                                    "<amp>mm<freq>Hz<current>A.txt)" if path.suffix.lower() == ".txt" else ""))
+            header = [_header_name(c, path, line_no) for c in row]
+            header_line = line_no
+            missing = [c for c in _REQUIRED if c not in header]
+            if missing:
+                raise InputError(f"{path}:{line_no}: header: missing column(s) "
+                                 f"{', '.join(missing)}; expected time, displacement, force"
+                                 "[, velocity][, voltage|current]")
+            if len(set(header)) != len(header):
+                raise InputError(f"{path}:{line_no}: header: repeated column name")
+            if "voltage" in header and "current" in header:
+                raise InputError(f"{path}:{line_no}: header: expected a voltage or a current "
+                                 "column, not both")
+            continue
+        rows.append(parse_row(path, line_no, header, row, missing=True))
+        row_lines.append(line_no)
     if header is None:
         raise InputError(f"{path}: empty file; expected a header line "
                          "time, displacement, force[, velocity][, voltage|current]")
@@ -335,7 +384,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     velocity = col.get("velocity")
     metadata = {"velocity_from_file": velocity is not None}
     if velocity is None:
-        velocity = np.gradient(col["displacement"], time, edge_order=2)
+        velocity = _derivative(col["displacement"], time)
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
                       force=col["force"],
                       voltage=col["voltage"] if col.get("voltage") is not None else voltage,  # type: ignore[arg-type]
@@ -415,7 +464,7 @@ def read_utfsm(path, keep_flagged: bool = False) -> DamperTest:
         Keep the samples the screening flags in fits and errors.
     """
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise DataNotFoundError(f"{path}: UTFSM file not found")
     info = parse_utfsm_name(path)
     rows: list[list[float]] = []
@@ -475,7 +524,7 @@ def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
         Keep the samples the screening flags (the idle spans among them) in fits and errors.
     """
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise DataNotFoundError(f"{path}: raw UTFSM file not found")
     text = read_text(path, "raw UTFSM file")
     lines = text.splitlines()
@@ -513,7 +562,7 @@ def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
     time, col, excluded, prior = repair_samples(
         time, {"displacement": raw["displacement"] * 10.0 * 1e-3, "force": raw["force"] * 100.0 * _KGF},
         label=str(path), lines=line_nos)
-    velocity = np.gradient(col["displacement"], time, edge_order=2)
+    velocity = _derivative(col["displacement"], time)
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
                       force=col["force"], name=path.stem, source=str(path),
                       metadata={"velocity_from_file": False, "sample_rate": float(rate),

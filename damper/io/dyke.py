@@ -40,21 +40,29 @@ from benchmark.foundation.textfile import read_text
 from damper.io.data import DamperTest, parse_row
 from damper.io.screening import repair_samples, screened
 
-__all__ = ["read_dyke", "is_dyke_file", "DYKE_COLUMNS"]
+__all__ = ["read_dyke", "is_dyke_file", "looks_like_dyke_file", "DYKE_COLUMNS"]
 
 #: Columns a Dyke record must have (``A`` and ``fs`` may be present and are ignored).
 DYKE_COLUMNS = ("t", "D", "Y", "V", "F")
 _CM = 1e-2
 
 
+def _delimiter(text: str) -> str:
+    """The separator of the first non-blank line: ``,`` (the distributed files), else ``;`` or a tab
+    (the same file saved by a spreadsheet)."""
+    first = next((line for line in text.splitlines() if line.strip()), "")
+    return next((d for d in (",", ";", "\t") if d in first), ",")
+
+
 def _header(path: Path) -> list[str] | None:
     try:
-        with open(path, newline="", encoding="utf-8", errors="replace") as fh:
-            for row in csv.reader(fh):
-                if row and any(c.strip() for c in row):
-                    return [c.strip().strip('"') for c in row]
+        with open(path, newline="", encoding="utf-8-sig", errors="replace") as fh:  # -sig: a BOM is not a name
+            text = fh.read(65536)
     except OSError:
         return None
+    for row in csv.reader(io.StringIO(text, newline=""), delimiter=_delimiter(text)):
+        if row and any(c.strip() for c in row):
+            return [c.strip().strip('"') for c in row]
     return None
 
 
@@ -68,6 +76,20 @@ def is_dyke_file(path) -> bool:
     """
     header = _header(Path(path))
     return header is not None and all(c in header for c in DYKE_COLUMNS)
+
+
+def looks_like_dyke_file(path) -> bool:
+    """Whether ``path``'s header is Dyke's (``t`` and at least three of D, Y, V, F), complete or not:
+    such a file is read as a Dyke record, so that a missing column is named as one.
+
+    Parameters
+    ----------
+    path
+        File to look at.
+    """
+    header = _header(Path(path))
+    return (header is not None and "t" in header and "time" not in header
+            and sum(c in header for c in DYKE_COLUMNS[1:]) >= 3)
 
 
 def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> DamperTest:
@@ -94,8 +116,9 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
         column), fewer than 2 rows or a time axis that does not increase.
     """
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise DataNotFoundError(f"{path}: Dyke damper record not found")
+    text = read_text(path, "Dyke damper record")  # a directory, binary or not UTF-8: one-line InputError
     header = _header(path)
     if header is None:
         raise InputError(f"{path}: empty file; expected a header with columns t, D, Y, V, F")
@@ -106,15 +129,17 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
     index = {c: header.index(c) for c in DYKE_COLUMNS}
     rows: list[list[float]] = []
     lines: list[int] = []
-    text = read_text(path, "Dyke damper record")  # binary or not UTF-8: one-line InputError
     started = False
-    for line_no, row in enumerate(csv.reader(io.StringIO(text, newline="")), start=1):
+    for line_no, row in enumerate(csv.reader(io.StringIO(text, newline=""), delimiter=_delimiter(text)), start=1):
         if not row or all(not c.strip() for c in row):
             continue
         if not started:
             started = True  # the header
             continue
-        cells = [row[index[c]] if index[c] < len(row) else "" for c in DYKE_COLUMNS]
+        if len(row) <= max(index.values()):
+            raise InputError(f"{path}:{line_no}: expected {len(header)} values ({', '.join(header)}), "
+                             f"got {len(row)}")
+        cells = [row[index[c]] for c in DYKE_COLUMNS]
         rows.append(parse_row(path, line_no, list(DYKE_COLUMNS), cells, missing=True))
         lines.append(line_no)
     if len(rows) < 2:

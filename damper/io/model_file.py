@@ -58,6 +58,7 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.provenance import provenance as base_provenance
+from benchmark.foundation.textfile import read_text
 from damper.diagnosis.augmented import BASE_MODELS, AugmentedModel
 from damper.models.base import DamperModel
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
@@ -72,7 +73,7 @@ from damper.models.voltage_laws import (Constant, Exponential, Polynomial, Satur
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "ModelFile", "InputSpec", "read_model_file", "write_model_file",
            "parameter_unit", "file_provenance", "OSCILLATOR_MODEL", "LAW_FIELDS", "looks_like_model_file",
-           "capacity_force", "CAPACITY_TEST", "as_range"]
+           "capacity_force", "CAPACITY_TEST", "as_range", "load_json"]
 
 FORMAT = "sbib-damper-model"
 FORMAT_VERSION = 1
@@ -498,7 +499,7 @@ def _read_input(doc: dict, where: str) -> InputSpec:
         raise InputError(f"{where}: input: unknown field(s) {', '.join(sorted(unknown))}; expected quantity, "
                          "unit, range, levels")
     quantity = raw.get("quantity", "voltage")
-    if quantity not in INPUT_UNITS:
+    if not isinstance(quantity, str) or quantity not in INPUT_UNITS:
         raise InputError(f"{where}: input.quantity: expected voltage or current, got {quantity!r}")
     unit = raw.get("unit", INPUT_UNITS[quantity])
     if unit != INPUT_UNITS[quantity]:
@@ -516,7 +517,7 @@ def _read_input(doc: dict, where: str) -> InputSpec:
 
 def _read_law(entry: dict, where: str, spec: InputSpec) -> VoltageLaw:
     kind = entry.get("law")
-    if kind not in LAW_FIELDS:
+    if not isinstance(kind, str) or kind not in LAW_FIELDS:
         raise InputError(f"{where}: law: expected one of {', '.join(LAW_FIELDS)}, got {kind!r}")
     expected = set(LAW_FIELDS[kind]) | {"law", "unit"}
     unknown = set(entry) - expected
@@ -525,6 +526,16 @@ def _read_law(entry: dict, where: str, spec: InputSpec) -> VoltageLaw:
         raise InputError(f"{where}: a {kind} law has fields {', '.join(LAW_FIELDS[kind])}"
                          + (f"; missing {', '.join(missing)}" if missing else "")
                          + (f"; extra {', '.join(sorted(unknown))}" if unknown else ""))
+    try:
+        return _build_law(kind, entry, where, spec)
+    except InputError as exc:
+        if str(exc).startswith(where):
+            raise
+        # the law's own check (e.g. nodes not increasing) knows neither the file nor the field
+        raise InputError(f"{where}: {exc}") from None
+
+
+def _build_law(kind: str, entry: dict, where: str, spec: InputSpec) -> VoltageLaw:
     if kind == "constant":
         return Constant(_number(entry["value"], f"{where}.value"))
     if kind == "polynomial":
@@ -596,7 +607,7 @@ def _read_effects(doc: dict, where: str) -> tuple:
         at = f"{where}: effects[{i}]"
         if not isinstance(entry, dict) or "name" not in entry or "value" not in entry:
             raise InputError(f"{at}: expected {{name, parameter, value, unit}}, got {entry!r}")
-        cls = EFFECTS.get(entry["name"])
+        cls = EFFECTS.get(entry["name"]) if isinstance(entry["name"], str) else None
         if cls is None:
             raise InputError(f"{at}: unknown effect {entry['name']!r}; expected one of {', '.join(EFFECTS)}")
         extra = set(entry) - {"name", "parameter", "value", "unit"}
@@ -608,11 +619,39 @@ def _read_effects(doc: dict, where: str) -> tuple:
             raise InputError(f"{at}: unit missing; expected {cls.unit}")
         if _norm_unit(entry["unit"]) != _norm_unit(cls.unit):
             raise InputError(f"{at}: unit {entry['unit']!r}; expected {cls.unit} (SI)")
+        value = _number(entry["value"], f"{at}.value")
         try:
-            effects.append(cls(_number(entry["value"], f"{at}.value")))  # type: ignore[call-arg]
+            effects.append(cls(value))  # type: ignore[call-arg]
         except InputError as exc:
             raise InputError(f"{at}: {exc}") from None
     return tuple(effects)
+
+
+def load_json(path, what: str = "JSON file") -> Any:
+    """The JSON document in ``path``, or one :class:`InputError` line naming the file.
+
+    Parameters
+    ----------
+    path : path-like
+        The file: UTF-8 text (a byte-order mark is dropped; :mod:`benchmark.foundation.textfile`).
+    what : str
+        What the file is, for the messages (``"damper model file"``).
+
+    Raises
+    ------
+    DataNotFoundError
+        The file does not exist.
+    InputError
+        Not a regular file, not UTF-8 text, not JSON (with the line and column), or nested too
+        deeply for the parser.
+    """
+    text = read_text(path, what)
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{path}:{exc.lineno}: not a JSON file ({exc.__class__.__name__}: {exc})") from None
+    except RecursionError:  # thousands of nested brackets: no file this project writes
+        raise InputError(f"{path}: not a {what}: JSON nested too deeply to read") from None
 
 
 def read_model_file(path) -> ModelFile:
@@ -638,12 +677,9 @@ def read_model_file(path) -> ModelFile:
     """
     path = Path(path)
     where = str(path)
-    if not path.is_file():
+    if not path.exists():
         raise DataNotFoundError(f"{where}: damper model file not found")
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise InputError(f"{where}: not a JSON file ({exc.__class__.__name__}: {exc})") from None
+    doc = load_json(path, "damper model file")
     if not isinstance(doc, dict):
         raise InputError(f"{where}: expected a JSON object with format {FORMAT!r}")
     if doc.get("format") != FORMAT:
@@ -661,6 +697,13 @@ def read_model_file(path) -> ModelFile:
         raise InputError(f"{where}: unknown field(s) {', '.join(sorted(extra))}; expected "
                          + ", ".join(sorted(_KEYS)))
     name = doc["model"]
+    if not isinstance(name, str):  # a list or an object is not a name (and not hashable)
+        raise InputError(f"{where}: model: expected a model name (one of {', '.join(sorted(MODELS))} or "
+                         f"{OSCILLATOR_MODEL}), got {name!r}")
+    for key, kind in (("quality", dict), ("provenance", dict), ("notes", list)):
+        if doc.get(key) is not None and not isinstance(doc[key], kind):
+            raise InputError(f"{where}: {key}: expected {'an object' if kind is dict else 'a list of notes'}, "
+                             f"got {doc[key]!r}")
     if name == OSCILLATOR_MODEL:
         cls: Any = HystereticOscillator
         spec = InputSpec("force", "N", (-math.inf, math.inf), ())

@@ -6,7 +6,8 @@ it, so every command accepts the same formats and screens them the same way
 
 * a UTFSM preprocessed ``.txt`` file, recognised by its name pattern
   (:func:`damper.io.data.read_utfsm`);
-* a Dyke random-voltage record, recognised by its header (``t, D, Y, V, F``; :mod:`damper.io.dyke`);
+* a Dyke random-voltage record, recognised by its header (``t`` and at least three of
+  ``D, Y, V, F``; :mod:`damper.io.dyke`);
 * otherwise a damper CSV with units in its header (:func:`damper.io.data.read_csv`).
 """
 
@@ -16,9 +17,13 @@ from pathlib import Path
 
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm
-from damper.io.dyke import is_dyke_file, read_dyke
+from damper.io.dyke import looks_like_dyke_file, read_dyke
 
-__all__ = ["read_test"]
+__all__ = ["read_test", "require_samples", "MIN_SAMPLES"]
+
+#: Fewest samples, and fewest usable (unflagged) samples, of a test worth a fit (the
+#: screening's own floor; the diagnosis differentiates the velocity, which needs three).
+MIN_SAMPLES = 10
 
 
 def read_test(path, keep_flagged: bool = False) -> DamperTest:
@@ -49,6 +54,34 @@ def read_test(path, keep_flagged: bool = False) -> DamperTest:
             pass
         else:
             return read_utfsm(p, keep_flagged=keep_flagged)
-    if p.is_file() and is_dyke_file(p):
+    if p.is_file() and looks_like_dyke_file(p):  # a Dyke header, complete or not (read_dyke names what is missing)
         return read_dyke(p, keep_flagged=keep_flagged)
     return read_csv(p, keep_flagged=keep_flagged)
+
+
+def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> DamperTest:
+    """Return ``test``, or refuse it in one line when it is too short to fit or the screening
+    leaves too few usable samples (before a fit meets the gap deeper down).
+
+    Parameters
+    ----------
+    test : DamperTest
+        A test read by :func:`read_test`.
+    path : str or Path
+        Its file, for the message.
+    minimum : int
+        Fewest samples, and fewest usable samples, accepted.
+
+    Raises
+    ------
+    InputError
+        Fewer than ``minimum`` samples, or fewer than ``minimum`` usable ones.
+    """
+    if test.n_samples < minimum:
+        raise InputError(f"{path}: {test.n_samples} samples; expected at least {minimum} (a test of a few "
+                         "cycles of motion)")
+    usable = int(test.usable.sum())
+    if usable < minimum:
+        raise InputError(f"{path}: the screening leaves {usable} of {test.n_samples} samples usable, fewer "
+                         f"than {minimum} (its findings: sbib diagnose --data {path}; --keep-flagged keeps them)")
+    return test

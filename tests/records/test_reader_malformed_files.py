@@ -1,0 +1,125 @@
+"""Unusual and malformed record files: read right, or refused in one line naming the file.
+
+Each case is a file a user could bring (a spreadsheet export, a headerless time column, a PEER
+file with glued Fortran columns, a velocity history) that was once misread silently or refused
+with a misleading message.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from benchmark.foundation.errors import InputError
+from records import STANDARD_GRAVITY, load_record
+from records.readers import detect_format, read_at2
+
+G = STANDARD_GRAVITY
+
+
+def _write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _refused(path, words, **kwargs):
+    with pytest.raises(InputError) as info:
+        load_record(path, **kwargs)
+    message = str(info.value)
+    assert str(path) in message and "\n" not in message and words in message, message
+    return message
+
+
+def test_headerless_time_column_sampled_unevenly_is_not_read_as_acceleration(tmp_path):
+    # the first column increases throughout: it is time (once read as two cm/s² components)
+    t = np.arange(60) * 0.01
+    t[30:] += 0.004
+    path = _write(tmp_path, "uneven.txt", "".join(f"{a:.3f} {0.1 * np.sin(a):.4f}\n" for a in t))
+    assert detect_format(path) == "csv"
+    _refused(path, "expected uniform sampling")
+
+
+def test_headerless_time_and_two_components(tmp_path):
+    path = _write(tmp_path, "three.txt", "".join(f"{0.02 * i:.2f} {i % 3 - 1} {1 - i % 3}\n" for i in range(10)))
+    rec = load_record(path)
+    assert rec.dt == pytest.approx(0.02) and rec.acceleration.shape == (10, 2)
+
+
+def test_semicolons_with_decimal_commas_read_as_numbers(tmp_path):
+    path = _write(tmp_path, "euro.csv", "time;ax [g]\n0,00;0,10\n0,01;-0,20\n0,02;0,05\n")
+    rec = load_record(path)
+    assert rec.dt == pytest.approx(0.01)
+    np.testing.assert_allclose(rec.acceleration[:, 0], np.array([0.1, -0.2, 0.05]) * G)
+
+
+def test_one_value_per_line_with_decimal_commas_is_not_time_and_acceleration(tmp_path):
+    # "1,5" was read as t = 1 s, a = 5 m/s²
+    path = _write(tmp_path, "dc.txt", "1,5\n2,5\n3,5\n4,5\n")
+    _refused(path, "decimal comma")
+
+
+def test_quoted_cells_and_a_delimiter_ending_every_line(tmp_path):
+    path = _write(tmp_path, "export.csv", '"time","ax",\n"0.00","1.0",\n"0.01","2.0",\n"0.02","-1.0",\n')
+    rec = load_record(path)
+    np.testing.assert_allclose(rec.acceleration[:, 0], [1.0, 2.0, -1.0])
+    assert rec.labels == ("ax",)
+
+
+@pytest.mark.parametrize("name, factor", [("acc_g", G), ("acc_cm_s2", 0.01), ("ax_m_s2", 1.0)])
+def test_a_unit_as_the_suffix_of_a_column_name(tmp_path, name, factor):
+    path = _write(tmp_path, "suffix.csv", f"time_s,{name}\n0,1\n0.01,2\n0.02,3\n")
+    rec = load_record(path)
+    np.testing.assert_allclose(rec.acceleration[:, 0], np.array([1.0, 2.0, 3.0]) * factor)
+    assert rec.metadata["units_from"] == "file"
+
+
+@pytest.mark.parametrize("header", ["time,vel (cm/s)", "time,v [m/s]", "time,disp_cm_s", "time,d (cm)"])
+def test_a_velocity_or_displacement_column_is_refused(tmp_path, header):
+    path = _write(tmp_path, "vel.csv", f"{header}\n0,1\n0.01,2\n0.02,3\n")
+    _refused(path, "expected acceleration")
+
+
+def test_a_row_of_units_under_the_names(tmp_path):
+    path = _write(tmp_path, "units_row.csv", "time,ax,ay\ns,g,g\n0,0.1,0.2\n0.01,0.2,0.1\n")
+    rec = load_record(path)
+    np.testing.assert_allclose(rec.acceleration[0], np.array([0.1, 0.2]) * G)
+
+
+def test_a_text_line_before_the_header_is_named(tmp_path):
+    path = _write(tmp_path, "preamble.csv", "Station X\ntime,ax\n0,1\n0.01,2\n")
+    assert ":1:" in _refused(path, "neither the header row nor data")
+
+
+def test_header_and_data_with_different_separators(tmp_path):
+    path = _write(tmp_path, "sep.csv", "time ax ay\n0,1,2\n0.01,2,3\n")
+    _refused(path, "the header names 1 column(s) but the data rows have 3")
+
+
+def test_benchmark_style_header_over_a_time_column(tmp_path):
+    path = _write(tmp_path, "pct.txt", "% my quake. Acc. in cm/sec^2\n0.00 10\n0.01 20\n0.02 -10\n0.03 0\n")
+    rec = load_record(path)
+    assert rec.metadata["format"] == "csv" and rec.acceleration.shape == (4, 1)
+    np.testing.assert_allclose(rec.acceleration[:, 0], [0.1, 0.2, -0.1, 0.0])
+
+
+AT2_HEADER = ("PEER NGA STRONG MOTION DATABASE RECORD\nKOBE 01/16/95, KJMA, 000\n"
+              "{kind} TIME SERIES IN UNITS OF {units}\nNPTS=    6, DT=   .0100 SEC\n")
+
+
+def test_at2_values_glued_by_fortran_fixed_width(tmp_path):
+    path = _write(tmp_path, "glued.AT2", AT2_HEADER.format(kind="ACCELERATION", units="G")
+                  + "  1.0000000E-01-2.0000000E-01-3.0000000E-01\n -4.0000000E-01 5.0000000E-01-6.0000000E-01\n")
+    rec = read_at2(path)
+    np.testing.assert_allclose(rec.acceleration[:, 0], np.array([0.1, -0.2, -0.3, -0.4, 0.5, -0.6]) * G)
+
+
+@pytest.mark.parametrize("name, kind", [("vel.VT2", "VELOCITY"), ("disp.AT2", "DISPLACEMENT")])
+def test_peer_velocity_and_displacement_files_are_refused(tmp_path, name, kind):
+    path = _write(tmp_path, name, AT2_HEADER.format(kind=kind, units="CM/S") + "1 2 3 4 5 6\n")
+    _refused(path, kind.lower(), units="cm/s2")   # even with units given, it is not an acceleration
+
+
+def test_values_no_unit_mix_up_explains_are_refused(tmp_path):
+    path = _write(tmp_path, "huge.csv", "time,ax\n0,1\n0.01,1e300\n0.02,1\n")
+    _refused(path, "sample 2 is 1e+300 m/s²")
