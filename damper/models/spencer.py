@@ -62,7 +62,7 @@ import numpy as np
 from damper.models.base import DamperModel, KERNEL_SPENCER_TYPE, register_model
 from benchmark.foundation.errors import InputError, ParameterError
 from damper.models.bouc_wen import _abs_pow, _check_voltage_range, hermite_position, DEFAULT_SUBSTEP_TOLERANCE
-from damper.models.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value
+from damper.models.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value, law_value_pair
 
 __all__ = [
     "Spencer",
@@ -362,9 +362,7 @@ def _laws(params, u):
     off = _HEAD
     a = law_value(params, off, u)
     off += law_length(params, off)
-    d0 = law_value(params, off, u)
-    off += law_length(params, off)
-    d1 = law_value(params, off, u)
+    d0, d1 = law_value_pair(params, off, off + law_length(params, off), u)
     return a, d0, d1
 
 
@@ -386,9 +384,12 @@ def _hermite_velocity(x0, x1, xd0, xd1, dt, s):
 
 
 #: Length of the per-device memo of :func:`spencer_type_step_memo` (key, the laws at the step's
-#: start and end field, at the nodes of up to ``(MEMO_LENGTH - 12) // 6`` sub-steps, and in its last
-#: two entries the force's tangent at the end of the last step (:func:`spencer_type_tangent_memo`).
-MEMO_LENGTH = 108
+#: start and end field, at the nodes of up to ``(MEMO_LENGTH - 16) // 6`` sub-steps, the laws at
+#: the end field of the last step with that field (4 entries: the next step starts there), and
+#: in its last two entries the force's tangent at the end of the last step
+#: (:func:`spencer_type_tangent_memo`).
+MEMO_LENGTH = 112
+_END_SLOT = MEMO_LENGTH - 6
 _TANGENT_SLOT = MEMO_LENGTH - 2
 
 
@@ -480,19 +481,34 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
     # memo: [u0, v, dt, n_sub, laws(u0), laws(u1), laws at the nodes ...]; valid for the same
     # field and step (the laws depend on nothing else)
     same_field = use_memo and memo[0] == u0 and memo[1] == v and memo[2] == dt
+    # the laws at the step's start: at v once the field has settled, else at u0
+    start_u = v if field_settled else u0
+    start_known = same_field
     if use_memo and not same_field:
+        # a new step starts where the last one ended (u0 is that step's u1): its end laws,
+        # kept in memo[_END_SLOT:], are this step's start laws (memo[2] == dt marks a memo this
+        # kernel wrote)
+        if memo[2] == dt and memo[_END_SLOT] == start_u:
+            memo[4] = memo[_END_SLOT + 1]
+            memo[5] = memo[_END_SLOT + 2]
+            memo[6] = memo[_END_SLOT + 3]
+            start_known = True
         memo[0] = u0
         memo[1] = v
         memo[2] = dt
         memo[3] = -1.0
+    a, d0, d1 = _memo_laws(params, memo, 4, start_u, start_known, use_memo)
     if field_settled:
-        a, d0, d1 = _memo_laws(params, memo, 4, v, same_field, use_memo)
         a_1, d0_1, d1_1 = a, d0, d1
     else:
         # the field moves monotonically from u0 to u1 over the step: the laws at both ends bound
         # the sub-step rule, and those at u1 serve as the last node
-        a, d0, d1 = _memo_laws(params, memo, 4, u0, same_field, use_memo)
         a_1, d0_1, d1_1 = _memo_laws(params, memo, 7, u1, same_field, use_memo)
+    if use_memo:
+        memo[_END_SLOT] = start_u if field_settled else u1
+        memo[_END_SLOT + 1] = a_1
+        memo[_END_SLOT + 2] = d0_1
+        memo[_END_SLOT + 3] = d1_1
     ratio = max(a / (d0 + d1), a_1 / (d0_1 + d1_1))
     kratio = k0 / min(d0 + d1, d0_1 + d1_1)
     ydot0 = (a * w + d0 * xd0 + k0 * (x0 - y)) / (d0 + d1)
@@ -545,7 +561,7 @@ def _integrate(params, memo, use_memo, same_field, field_settled, n_sub, loading
     rho = params[5]
     sigma = params[6]
     n = params[7]
-    nodes_fit = use_memo and 10 + 6 * n_sub <= _TANGENT_SLOT
+    nodes_fit = use_memo and 10 + 6 * n_sub <= _END_SLOT
     nodes_valid = same_field and nodes_fit and memo[3] == n_sub
     if use_memo:
         memo[3] = n_sub if nodes_fit else -1.0

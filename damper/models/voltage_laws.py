@@ -60,6 +60,7 @@ __all__ = [
     "Saturating",
     "as_law",
     "law_value",
+    "law_value_pair",
     "law_values",
     "law_length",
     "check_law",
@@ -526,6 +527,40 @@ def law_value(params, offset, v):
             x = x ** e
         return params[p] + params[p + 1] * math.tanh(x)
     return math.nan
+
+
+@numba.njit(cache=True, inline="always")
+def law_value_pair(params, offset0, offset1, v):
+    """The laws packed at ``params[offset0]`` and ``params[offset1]``, both at voltage ``v`` [V].
+
+    Bit for bit two :func:`law_value` calls. Two :class:`Saturating` laws with the same ``c``
+    and ``e`` (the Spencer-type dampers' :math:`c_0(u)` and :math:`c_1(u)` usually share their
+    saturation) share one ``tanh``: the building's kernel evaluates both at every node of
+    every step while a damper's field moves, where the transcendental functions are most
+    of a damper's cost (docs/performance.md).
+
+    Parameters
+    ----------
+    params
+        Packed model parameters (the model's ``to_array()``, float64).
+    offset0, offset1
+        Indices in ``params`` where the two packed laws start.
+    v
+        Voltage [V].
+    """
+    p0 = offset0 + 2
+    p1 = offset1 + 2
+    if (params[offset0] == LAW_SATURATING and params[offset1] == LAW_SATURATING
+            and params[p0 + 2] == params[p1 + 2] and params[p0 + 3] == params[p1 + 3]):
+        x = max(v, 0.0) / params[p0 + 2]
+        if x == 0.0:
+            return params[p0], params[p1]
+        e = params[p0 + 3]
+        if e != 1.0:
+            x = x ** e
+        t = math.tanh(x)
+        return params[p0] + params[p0 + 1] * t, params[p1] + params[p1 + 1] * t
+    return law_value(params, offset0, v), law_value(params, offset1, v)
 
 
 @numba.njit(cache=True)
