@@ -180,6 +180,11 @@ def run(args) -> int:
             for name, c in (v.get("input_clipped") or {}).items():
                 print(f"  {name}: {c['samples']} samples of the coil input outside the fitted tests' range "
                       f"(by up to {c['largest_excess']:.3g}), held at its edge")
+        al = getattr(result, "alignment", None)
+        if al is not None and al["finding"]:
+            print(f"the measured force is {1e3 * al['shift_s']:+.3g} ms ({al['shift_samples']:+.1f} samples) off "
+                  f"the final model (error {al['error_unshifted']:.4f} -> {al['error_shifted']:.4f} if shifted): "
+                  "check the force and motion channels' timing; nothing was shifted")
         if result.settings.get("stopped_by_budget"):
             print(f"stopped by the time budget ({result.settings['time_budget']:g} s): the model "
                   "so far is reported")

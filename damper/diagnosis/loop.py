@@ -29,6 +29,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
+from damper.diagnosis.alignment import force_alignment
 from damper.diagnosis.augmented import AugmentedModel, refit
 from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base, fit_spencer_base
@@ -118,6 +119,9 @@ class Diagnosis:
     validation : dict or None
         Errors on other recordings of the same device (``cross_validate``), never fitted:
         ``{"tests", "error_before", "error_after", "errors_by_test"}``.
+    alignment : dict or None
+        The measured force's time shift against the final model
+        (:func:`damper.diagnosis.alignment.force_alignment`); None when it cannot be searched.
     """
 
     data: DiagnosisData = field(repr=False)
@@ -135,6 +139,7 @@ class Diagnosis:
     errors_by_input: dict
     settings: dict = field(default_factory=dict)
     validation: dict | None = None
+    alignment: dict | None = None
 
     @property
     def effects(self) -> list[str]:
@@ -147,8 +152,10 @@ class Diagnosis:
         Keys: ``model``, ``error_before``, ``error_after``, ``effects`` (``name``, ``parameters``,
         ``error_after_adding``), ``unexplained``, ``residual_trace`` (variable -> share of the
         final held-out residual's variance), plus ``unexplained_in``, ``residual_trace_before``,
-        ``whiteness``, ``errors_by_test``, ``errors_by_input``, ``input``, ``final_model``, and
-        ``validation`` (errors on the ``cross_validate`` recordings) when there are some.
+        ``whiteness``, ``errors_by_test``, ``errors_by_input``, ``input``, ``final_model``,
+        ``validation`` (errors on the ``cross_validate`` recordings) when there are some, and
+        ``force_alignment`` (the measured force's time shift against the final model,
+        :func:`damper.diagnosis.alignment.force_alignment`).
         """
         final_effects = {e.name: e.parameters for e in self.final_model.effects}
         return {
@@ -176,6 +183,7 @@ class Diagnosis:
             "final_model": self.final_model.to_dict(),
             "settings": dict(self.settings),
             **({} if self.validation is None else {"validation": self.validation}),
+            **({} if self.alignment is None else {"force_alignment": dict(self.alignment)}),
         }
 
 
@@ -409,6 +417,13 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     f_rms = float(norm_h / math.sqrt(residual_after.size))
     where = unexplained_structure(trace_after, f_rms, structure_share, structure_level)
     by_test, by_input = _errors(data, forces_before, forces_after)
+    # the force channel's skew against the final model, over every usable sample
+    alignment = force_alignment([m.t for m in data.motions], data.forces, forces_after,
+                                [tr | ho for tr, ho in zip(data.train, data.heldout)])
+    if alignment is not None and alignment["finding"]:
+        say(f"the measured force is {1e3 * alignment['shift_s']:+.3g} ms ({alignment['shift_samples']:+.1f} "
+            f"samples) off the final model: error {alignment['error_unshifted']:.4f} -> "
+            f"{alignment['error_shifted']:.4f} if shifted; check the channels' timing")
     for s in selection.steps:
         say(f"added {s.name} {s.parameters}: held-out error {s.error_before:.4f} -> {s.error_after:.4f}")
     if where:
@@ -432,5 +447,6 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                      error_before=error_before, error_after=error_after, selection=selection,
                      trace_before=trace_before, trace_after=trace_after,
                      unexplained=bool(where), unexplained_in=where, errors_by_test=by_test,
-                     errors_by_input=by_input, settings=settings, validation=validation)
+                     errors_by_input=by_input, settings=settings, validation=validation,
+                     alignment=alignment)
 

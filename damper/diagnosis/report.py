@@ -417,6 +417,18 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
         lines[-1:-1] = [f"- {name}: {c['samples']} samples of its {d.data.input_name} lie outside the fitted "
                         f"tests' range (by up to {c['largest_excess']:.3g}); the models saw them held at its edge."
                         for name, c in (v.get("input_clipped") or {}).items()]
+    al = getattr(d, "alignment", None)
+    if al is not None:
+        if al["finding"]:
+            lines[-1:-1] = [f"- **The measured force is {1e3 * al['shift_s']:+.3g} ms ({al['shift_samples']:+.1f} samples) "
+                            f"off the final model**: shifted by that much the error over the usable samples falls "
+                            f"{al['error_unshifted']:.4f} → {al['error_shifted']:.4f}. A skew between the force "
+                            "and motion channels (or a lag the model lacks): check the rig's timing; nothing "
+                            "was shifted."]
+        else:
+            lines[-1:-1] = [f"- Force channel against the final model: best alignment at {1e3 * al['shift_s']:+.3g} ms "
+                            f"({al['shift_samples']:+.2f} samples, searched ±{1e3 * al['searched_s']:.3g} ms): "
+                            "no skew between force and motion channels."]
     if d.settings.get("stopped_by_budget"):
         lines[-1:-1] = [f"- The time budget ({d.settings['time_budget']:g} s) ended the effect "
                         "selection: the model so far is reported."]

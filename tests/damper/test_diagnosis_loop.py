@@ -134,6 +134,31 @@ def test_cli_diagnose_json_and_report(tmp_path, capsys):
                  "loops.png"):
         assert (out / name).stat().st_size > 0
     assert "asymmetry" in (out / "report.md").read_text()
+    # synthetic data have no skew between their channels: the alignment check says so
+    assert doc["force_alignment"]["finding"] is False
+    assert abs(doc["force_alignment"]["shift_samples"]) < 0.5
+    assert "Force channel against the final model" in (out / "report.md").read_text()
+
+
+def test_a_late_force_channel_is_reported_not_shifted(tmp_path, capsys):
+    """The force written 3 samples (7.5 ms) late, as a skewed acquisition chain delivers it: under
+    voltage steps the fitted model cannot take the delay up in its own phase, so the diagnosis
+    names the skew, prints it, and fits the data as they are (nothing shifted)."""
+    import dataclasses
+    base = NormalizedBoucWen(Polynomial((1000.0, 3000.0)), Polynomial((200.0, 1500.0)), 400.0, 1.0, 1.5)
+    tests = step_voltage_tests(AugmentedModel(base, ()), samples_per_cycle=400, noise=0.005)
+    late = [dataclasses.replace(t, force=np.r_[np.full(3, t.force[0]), t.force[:-3]]) for t in tests]
+    files = [str(write_csv(t, tmp_path / f"t{i}.csv")) for i, t in enumerate(late)]
+    assert main(["diagnose", "--data", *files, "--quiet", "--out", str(tmp_path / "r"),
+                 "--effects", "stiffness"]) == 0
+    printed = capsys.readouterr().out
+    assert "off the final model" in printed and "nothing was shifted" in printed
+    doc = json.loads((tmp_path / "r" / "diagnosis.json").read_text())
+    al = doc["force_alignment"]
+    assert al["finding"] is True
+    assert 2.0 < al["shift_samples"] < 3.5
+    assert al["error_shifted"] < 0.8 * al["error_unshifted"]
+    assert "off the final model" in (tmp_path / "r" / "report.md").read_text()
 
 
 def test_cli_diagnose_errors(tmp_path, capsys):

@@ -27,6 +27,7 @@ def test_printed_values_are_the_final_ones(monkeypatch, capsys):
                              data=SimpleNamespace(input_name="current"), validation=None, settings={},
                              to_json=lambda: {})
     monkeypatch.setattr(cli_diagnose, "read_test", lambda f, **options: f)
+    monkeypatch.setattr(cli_diagnose, "require_samples", lambda test, path: test)
     monkeypatch.setattr(cli_diagnose, "screening_summary", lambda tests, keep=False: {})
     monkeypatch.setattr(cli_diagnose, "screening_lines", lambda tests, keep=False: [])
     monkeypatch.setattr(cli_diagnose, "diagnose", lambda *a, **k: result)

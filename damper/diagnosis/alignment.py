@@ -1,0 +1,107 @@
+"""How far the measured force is shifted in time against a fitted model: a channel-skew check.
+
+Data acquisition systems that sample force and motion through different chains (another
+filter, another card, a buffer) deliver the force a few samples late or early. The screening
+(:mod:`damper.io.screening`) estimates the lag between force and velocity by cross-correlation,
+but an MR damper's force itself lags and leads its velocity through the hysteresis, so that
+figure mixes the device's physics with the channels' skew. Against a fitted model, whose
+dynamics carry the physics, what is left is the skew (or a dynamic the model lacks):
+
+.. math::
+
+   \\hat\\tau = \\arg\\min_\\tau \\sum_i \\big(F_i - \\hat F(t_i - \\tau)\\big)^2 ,
+
+searched on a grid of whole samples of the finest sampling step (within
+:data:`MAX_SHIFT_SAMPLES` samples and :data:`MAX_SHIFT_S` seconds) and refined by a parabola
+through the best three. :math:`\\hat\\tau > 0`: the measured force comes *later* than the model
+predicts (a force channel delayed by :math:`\\hat\\tau`). The model's force is interpolated
+linearly between its samples. Only the usable samples count (the screening's exclusions stay out).
+
+The check reports, it does not correct: a skew of a sample or more that lowers the error by
+:data:`MIN_GAIN` or more is a finding for the user to check against the rig (``sbib diagnose``
+prints it and the report lists it); shifting a channel is the user's decision. Against a model
+*fitted to the skewed data* the figure is a lower bound: a model with a field lag or a series
+dashpot takes up part of a skew in its own phase (the shared Dyke recording with its force
+delayed by 4 samples, 1.33 ms: 1.2 samples found, error 0.0988 -> 0.0954 if shifted; the
+recording decimated to 1 kHz: -0.2 samples, no finding; docs/diagnosis.md).
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+__all__ = ["force_alignment", "MAX_SHIFT_SAMPLES", "MAX_SHIFT_S", "MIN_GAIN"]
+
+#: Widest shift searched, in samples of the finest sampling step ...
+MAX_SHIFT_SAMPLES = 16
+#: ... and in seconds (whichever is smaller): channel skews are a few samples, while shifts of a
+#: sizeable part of a cycle would fit the model's own phase errors instead.
+MAX_SHIFT_S = 0.010
+#: Relative drop of the error a shift must bring to be reported as a finding.
+MIN_GAIN = 0.02
+
+
+def _error(times, forces, predicted, masks, tau: float) -> float:
+    num = 0.0
+    den = 0.0
+    for t, f, p, m in zip(times, forces, predicted, masks):
+        shifted = np.interp(t[m] - tau, t, p)
+        num += float(np.sum((f[m] - shifted) ** 2))
+        den += float(np.sum(f[m] ** 2))
+    return float(np.sqrt(num / den)) if den > 0 else float("nan")
+
+
+def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
+                    predicted: Sequence[np.ndarray], masks: Sequence[np.ndarray]) -> dict | None:
+    """The time shift of the measured force against a model's prediction (module docstring).
+
+    Parameters
+    ----------
+    times : sequence of ndarray
+        Each test's time [s], strictly increasing.
+    forces : sequence of ndarray
+        Each test's measured force [N].
+    predicted : sequence of ndarray
+        The model's force at the same samples [N].
+    masks : sequence of bool ndarray
+        The samples that count (usable, not excluded by the screening).
+
+    Returns
+    -------
+    dict or None
+        ``shift_s`` (:math:`\\hat\\tau` [s], positive: the measured force is late),
+        ``shift_samples`` (in samples of the finest step), ``step_s`` (that step [s]),
+        ``error_unshifted`` and ``error_shifted`` (relative RMS force error over the counted
+        samples), ``finding`` (a shift of at least one sample that lowers the error by
+        :data:`MIN_GAIN` or more); None when fewer than three shifts can be searched or no sample
+        counts.
+    """
+    masks = [np.asarray(m, dtype=bool) for m in masks]
+    if not any(m.any() for m in masks):
+        return None
+    # a test's mean step (time stamps rounded to a few digits make the median step jitter)
+    steps = [float((t[-1] - t[0]) / (t.size - 1)) for t in times if t.size > 1]
+    if not steps:
+        return None
+    dt = min(steps)
+    j_max = int(min(MAX_SHIFT_SAMPLES, np.floor(MAX_SHIFT_S / dt + 1e-9)))
+    if j_max < 1:
+        return None
+    shifts = np.arange(-j_max, j_max + 1)
+    errors = np.array([_error(times, forces, predicted, masks, j * dt) for j in shifts])
+    k = int(np.nanargmin(errors))
+    best = float(shifts[k])
+    if 0 < k < shifts.size - 1:
+        e0, e1, e2 = errors[k - 1], errors[k], errors[k + 1]
+        curvature = e0 - 2.0 * e1 + e2
+        if curvature > 0:
+            best += 0.5 * (e0 - e2) / curvature
+    tau = best * dt
+    error_shifted = _error(times, forces, predicted, masks, tau)
+    error_unshifted = float(errors[j_max])
+    finding = bool(abs(best) >= 1.0 and error_shifted <= (1.0 - MIN_GAIN) * error_unshifted)
+    return {"shift_s": tau, "shift_samples": best, "step_s": dt,
+            "error_unshifted": error_unshifted, "error_shifted": error_shifted,
+            "finding": finding, "searched_s": j_max * dt}
