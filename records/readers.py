@@ -26,7 +26,7 @@ Formats
     sbib``, marks a generated motion, which stays ``synthetic`` (with its name and source) when
     read back. An optional
     header row names the columns and may carry units in brackets (``ax [g]``), in
-    parentheses (``Acc (g)``), as a suffix after ``_`` (``acc_g``, ``ax_cm_s2``) or in a row of
+    parentheses (``Acc (g)``), as a suffix after ``_`` (``ax_cm_s2``, ``acc_gal``; a bare ``_g`` is "ground", not g) or in a row of
     units under the names (``s, g, g``); a comment ``# units: g`` works too. A column in a
     velocity or displacement unit (``vel (cm/s)``) is refused. Cells may be quoted, every line
     may end with the separator, and between semicolons or whitespace a decimal comma
@@ -302,6 +302,8 @@ _GLUED = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[EeDd][-+]?\d+)?")
 def _fixed_width(token: str) -> list[str]:
     """Split Fortran fixed-width numbers written without a space between them
     (``1.2E-02-3.4E-02``), as full-width negative values are in some .AT2 files."""
+    if not any(c in token for c in "EeDd"):
+        return [token]  # "1.2.3" or "0.1-0.2" are corrupt, not glued
     parts = _GLUED.findall(token)
     return parts if len(parts) > 1 and "".join(parts) == token else [token]
 
@@ -437,8 +439,8 @@ _TRAILING_UNIT = re.compile(r"^(.*?)\s*([\[(])\s*([^\[\]()]*?)\s*[\])]\s*$")
 _NOT_ACCELERATION = {"m/s": "velocity", "cm/s": "velocity", "mm/s": "velocity", "in/s": "velocity",
                      "ft/s": "velocity", "m/sec": "velocity", "cm/sec": "velocity", "m": "displacement",
                      "cm": "displacement", "mm": "displacement", "in": "displacement", "ft": "displacement"}
-#: A unit written as a name's suffix after ``_`` (``acc_g``, ``ax_cm_s2``; ``_`` stands for ``/``).
-_SUFFIX_UNIT = re.compile(r"^(.+?)_((?:c|m)?m_s(?:_s|\^?2)|cm_sec(?:_sec|\^?2)|m_sec(?:_sec|\^?2)|g|gal)$",
+#: A unit written as a name's suffix after ``_`` (``ax_cm_s2``, ``acc_gal``; ``_`` stands for ``/``; a bare ``_g``, as in ``a_g``, means ground).
+_SUFFIX_UNIT = re.compile(r"^(.+?)_((?:c|m)?m_s(?:_s|\^?2)|cm_sec(?:_sec|\^?2)|m_sec(?:_sec|\^?2)|gal)$",
                           re.IGNORECASE)
 _SUFFIX_NOT_ACCELERATION = re.compile(r"^.+?_((?:c|m)?m_s(?:ec)?)$", re.IGNORECASE)
 
@@ -448,7 +450,7 @@ def _split_header_unit(token: str, where: str) -> tuple[str, str | None]:
 
     A trailing ``[...]`` is always a unit; a trailing ``(...)`` only when it names a known
     unit (so ``"N-S (FN)"`` stays a label) or the time unit s/ms; a suffix after ``_`` when it
-    is an acceleration unit with ``_`` for ``/`` (``acc_g``, ``ax_cm_s2``). A velocity or
+    is an acceleration unit with ``_`` for ``/`` (``ax_cm_s2``, ``acc_gal``; a bare ``_g`` is "ground", not g). A velocity or
     displacement unit (``vel (cm/s)``) is refused: the column is not an acceleration.
     """
     m = _TRAILING_UNIT.match(token)
@@ -465,6 +467,8 @@ def _split_header_unit(token: str, where: str) -> tuple[str, str | None]:
         return token.strip(), None
     name, bracket, unit = m.group(1).strip(), m.group(2), m.group(3)
     kind = _NOT_ACCELERATION.get(unit.lower().replace(" ", ""))
+    if bracket == "(" and "/" not in unit and name.lower().startswith(("a", "ground a")):
+        kind = None  # "acc (in)", "ax (out)": an acceleration column's label, not a length unit
     if kind and name.lower().replace(" ", "") not in _TIME_NAMES:
         # a velocity or displacement history read as acceleration would be silently wrong
         raise InputError(f"{where}: column {token.strip()!r} is in {unit}, a {kind}; expected "
@@ -525,10 +529,36 @@ def _is_unit_row(line: str, delimiter: str | None) -> bool:
     return known > 0
 
 
+_DECIMAL_COMMA_NUMBER = r"[-+]?\d+,\d+(?:[eE][-+]?\d+)?"
+#: A line of numbers with decimal commas separated by whitespace ("0,005\t0,012").
+_WHITESPACE_DECIMAL_COMMAS = re.compile(rf"\s*(?:{_DECIMAL_COMMA_NUMBER}|[-+]?\d+)(?:\s+(?:{_DECIMAL_COMMA_NUMBER}|[-+]?\d+))+\s*")
+
+
 def _line_delimiter(line: str) -> str | None:
     """The column separator of one line: ``;`` before ``,`` (a semicolon file may use decimal
-    commas), then ``,``, else whitespace (tabs or spaces)."""
-    return ";" if ";" in line else ("," if "," in line else None)
+    commas), whitespace where every whitespace-separated cell is a number with a decimal comma
+    or an integer (``0,005<tab>0,012``), then ``,``, else whitespace (tabs or spaces)."""
+    if ";" in line:
+        return ";"
+    if "," in line:
+        return None if _WHITESPACE_DECIMAL_COMMAS.fullmatch(line) else ","
+    return None
+
+
+def _bad_first_row(data_lines, where: str) -> None:
+    """Under a header, a first data row with numbers and a bad cell: name that cell (not the header)."""
+    if len(data_lines) < 2:
+        return
+    (_, header), (lineno, line) = data_lines[0], data_lines[1]
+    delimiter = _line_delimiter(line)
+    cells = _split_csv(line, delimiter)
+    if any(c and _is_number(c) for c in cells):
+        bad = next((c for c in cells if not (c and _is_number(c))), None)
+        if bad is not None:
+            raise InputError(f"{where}:{lineno}: {bad!r} is not a number; expected data rows time, ax[, ay]")
+        if len(cells) != len(_split_csv(header, delimiter)):
+            raise InputError(f"{where}:{lineno}: row has {len(cells)} values, expected "
+                             f"{len(_split_csv(header, delimiter))} (time, ax[, ay]); ragged rows are not accepted")
 
 
 def _numeric_row(line: str) -> tuple[str | None, bool] | None:
@@ -598,6 +628,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
     if first_data is None:
         if len(data_lines) == 1:
             raise InputError(f"{where}: header row only; expected data rows time, ax[, ay]")
+        _bad_first_row(data_lines, where)
         lineno, line = data_lines[1]
         bad = next((c for c in _split_csv(line, _line_delimiter(line)) if not _is_number(c)), line)
         raise InputError(f"{where}:{lineno}: {bad!r} is not a number; expected data rows time, ax[, ay] "
@@ -609,11 +640,14 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
         del data_lines[1]
         first_data = 1
     if first_data > 1:
+        _bad_first_row(data_lines, where)
         # text lines before the header: one header row is read, anything else must be a comment
         lineno, line = data_lines[0]
         raise InputError(f"{where}:{lineno}: {line[:60]!r} is neither the header row nor data; expected "
                          "one header row (time, ax[, ay]) then data; start other lines with '#'")
     delimiter, decimal_comma = _numeric_row(data_lines[first_data][1])  # type: ignore[misc]
+    # a first row of whole numbers ("0;0") says nothing of the decimal mark: the rows below do
+    decimal_comma = delimiter != "," and any("," in line for _, line in data_lines[first_data:])
 
     header_names: list[str] | None = None
     header_units: list[str | None] = []
@@ -622,7 +656,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
         header_names, header_units = [], []
         names = _split_csv(header, delimiter)
         if unit_row is not None and len(unit_row) == len(names):
-            names = [f"{n} [{u}]" if u else n for n, u in zip(names, unit_row)]
+            names = [f"{n} [{u.strip('[]() ')}]" if u.strip("[]() ") else n for n, u in zip(names, unit_row)]
         for t in names:
             name_part, unit = _split_header_unit(t, f"{where}:{header_line}")
             header_names.append(name_part)
@@ -765,13 +799,17 @@ def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2", comm
 
 # --------------------------------------------------------------------------- dispatch
 def _first_column_is_time(rows: Sequence[str]) -> bool:
-    """Whether the first whitespace-separated column of ``rows`` (more than two) strictly
-    increases from the first row to the last, as a time column does."""
+    """Whether the first whitespace-separated column of ``rows`` (more than two) rises from the
+    first row to the last at nearly every row (95 %), as a time column does, also one with a
+    repeated or backward stamp (the CSV reader then names that line) or two runs pasted end to
+    end; an acceleration turns back at about every other row."""
     try:
         first = np.array([float(line.split()[0]) for line in rows])
     except (ValueError, IndexError):
         return False
-    return first.size > 2 and bool(np.all(np.diff(first) > 0))
+    if first.size <= 2 or not first[-1] > first[0]:
+        return False
+    return bool(np.mean(np.diff(first) > 0) >= 0.95)
 
 
 def detect_format(path: str | os.PathLike) -> str:
@@ -786,10 +824,10 @@ def detect_format(path: str | os.PathLike) -> str:
     -----
     Rules, in order: suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
     lines or a first line starting with ``PEER`` → at2; a first line starting with ``%`` →
-    benchmark, unless its first column is time (below); a comma or semicolon in the first
+    benchmark, unless the ``%`` lines state no ``dt =`` and the first column is time (below); a comma or semicolon in the first
     data line → csv; one value per line → single; a header row → csv; numeric columns whose
-    first column increases from the first row to the last → csv (a time column: an
-    acceleration always turns back; whether the step is uniform is the CSV reader's check);
+    first column rises at 95 % of the rows → csv (a time column: an acceleration turns back at
+    about every other row; whether the step is uniform and always positive is the CSV reader's check);
     two values otherwise → benchmark.
     """
     path, lines = _read_lines(path)
@@ -804,7 +842,11 @@ def detect_format(path: str | os.PathLike) -> str:
     nonblank = [line.strip() for line in lines if line.strip()]
     rows = [line for line in nonblank if not line.startswith(("#", "%"))]
     data = rows[:50]
-    if nonblank[0].startswith("%") and not _first_column_is_time(rows):
+    # the benchmark's '%' header states the step ("dt=0.005 sec"): its two columns are accelerations
+    # whatever they do; a '%' header without a step over a time column is a CSV with comments
+    percent = [line for line in nonblank if line.startswith("%")]
+    states_dt = any(re.search(r"\bdt\s*=", line, re.IGNORECASE) for line in percent)
+    if nonblank[0].startswith("%") and (states_dt or not _first_column_is_time(rows)):
         return "benchmark"
     if not data:
         raise InputError(f"{path}: no data rows; cannot tell the format")

@@ -66,7 +66,7 @@ def test_quoted_cells_and_a_delimiter_ending_every_line(tmp_path):
     assert rec.labels == ("ax",)
 
 
-@pytest.mark.parametrize("name, factor", [("acc_g", G), ("acc_cm_s2", 0.01), ("ax_m_s2", 1.0)])
+@pytest.mark.parametrize("name, factor", [("acc_gal", 0.01), ("acc_cm_s2", 0.01), ("ax_m_s2", 1.0)])
 def test_a_unit_as_the_suffix_of_a_column_name(tmp_path, name, factor):
     path = _write(tmp_path, "suffix.csv", f"time_s,{name}\n0,1\n0.01,2\n0.02,3\n")
     rec = load_record(path)
@@ -123,3 +123,61 @@ def test_peer_velocity_and_displacement_files_are_refused(tmp_path, name, kind):
 def test_values_no_unit_mix_up_explains_are_refused(tmp_path):
     path = _write(tmp_path, "huge.csv", "time,ax\n0,1\n0.01,1e300\n0.02,1\n")
     _refused(path, "sample 2 is 1e+300 m/s²")
+
+
+# ---- cases from the review of the readers (each once misread or blamed on the wrong line)
+
+def test_a_g_is_ground_acceleration_not_a_unit(tmp_path):
+    # "a_g" names the ground acceleration; its units come from the comment (or the default)
+    path = _write(tmp_path, "ag.csv", "time,a_g\n# units: m/s2\n0,1\n0.01,2\n0.02,3\n")
+    rec = load_record(path)
+    np.testing.assert_allclose(rec.acceleration[:, 0], [1.0, 2.0, 3.0])
+
+
+def test_one_repeated_time_stamp_is_named_not_read_as_a_benchmark_file(tmp_path):
+    t = np.arange(100) * 0.01
+    t[80] = t[79]
+    path = _write(tmp_path, "dup.txt", "".join(f"{a:.2f} {np.sin(7 * a):.4f}\n" for a in t))
+    assert detect_format(path) == "csv"
+    _refused(path, "does not increase")
+
+
+def test_benchmark_header_keeps_its_two_columns_even_when_the_first_rises(tmp_path):
+    rows = "".join(f"{0.1 * k:.3e} {0.05 * k:.3e}\n" for k in range(1, 40))
+    path = _write(tmp_path, "excerpt.txt", "%A record, first column FN and second FP.\n"
+                  "%Acc. in cm/sec^2 and dt=0.005 sec.\n" + rows)
+    assert detect_format(path) == "benchmark"
+    rec = load_record(path)
+    assert rec.dt == pytest.approx(0.005) and rec.acceleration.shape == (39, 2)
+
+
+@pytest.mark.parametrize("sep", [";", "\t", " "])
+def test_decimal_commas_after_a_first_row_of_whole_numbers(tmp_path, sep):
+    t = np.arange(50) * 0.01
+    rows = "".join(f"{a:.2f}{sep}{np.sin(7 * a):.4f}\n".replace(".", ",") for a in t[1:])
+    path = _write(tmp_path, "dc.txt", f"0{sep}0\n" + rows)
+    rec = load_record(path, format="csv")
+    assert rec.dt == pytest.approx(0.01)
+    np.testing.assert_allclose(rec.acceleration[1:, 0], np.round(np.sin(7 * t[1:]), 4))
+
+
+def test_a_bad_first_data_cell_is_named_on_its_own_line(tmp_path):
+    path = _write(tmp_path, "na.csv", "time,ax\n0.0,NA\n0.01,0.1\n0.02,0.2\n")
+    message = _refused(path, "'NA' is not a number")
+    assert f"{path}:2:" in message
+
+
+def test_a_unit_row_in_brackets(tmp_path):
+    path = _write(tmp_path, "ur.csv", "time,ax\n[s],[g]\n0,1\n0.01,2\n0.02,3\n")
+    np.testing.assert_allclose(load_record(path).acceleration[:, 0], np.array([1.0, 2.0, 3.0]) * G)
+
+
+def test_acceleration_labels_in_parentheses_are_not_length_units(tmp_path):
+    path = _write(tmp_path, "io.csv", "time,acc (in),acc (out)\n0,1,2\n0.01,2,3\n0.02,3,4\n")
+    assert load_record(path).acceleration.shape == (3, 2)
+
+
+def test_a_corrupt_at2_value_is_not_split_into_two(tmp_path):
+    path = _write(tmp_path, "dots.AT2", AT2_HEADER.format(kind="ACCELERATION", units="G")
+                  + "  1.2.3 0.4 0.5\n 0.1 0.2 0.3\n")
+    _refused(path, "'1.2.3' is not a number")
