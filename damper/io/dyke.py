@@ -130,7 +130,8 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
     rows: list[list[float]] = []
     lines: list[int] = []
     started = False
-    for line_no, row in enumerate(csv.reader(io.StringIO(text, newline=""), delimiter=_delimiter(text)), start=1):
+    delimiter = _delimiter(text)
+    for line_no, row in enumerate(csv.reader(io.StringIO(text, newline=""), delimiter=delimiter), start=1):
         if not row or all(not c.strip() for c in row):
             continue
         if not started:
@@ -140,6 +141,8 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
             raise InputError(f"{path}:{line_no}: expected {len(header)} values ({', '.join(header)}), "
                              f"got {len(row)}")
         cells = [row[index[c]] for c in DYKE_COLUMNS]
+        if delimiter != ",":  # a spreadsheet's ';' or tab export may write decimal commas
+            cells = [c.replace(",", ".") for c in cells]
         rows.append(parse_row(path, line_no, list(DYKE_COLUMNS), cells, missing=True))
         lines.append(line_no)
     if len(rows) < 2:

@@ -60,6 +60,15 @@ def test_dyke_record_with_a_bom_or_saved_by_a_spreadsheet(tmp_path, sep, bom):
     assert test.constant_voltage == 1.0
 
 
+@pytest.mark.parametrize("sep", [";", "\t"])
+def test_dyke_record_saved_with_decimal_commas(tmp_path, sep):
+    text = "\n".join(line if i == 0 else line.replace(".", ",")
+                     for i, line in enumerate(_dyke(sep).splitlines())) + "\n"
+    test = read_test(_write(tmp_path, "dyke_dc.csv", text))
+    np.testing.assert_allclose(test.displacement, X, rtol=1e-5, atol=1e-9)
+    np.testing.assert_allclose(test.force, F, rtol=1e-5)
+
+
 def test_dyke_header_without_a_column_names_it(tmp_path):
     text = _dyke().replace('"F",', "", 1)
     _refused(_write(tmp_path, "dyke_noF.csv", text), "missing column(s) F")
