@@ -83,5 +83,5 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
     usable = int(test.usable.sum())
     if usable < minimum:
         raise InputError(f"{path}: the screening leaves {usable} of {test.n_samples} samples usable, fewer "
-                         f"than {minimum} (its findings: sbib diagnose --data {path}; --keep-flagged keeps them)")
+                         f"than {minimum} (--keep-flagged fits the flagged samples too)")
     return test
