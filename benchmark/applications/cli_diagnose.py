@@ -133,6 +133,14 @@ def run(args) -> int:
     """
 
     keep = bool(getattr(args, "keep_flagged", False))
+    # the options first (a bad one costs no file reading), then the files
+    coarse = getattr(args, "coarse_samples", None)
+    if coarse is not None and coarse < 0:
+        raise InputError(f"--coarse-samples: expected 0 or a number of samples >= 100, got {coarse}")
+    coarse = DEFAULT_COARSE_SAMPLES if coarse is None else (None if coarse == 0 else coarse)
+    budget = getattr(args, "time_budget", None)
+    if budget is not None and not budget > 0:
+        raise InputError(f"--time-budget: expected a number of seconds > 0, got {budget:g}")
     # a file too short to fit, or one the screening empties, stops here in one line naming it
     tests = [require_samples(read_test(f, keep_flagged=keep), f) for f in args.data]
     validate = ([require_samples(read_test(f, keep_flagged=keep), f) for f in args.validate]
@@ -141,13 +149,6 @@ def run(args) -> int:
     screening = screening_summary(screened_tests, keep)
     progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
     holdout = args.holdout if args.holdout is not None else DEFAULT_HOLDOUT
-    coarse = getattr(args, "coarse_samples", None)
-    if coarse is not None and coarse < 0:
-        raise InputError(f"--coarse-samples: expected 0 or a number of samples >= 100, got {coarse}")
-    coarse = DEFAULT_COARSE_SAMPLES if coarse is None else (None if coarse == 0 else coarse)
-    budget = getattr(args, "time_budget", None)
-    if budget is not None and not budget > 0:
-        raise InputError(f"--time-budget: expected a number of seconds > 0, got {budget:g}")
     result = diagnose(tests, model=args.model, holdout=holdout, cross_validate=validate,
                       candidates=args.effects, progress=progress, coarse_samples=coarse,
                       time_budget=budget)

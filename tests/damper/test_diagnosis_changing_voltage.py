@@ -181,7 +181,9 @@ def test_real_dyke_record(shared_dir):
 
 def test_cli_reads_dyke_and_refuses_a_tiny_coarse_pass(tmp_path, capsys):
     path = tmp_path / "dyke.csv"
-    path.write_text('"t","D","Y","V","F"\n0,0,0,0,0\n0.001,0.1,0,1,5\n')
+    # enough samples to pass the readers' floor (damper.io.reader.MIN_SAMPLES): the option is what fails
+    path.write_text('"t","D","Y","V","F"\n' + "".join(f"{0.001 * k},{0.1 * (k % 4)},0,1,{5 * (k % 3)}\n"
+                                                    for k in range(12)))
     assert main(["diagnose", "--data", str(path), "--coarse-samples", "-3"]) == 2
     assert "--coarse-samples" in capsys.readouterr().err
 

@@ -3,10 +3,13 @@
 The building's fixed-point iteration advances every damper several times from the same state
 (:mod:`benchmark.simulator.stepping`), and consecutive steps start where the last one ended:
 :func:`damper.models.spencer.spencer_type_step_memo` keeps the voltage laws' values for both
-(docs/performance.md). Its results must be *bit for bit* those of the plain
+(docs/performance.md). Its results must be those of the plain
 :func:`damper.models.spencer.spencer_type_step`: the same arithmetic on the same inputs, only
-fewer evaluations, so an exact comparison is the right test here (no tolerance hides a stale
-memo entry, which would show as a difference of the size of the field's change).
+fewer evaluations. Not bit for bit: the two are compiled separately and the last digits follow
+the compiled code's shape (a fresh clone's compilation differed from another in the 16th digit),
+so they are compared to 1e-12 relative, 10 000 times the rounding of one step and far below
+what a stale memo entry moves (the laws at another field value: the field changes by ~14 % of its
+gap per step, the laws by 1e-3 or more).
 """
 
 from __future__ import annotations
@@ -34,11 +37,11 @@ def _packed(*laws):
     (Polynomial((2.0, 3.0)), Saturating(3.0, 4.0, 0.5, 1.0)),                        # other kinds
     (Saturating(3.0, 4.0, 0.5, 1.0), Polynomial((2.0, 3.0, -1.0))),
 ])
-def test_law_pair_is_two_law_values_bit_for_bit(first, second):
+def test_law_pair_is_two_law_values(first, second):
     params, (o0, o1) = _packed(first, second)
     for v in (-0.3, 0.0, 1e-300, 1e-9, 0.1, 0.37, 0.5, 1.0, 3.0, 10.0, 40.0):
         pair = law_value_pair(params, o0, o1, v)
-        assert pair == (law_value(params, o0, v), law_value(params, o1, v)), v
+        assert pair == pytest.approx((law_value(params, o0, v), law_value(params, o1, v)), rel=1e-14), v
 
 
 def _voltages(n: int, rng) -> np.ndarray:
@@ -84,5 +87,5 @@ def test_memo_step_equals_plain_step_through_iterations_and_switching(fill):
         memo_state[:] = start
         f_memo = spencer_type_step_memo(params, memo_state, x[k], x[k + 1], xd[k], xd[k + 1], volts[k], dt, memo)
         f_plain = spencer_type_step(params, plain, x[k], x[k + 1], xd[k], xd[k + 1], volts[k], dt)
-        assert f_memo == f_plain, k
-        assert np.array_equal(memo_state, plain), k
+        assert f_memo == pytest.approx(f_plain, rel=1e-12, abs=1e-9), k
+        np.testing.assert_allclose(memo_state, plain, rtol=1e-12, atol=1e-15, err_msg=str(k))
