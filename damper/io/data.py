@@ -271,7 +271,14 @@ def _split_rows(text: str, delimiter: str | None):
     """``(line number, cells)`` of each line, quotes handled by :mod:`csv` (``None``: split at spaces)."""
     if delimiter is None:
         for line_no, line in enumerate(text.splitlines(), start=1):
-            yield line_no, [c.strip('"') for c in line.split()]
+            cells: list[str] = []
+            for c in line.split():
+                c = c.strip('"')
+                if cells and c[:1] in "[(" and c[-1:] in "])" and not _is_float(cells[-1]):
+                    cells[-1] = f"{cells[-1]} {c}"  # "time [s]": a unit spaced from its column name
+                else:
+                    cells.append(c)
+            yield line_no, cells
         return
     with io.StringIO(text, newline="") as fh:
         yield from enumerate(csv.reader(fh, delimiter=delimiter), start=1)

@@ -98,3 +98,11 @@ def test_a_test_the_screening_empties_is_refused_for_a_fit(tmp_path):
     with pytest.raises(InputError) as info:
         require_samples(read_test(path), path)
     assert str(path) in str(info.value) and "the screening leaves 0 of" in str(info.value)
+
+
+def test_space_separated_damper_csv_with_units_in_the_header(tmp_path):
+    # "time [s] displacement [m] force [N]": each unit belongs to the name before it
+    text = "time [s]  displacement [m]  force [N]\n" + "".join(f"{t:.6g} {x:.6g} {f:.6g}\n" for t, x, f in zip(T, X, F))
+    test = read_test(_write(tmp_path, "spaced.csv", text))
+    np.testing.assert_allclose(test.force, F, rtol=1e-5)
+    np.testing.assert_allclose(test.displacement, X, rtol=1e-5, atol=1e-9)
