@@ -634,9 +634,10 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
         raise InputError(f"{where}:{lineno}: {bad!r} is not a number; expected data rows time, ax[, ay] "
                          "after at most one header row")
     unit_row: list[str] | None = None
-    if first_data == 2 and _is_unit_row(data_lines[1][1], _numeric_row(data_lines[2][1])[0]):  # type: ignore[index]
+    data_delimiter = _numeric_row(data_lines[first_data][1])[0]  # type: ignore[index]
+    if first_data == 2 and _is_unit_row(data_lines[1][1], data_delimiter):
         # a row of units under the names (time, ax / s, g), as some exports write them
-        unit_row = _split_csv(data_lines[1][1], _numeric_row(data_lines[2][1])[0])  # type: ignore[index]
+        unit_row = _split_csv(data_lines[1][1], data_delimiter)
         del data_lines[1]
         first_data = 1
     if first_data > 1:
@@ -645,7 +646,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
         lineno, line = data_lines[0]
         raise InputError(f"{where}:{lineno}: {line[:60]!r} is neither the header row nor data; expected "
                          "one header row (time, ax[, ay]) then data; start other lines with '#'")
-    delimiter, decimal_comma = _numeric_row(data_lines[first_data][1])  # type: ignore[misc]
+    delimiter = data_delimiter
     # a first row of whole numbers ("0;0") says nothing of the decimal mark: the rows below do
     decimal_comma = delimiter != "," and any("," in line for _, line in data_lines[first_data:])
 

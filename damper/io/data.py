@@ -257,9 +257,15 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
     return values
 
 
-def _sniff_delimiter(text: str) -> str | None:
+def sniff_delimiter(text: str) -> str | None:
     """The column separator of a damper CSV, from its first line that is not a comment:
-    ``,``, else ``;``, else a tab, else ``None`` (runs of spaces)."""
+    ``,``, else ``;``, else a tab, else ``None`` (runs of spaces).
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    """
     for line in text.splitlines():
         stripped = line.strip()
         if stripped and not stripped.startswith("#"):
@@ -267,8 +273,16 @@ def _sniff_delimiter(text: str) -> str | None:
     return ","
 
 
-def _split_rows(text: str, delimiter: str | None):
-    """``(line number, cells)`` of each line, quotes handled by :mod:`csv` (``None``: split at spaces)."""
+def split_rows(text: str, delimiter: str | None):
+    """``(line number, cells)`` of each line, quotes handled by :mod:`csv` (``None``: split at spaces).
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    delimiter : str or None
+        The column separator (:func:`sniff_delimiter`).
+    """
     if delimiter is None:
         for line_no, line in enumerate(text.splitlines(), start=1):
             cells: list[str] = []
@@ -282,6 +296,20 @@ def _split_rows(text: str, delimiter: str | None):
         return
     with io.StringIO(text, newline="") as fh:
         yield from enumerate(csv.reader(fh, delimiter=delimiter), start=1)
+
+
+def decimal_points(row: list[str], delimiter: str | None) -> list[str]:
+    """``row`` with decimal commas (``0,25``) made points where the comma cannot be the separator
+    (``;``, tab or spaces between the columns: a spreadsheet in a European locale).
+
+    Parameters
+    ----------
+    row : list of str
+        Cells of one line.
+    delimiter : str or None
+        The file's column separator (:func:`sniff_delimiter`; ``None``: runs of spaces).
+    """
+    return row if delimiter == "," else [c.replace(",", ".") for c in row]
 
 
 def _is_float(cell: str) -> bool:
@@ -335,9 +363,9 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     rows: list[list[float]] = []
     row_lines: list[int] = []
     text = read_text(path, "damper test file")  # binary or not UTF-8: one-line InputError
-    delimiter = _sniff_delimiter(text)
+    delimiter = sniff_delimiter(text)
     trailing = False  # every line ends with the delimiter (as the Dyke files do)
-    for line_no, row in _split_rows(text, delimiter):
+    for line_no, row in split_rows(text, delimiter):
         if not row or all(not c.strip() for c in row):
             continue
         if row[0].lstrip().startswith("#"):
@@ -346,9 +374,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                 key, value = comment.split(":", 1)
                 comments[key.strip().lower()] = value.strip()
             continue
-        if delimiter != ",":
-            # ';' or tab between the columns: a spreadsheet in a locale with decimal commas
-            row = [c.replace(",", ".") for c in row]
+        row = decimal_points(row, delimiter)
         if header is None and len(row) > 1 and not row[-1].strip():
             trailing = True
         if trailing and len(row) > 1 and not row[-1].strip():

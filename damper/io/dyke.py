@@ -29,15 +29,13 @@ magnetorheological dampers*, J. Eng. Mech. 123(3):230-238.
 
 from __future__ import annotations
 
-import csv
-import io
 from pathlib import Path
 
 import numpy as np
 
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.textfile import read_text
-from damper.io.data import DamperTest, parse_row
+from damper.io.data import DamperTest, decimal_points, parse_row, sniff_delimiter, split_rows
 from damper.io.screening import repair_samples, screened
 
 __all__ = ["read_dyke", "is_dyke_file", "looks_like_dyke_file", "DYKE_COLUMNS"]
@@ -47,20 +45,13 @@ DYKE_COLUMNS = ("t", "D", "Y", "V", "F")
 _CM = 1e-2
 
 
-def _delimiter(text: str) -> str:
-    """The separator of the first non-blank line: ``,`` (the distributed files), else ``;`` or a tab
-    (the same file saved by a spreadsheet)."""
-    first = next((line for line in text.splitlines() if line.strip()), "")
-    return next((d for d in (",", ";", "\t") if d in first), ",")
-
-
 def _header(path: Path) -> list[str] | None:
     try:
         with open(path, newline="", encoding="utf-8-sig", errors="replace") as fh:  # -sig: a BOM is not a name
             text = fh.read(65536)
     except OSError:
         return None
-    for row in csv.reader(io.StringIO(text, newline=""), delimiter=_delimiter(text)):
+    for _, row in split_rows(text, sniff_delimiter(text)):
         if row and any(c.strip() for c in row):
             return [c.strip().strip('"') for c in row]
     return None
@@ -130,8 +121,8 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
     rows: list[list[float]] = []
     lines: list[int] = []
     started = False
-    delimiter = _delimiter(text)
-    for line_no, row in enumerate(csv.reader(io.StringIO(text, newline=""), delimiter=delimiter), start=1):
+    delimiter = sniff_delimiter(text)
+    for line_no, row in split_rows(text, delimiter):
         if not row or all(not c.strip() for c in row):
             continue
         if not started:
@@ -140,9 +131,7 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
         if len(row) <= max(index.values()):
             raise InputError(f"{path}:{line_no}: expected {len(header)} values ({', '.join(header)}), "
                              f"got {len(row)}")
-        cells = [row[index[c]] for c in DYKE_COLUMNS]
-        if delimiter != ",":  # a spreadsheet's ';' or tab export may write decimal commas
-            cells = [c.replace(",", ".") for c in cells]
+        cells = decimal_points([row[index[c]] for c in DYKE_COLUMNS], delimiter)
         rows.append(parse_row(path, line_no, list(DYKE_COLUMNS), cells, missing=True))
         lines.append(line_no)
     if len(rows) < 2:
