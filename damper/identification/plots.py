@@ -30,7 +30,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from benchmark.foundation.figures import save_figure  # noqa: E402
+from benchmark.foundation.figures import display_envelope, save_figure  # noqa: E402
 from benchmark.foundation.display_units import display_unit, parameter_kind, to_display  # noqa: E402
 from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
 from damper.lab.plots import draw_loops  # noqa: E402
@@ -217,7 +217,8 @@ def plot_parameters_vs_voltage(grid, path, comparison=None) -> Path:
 def plot_force_errors(run, path, device: int | None = None) -> Path:
     """Fig. 11: force error of one damper, extended model (above) and normalized model (below).
 
-    ``device`` defaults to the damper with the largest peak force in the run.
+    ``device`` defaults to the damper with the largest peak force in the run. The histories are
+    drawn through their per-column envelope (:func:`benchmark.foundation.figures.display_envelope`).
 
     Parameters
     ----------
@@ -238,13 +239,13 @@ def plot_force_errors(run, path, device: int | None = None) -> Path:
         err = (run.force[:, device] - run.predicted[m][:, device]) * 1e-3
         limit = max(limit, float(np.max(np.abs(err))))
         e = run.errors[m]
-        ax.plot(run.t, err, color=_COLORS[m], lw=0.7, label="commanded voltage (as the seed)")
+        ax.plot(*display_envelope(run.t, err), color=_COLORS[m], lw=0.7, label="commanded voltage (as the seed)")
         title = (f"{m}: rel. RMS {100 * e['rel_rms_error']:.1f} %, peak {100 * e['peak_error']:.0f} %, "
                  f"energy {100 * e['energy_error']:.1f} %")
         if m in lagged:
             err_l = (run.force[:, device] - run.predicted[lagged[m]][:, device]) * 1e-3
             el = run.errors[lagged[m]]
-            ax.plot(run.t, err_l, color="k", lw=0.6, alpha=0.8, label="with identified field lag")
+            ax.plot(*display_envelope(run.t, err_l), color="k", lw=0.6, alpha=0.8, label="with identified field lag")
             title += (f"  |  +lag: {100 * el['rel_rms_error']:.1f} %, {100 * el['peak_error']:.0f} %, "
                       f"{100 * el['energy_error']:.1f} %")
             ax.legend(fontsize=7, loc="upper right")
@@ -254,9 +255,9 @@ def plot_force_errors(run, path, device: int | None = None) -> Path:
     for ax in axes[:-1]:
         ax.set_ylim(-1.1 * limit, 1.1 * limit)
     ax = axes[-1]
-    ax.plot(run.t, run.force[:, device] * 1e-3, "k-", lw=0.7, label="force (kN)")
+    ax.plot(*display_envelope(run.t, run.force[:, device] * 1e-3), "k-", lw=0.7, label="force (kN)")
     ax2 = ax.twinx()
-    ax2.plot(run.t, run.voltage[:, device], color="tab:green", lw=0.4, alpha=0.6)
+    ax2.plot(*display_envelope(run.t, run.voltage[:, device]), color="tab:green", lw=0.4, alpha=0.6)
     ax2.set_ylabel("Voltage (V)", color="tab:green")
     ax.set_ylabel("Device force (kN)")
     ax.set_xlabel("Time (s)")

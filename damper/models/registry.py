@@ -19,7 +19,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from damper.models.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANGENT, KERNEL_SPENCER_TYPE,
                                 MODELS, DamperModel, register_model)
-from damper.models.bouc_wen import bouc_wen_force, bouc_wen_step
+from damper.models.bouc_wen import bouc_wen_force, bouc_wen_step, bouc_wen_step_memo
 from damper.models.spencer import (MEMO_LENGTH, spencer_type_force_kernel, spencer_type_step,
                                    spencer_type_step_memo, spencer_type_tangent, spencer_type_tangent_memo)
 from damper.models.bingham import bingham_force, bingham_step
@@ -139,10 +139,13 @@ def device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt):
 @numba.njit(cache=True)
 def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
     """:func:`device_step` with a per-device scratch array ``memo`` (float64, :data:`MEMO_LENGTH`,
-    any initial content) in which a model may keep values that depend only on the step's start
-    state and voltage (the Spencer-type voltage laws), reused when the same device is advanced
-    again from the same state, as the building's fixed-point iteration does. Same results as
-    :func:`device_step`; models without such values ignore ``memo``.
+    filled with NaN before the device's first step) in which a model keeps values that depend
+    only on the step's start state and voltage, reused when the same device is advanced again
+    from the same state (the building's fixed-point iteration) or at the same voltage (a
+    simulation at constant or piecewise-constant voltage): the Spencer types' voltage laws, the
+    Bouc-Wen coefficients (:func:`damper.models.bouc_wen.bouc_wen_step_memo`). Same results as
+    :func:`device_step` (Bouc-Wen: the same bits; Spencer types: to rounding,
+    ``tests/damper/test_spencer_memo.py``); models without such values ignore ``memo``.
 
     Parameters
     ----------
@@ -170,6 +173,8 @@ def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
     """
     if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
+    if kernel_id == KERNEL_BOUC_WEN:
+        return bouc_wen_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
     return device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt)
 
 

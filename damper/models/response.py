@@ -1,7 +1,7 @@
 """Force history of a damper model under a prescribed displacement and voltage history.
 
 :func:`simulate` runs the same compiled kernels the building uses
-(:func:`damper.models.registry.device_step`), step by step between the given samples.
+(:func:`damper.models.registry.device_step_memo`), step by step between the given samples.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError
 from damper.io.data import check_samples
-from damper.models.registry import device_force, device_step, kernel_id_of
+from damper.models.registry import MEMO_LENGTH, device_force, device_step_memo, kernel_id_of
 from benchmark.foundation.kernel_cache import ensure_fresh_once
 
 __all__ = ["DamperResponse", "simulate", "prepare_motion"]
@@ -93,9 +93,11 @@ def prepare_motion(model, t, x, xdot=None, v=0.0):
 def _run(kernel_id, params, state, t, x, xd, v, force, states):
     force[0] = device_force(kernel_id, params, state, x[0], xd[0], v[0])
     states[0, :] = state
+    # the models' per-device memo (device_step_memo): values kept while the voltage holds
+    memo = np.full(MEMO_LENGTH, np.nan)
     for k in range(t.size - 1):
-        f = device_step(kernel_id, params, state, x[k], x[k + 1], xd[k], xd[k + 1], v[k],
-                        t[k + 1] - t[k])
+        f = device_step_memo(kernel_id, params, state, x[k], x[k + 1], xd[k], xd[k + 1], v[k],
+                             t[k + 1] - t[k], memo)
         if not np.isfinite(f):
             return k + 1
         force[k + 1] = f
