@@ -75,11 +75,11 @@ def display_envelope(t, y, bins: int = ENVELOPE_BINS) -> tuple[np.ndarray, np.nd
 
     A line through these samples covers the same pixels as the whole history at a resolution of
     ``bins`` columns or fewer, so a plot looks the same and is drawn 2-3 times faster: an
-    earthquake's damper force or a switching voltage is 6 000-12 000 samples in 1 100 pixels,
+    earthquake's damper force or a switching voltage is 6 000 samples or more in 1 100 pixels,
     and matplotlib lays out and rasterizes every sample (``tight_layout`` draws the figure once
     more). Peaks are kept exactly; this is only for display, never for a computed value.
-    Histories of at most ``4 * bins`` samples, or with a NaN (a gap the line should show),
-    are returned unchanged.
+    Histories of at most ``2 * bins`` samples (nothing to gain), or with a NaN (a gap the line
+    should show), are returned unchanged.
 
     Parameters
     ----------
@@ -99,7 +99,7 @@ def display_envelope(t, y, bins: int = ENVELOPE_BINS) -> tuple[np.ndarray, np.nd
     y = np.asarray(y)
     n = y.size
     k = n // bins
-    if n <= 4 * bins or t.shape != y.shape or y.ndim != 1 or not np.all(np.isfinite(y)):
+    if n <= 2 * bins or t.shape != y.shape or y.ndim != 1 or not np.all(np.isfinite(y)):
         return t, y
     m = n // k * k
     chunks = y[:m].reshape(-1, k)

@@ -766,8 +766,9 @@ def bouc_wen_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo):
 
     The six voltage laws cost about 50 ns a step even when constant; at a constant or
     piecewise-constant voltage (a fit at one voltage, a bang-bang controller) they are evaluated
-    once per voltage. The same values are used, so the results are those of
-    :func:`bouc_wen_step` to the last bit.
+    once per voltage. The same arithmetic on the same values as :func:`bouc_wen_step`: equal to
+    rounding (the compiled code's shape may move the last digits;
+    ``tests/damper/test_bouc_wen_shortcuts.py``).
 
     Parameters
     ----------

@@ -144,7 +144,7 @@ def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
     from the same state (the building's fixed-point iteration) or at the same voltage (a
     simulation at constant or piecewise-constant voltage): the Spencer types' voltage laws, the
     Bouc-Wen coefficients (:func:`damper.models.bouc_wen.bouc_wen_step_memo`). Same results as
-    :func:`device_step` (Bouc-Wen: the same bits; Spencer types: to rounding,
+    :func:`device_step` to rounding (``tests/damper/test_bouc_wen_shortcuts.py``,
     ``tests/damper/test_spencer_memo.py``); models without such values ignore ``memo``.
 
     Parameters

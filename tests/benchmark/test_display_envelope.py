@@ -24,9 +24,12 @@ def test_long_history_keeps_each_columns_extremes_in_time_order():
 
 
 def test_short_or_gapped_histories_are_left_alone():
-    t = np.arange(5000.0)
+    t = np.arange(3000.0)
     y = np.sin(t)
-    assert display_envelope(t, y, bins=1500)[0] is t or display_envelope(t, y, bins=1500)[0].size == t.size
+    assert display_envelope(t, y, bins=1500)[0].size == t.size
+    # a 30-s benchmark record at 5 ms (6000 samples) is drawn through 2 samples per column
+    t6 = np.arange(6000) * 0.005
+    assert display_envelope(t6, np.sin(7 * t6), bins=1500)[0].size <= 3002
     y_gap = np.sin(np.arange(20_000.0))
     y_gap[100] = np.nan
     assert display_envelope(np.arange(20_000.0), y_gap)[1].size == 20_000

@@ -1,8 +1,11 @@
-"""The Bouc-Wen kernel's shortcuts give the plain kernel's results, bit for bit.
+"""The Bouc-Wen kernel's shortcuts give the plain kernel's results.
 
 * :func:`damper.models.bouc_wen.bouc_wen_step_memo` keeps the coefficients at the step's voltage;
-  it uses the same values as :func:`~damper.models.bouc_wen.bouc_wen_step`, so the comparison is
-  exact (the same compiled arithmetic on the same numbers), unlike the Spencer memo's 1e-12.
+  it does the same arithmetic on the same values as :func:`~damper.models.bouc_wen.bouc_wen_step`.
+  Compared at 1e-12 relative, not bit for bit: numba compiles the two call paths separately and
+  the code's shape (inlining, the host CPU) can move the last digits, as a fresh clone's
+  `make test` showed; a stale memo (the coefficients of another voltage, tens of percent apart)
+  moves the force by 1e-2 or more.
 * :func:`~damper.models.bouc_wen.bouc_wen_piece` skips the return distance's quadrature when a
   lower bound of it exceeds the piece; the bound must hold for every admissible state.
 """
@@ -23,6 +26,10 @@ MODEL = ExtendedBoucWen(kappa_x=2.0e5,
                         rho=120.0, sigma=0.94, n=1.39)
 
 
+#: Force scale of MODEL [N] (kappa_w at 1 V), for the absolute part of the tolerances.
+SCALE = 1.0e6
+
+
 def _motion(n=3000, dt=0.005, seed=0):
     rng = np.random.default_rng(seed)
     t = np.arange(n) * dt
@@ -41,10 +48,11 @@ def test_memo_step_equals_plain_step_under_switching_voltage():
         args = (x[k], x[k + 1], xd[k], xd[k + 1], v[k], t[k + 1] - t[k])
         f_plain = bouc_wen_step(params, plain, *args)
         f_memo = bouc_wen_step_memo(params, memo_state, *args, memo)
-        assert f_memo == f_plain and memo_state[0] == plain[0], k
+        assert f_memo == pytest.approx(f_plain, rel=1e-12, abs=1e-12 * SCALE), k
+        assert memo_state[0] == pytest.approx(plain[0], rel=1e-12, abs=1e-15), k
 
 
-def test_simulate_uses_the_memo_with_the_same_bits():
+def test_simulate_through_the_memo_gives_the_plain_steps_forces():
     t, x, xd = _motion(seed=1)
     v = np.where(np.sin(2 * np.pi * 0.9 * t) > 0, 0.8, 0.1)
     params = MODEL.to_array()
@@ -53,7 +61,7 @@ def test_simulate_uses_the_memo_with_the_same_bits():
     for k in range(t.size - 1):
         expected.append(bouc_wen_step(params, state, x[k], x[k + 1], xd[k], xd[k + 1], v[k], t[k + 1] - t[k]))
     force = simulate(MODEL, t, x, xd, v=v).force
-    assert np.array_equal(force[1:], np.array(expected[1:]))  # every step's force, bit for bit
+    np.testing.assert_allclose(force[1:], np.array(expected[1:]), rtol=1e-12, atol=1e-12 * SCALE)
 
 
 @pytest.mark.parametrize("sigma", [0.5, 0.94, 3.0, 40.0])
