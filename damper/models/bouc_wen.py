@@ -772,22 +772,8 @@ def bouc_wen_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo):
 
     Parameters
     ----------
-    params
-        Packed model parameters (the model's ``to_array()``, float64).
-    state
-        Internal states of the model (``n_states`` entries, see the model's docstring).
-    x0
-        Displacement at the start of the step [m].
-    x1
-        Displacement at the end of the step [m].
-    xd0
-        Velocity at the start of the step [m/s].
-    xd1
-        Velocity at the end of the step [m/s].
-    v
-        Coil input: voltage [V] (or current [A] for a model identified on currents).
-    dt
-        Step length [s].
+    params, state, x0, x1, xd0, xd1, v, dt
+        As :func:`bouc_wen_step`.
     memo
         Scratch array of at least :data:`BOUC_WEN_MEMO_LENGTH` entries, NaN before the first
         step, kept for this device and these ``params``.
