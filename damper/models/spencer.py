@@ -62,7 +62,8 @@ import numpy as np
 from damper.models.base import DamperModel, KERNEL_SPENCER_TYPE, register_model
 from benchmark.foundation.errors import InputError, ParameterError
 from damper.models.bouc_wen import _abs_pow, _check_voltage_range, hermite_position, DEFAULT_SUBSTEP_TOLERANCE
-from damper.models.voltage_laws import Polynomial, VoltageLaw, check_law, law_length, law_value, law_value_pair
+from damper.models.voltage_laws import (Polynomial, VoltageLaw, check_law, law_length,
+                                        law_value_triple)
 
 __all__ = [
     "Spencer",
@@ -359,11 +360,8 @@ class Spencer(SpencerTypeModel):
 
 @numba.njit(cache=True)
 def _laws(params, u):
-    off = _HEAD
-    a = law_value(params, off, u)
-    off += law_length(params, off)
-    d0, d1 = law_value_pair(params, off, off + law_length(params, off), u)
-    return a, d0, d1
+    off1 = _HEAD + law_length(params, _HEAD)
+    return law_value_triple(params, _HEAD, off1, off1 + law_length(params, off1), u)
 
 
 @numba.njit(cache=True, inline="always")
