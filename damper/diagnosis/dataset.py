@@ -50,13 +50,34 @@ def _dominant_frequency(t: np.ndarray, x: np.ndarray) -> float:
     return float(freqs[1 + int(np.argmax(spectrum[1:]))])
 
 
+#: Share of the velocity's variance below the band edge that sets the acceleration's window.
+BAND_EDGE_SHARE = 0.95
+
+
+def _band_edge(t: np.ndarray, v: np.ndarray, share: float = BAND_EDGE_SHARE) -> float:
+    """Frequency [Hz] below which ``share`` of the variance of ``v`` lies (its band edge)."""
+    n = t.size
+    dt = (t[-1] - t[0]) / (n - 1)
+    power = np.abs(np.fft.rfft((v - v.mean()) * np.hanning(n)))[1:] ** 2
+    total = float(power.sum())
+    if not total > 0.0:
+        return 0.0
+    k = int(np.searchsorted(np.cumsum(power), share * total))
+    return float(np.fft.rfftfreq(n, dt)[1 + min(k, power.size - 1)])
+
+
 def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
                                displacement: np.ndarray | None = None) -> np.ndarray:
     """Acceleration [m/s²] as the Savitzky-Golay derivative (order 2) of the velocity.
 
-    The window spans about 1/20 of the dominant period of the displacement (at least 5 samples),
-    so the derivative follows the motion but not the noise. Non-uniform sampling falls back to
-    :func:`numpy.gradient`.
+    The window spans about 1/20 of the dominant period of the displacement, or 1/10 of the
+    period at the velocity's band edge (the frequency below which :data:`BAND_EDGE_SHARE` of its
+    variance lies) when that is shorter, and at least 5 samples: the derivative follows the
+    motion but not the noise. The band edge matters for broadband tests: the Dyke recordings'
+    random displacement has its largest peak near 1 Hz and its velocity up to 50 Hz, where a
+    window of a twentieth of the dominant period (50 ms) would smooth away the acceleration the
+    ``inertia`` term needs. A periodic test's band edge is its frequency, so its window is the
+    dominant period's. Non-uniform sampling falls back to :func:`numpy.gradient`.
 
     Parameters
     ----------
@@ -74,7 +95,7 @@ def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
         return np.gradient(velocity, t, edge_order=2)
     dt = float(np.mean(steps))
     x = velocity if displacement is None else np.asarray(displacement, dtype=float)
-    f = _dominant_frequency(t, x)
+    f = max(_dominant_frequency(t, x), 0.5 * _band_edge(t, velocity))
     window = int(round(1.0 / (20.0 * f * dt))) if f > 0 else 5
     window = max(5, min(window, (t.size // 4) | 1))
     if window % 2 == 0:

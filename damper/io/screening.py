@@ -19,6 +19,14 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
 ``time``
     Repeated or backward time stamps (a logger glitch or concatenated files): the offending
     samples are dropped (:func:`repair_samples`), the step after them excluded.
+``rounded``
+    Time stamps written with too few digits: the steps of a uniformly sampled test vary by
+    more than :data:`ROUNDED_STEP_SPREAD` (the Dyke files: 0.1-ms stamps on a 0.333-ms step,
+    steps of 0.3 and 0.4 ms), and every stamp lies within half its decimal resolution of one
+    uniform grid (:func:`rounded_time_grid`). The grid is restored by :func:`repair_samples`
+    (a finding, no sample excluded): the model steps over the true intervals and the
+    derivatives (acceleration, the velocity check) are not taken over ±15 % jitter. Stamps off
+    the grid by more than their rounding are a real irregular sampling and are kept as read.
 ``gap``
     A time step longer than :data:`GAP_FACTOR` times the median step: the motion inside it is
     unknown.
@@ -45,7 +53,8 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     where the velocity is back inside that percentile, is an unusable input span. Far from a
     fault a fast stretch is data (an earthquake-like test has rare pulses): it is not flagged.
 ``island``
-    A usable stretch shorter than one dominant period between two flagged spans: excluded too.
+    A usable stretch shorter than one dominant period between two flagged spans, or between one
+    and the test's start or end: excluded too.
 ``units``
     Amplitudes, peak velocities or forces outside what any MR damper test produces (e.g. a
     displacement in mm declared as m); reported, not excluded (the whole test would go).
@@ -76,7 +85,7 @@ from scipy.signal import savgol_filter
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
-           "screening_of", "screening_summary", "screening_lines", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR"]
+           "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR"]
 
 #: A time step this many times the median step is a gap.
 GAP_FACTOR = 2.5
@@ -104,7 +113,7 @@ class Finding:
     Attributes
     ----------
     kind : str
-        ``nan``, ``time``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
+        ``nan``, ``time``, ``rounded``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
         ``offset`` or ``units``.
     channel : str
         The channel (``force``, ``displacement``, ``velocity``, ``voltage``, ``current``,
@@ -349,6 +358,58 @@ def _where(lines, i: int, label: str) -> str:
     return f"{label}:{lines[i]}" if lines is not None else f"{label}: sample {i}"
 
 
+#: Relative spread of the time steps ((max - min) / median) above which stamps are checked for
+#: rounding (a uniform grid written with enough digits spreads by ~1e-12).
+ROUNDED_STEP_SPREAD = 0.01
+#: Share of the stamps that must be multiples of the decimal resolution found (stamps near zero
+#: may be written with more digits: MATLAB's ``num2str`` keeps significant digits).
+_ROUNDED_SHARE = 0.9
+
+
+def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
+    """The uniform grid behind rounded time stamps, or ``None``.
+
+    The stamps are taken as a uniform grid rounded to a decimal resolution ``q`` when their
+    steps spread by more than :data:`ROUNDED_STEP_SPREAD` of the median step, most of them
+    (:data:`_ROUNDED_SHARE`) are multiples of ``q = 10**-m`` (the coarsest such ``q`` of
+    ``m = 1..9``), ``q`` is coarser than a hundredth of the step, and every stamp lies within
+    ``0.55 q`` of the least-squares line ``t0 + k dt`` (half the resolution, plus the line's own
+    error). Irregular sampling fails the last test and is left alone.
+
+    Parameters
+    ----------
+    t : ndarray (n,)
+        Strictly increasing, finite time stamps [s].
+
+    Returns
+    -------
+    (grid, q, largest) or None
+        The restored stamps ``t0 + k dt`` [s], the resolution ``q`` [s] and the largest change
+        of a stamp [s].
+    """
+    n = t.size
+    if n < 3:
+        return None
+    d = np.diff(t)
+    median = float(np.median(d))
+    if not (median > 0.0) or (float(d.max()) - float(d.min())) <= ROUNDED_STEP_SPREAD * median:
+        return None
+    k = np.arange(n, dtype=float)
+    dt, t0 = np.polyfit(k, t, 1)
+    grid = t0 + dt * k
+    largest = float(np.max(np.abs(t - grid)))
+    scale = max(1.0, float(np.max(np.abs(t))))
+    for m in range(1, 10):
+        q = 10.0 ** -m
+        if q <= 0.01 * dt:
+            break
+        r = t / q
+        on_grid = np.abs(r - np.round(r)) <= 1e-6 * scale / q
+        if np.count_nonzero(on_grid) >= _ROUNDED_SHARE * n:
+            return (grid, q, largest) if largest <= 0.55 * q else None
+    return None
+
+
 def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                    lines: Sequence[int] | None = None, min_usable: int = 10
                    ) -> tuple[np.ndarray, dict, np.ndarray, list]:
@@ -410,6 +471,18 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                                         f"{text} ({_where(lines, a, label)})"))
     t = t[keep]
     lines = None if lines is None else [ln for ln, k in zip(lines, keep) if k]
+    rounded = rounded_time_grid(t)
+    if rounded is not None:
+        grid, q, largest = rounded
+        d = np.diff(t)
+        step = (grid[-1] - grid[0]) / (grid.size - 1)
+        moved = int(np.count_nonzero(np.abs(t - grid) > 0.01 * step))
+        findings.append(Finding("rounded", "time", float(grid[0]), float(grid[-1]), moved,
+                                f"time stamps rounded to {q:g} s: steps {d.min() * 1e3:.4g}-{d.max() * 1e3:.4g} ms "
+                                f"on a uniform {step * 1e3:.4g} ms grid ({1.0 / step:.5g} Hz; stamps off it by up to "
+                                f"{largest * 1e3:.3g} ms, {100.0 * largest / step:.0f} % of a step): the grid restored",
+                                excluded=False))
+        t = grid
     excluded = np.zeros(t.size, dtype=bool)
     out: dict = {}
     first_bad = None
@@ -680,14 +753,18 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
                 findings.append(Finding("settling", "displacement", float(t[b]), float(t[end - 1]),
                                          added, "model state after an unusable input span: excluded "
                                          "up to the next displacement reversal"))
-    # islands: a usable stretch shorter than one dominant period between two flagged spans is
-    # no test of its own (its start is still settling, its end already in the next fault)
+    # islands: a usable stretch shorter than one dominant period between two flagged spans, or
+    # between one and the test's start or end, is no test of its own (its start is still
+    # settling, its end already in the next fault; a fragment after a recording's last fault is
+    # what is left of a rig out of control)
     near = max(int(round(period / dt)), 1)
     for a, b in _runs(~excluded):
-        if a > 0 and b < n and b - a < near:
+        if (a > 0 or b < n) and b - a < near:
             excluded[a:b] = True
+            where = ("between two flagged spans" if a > 0 and b < n
+                     else "after the last flagged span" if a > 0 else "before the first flagged span")
             findings.append(Finding("island", "time", float(t[a]), float(t[b - 1]), b - a,
-                                    f"{b - a} usable samples between two flagged spans, less than "
+                                    f"{b - a} usable samples {where}, less than "
                                     f"one dominant period ({period:.3g} s)"))
     findings.sort(key=lambda fd: (fd.t_start, fd.kind))
     return Screening(tuple(findings), ~excluded, estimates, name)

@@ -365,3 +365,79 @@ def test_a_fast_stretch_far_from_any_fault_is_data():
     test, a = _lurch(_random_test(seed=8), 0.3, freeze=False)
     scr = screen(test)
     assert "excursion" not in _kinds(scr), scr.lines()
+
+
+# --------------------------------------------------------------------------------------------
+# time stamps written with too few digits (the Dyke files: 0.1-ms stamps, a 0.333-ms step)
+# --------------------------------------------------------------------------------------------
+def _grid(n=6000, rate=3004.8):
+    return np.arange(n) / rate
+
+
+def test_rounded_time_stamps_are_restored_to_their_grid():
+    from damper.io.screening import rounded_time_grid
+    true = _grid()
+    stamps = np.round(true, 4)  # steps of 0.3 and 0.4 ms on a 0.3328-ms grid
+    found = rounded_time_grid(stamps)
+    assert found is not None
+    grid, q, largest = found
+    assert q == pytest.approx(1e-4)
+    # the least-squares line through n stamps rounded to q is off by ~q/sqrt(n): far below q
+    assert np.max(np.abs(grid - true)) < 0.02 * q
+    assert 0.4 * q < largest <= 0.5 * q + 1e-12
+    t, _, excluded, findings = repair_samples(stamps, {"force": np.ones(stamps.size)}, label="r.csv")
+    assert np.ptp(np.diff(t)) < 1e-12 and not excluded.any()
+    (f,) = findings
+    assert f.kind == "rounded" and f.channel == "time" and not f.excluded and "3004.8 Hz" in f.message
+
+
+@pytest.mark.parametrize("stamps", [
+    _grid(),                                                              # written with every digit
+    _grid() + np.random.default_rng(0).normal(0.0, 0.1 / 3004.8, 6000),   # real jitter, unrounded
+    np.round(_grid() + np.random.default_rng(1).uniform(-0.3, 0.3, 6000) / 3004.8, 4),  # jitter beyond the rounding
+    np.round(_grid(rate=1.0e3), 3),                                       # rounded, but the step is a multiple of q
+])
+def test_stamps_that_are_not_a_rounded_grid_are_left_alone(stamps):
+    from damper.io.screening import rounded_time_grid
+    stamps = np.sort(stamps)
+    assert rounded_time_grid(stamps) is None
+    t, _, _, findings = repair_samples(stamps, {"force": np.ones(stamps.size)})
+    assert not [f for f in findings if f.kind == "rounded"]
+    np.testing.assert_array_equal(t, stamps)
+
+
+def test_dyke_time_stamps_are_rounded_and_restored(shared_dir):
+    test = read_dyke(shared_dir / DYKE)
+    rounded = [f for f in test.metadata["screening"].findings if f.kind == "rounded"]
+    assert len(rounded) == 1 and not rounded[0].excluded
+    assert np.ptp(np.diff(test.time)) < 1e-12 * test.time[-1]
+    assert 1.0 / np.mean(np.diff(test.time)) == pytest.approx(3004.8, rel=1e-6)  # the file's fs column
+    # the velocity channel against d(x)/dt over the restored grid: gain 1 within 1 % (0.96 over
+    # the rounded stamps' jittered steps)
+    assert test.metadata["screening"].estimates["velocity_gain"] == pytest.approx(1.0, abs=0.01)
+
+
+def test_acceleration_of_a_broadband_motion_keeps_its_band():
+    """A random motion with its largest peak at 1 Hz and velocity up to 50 Hz (the Dyke
+    recordings'): the Savitzky-Golay window follows the velocity's band edge, not the dominant
+    period (whose twentieth, 50 ms, would halve the acceleration at 20 Hz)."""
+    from damper.diagnosis.dataset import acceleration_from_velocity
+    rate = 3000.0
+    t = np.arange(int(6 * rate)) / rate
+    rng = np.random.default_rng(3)
+    freqs = np.r_[1.0, rng.uniform(2.0, 50.0, 40)]
+    amps = np.r_[5e-3, np.full(40, 2e-4)]
+    phases = rng.uniform(0, 2 * np.pi, freqs.size)
+    arg = 2 * np.pi * np.outer(t, freqs) + phases
+    x = (np.sin(arg) * amps).sum(axis=1)
+    v = (np.cos(arg) * amps * 2 * np.pi * freqs).sum(axis=1)
+    a = (-np.sin(arg) * amps * (2 * np.pi * freqs) ** 2).sum(axis=1)
+    got = acceleration_from_velocity(t, v, x)
+    inner = slice(300, -300)
+    assert relative_rms_error(a[inner], got[inner]) < 0.02
+    # a periodic motion keeps the dominant period's window (the UTFSM tests): the quadratic
+    # Savitzky-Golay slope over a twentieth of the period lowers the amplitude by ~0.25 %
+    xs = 0.01 * np.sin(2 * np.pi * 2.0 * t)
+    vs = 0.01 * 2 * np.pi * 2.0 * np.cos(2 * np.pi * 2.0 * t)
+    as_ = -0.01 * (2 * np.pi * 2.0) ** 2 * np.sin(2 * np.pi * 2.0 * t)
+    assert relative_rms_error(as_[inner], acceleration_from_velocity(t, vs, xs)[inner]) < 5e-3
