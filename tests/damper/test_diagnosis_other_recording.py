@@ -1,0 +1,62 @@
+"""Issue 24's rows on another recording of the Dyke damper (opt-in: the file is not in shared/).
+
+``shared/`` holds one recording of the Dyke damper (``ransim_u_converted.csv``). Another
+recording of the same device in the same format (for example ``ranran_50_converted.csv`` of
+the data set NEES-2012-1158, published beside the shared file; docs/diagnosis.md, "Another
+recording of the Dyke damper") is checked against the issue's targets when
+``SBIB_DYKE_OTHER`` names it: fitted on its first 70 %, the held-out rest within 0.15, and
+scored across recordings (``--validate``) within 0.20. The thresholds are the issue's, not
+values measured on one file; the loop's time (60 s on one core) is measured by hand
+(docs/diagnosis.md), never asserted.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+from benchmark.applications.cli import main
+
+DYKE = "hysteresis_data/dyke_mr_damper_random_voltage/ransim_u_converted.csv"
+
+
+@pytest.fixture
+def other_recording() -> Path:
+    value = os.environ.get("SBIB_DYKE_OTHER")
+    if not value:
+        pytest.skip("set SBIB_DYKE_OTHER to another recording of the Dyke damper (docs/diagnosis.md) "
+                    "to run this test")
+    path = Path(value)
+    if not path.is_file():
+        pytest.fail(f"SBIB_DYKE_OTHER = {value}: no such file")
+    return path
+
+
+@pytest.mark.slow
+def test_another_recording_meets_the_targets(other_recording, shared_dir, capsys):
+    shared = shared_dir / DYKE
+    if not shared.is_file():
+        pytest.skip(f"{shared} not found")
+    assert main(["diagnose", "--data", str(other_recording), "--validate", str(shared),
+                 "--model", "spencer", "--holdout", "0.3", "--json", "--quiet"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["error_after"] <= 0.15
+    assert out["error_after"] < out["error_before"]
+    assert out["validation"]["error_after"] <= 0.20
+    # every sample the screening excludes is named in a finding
+    assert all("kind" in f or "what" in f for f in out["screening"].get("findings", []))
+
+
+@pytest.mark.slow
+def test_a_model_of_the_shared_recording_predicts_the_other(other_recording, shared_dir, capsys):
+    shared = shared_dir / DYKE
+    if not shared.is_file():
+        pytest.skip(f"{shared} not found")
+    assert main(["diagnose", "--data", str(shared), "--validate", str(other_recording),
+                 "--model", "spencer", "--holdout", "0.3", "--json", "--quiet"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["error_after"] <= 0.13
+    assert out["validation"]["error_after"] <= 0.20
