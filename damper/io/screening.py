@@ -398,13 +398,13 @@ def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     dt, t0 = np.polyfit(k, t, 1)
     grid = t0 + dt * k
     largest = float(np.max(np.abs(t - grid)))
-    scale = max(1.0, float(np.max(np.abs(t))))
     for m in range(1, 10):
         q = 10.0 ** -m
         if q <= 0.01 * dt:
             break
         r = t / q
-        on_grid = np.abs(r - np.round(r)) <= 1e-6 * scale / q
+        # a stamp written to q is a multiple of q up to the float's own rounding (~1e-16 |r|)
+        on_grid = np.abs(r - np.round(r)) <= 1e-6 + 1e-12 * np.abs(r)
         if np.count_nonzero(on_grid) >= _ROUNDED_SHARE * n:
             return (grid, q, largest) if largest <= 0.55 * q else None
     return None

@@ -385,6 +385,9 @@ def test_rounded_time_stamps_are_restored_to_their_grid():
     # the least-squares line through n stamps rounded to q is off by ~q/sqrt(n): far below q
     assert np.max(np.abs(grid - true)) < 0.02 * q
     assert 0.4 * q < largest <= 0.5 * q + 1e-12
+    late = rounded_time_grid(np.round(1000.0 + true, 4))  # a clock that started long before
+    assert late is not None and late[1] == pytest.approx(1e-4)
+    assert np.max(np.abs(late[0] - 1000.0 - true)) < 0.02 * q
     t, _, excluded, findings = repair_samples(stamps, {"force": np.ones(stamps.size)}, label="r.csv")
     assert np.ptp(np.diff(t)) < 1e-12 and not excluded.any()
     (f,) = findings
@@ -396,6 +399,7 @@ def test_rounded_time_stamps_are_restored_to_their_grid():
     _grid() + np.random.default_rng(0).normal(0.0, 0.1 / 3004.8, 6000),   # real jitter, unrounded
     np.round(_grid() + np.random.default_rng(1).uniform(-0.3, 0.3, 6000) / 3004.8, 4),  # jitter beyond the rounding
     np.round(_grid(rate=1.0e3), 3),                                       # rounded, but the step is a multiple of q
+    1000.0 + np.round(_grid() + np.random.default_rng(2).uniform(-0.3, 0.3, 6000) / 3004.8, 4),  # the same, late
 ])
 def test_stamps_that_are_not_a_rounded_grid_are_left_alone(stamps):
     from damper.io.screening import rounded_time_grid
