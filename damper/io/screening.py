@@ -361,20 +361,31 @@ def _where(lines, i: int, label: str) -> str:
 #: Relative spread of the time steps ((max - min) / median) above which stamps are checked for
 #: rounding (a uniform grid written with enough digits spreads by ~1e-12).
 ROUNDED_STEP_SPREAD = 0.01
-#: Share of the stamps that must be multiples of the decimal resolution found (stamps near zero
-#: may be written with more digits: MATLAB's ``num2str`` keeps significant digits).
-_ROUNDED_SHARE = 0.9
+
+
+def _last_digit(t: np.ndarray) -> np.ndarray:
+    """The decimal resolution of each stamp [s]: the coarsest ``10**-m`` (m = 0..12) it is a
+    multiple of, up to the float's own rounding (stamps may be written with a number of
+    significant digits, not of decimals: MATLAB's ``num2str`` writes 0.0003328 and 11.6474)."""
+    q = np.full(t.size, 1e-12)
+    open_ = np.ones(t.size, dtype=bool)
+    for m in range(0, 13):
+        step = 10.0 ** -m
+        r = t / step
+        hit = open_ & (np.abs(r - np.round(r)) <= 1e-6 + 1e-12 * np.abs(r))
+        q[hit] = step
+        open_ &= ~hit
+    return q
 
 
 def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     """The uniform grid behind rounded time stamps, or ``None``.
 
-    The stamps are taken as a uniform grid rounded to a decimal resolution ``q`` when their
-    steps spread by more than :data:`ROUNDED_STEP_SPREAD` of the median step, most of them
-    (:data:`_ROUNDED_SHARE`) are multiples of ``q = 10**-m`` (the coarsest such ``q`` of
-    ``m = 1..9``), ``q`` is coarser than a hundredth of the step, and every stamp lies within
-    ``0.55 q`` of the least-squares line ``t0 + k dt`` (half the resolution, plus the line's own
-    error). Irregular sampling fails the last test and is left alone.
+    The stamps are taken as a uniform grid rounded to their last written digit when their steps
+    spread by more than :data:`ROUNDED_STEP_SPREAD` of the median step and every stamp lies
+    within half its own last digit (:func:`_last_digit`; at most the median stamp's, ``q``) of the
+    least-squares line ``t0 + k dt``, with a margin of ``q / 20`` for the line's own error. Irregular
+    sampling fails that test and is left alone; so does a grid with a gap or a dropped sample.
 
     Parameters
     ----------
@@ -384,8 +395,8 @@ def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     Returns
     -------
     (grid, q, largest) or None
-        The restored stamps ``t0 + k dt`` [s], the resolution ``q`` [s] and the largest change
-        of a stamp [s].
+        The restored stamps ``t0 + k dt`` [s], the stamps' (median) resolution ``q`` [s] and
+        the largest change of a stamp [s].
     """
     n = t.size
     if n < 3:
@@ -397,17 +408,13 @@ def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     k = np.arange(n, dtype=float)
     dt, t0 = np.polyfit(k, t, 1)
     grid = t0 + dt * k
-    largest = float(np.max(np.abs(t - grid)))
-    for m in range(1, 10):
-        q = 10.0 ** -m
-        if q <= 0.01 * dt:
-            break
-        r = t / q
-        # a stamp written to q is a multiple of q up to the float's own rounding (~1e-16 |r|)
-        on_grid = np.abs(r - np.round(r)) <= 1e-6 + 1e-12 * np.abs(r)
-        if np.count_nonzero(on_grid) >= _ROUNDED_SHARE * n:
-            return (grid, q, largest) if largest <= 0.55 * q else None
-    return None
+    off = np.abs(t - grid)
+    # a stamp that happens to end in zeros (12.0 written as 12) is as coarse as the others
+    digit = _last_digit(t)
+    q = float(np.median(digit))
+    if not q > 0.01 * dt or np.any(off > 0.5 * np.minimum(digit, q) + 0.05 * q):
+        return None
+    return grid, q, float(off.max())
 
 
 def repair_samples(time: np.ndarray, channels: dict, label: str = "test",

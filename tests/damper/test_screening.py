@@ -370,7 +370,7 @@ def test_a_fast_stretch_far_from_any_fault_is_data():
 # --------------------------------------------------------------------------------------------
 # time stamps written with too few digits (the Dyke files: 0.1-ms stamps, a 0.333-ms step)
 # --------------------------------------------------------------------------------------------
-def _grid(n=6000, rate=3004.8):
+def _grid(n=9000, rate=3004.8):
     return np.arange(n) / rate
 
 
@@ -385,6 +385,13 @@ def test_rounded_time_stamps_are_restored_to_their_grid():
     # the least-squares line through n stamps rounded to q is off by ~q/sqrt(n): far below q
     assert np.max(np.abs(grid - true)) < 0.02 * q
     assert 0.4 * q < largest <= 0.5 * q + 1e-12
+    # written with five significant digits (MATLAB's num2str: 0.00033280, 0.33280, 1.6633), so
+    # the stamps of a 3-s excerpt have four to nine decimals
+    short = true[:9000]
+    sig = np.array([float(f"{x:.5g}") for x in short])
+    found = rounded_time_grid(sig)
+    assert found is not None and found[1] == pytest.approx(1e-4)
+    assert np.max(np.abs(found[0] - short)) < 0.02 * q
     late = rounded_time_grid(np.round(1000.0 + true, 4))  # a clock that started long before
     assert late is not None and late[1] == pytest.approx(1e-4)
     assert np.max(np.abs(late[0] - 1000.0 - true)) < 0.02 * q
@@ -396,10 +403,11 @@ def test_rounded_time_stamps_are_restored_to_their_grid():
 
 @pytest.mark.parametrize("stamps", [
     _grid(),                                                              # written with every digit
-    _grid() + np.random.default_rng(0).normal(0.0, 0.1 / 3004.8, 6000),   # real jitter, unrounded
-    np.round(_grid() + np.random.default_rng(1).uniform(-0.3, 0.3, 6000) / 3004.8, 4),  # jitter beyond the rounding
+    _grid() + np.random.default_rng(0).normal(0.0, 0.1 / 3004.8, 9000),   # real jitter, unrounded
+    np.round(_grid() + np.random.default_rng(1).uniform(-0.3, 0.3, 9000) / 3004.8, 4),  # jitter beyond the rounding
     np.round(_grid(rate=1.0e3), 3),                                       # rounded, but the step is a multiple of q
-    1000.0 + np.round(_grid() + np.random.default_rng(2).uniform(-0.3, 0.3, 6000) / 3004.8, 4),  # the same, late
+    1000.0 + np.round(_grid() + np.random.default_rng(2).uniform(-0.3, 0.3, 9000) / 3004.8, 4),  # the same, late
+    np.delete(np.round(_grid(), 4), 4000),                                # rounded, with a sample lost
 ])
 def test_stamps_that_are_not_a_rounded_grid_are_left_alone(stamps):
     from damper.io.screening import rounded_time_grid
