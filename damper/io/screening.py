@@ -385,7 +385,8 @@ def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     spread by more than :data:`ROUNDED_STEP_SPREAD` of the median step and every stamp lies
     within half its own last digit (:func:`_last_digit`; at most the median stamp's, ``q``) of the
     least-squares line ``t0 + k dt``, with a margin of ``q / 20`` for the line's own error. Irregular
-    sampling fails that test and is left alone; so does a grid with a gap or a dropped sample.
+    sampling fails that test and is left alone; so does a grid with a gap or a lost sample (its
+    stamps are then kept as read).
 
     Parameters
     ----------
