@@ -152,9 +152,14 @@ def _run_data(args: argparse.Namespace) -> int:
         if not existed and Path(out).is_dir() and not any(Path(out).iterdir()):
             Path(out).rmdir()
         files = {test.name: str(path) for path, test in zip(args.data, tests)}  # name the files, not the labels
+        # one entry per file and reason, the model forms it failed for gathered ([normalized,
+        # extended]): a changing command fails every form the same way
+        gathered: dict[tuple[str, str], list[str]] = {}
+        for key, reason in result["failed"].items():
+            label, form = key.rsplit(" [", 1)
+            gathered.setdefault((files.get(label, label), reason), []).append(form.rstrip("]"))
         raise InputError("no test identified: " + "; ".join(
-            f"{files.get(key.rsplit(' [', 1)[0], key.rsplit(' [', 1)[0])} [{key.rsplit(' [', 1)[-1]}: {reason}"
-            for key, reason in result["failed"].items()))
+            f"{path} [{', '.join(forms)}]: {reason}" for (path, reason), forms in gathered.items()))
     # one model file per model form (damper.io.model_file), read by sbib run/compare --damper
     result["model_files"] = {k: str(v) for k, v in write_identified_models(result, out, args.data).items()}
     if args.json:

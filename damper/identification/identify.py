@@ -283,7 +283,8 @@ def identify(test, model: str = "extended", **options) -> Identification:
         values = np.atleast_1d(np.asarray(values, dtype=float))
         if values.size and np.ptp(values) > 1e-6 * max(1.0, float(np.max(np.abs(values)))):
             raise InputError(f"{name}: {attr} varies over the test ({values.min():g}–{values.max():g} {u}); "
-                             "identification needs a constant-voltage (or constant-current) test")
+                             "identification needs a constant-voltage (or constant-current) test; a recording "
+                             "with a changing command is fitted by `sbib diagnose --data FILE --model spencer`")
         if values.size:
             level, unit = float(values.flat[0]), u
             break

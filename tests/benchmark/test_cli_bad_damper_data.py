@@ -51,3 +51,20 @@ def test_identify_with_nothing_identified_leaves_no_folder(tmp_path, capsys):
     err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("sbib: error:")]
     assert status == 2 and len(err) == 1 and f"no test identified: {data} [normalized]:" in err[0], err
     assert not out.exists()
+
+
+def test_identify_on_a_changing_command_says_once_where_to_go(tmp_path, capsys):
+    # a random-voltage recording (the Dyke files) fails every model form for the same reason:
+    # one entry naming the forms, and the command that fits such a recording
+    t = np.arange(0.0, 4.0, 0.002)
+    x = 0.01 * np.sin(2 * np.pi * 1.0 * t)
+    v = 0.5 + 0.4 * np.sign(np.sin(2 * np.pi * 0.7 * t))
+    f = 800.0 * np.tanh(np.gradient(x, t) / 0.01) * (0.5 + v)
+    data = tmp_path / "random_voltage.csv"
+    data.write_text("time,displacement,force,voltage\n"
+                    + "".join(f"{a:.3f},{b:.6f},{c:.3f},{d:.2f}\n" for a, b, c, d in zip(t, x, f, v)))
+    status = main(["identify", "--bootstrap", "0", "--no-plots", "--data", str(data), "--out", str(tmp_path / "o")])
+    err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("sbib: error:")]
+    assert status == 2 and len(err) == 1, err
+    assert err[0].count("varies over the test") == 1 and "[normalized, extended]" in err[0], err
+    assert "sbib diagnose" in err[0]
