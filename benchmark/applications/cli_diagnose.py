@@ -95,8 +95,9 @@ def register(subparsers) -> None:
             "Example:\n\tsbib diagnose --data tests/*Hz1A.txt --model normalized --out out/diagnose-1A"))
     p.add_argument("--data", nargs="+", required=True, metavar="FILE",
                    help="test files: damper CSV (SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
-    p.add_argument("--model", choices=("normalized", "extended", "spencer"), default="normalized",
-                   help="base model (default: normalized)")
+    p.add_argument("--model", choices=("normalized", "extended", "spencer", "auto"), default="normalized",
+                   help="base model (default: normalized; auto = spencer when the coil input changes "
+                        "within a test, as in a random-voltage recording, else normalized)")
     p.add_argument("--holdout", type=_fraction, default=None, metavar="FRACTION",
                    help="fraction of each test, at its end, held out: not used in the fit, only to "
                         "judge it (0-1, default 0.25)")

@@ -42,7 +42,10 @@ from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, 
 from damper.diagnosis.trace import TRACE_VARIABLES, ResidualTrace, trace_residual
 
 __all__ = ["Diagnosis", "diagnose", "unexplained_structure", "DEFAULT_STRUCTURE_SHARE",
-           "DEFAULT_STRUCTURE_LEVEL"]
+           "DEFAULT_STRUCTURE_LEVEL", "BASE_MODELS"]
+
+#: Base models of :func:`diagnose` (``"auto"``: chosen from the tests' coil input).
+BASE_MODELS = ("normalized", "extended", "spencer", "auto")
 
 #: A variable "holds" residual structure when it explains at least this share of its variance ...
 DEFAULT_STRUCTURE_SHARE = 0.2
@@ -308,11 +311,12 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     ----------
     tests : sequence of DamperTest
         Tests to fit (any motion, constant or varying coil input; all voltage or all current).
-    model : {"normalized", "extended", "spencer"}
+    model : {"normalized", "extended", "spencer", "auto"}
         Base model: a Bouc-Wen model (normalized or extended), or Spencer et al.'s (1997)
         model with voltage laws and its field lag
         (:class:`~damper.models.series_dashpot.SpencerBoucWen`, fitted by
-        :func:`~damper.diagnosis.base_fit.fit_spencer_base`).
+        :func:`~damper.diagnosis.base_fit.fit_spencer_base`). ``"auto"`` takes ``"spencer"`` when the coil input changes within a test (the field lag belongs
+        in the base then: a random command, voltage steps) and ``"normalized"`` otherwise.
     holdout : float
         Fraction of each test, at its end, held out (ignored with ``validate``).
     validate : sequence of DamperTest, optional
@@ -374,7 +378,19 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     say = Progress(progress, quiet=progress is None)
     if time_budget is not None and not (isinstance(time_budget, (int, float)) and time_budget > 0):
         raise InputError(f"--time-budget: expected a number of seconds > 0, got {time_budget!r}")
+    if model not in BASE_MODELS:
+        raise InputError(f"model: expected one of {', '.join(BASE_MODELS)}, got {model!r}")
     data = DiagnosisData.from_tests(tests, holdout=holdout, validate=validate)
+    if model == "auto":
+        model = "spencer" if data.input_varies_within_tests else "normalized"
+        say(f"base model: {model} (the {data.input_name} "
+            + ("changes within the tests: the field lag belongs in the base)" if model == "spencer"
+               else "is constant within each test)"))
+    elif model != "spencer" and data.input_varies_within_tests:
+        # the normalized and extended bases follow the command at once (a lag is the
+        # voltage_lag effect's to find); say where the standard model of such data is
+        say(f"the {data.input_name} changes within the tests: --model spencer (or auto) starts from "
+            "Spencer et al.'s model with its field lag")
     nodes = data.nodes()
     q = decimation_factor(data, coarse_samples)
     work = data if coarse_samples is None else coarse_pass(data, q)

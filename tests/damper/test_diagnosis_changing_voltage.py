@@ -197,3 +197,30 @@ def test_dyke_reader_rejects_non_utf8_bytes_in_one_line(tmp_path):
     with pytest.raises(InputError, match="not UTF-8") as info:
         read_dyke(bad)
     assert "\n" not in str(info.value)
+
+
+class _Chosen(Exception):
+    pass
+
+
+@pytest.mark.parametrize("varying, expected", [(True, "spencer"), (False, "normalized")])
+def test_auto_base_model_follows_the_coil_input(monkeypatch, varying, expected):
+    """``model="auto"`` (the CLI's default) takes the Spencer-type base, whose field lag is
+    inside it, when the command changes within a test, and the normalized one otherwise."""
+    import damper.diagnosis.loop as loop
+    from damper.lab.laboratory import periodic_test
+
+    def stop(kind):
+        def fit(*args, **kwargs):
+            raise _Chosen(kind)
+        return fit
+
+    monkeypatch.setattr(loop, "fit_spencer_base", stop("spencer"))
+    monkeypatch.setattr(loop, "fit_base", stop("normalized"))
+    test = (random_voltage_test("virtual", duration=4.0, sample_rate=500.0, seed=1) if varying
+            else periodic_test("virtual", amplitude=0.02, frequency=1.0, voltage=0.5, cycles=3,
+                               sample_rate=200.0))
+    with pytest.raises(_Chosen, match=expected):
+        diagnose([test], model="auto")
+    with pytest.raises(InputError, match="model: expected one of"):
+        diagnose([test], model="bouc")
