@@ -315,8 +315,9 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         Base model: a Bouc-Wen model (normalized or extended), or Spencer et al.'s (1997)
         model with voltage laws and its field lag
         (:class:`~damper.models.series_dashpot.SpencerBoucWen`, fitted by
-        :func:`~damper.diagnosis.base_fit.fit_spencer_base`). ``"auto"`` takes ``"spencer"`` when the coil input changes within a test (the field lag belongs
-        in the base then: a random command, voltage steps) and ``"normalized"`` otherwise.
+        :func:`~damper.diagnosis.base_fit.fit_spencer_base`). ``"auto"`` takes ``"spencer"``
+        when the coil input changes within a test (the field lag belongs in the base then: a
+        random command, voltage steps) and ``"normalized"`` otherwise.
     holdout : float
         Fraction of each test, at its end, held out (ignored with ``validate``).
     validate : sequence of DamperTest, optional
