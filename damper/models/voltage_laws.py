@@ -474,6 +474,39 @@ def _seed_kappa_w(k, v):
     return k[5] + k[6] * v + k[7] * v ** 3 + k[8] * v ** 5
 
 
+@numba.njit(cache=True, inline="always")
+def _pchip_basis(params, p, v):
+    """Where a packed :class:`Tabulated` law (its data ``[m, nodes, values, slopes]`` from
+    ``params[p]``) stands at ``v``: ``(r, clamped, b0, b1, b2, b3)``, ``params[p + r]`` the value
+    at the interval's left node (the end value when ``clamped``: ``v`` beyond the nodes) and
+    ``b0..b3`` the cubic Hermite weights of that value, its slope, the next value and its slope
+    (the slopes' weights carry the interval's width). Laws on the same nodes share it."""
+    m = int(params[p])
+    vg = params[p + 1:p + 1 + m]
+    if v <= vg[0]:
+        return 1 + m, True, 0.0, 0.0, 0.0, 0.0
+    if v >= vg[m - 1]:
+        return 2 * m, True, 0.0, 0.0, 0.0, 0.0
+    i = 0
+    while i < m - 2 and v > vg[i + 1]:
+        i += 1
+    h = vg[i + 1] - vg[i]
+    s = (v - vg[i]) / h
+    s2 = s * s
+    s3 = s2 * s
+    return (1 + m + i, False, 2.0 * s3 - 3.0 * s2 + 1.0, (s3 - 2.0 * s2 + s) * h,
+            -2.0 * s3 + 3.0 * s2, (s3 - s2) * h)
+
+
+@numba.njit(cache=True, inline="always")
+def _pchip_value(params, y, m, clamped, b0, b1, b2, b3):
+    """A :class:`Tabulated` law's value from :func:`_pchip_basis` (``y``: the index of its value
+    at the left node, ``m`` its node count): the value and its slope ``m`` entries apart."""
+    if clamped:
+        return params[y]
+    return b0 * params[y] + b1 * params[y + m] + b2 * params[y + 1] + b3 * params[y + m + 1]
+
+
 @numba.njit(cache=True)
 def law_value(params, offset, v):
     """Evaluate the law packed at ``params[offset]`` at voltage ``v`` [V].
@@ -502,23 +535,8 @@ def law_value(params, offset, v):
     if kind == 3:
         return _seed_kappa_w(params[p:p + 9], v)
     if kind == 4:
-        m = int(params[p])
-        vg = params[p + 1:p + 1 + m]
-        yv = params[p + 1 + m:p + 1 + 2 * m]
-        dv = params[p + 1 + 2 * m:p + 1 + 3 * m]
-        if v <= vg[0]:
-            return yv[0]
-        if v >= vg[m - 1]:
-            return yv[m - 1]
-        i = 0
-        while i < m - 2 and v > vg[i + 1]:
-            i += 1
-        h = vg[i + 1] - vg[i]
-        s = (v - vg[i]) / h
-        s2 = s * s
-        s3 = s2 * s
-        return ((2.0 * s3 - 3.0 * s2 + 1.0) * yv[i] + (s3 - 2.0 * s2 + s) * h * dv[i]
-                + (-2.0 * s3 + 3.0 * s2) * yv[i + 1] + (s3 - s2) * h * dv[i + 1])
+        r, clamped, b0, b1, b2, b3 = _pchip_basis(params, p, v)
+        return _pchip_value(params, p + r, int(params[p]), clamped, b0, b1, b2, b3)
     if kind == 5:
         x = max(v, 0.0) / params[p + 2]
         if x == 0.0:  # tanh(0) = 0: skips pow and tanh (a damper at 0 V)
@@ -603,30 +621,12 @@ def law_value_triple(params, offset0, offset1, offset2, v):
     if (params[offset0] == LAW_TABULATED and params[offset1] == LAW_TABULATED
             and params[offset2] == LAW_TABULATED and _same_nodes(params, p0, p1)
             and _same_nodes(params, p0, p2)):
-        # the arithmetic of law_value's Tabulated branch, its shared part done once
+        # law_value's Tabulated branch, its interval and basis found once for the three
         m = int(params[p0])
-        vg = params[p0 + 1:p0 + 1 + m]
-        if v <= vg[0]:
-            return params[p0 + 1 + m], params[p1 + 1 + m], params[p2 + 1 + m]
-        if v >= vg[m - 1]:
-            return params[p0 + 2 * m], params[p1 + 2 * m], params[p2 + 2 * m]
-        i = 0
-        while i < m - 2 and v > vg[i + 1]:
-            i += 1
-        h = vg[i + 1] - vg[i]
-        s = (v - vg[i]) / h
-        s2 = s * s
-        s3 = s2 * s
-        b0 = 2.0 * s3 - 3.0 * s2 + 1.0
-        b1 = (s3 - 2.0 * s2 + s) * h
-        b2 = -2.0 * s3 + 3.0 * s2
-        b3 = (s3 - s2) * h
-        y = p0 + 1 + m + i  # yv[i]; yv[i + 1] follows, dv[i] is m entries further
-        a = b0 * params[y] + b1 * params[y + m] + b2 * params[y + 1] + b3 * params[y + m + 1]
-        y = p1 + 1 + m + i
-        b = b0 * params[y] + b1 * params[y + m] + b2 * params[y + 1] + b3 * params[y + m + 1]
-        y = p2 + 1 + m + i
-        c = b0 * params[y] + b1 * params[y + m] + b2 * params[y + 1] + b3 * params[y + m + 1]
+        r, clamped, b0, b1, b2, b3 = _pchip_basis(params, p0, v)
+        a = _pchip_value(params, p0 + r, m, clamped, b0, b1, b2, b3)
+        b = _pchip_value(params, p1 + r, m, clamped, b0, b1, b2, b3)
+        c = _pchip_value(params, p2 + r, m, clamped, b0, b1, b2, b3)
         return a, b, c
     a = law_value(params, offset0, v)
     b, c = law_value_pair(params, offset1, offset2, v)

@@ -35,14 +35,19 @@ def other_recording() -> Path:
     return path
 
 
+def _diagnose(data: Path, validate: Path, capsys) -> dict:
+    """``sbib diagnose --data DATA --validate VALIDATE`` on the Spencer base, its JSON."""
+    for path in (data, validate):
+        if not path.is_file():
+            pytest.skip(f"{path} not found")
+    assert main(["diagnose", "--data", str(data), "--validate", str(validate),
+                 "--model", "spencer", "--holdout", "0.3", "--json", "--quiet"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
 @pytest.mark.slow
 def test_another_recording_meets_the_targets(other_recording, shared_dir, capsys):
-    shared = shared_dir / DYKE
-    if not shared.is_file():
-        pytest.skip(f"{shared} not found")
-    assert main(["diagnose", "--data", str(other_recording), "--validate", str(shared),
-                 "--model", "spencer", "--holdout", "0.3", "--json", "--quiet"]) == 0
-    out = json.loads(capsys.readouterr().out)
+    out = _diagnose(other_recording, shared_dir / DYKE, capsys)
     assert out["error_after"] <= 0.15
     assert out["error_after"] < out["error_before"]
     assert out["validation"]["error_after"] <= 0.20
@@ -55,11 +60,6 @@ def test_another_recording_meets_the_targets(other_recording, shared_dir, capsys
 
 @pytest.mark.slow
 def test_a_model_of_the_shared_recording_predicts_the_other(other_recording, shared_dir, capsys):
-    shared = shared_dir / DYKE
-    if not shared.is_file():
-        pytest.skip(f"{shared} not found")
-    assert main(["diagnose", "--data", str(shared), "--validate", str(other_recording),
-                 "--model", "spencer", "--holdout", "0.3", "--json", "--quiet"]) == 0
-    out = json.loads(capsys.readouterr().out)
+    out = _diagnose(shared_dir / DYKE, other_recording, capsys)
     assert out["error_after"] <= 0.13
     assert out["validation"]["error_after"] <= 0.20
