@@ -28,7 +28,8 @@ from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest
 from damper.diagnosis.effects import Motion
 
-__all__ = ["DiagnosisData", "acceleration_from_velocity", "first_reversal", "DEFAULT_HOLDOUT"]
+__all__ = ["DiagnosisData", "acceleration_from_velocity", "acceleration_window", "first_reversal",
+           "reach_of_flagged", "DEFAULT_HOLDOUT"]
 
 #: Default held-out fraction of each test.
 DEFAULT_HOLDOUT = 0.25
@@ -66,18 +67,46 @@ def _band_edge(t: np.ndarray, v: np.ndarray, share: float = BAND_EDGE_SHARE) -> 
     return float(np.fft.rfftfreq(n, dt)[1 + min(k, power.size - 1)])
 
 
+def acceleration_window(t: np.ndarray, velocity: np.ndarray,
+                        displacement: np.ndarray | None = None) -> int:
+    """Samples in the Savitzky-Golay window of :func:`acceleration_from_velocity` (odd, >= 5).
+
+    0 when the derivative falls back to :func:`numpy.gradient` (non-uniform sampling, fewer than
+    7 samples, or a window as long as the test), whose reach is one sample each side.
+
+    Parameters
+    ----------
+    t, velocity, displacement : np.ndarray
+        As for :func:`acceleration_from_velocity`.
+    """
+    t = np.asarray(t, dtype=float)
+    velocity = np.asarray(velocity, dtype=float)
+    steps = np.diff(t)
+    if t.size < 7 or np.ptp(steps) > 1e-6 * np.mean(steps):
+        return 0
+    dt = float(np.mean(steps))
+    x = velocity if displacement is None else np.asarray(displacement, dtype=float)
+    f = max(_dominant_frequency(t, x), 0.5 * _band_edge(t, velocity))
+    window = int(round(1.0 / (20.0 * f * dt))) if f > 0 else 5
+    window = max(5, min(window, (t.size // 4) | 1))
+    if window % 2 == 0:
+        window += 1
+    return 0 if window >= t.size else window
+
+
 def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
                                displacement: np.ndarray | None = None) -> np.ndarray:
     """Acceleration [m/s²] as the Savitzky-Golay derivative (order 2) of the velocity.
 
-    The window spans about 1/20 of the dominant period of the displacement, or 1/10 of the
-    period at the velocity's band edge (the frequency below which :data:`BAND_EDGE_SHARE` of its
-    variance lies) when that is shorter, and at least 5 samples: the derivative follows the
-    motion but not the noise. The band edge matters for broadband tests: the Dyke recordings'
-    random displacement has its largest peak near 1 Hz and its velocity up to 50 Hz, where a
-    window of a twentieth of the dominant period (50 ms) would smooth away the acceleration the
-    ``inertia`` term needs. A periodic test's band edge is its frequency, so its window is the
-    dominant period's. Non-uniform sampling falls back to :func:`numpy.gradient`.
+    The window (:func:`acceleration_window`) spans about 1/20 of the dominant period of the
+    displacement, or 1/10 of the period at the velocity's band edge (the frequency below which
+    :data:`BAND_EDGE_SHARE` of its variance lies) when that is shorter, and at least 5 samples:
+    the derivative follows the motion but not the noise. The band edge matters for broadband
+    tests: the Dyke recordings' random displacement has its largest peak near 1 Hz and its
+    velocity up to 50 Hz, where a window of a twentieth of the dominant period (50 ms) would
+    smooth away the acceleration the ``inertia`` term needs. A periodic test's band edge is its
+    frequency, so its window is the dominant period's. Non-uniform sampling falls back to
+    :func:`numpy.gradient`.
 
     Parameters
     ----------
@@ -90,19 +119,35 @@ def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
     """
     t = np.asarray(t, dtype=float)
     velocity = np.asarray(velocity, dtype=float)
-    steps = np.diff(t)
-    if t.size < 7 or np.ptp(steps) > 1e-6 * np.mean(steps):
+    window = acceleration_window(t, velocity, displacement)
+    if window == 0:
         return np.gradient(velocity, t, edge_order=2)
-    dt = float(np.mean(steps))
-    x = velocity if displacement is None else np.asarray(displacement, dtype=float)
-    f = max(_dominant_frequency(t, x), 0.5 * _band_edge(t, velocity))
-    window = int(round(1.0 / (20.0 * f * dt))) if f > 0 else 5
-    window = max(5, min(window, (t.size // 4) | 1))
-    if window % 2 == 0:
-        window += 1
-    if window >= t.size:
-        return np.gradient(velocity, t, edge_order=2)
+    dt = float(np.mean(np.diff(t)))
     return savgol_filter(velocity, window, 2, deriv=1, delta=dt, mode="interp")
+
+
+def reach_of_flagged(mask: np.ndarray, reach: int) -> np.ndarray:
+    """``mask`` with every sample within ``reach`` samples of a flagged one flagged too.
+
+    A derived channel computed over a window (the acceleration's Savitzky-Golay derivative)
+    carries a flagged sample's value into its neighbours: they are excluded with it.
+
+    Parameters
+    ----------
+    mask : np.ndarray
+        True where a sample is usable.
+    reach : int
+        Samples each side that a window reaches (half the window, rounded down).
+    """
+    mask = np.asarray(mask, dtype=bool)
+    if reach <= 0 or mask.all():
+        return mask
+    bad = (~mask).astype(np.int64)
+    # a running sum over a window of 2 reach + 1 samples counts the flagged ones in reach
+    padded = np.concatenate([np.zeros(reach + 1, np.int64), np.cumsum(bad),
+                             np.full(reach, int(bad.sum()), np.int64)])
+    count = padded[2 * reach + 1:] - padded[:mask.size]
+    return count == 0
 
 
 def first_reversal(x: np.ndarray, hysteresis: float = 0.25) -> int:
@@ -219,6 +264,7 @@ class DiagnosisData:
             x = np.asarray(test.displacement, dtype=float)
             xd = np.asarray(test.velocity, dtype=float)
             _, v = _input_of(test)
+            window = acceleration_window(t, xd, x)
             motion = Motion(t, x, xd, acceleration_from_velocity(t, xd, x), v,
                             name=test.name or test.source or f"test {len(motions) + 1}")
             start = first_reversal(x)
@@ -241,9 +287,12 @@ class DiagnosisData:
             if test.mask is not None:
                 # screening (damper.io.screening): the samples it flagged count neither in the fit
                 # nor in the errors; the model is still simulated over all of them, and the
-                # held-out split stays where it was in time
-                tr = tr & test.mask
-                ho = ho & test.mask
+                # held-out split stays where it was in time. The acceleration of a sample within
+                # half a derivative window of a flagged one is computed from flagged samples, so
+                # it is left out too (numpy.gradient's fallback reaches one sample)
+                usable_mask = reach_of_flagged(test.mask, window // 2 if window else 1)
+                tr = tr & usable_mask
+                ho = ho & usable_mask
                 if not (is_validation or tr.sum() >= 5) or ((is_validation or not validate)
                                                           and ho.sum() < 5):
                     raise InputError(f"{motion.name}: the screening leaves fewer than 5 training "

@@ -282,6 +282,36 @@ def test_diagnosis_data_leaves_flagged_samples_out(clean_synthetic):
     assert np.flatnonzero(data.heldout[0])[0] >= np.flatnonzero(plain.heldout[0])[0]
 
 
+def test_acceleration_window_does_not_reach_into_flagged_samples(clean_synthetic):
+    """A velocity spike over a flagged span (a dropout the screening found) enters the
+    Savitzky-Golay acceleration of its neighbours: samples within half a window of it count
+    neither in the fit nor in the error, so no usable sample's acceleration saw the spike."""
+    from damper.diagnosis.dataset import acceleration_from_velocity, acceleration_window
+    t, x = clean_synthetic.time, clean_synthetic.displacement
+    v = clean_synthetic.velocity.copy()
+    n = t.size
+    span = slice(int(0.5 * n), int(0.5 * n) + 4)
+    mask = np.ones(n, dtype=bool)
+    mask[span] = False
+    test = dataclasses.replace(clean_synthetic, mask=mask)
+    data = DiagnosisData.from_tests([test], holdout=0.25)
+    window = acceleration_window(t, v, x)
+    assert window >= 5
+    spiked = v.copy()
+    spiked[span] += 50.0 * np.ptp(v)
+    # the derivative of the spike alone, over the window the test's acceleration used (the
+    # spiked channel would change the band edge and so the window)
+    from scipy.signal import savgol_filter
+    leak = np.abs(savgol_filter(spiked - v, window, 2, deriv=1, delta=t[1] - t[0], mode="interp"))
+    assert np.allclose(data.motions[0].xddot, acceleration_from_velocity(t, v, x))
+    used = data.train[0] | data.heldout[0]
+    reached = leak > 1e-9 * leak.max()
+    assert reached.sum() > span.stop - span.start            # the window does reach out
+    assert not (used & reached).any()
+    # and no more is lost than the window's reach each side
+    assert used[span.start - window // 2 - 1] and used[span.stop + window // 2]
+
+
 @pytest.mark.slow
 def test_identification_ignores_flagged_samples():
     from damper.identification.identify import identify
