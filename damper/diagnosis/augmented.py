@@ -50,7 +50,7 @@ from damper.models.voltage_laws import Tabulated, VoltageLaw
 
 __all__ = [
     "Motion",
-    "AugmentedModel",
+    "AugmentedModel", "BaseForceMemo",
     "AugmentedResponse",
     "Parametrization",
     "RefitResult",
@@ -136,6 +136,63 @@ def _base_kind(base) -> str:
             return kind
     raise InputError(f"augmented model: base must be NormalizedBoucWen, ExtendedBoucWen or SpencerBoucWen, got "
                      f"{type(base).__name__}")
+
+
+class BaseForceMemo:
+    """The last few base-force histories simulated under one motion, by base model and input.
+
+    A finite-difference Jacobian perturbs one parameter at a time: for the parameters of the
+    additive and factor effects (stiffness, offset, inertia, ..., fade) the base model and its
+    input are the ones of the centre point, whose force the kernel has just computed. The memo
+    returns that history instead of simulating it again: the same numbers, bit for bit (the key
+    is everything the kernel reads: its family, packed parameters, initial state, voltage range
+    and input; the motion is the memo's own).
+
+    Parameters
+    ----------
+    size : int
+        Histories kept (least recently used first out). A Jacobian's columns for the base
+        parameters come before the effects' (:class:`Parametrization`), so the centre point must
+        survive one new history per base parameter: :func:`refit` keeps two more than it has
+        free parameters.
+    """
+
+    def __init__(self, size: int = 8) -> None:
+        self.size = int(size)
+        self._entries: list = []
+        self.hits = 0
+        self.misses = 0
+
+    def base_force(self, base, motion: Motion, u) -> np.ndarray:
+        """The base model's force [N] under ``motion`` with coil input ``u`` (read-only array).
+
+        Parameters
+        ----------
+        base : damper model
+            The base model as the kernel simulates it (series effects and coarsening applied).
+        motion : Motion
+            The motion this memo belongs to.
+        u : float or ndarray
+            The coil input the base sees (after the input effects).
+        """
+        params = base.to_array()
+        state = np.asarray(base.initial_state(), dtype=float)
+        head = (type(base), tuple(base.voltage_range))
+        u_arr = np.asarray(u, dtype=float)
+        for k, (key_head, key_params, key_state, key_u, force) in enumerate(self._entries):
+            if (key_head == head and key_params.shape == params.shape and np.array_equal(key_params, params)
+                    and np.array_equal(key_state, state) and key_u.shape == u_arr.shape
+                    and np.array_equal(key_u, u_arr)):
+                self.hits += 1
+                self._entries.append(self._entries.pop(k))
+                return force
+        self.misses += 1
+        force = simulate(base, motion.t, motion.x, motion.xdot, u).force
+        force.setflags(write=False)
+        self._entries.append((head, params.copy(), state.copy(), u_arr.copy(), force))
+        if len(self._entries) > self.size:
+            self._entries.pop(0)
+        return force
 
 
 @dataclass(frozen=True)
@@ -260,7 +317,7 @@ class AugmentedModel:
                 "effects": [{"name": e.name, "parameters": e.parameters} for e in self.effects]}
 
     # -- simulation ---------------------------------------------------------------------------
-    def response(self, motion: Motion) -> AugmentedResponse:
+    def response(self, motion: Motion, memo: "BaseForceMemo | None" = None) -> AugmentedResponse:
         """Force history under the prescribed ``motion`` (base force, input and terms too).
 
         Parameters
@@ -268,6 +325,9 @@ class AugmentedModel:
         motion : Motion
             The prescribed motion of one test (:class:`damper.diagnosis.effects.Motion`: time, displacement, velocity,
             acceleration, coil input; SI).
+        memo : BaseForceMemo, optional
+            Recent base forces under this same ``motion``: a base (after its series and input
+            effects) it holds is not simulated again (:class:`BaseForceMemo`).
 
         Raises
         ------
@@ -284,7 +344,10 @@ class AugmentedModel:
             elif e.role == "input":
                 u = e.transform_input(motion, u)
         base = with_coarser_substeps(base, motion.substep_scale)  # 1 outside the loop's coarse pass
-        base_force = simulate(base, motion.t, motion.x, motion.xdot, u).force
+        if memo is None:
+            base_force = simulate(base, motion.t, motion.x, motion.xdot, u).force
+        else:
+            base_force = memo.base_force(base, motion, u)
         force = base_force.copy()
         terms: dict[str, np.ndarray] = {}
         for e in self.effects:
@@ -299,7 +362,7 @@ class AugmentedModel:
                 force = force + f
         return AugmentedResponse(force=force, base_force=base_force, model_input=u, terms=terms)
 
-    def force(self, motion: Motion) -> np.ndarray:
+    def force(self, motion: Motion, memo: "BaseForceMemo | None" = None) -> np.ndarray:
         """Total force [N] under ``motion``.
 
         Parameters
@@ -307,8 +370,10 @@ class AugmentedModel:
         motion : Motion
             The prescribed motion of one test (:class:`damper.diagnosis.effects.Motion`: time, displacement, velocity,
             acceleration, coil input; SI).
+        memo : BaseForceMemo, optional
+            See :meth:`response`.
         """
-        return self.response(motion).force
+        return self.response(motion, memo).force
 
     def simulate(self, t, x, xdot=None, xddot=None, v=0.0) -> AugmentedResponse:
         """Force history under displacement ``x(t)`` [m] and coil input ``v(t)``.
@@ -637,11 +702,14 @@ def refit(start: AugmentedModel, motions: Sequence[Motion], forces: Sequence[np.
     bad = np.full(measured.size, 1e3)
     count = {"n": 0}
 
+    # the centre point's base force must outlive the Jacobian's columns for the base parameters
+    memos = [BaseForceMemo(size=par.size + 2) for _ in motions]
+
     def residuals(q):
         count["n"] += 1
         try:
             model = par.model(q * par.scale, validate=False)
-            pred = np.concatenate([model.force(m)[k] for m, k in zip(motions, masks)])
+            pred = np.concatenate([model.force(m, memo)[k] for m, k, memo in zip(motions, masks, memos)])
         except (ParameterError, NumericalError, InputError):
             return bad
         r = (pred - measured) / force_scale

@@ -151,3 +151,52 @@ def test_pchip_slopes_match_scipy():
             y = rng.normal(size=n) * (rng.random(n) < 0.8)
             np.testing.assert_allclose(pchip_slopes(x, y), PchipInterpolator(x, y).derivative()(x),
                                        rtol=1e-10, atol=1e-12)
+
+
+def test_base_force_memo_returns_the_kernel_history_and_only_for_the_same_base_and_input():
+    """The refit's memo (BaseForceMemo) hands back a base force only when everything the kernel
+    reads is the same: parameters, initial state and input; the refit's result is bit for bit
+    the one without it, with fewer simulations (the effects' Jacobian columns reuse the centre)."""
+    from damper.diagnosis import augmented
+    from damper.diagnosis.augmented import BaseForceMemo
+    m = _motion(v=0.0)
+    memo = BaseForceMemo(size=2)
+    f0 = memo.base_force(BASE, m, 0.0)
+    np.testing.assert_array_equal(f0, simulate(BASE, m.t, m.x, m.xdot, 0.0).force)
+    assert memo.base_force(BASE, m, np.zeros(m.t.size)) is not f0       # another input shape
+    assert memo.base_force(BASE, m, 0.0) is f0 and memo.hits == 1
+    other = NormalizedBoucWen(2000.0, 800.0, 400.0, 1.0, 1.5 + 1e-12)
+    assert memo.base_force(other, m, 0.0) is not f0                     # a last-digit change
+    memo.base_force(NormalizedBoucWen(2100.0, 800.0, 400.0, 1.0, 1.5), m, 0.0)
+    assert memo.base_force(BASE, m, 0.0) is not f0                      # evicted (size 2)
+    with pytest.raises(ValueError):
+        f0[0] = 1.0                                                     # read-only: shared
+
+    m1, m2 = _motion(1.0, 0.01), _motion(2.5, 0.004)
+    truth = AugmentedModel(NormalizedBoucWen(2000.0, 800.0, 400.0, 1.0, 1.5), (Stiffness(3e4), Offset(40.0)))
+    forces = [truth.force(m1), truth.force(m2)]
+    start = AugmentedModel(NormalizedBoucWen(1500.0, 600.0, 300.0, 1.5, 1.2), (Stiffness(1e4), Offset(0.0)))
+    calls = {"n": 0}
+    plain_simulate = augmented.simulate
+
+    def counted(*args, **kwargs):
+        calls["n"] += 1
+        return plain_simulate(*args, **kwargs)
+
+    fits = {}
+    for use_memo in (True, False):
+        calls["n"] = 0
+        patch = pytest.MonkeyPatch()
+        patch.setattr(augmented, "simulate", counted)
+        if not use_memo:
+            patch.setattr(BaseForceMemo, "base_force",
+                          lambda self, base, motion, u: counted(base, motion.t, motion.x, motion.xdot, u).force)
+        try:
+            fits[use_memo] = (refit(start, [m1, m2], forces, scales={"stiffness": 3e4, "offset": 50.0}),
+                              calls["n"])
+        finally:
+            patch.undo()
+    (with_memo, n_memo), (without, n_plain) = fits[True], fits[False]
+    assert with_memo.relative_rms_error == without.relative_rms_error
+    assert with_memo.model.to_dict() == without.model.to_dict()
+    assert n_memo < 0.85 * n_plain, (n_memo, n_plain)
