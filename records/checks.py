@@ -13,6 +13,11 @@
 * **length far from the catalogue**: duration differs by more than one second.
 * **physically implausible**: a PGA, PGV, displacement, time step or length that no recorded
   earthquake has had, the sign of wrong units or a wrong dt (:mod:`records.plausibility`).
+* **clipped or stuck channel**: samples piled up at a component's extreme value (an
+  accelerometer or digitiser at the end of its range) or a run of equal values longer than the
+  component's own repeats explain (a frozen channel), by the rules of
+  :func:`benchmark.foundation.channel_runs.stuck_spans`; runs of exact zeros (quiet padding
+  before and after the motion) do not count.
 
 Each check returns a list of :class:`Flaw` (empty when the record passes).
 """
@@ -24,6 +29,7 @@ from typing import Sequence
 
 import numpy as np
 
+from benchmark.foundation.channel_runs import stuck_spans
 from benchmark.foundation.errors import InputError
 from records.record import STANDARD_GRAVITY, Record
 from records.flaws import Flaw
@@ -34,6 +40,7 @@ __all__ = [
     "identical_spans",
     "check_identical_components",
     "check_baseline_drift",
+    "check_stuck_channels",
     "check_pga",
     "check_duration",
     "check_record",
@@ -122,6 +129,41 @@ def check_baseline_drift(record: Record, velocity_ratio: float = 0.15, min_veloc
     return flaws
 
 
+def check_stuck_channels(record: Record) -> list[Flaw]:
+    """Flag components clipped at their range or frozen at one value (module docstring).
+
+    Parameters
+    ----------
+    record : Record
+        The record.
+    """
+    flaws = []
+    t = record.time
+    for c in range(record.n_components):
+        a = record.acceleration[:, c]
+        spans = [(kind, i, j, level) for kind, i, j, level in stuck_spans(a) if level != 0.0]
+        for kind in ("clipped", "stuck"):
+            hits = [(i, j, level) for k, i, j, level in spans if k == kind]
+            if not hits:
+                continue
+            n = sum(j - i for i, j, _ in hits)
+            levels = sorted({level for _, _, level in hits})
+            values = " and ".join(f"{v:.4g}" for v in levels[:3]) + (" ..." if len(levels) > 3 else "")
+            what = (f"clipped at its range ({values} m/s²)" if kind == "clipped"
+                    else f"frozen at {values} m/s²")
+            i, j, _ = hits[0]
+            flaws.append(Flaw(
+                kind=f"{kind}_channel",
+                message=(f"{record.name} {record.labels[c]}: {what} in {len(hits)} span"
+                         f"{'s' if len(hits) > 1 else ''} ({n} samples, the first at "
+                         f"{t[i]:.4g}-{t[j - 1]:.4g} s): the ground motion there is not the recorded one"),
+                component=c,
+                details={"spans": [[int(i), int(j)] for i, j, _ in hits], "samples": int(n),
+                         "levels_m_s2": [float(v) for v in levels]},
+            ))
+    return flaws
+
+
 def check_pga(record: Record, expected_pga_g: Sequence[float], rtol: float = 0.05) -> list[Flaw]:
     """Flag components whose PGA differs from the expected one by more than a relative tolerance.
 
@@ -186,7 +228,8 @@ def check_record(record: Record, expected_pga_g: Sequence[float] | None = None,
         Relative tolerance of the PGA check.
     """
 
-    flaws = check_identical_components(record) + check_baseline_drift(record) + check_plausibility(record)
+    flaws = (check_identical_components(record) + check_stuck_channels(record) + check_baseline_drift(record)
+             + check_plausibility(record))
     if expected_pga_g is not None:
         flaws += check_pga(record, expected_pga_g, pga_rtol)
     if expected_duration is not None:

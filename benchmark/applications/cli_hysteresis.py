@@ -21,15 +21,16 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
 
-from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.atomic import atomic_write_text, output_dir, output_file
 from damper.hysteresis import noel_schoukens
 from damper.hysteresis.noel_schoukens import FS, rms_error
-from damper.hysteresis.files import load_model, read_data, save_model, write_displacement_csv
+from damper.hysteresis.files import data_flaws, load_model, read_data, save_model, write_displacement_csv
 from damper.hysteresis.identification import MIN_SAMPLES, identify_hysteretic
 
 __all__ = ["register", "run_fit", "run_predict", "run_test_signals"]
@@ -82,6 +83,11 @@ def run_fit(args: argparse.Namespace) -> int:
     """
     _check_out(args.out)
     data = read_data(args.data, need_displacement=True, group=args.group)
+    flaws = data_flaws(data)
+    if flaws and not args.keep_flagged:
+        raise InputError(f"{args.data}: {'; '.join(flaws)} (--keep-flagged fits anyway)")
+    for flaw in flaws:
+        print(f"warning: {args.data}: {flaw} (kept: --keep-flagged)", file=sys.stderr)
     n = data.force.size
     n_fit = n - int(round(args.holdout * n))
     if n_fit < MIN_SAMPLES:
@@ -200,7 +206,7 @@ def register(subparsers) -> None:
 
     p = sub.add_parser("fit", help="identify the model from force/displacement data")
     p.add_argument("--data", required=True, help="benchmark HDF5 or CSV time,force,displacement (SI)")
-    p.add_argument("--out", required=True, help="output model JSON")
+    p.add_argument("--out", required=True, type=output_file, help="output model JSON")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--holdout", type=_fraction, default=0.2,
                    help="fraction of the record, at its end, left out of the fit and reported "
@@ -213,12 +219,15 @@ def register(subparsers) -> None:
                         "model's settling time)")
     p.add_argument("--max-iterations", type=_positive_int, default=40,
                    help="cap on the output-error iterations (default 40)")
+    p.add_argument("--keep-flagged", action="store_true",
+                   help="fit data with a clipped or stuck channel or an implausible sampling rate "
+                        "(refused by default)")
     p.set_defaults(func=run_fit)
 
     p = sub.add_parser("predict", help="displacement response of a fitted model to a force")
     p.add_argument("--model", required=True, help="model JSON written by 'sbib hysteresis fit'")
     p.add_argument("--input", required=True, help="CSV time,force[,displacement] (SI) or HDF5")
-    p.add_argument("--out", required=True, help="output CSV time,displacement")
+    p.add_argument("--out", required=True, type=output_file, help="output CSV time,displacement")
     p.add_argument("--periodic", action="store_true",
                    help="the input is one period of a periodic force: return the steady state")
     p.add_argument("--upsample", type=_positive_int, default=None,
@@ -226,6 +235,6 @@ def register(subparsers) -> None:
     p.set_defaults(func=run_predict)
 
     p = sub.add_parser("test-signals", help="write the benchmark's test sets, regenerated, as CSV")
-    p.add_argument("--out", required=True, help="output directory")
+    p.add_argument("--out", required=True, type=output_dir, help="output directory")
     p.add_argument("--seed", type=int, default=2016, help="multisine phase seed (default 2016)")
     p.set_defaults(func=run_test_signals)

@@ -17,7 +17,75 @@ import threading
 from pathlib import Path
 from typing import Callable, Iterator
 
-__all__ = ["atomic_path", "atomic_write_text"]
+from benchmark.foundation.errors import InputError
+
+__all__ = ["atomic_path", "atomic_write_text", "check_output", "output_file", "output_dir"]
+
+
+def check_output(path: str | os.PathLike, directory: bool = False, option: str = "--out") -> Path:
+    """Refuse an output path that cannot be written, before any work is done.
+
+    Parameters
+    ----------
+    path : path-like
+        The output file, or directory with ``directory=True``; missing parents are created
+        later by the writers.
+    directory : bool
+        The output is a directory.
+    option : str
+        The command-line option named in the message.
+
+    Raises
+    ------
+    InputError
+        A file where a directory is expected or the reverse, a parent that is a file, or a
+        directory that cannot be written.
+    """
+    p = Path(path)
+    if directory and p.exists() and not p.is_dir():
+        raise InputError(f"{option} {path}: exists and is not a directory; expected a directory")
+    if not directory and p.is_dir():
+        raise InputError(f"{option} {path}: is a directory; expected a file name")
+    parent = p if directory else p.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise InputError(f"{option} {path}: {parent} is a file, not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"{option} {path}: cannot write into {parent} (permission denied)")
+    return p
+
+
+def output_file(text: str) -> str:
+    """``argparse`` type of an output file option: :func:`check_output` at parse time.
+
+    Parameters
+    ----------
+    text : str
+        The option's value.
+    """
+    import argparse  # only the command line needs it
+    try:
+        check_output(text, option="")
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc).strip()) from None
+    return text
+
+
+def output_dir(text: str) -> str:
+    """``argparse`` type of an output directory option: :func:`check_output` at parse time.
+
+    Parameters
+    ----------
+    text : str
+        The option's value.
+    """
+    import argparse
+    try:
+        check_output(text, directory=True, option="")
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc).strip()) from None
+    return text
 
 
 @contextlib.contextmanager

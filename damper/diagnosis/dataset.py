@@ -26,6 +26,7 @@ from scipy.signal import savgol_filter
 
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest
+from damper.io.screening import band_edge, screening_of
 from damper.diagnosis.effects import Motion
 
 __all__ = ["DiagnosisData", "acceleration_from_velocity", "acceleration_window", "first_reversal",
@@ -51,22 +52,6 @@ def _dominant_frequency(t: np.ndarray, x: np.ndarray) -> float:
     return float(freqs[1 + int(np.argmax(spectrum[1:]))])
 
 
-#: Share of the velocity's variance below the band edge that sets the acceleration's window.
-BAND_EDGE_SHARE = 0.95
-
-
-def _band_edge(t: np.ndarray, v: np.ndarray, share: float = BAND_EDGE_SHARE) -> float:
-    """Frequency [Hz] below which ``share`` of the variance of ``v`` lies (its band edge)."""
-    n = t.size
-    dt = (t[-1] - t[0]) / (n - 1)
-    power = np.abs(np.fft.rfft((v - v.mean()) * np.hanning(n)))[1:] ** 2
-    total = float(power.sum())
-    if not total > 0.0:
-        return 0.0
-    k = int(np.searchsorted(np.cumsum(power), share * total))
-    return float(np.fft.rfftfreq(n, dt)[1 + min(k, power.size - 1)])
-
-
 def acceleration_window(t: np.ndarray, velocity: np.ndarray,
                         displacement: np.ndarray | None = None) -> int:
     """Samples in the Savitzky-Golay window of :func:`acceleration_from_velocity` (odd, >= 5).
@@ -86,7 +71,7 @@ def acceleration_window(t: np.ndarray, velocity: np.ndarray,
         return 0
     dt = float(np.mean(steps))
     x = velocity if displacement is None else np.asarray(displacement, dtype=float)
-    f = max(_dominant_frequency(t, x), 0.5 * _band_edge(t, velocity))
+    f = max(_dominant_frequency(t, x), 0.5 * band_edge(t, velocity))
     window = int(round(1.0 / (20.0 * f * dt))) if f > 0 else 5
     window = max(5, min(window, (t.size // 4) | 1))
     if window % 2 == 0:
@@ -100,7 +85,8 @@ def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
 
     The window (:func:`acceleration_window`) spans about 1/20 of the dominant period of the
     displacement, or 1/10 of the period at the velocity's band edge (the frequency below which
-    :data:`BAND_EDGE_SHARE` of its variance lies) when that is shorter, and at least 5 samples:
+    :data:`damper.io.screening.BAND_EDGE_SHARE` of its variance lies,
+    :func:`damper.io.screening.band_edge`) when that is shorter, and at least 5 samples:
     the derivative follows the motion but not the noise. The band edge matters for broadband
     tests: the Dyke recordings' random displacement has its largest peak near 1 Hz and its
     velocity up to 50 Hz, where a window of a twentieth of the dominant period (50 ms) would
@@ -296,7 +282,8 @@ class DiagnosisData:
                 if not (is_validation or tr.sum() >= 5) or ((is_validation or not validate)
                                                           and ho.sum() < 5):
                     raise InputError(f"{motion.name}: the screening leaves fewer than 5 training "
-                                     "or held-out samples (see its findings; --keep-flagged keeps them)")
+                                     f"or held-out samples ({screening_of(test).brief()}; "
+                                     "--keep-flagged keeps them)")
             motions.append(motion)
             forces.append(np.asarray(test.force, dtype=float))
             train.append(tr)

@@ -39,7 +39,7 @@ from damper.diagnosis.effects import Motion
 from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, DEFAULT_TOLERANCE,
                                         DEFAULT_TRACE_SHARE,
                                         DEFAULT_TRIALS, SelectionResult, Step, select_effects)
-from damper.diagnosis.trace import TRACE_VARIABLES, ResidualTrace, trace_residual
+from damper.diagnosis.trace import DEFAULT_BINS, TRACE_VARIABLES, ResidualTrace, trace_residual
 
 __all__ = ["Diagnosis", "diagnose", "unexplained_structure", "DEFAULT_STRUCTURE_SHARE",
            "DEFAULT_STRUCTURE_LEVEL", "BASE_MODELS"]
@@ -382,6 +382,13 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     if model not in BASE_MODELS:
         raise InputError(f"model: expected one of {', '.join(BASE_MODELS)}, got {model!r}")
     data = DiagnosisData.from_tests(tests, holdout=holdout, validate=validate)
+    need = 4 * DEFAULT_BINS  # the residual trace's equal-count bins (damper.diagnosis.trace)
+    for masks, label in ((data.heldout, "held-out"), (data.train, "fitted")):
+        count = sum(int(k.sum()) for k in masks)
+        if count < need:
+            raise InputError(f"diagnose: {count} usable {label} samples; the residual trace needs at "
+                             f"least {need} (longer tests, another --holdout, or --validate with "
+                             "another recording)")
     if model == "auto":
         model = "spencer" if data.input_varies_within_tests else "normalized"
         say(f"base model: {model} (the {data.input_name} "

@@ -28,9 +28,10 @@ from benchmark.foundation.errors import DataNotFoundError, InputError, Parameter
 from damper.io.data import parse_row
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
+from damper.io.screening import PLAUSIBLE, stuck_spans
 
 __all__ = ["ForceData", "read_data", "read_force_csv", "read_hdf5", "write_displacement_csv",
-           "save_model", "load_model", "MODEL_KIND"]
+           "save_model", "load_model", "data_flaws", "MODEL_KIND"]
 
 MODEL_KIND = "hysteretic_oscillator"
 _UNITS = {"time": "s", "force": "N", "displacement": "m"}
@@ -63,6 +64,43 @@ class ForceData:
     def time(self) -> np.ndarray:
         """Sample instants [s]."""
         return self.t0 + np.arange(self.force.size) / self.fs
+
+
+def data_flaws(data: ForceData) -> list[str]:
+    """What makes ``data`` unfit to identify from, one phrase per flaw (empty: none found).
+
+    The damper screening's rules (:mod:`damper.io.screening`) on a force-driven test: a force
+    channel clipped or stuck (the force that drove the specimen is unknown there), a
+    displacement channel frozen or clipped (the response is unknown there), and a sampling rate
+    no hysteresis test has (a time column in ms declared as s reads as ~1 Hz). The output-error
+    fit simulates the whole record, so such samples cannot simply be left out.
+
+    Parameters
+    ----------
+    data : ForceData
+        A test as read by :func:`read_data`.
+    """
+    out = []
+    lo, hi = PLAUSIBLE["sample_rate"]
+    if not lo <= data.fs <= hi:
+        out.append(f"sampling rate {data.fs:.4g} Hz is outside the plausible {lo:g}-{hi:g} Hz "
+                   "(a time column in ms?)")
+    t = data.time
+    for channel, values, unit in (("force", data.force, "N"), ("displacement", data.displacement, "m")):
+        if values is None:
+            continue
+        spans = stuck_spans(values)
+        for kind in ("clipped", "stuck"):
+            hits = [(a, b, level) for k, a, b, level in spans if k == kind]
+            if hits:
+                a, b, level = hits[0]
+                word = "frozen" if kind == "stuck" and channel == "displacement" else kind
+                why = ("the force that drove the specimen is unknown there" if channel == "force"
+                       else "the response is unknown there")
+                out.append(f"{channel} {word} in {len(hits)} span{'s' if len(hits) > 1 else ''} "
+                           f"({sum(e - s for s, e, _ in hits)} samples; the first at "
+                           f"{t[a]:.4g}-{t[b - 1]:.4g} s, {level:.6g} {unit}): {why}")
+    return out
 
 
 def read_data(path, need_displacement: bool = True, group: str | None = None) -> ForceData:

@@ -228,8 +228,8 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
               missing: bool = False) -> list[float]:
     """The finite numbers of one CSV data row, one per header column.
 
-    With ``missing``, a ``nan`` cell (a logger's dropout) is returned as NaN for the screening
-    (:func:`damper.io.screening.repair_samples`) to flag and fill.
+    With ``missing``, a ``nan`` or empty cell (a logger's dropout) is returned as NaN for the
+    screening (:func:`damper.io.screening.repair_samples`) to flag and fill.
 
     Raises
     ------
@@ -242,6 +242,9 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
                          f"({', '.join(header)}), got {len(row)}")
     values = []
     for col, cell in zip(header, row):
+        if missing and not cell.strip():
+            values.append(math.nan)
+            continue
         try:
             value = float(cell)
         except ValueError:

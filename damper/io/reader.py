@@ -18,6 +18,7 @@ from pathlib import Path
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm
 from damper.io.dyke import looks_like_dyke_file, read_dyke
+from damper.io.screening import screening_of
 
 __all__ = ["read_test", "require_samples", "MIN_SAMPLES"]
 
@@ -75,13 +76,21 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
     Raises
     ------
     InputError
-        Fewer than ``minimum`` samples, or fewer than ``minimum`` usable ones.
+        Fewer than ``minimum`` samples, fewer than ``minimum`` usable ones (the message sums up
+        the screening's findings), or amplitudes no MR damper test has (a ``units`` finding:
+        a time in ms, a stroke in mm read as SI).
     """
     if test.n_samples < minimum:
         raise InputError(f"{path}: {test.n_samples} samples; expected at least {minimum} (a test of a few "
                          "cycles of motion)")
+    screening = screening_of(test)
     usable = int(test.usable.sum())
     if usable < minimum:
         raise InputError(f"{path}: the screening leaves {usable} of {test.n_samples} samples usable, fewer "
-                         f"than {minimum} (--keep-flagged fits the flagged samples too)")
+                         f"than {minimum} ({screening.brief()}; --keep-flagged fits the flagged samples too)")
+    units = screening.units_problem()
+    if units is not None:
+        # a time in ms or a stroke in mm read as SI: any fit would be of the wrong device
+        raise InputError(f"{path}: implausible units ({units}); convert the file to SI (time [s], "
+                         "displacement [m], velocity [m/s], force [N])")
     return test

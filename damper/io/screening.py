@@ -54,7 +54,8 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     fault a fast stretch is data (an earthquake-like test has rare pulses): it is not flagged.
 ``island``
     A usable stretch shorter than one dominant period between two flagged spans, or between one
-    and the test's start or end: excluded too.
+    and the test's start or end, next to a fault of the motion (not where only the force was
+    flagged): excluded too.
 ``units``
     Amplitudes, peak velocities or forces outside what any MR damper test produces (e.g. a
     displacement in mm declared as m); reported, not excluded (the whole test would go).
@@ -82,17 +83,16 @@ import numpy as np
 from numpy.lib.stride_tricks import sliding_window_view
 from scipy.signal import savgol_filter
 
+from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
-           "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR"]
+           "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR"]
 
 #: A time step this many times the median step is a gap.
 GAP_FACTOR = 2.5
 #: No motion: the displacement moves less than this fraction of the test's stroke.
 IDLE_FRACTION = 0.02
-#: A run of identical values shorter than this is never called stuck.
-MIN_STUCK_RUN = 8
 #: Plausible ranges of an MR damper test (SI): from bench-top dampers (mm strokes, tens of N)
 #: to the large-scale 20-t devices (±0.6 m, 2 MN); a value outside them is a unit error.
 PLAUSIBLE = {"amplitude": (2e-5, 1.0), "peak_velocity": (1e-5, 5.0), "peak_force": (0.5, 5e6),
@@ -199,6 +199,29 @@ class Screening:
                    "from fit and error")
         return out
 
+    def brief(self) -> str:
+        """The findings in a few words, for a one-line error: each excluding kind with its spans
+        and samples (largest first), then every ``units`` finding's text.
+
+        Examples: ``"stuck force: 12 spans, 1504 samples; island: 3 spans, 840 samples"``,
+        ``"units: sample rate 3.005 Hz is outside the plausible ... (wrong unit?)"``.
+        """
+        groups: dict = {}
+        for f in self.findings:
+            if f.excluded and f.kind != "units":
+                key = f"{f.kind} {f.channel}" if f.kind in ("stuck", "clipped", "nan") else f.kind
+                spans, samples = groups.get(key, (0, 0))
+                groups[key] = (spans + 1, samples + f.n_samples)
+        parts = [f"{k}: {n} span{'s' if n != 1 else ''}, {m} samples"
+                 for k, (n, m) in sorted(groups.items(), key=lambda kv: -kv[1][1])]
+        parts += [f"units: {f.message}" for f in self.findings if f.kind == "units"]
+        return "; ".join(parts) if parts else "nothing found"
+
+    def units_problem(self) -> str | None:
+        """The ``units`` findings' text, joined (None when every amplitude is plausible)."""
+        texts = [f"{f.channel}: {f.message}" for f in self.findings if f.kind == "units"]
+        return "; ".join(texts) or None
+
     def estimate_line(self) -> str:
         """The estimated lags and gain in one line (empty when none was estimated)."""
         e = self.estimates
@@ -223,47 +246,6 @@ class Screening:
 # ---------------------------------------------------------------------------------------------
 # helpers
 # ---------------------------------------------------------------------------------------------
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """``[(start, end_exclusive)]`` of the runs of True in ``mask``."""
-    m = np.asarray(mask, dtype=bool)
-    if not m.any():
-        return []
-    d = np.diff(np.r_[0, m.astype(np.int8), 0])
-    return list(zip(np.flatnonzero(d == 1).tolist(), np.flatnonzero(d == -1).tolist()))
-
-
-def _repeat_runs(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Starts and lengths of the runs of exactly equal consecutive values."""
-    change = np.flatnonzero(np.diff(values) != 0) + 1
-    starts = np.r_[0, change]
-    ends = np.r_[change, values.size]
-    return starts, ends - starts
-
-
-def _stuck_threshold(lengths: np.ndarray) -> int:
-    """Shortest run of equal values the channel's own repeats do not explain.
-
-    Repeats of a sampled, quantised channel cluster (it stalls at its reversals and plateaus),
-    so the runs of two or more are modelled as geometric: a run that has lasted ``k`` samples
-    goes on with probability ``r`` (maximum-likelihood estimate from the channel's own runs).
-    Of ``N_2`` such runs about ``N_2 r^(L-2)`` last ``L`` or more; a length expected less than
-    once in a thousand recordings is not chance but a stuck or saturated sensor.
-    """
-    long = lengths[lengths >= 2].astype(float)
-    if long.size == 0:
-        return MIN_STUCK_RUN
-    # leave out the runs that are themselves candidates (they would inflate r)
-    trimmed = long[long < max(MIN_STUCK_RUN, np.percentile(long, 99))]
-    if trimmed.size == 0:
-        return MIN_STUCK_RUN
-    r = float(np.sum(trimmed - 2) / max(np.sum(trimmed - 1), 1.0))
-    if not r > 0:
-        return MIN_STUCK_RUN
-    r = min(r, 0.95)
-    k = 2 + math.log(1e-3 / trimmed.size) / math.log(r)
-    return max(MIN_STUCK_RUN, int(math.ceil(k)))
-
-
 def _dominant_period(t: np.ndarray, x: np.ndarray) -> float:
     n = t.size
     span = float(t[-1] - t[0])
@@ -276,10 +258,42 @@ def _dominant_period(t: np.ndarray, x: np.ndarray) -> float:
     return float(1.0 / freqs[k]) if freqs[k] > 0 else span
 
 
-def _derivative(t: np.ndarray, x: np.ndarray, period: float) -> np.ndarray:
-    """Savitzky-Golay derivative over ~1/40 of the dominant period (so that noise is not amplified)."""
+#: Share of a signal's variance below its band edge (:func:`band_edge`).
+BAND_EDGE_SHARE = 0.95
+
+
+def band_edge(t: np.ndarray, v: np.ndarray, share: float = BAND_EDGE_SHARE) -> float:
+    """Frequency [Hz] below which ``share`` of the variance of ``v`` lies (its band edge).
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Uniform sample times [s].
+    v : np.ndarray
+        The signal at ``t``.
+    share : float, optional
+        Share of the variance (0-1).
+    """
+    n = t.size
+    if n < 4:
+        return 0.0
+    dt = (t[-1] - t[0]) / (n - 1)
+    power = np.abs(np.fft.rfft((v - v.mean()) * np.hanning(n)))[1:] ** 2
+    total = float(power.sum())
+    if not total > 0.0:
+        return 0.0
+    k = int(np.searchsorted(np.cumsum(power), share * total))
+    return float(np.fft.rfftfreq(n, dt)[1 + min(k, power.size - 1)])
+
+
+def _derivative(t: np.ndarray, x: np.ndarray, period: float, edge: float = 0.0) -> np.ndarray:
+    """Savitzky-Golay derivative over ~1/40 of the dominant period, or of the period at half the
+    velocity's band edge ``edge`` [Hz] when that is shorter (so that noise is not amplified, and a
+    broadband motion, whose dominant period is its slowest drift, keeps its band)."""
     steps = np.diff(t)
     dt = float(np.median(steps))
+    if edge > 0.0:
+        period = min(period, 2.0 / edge)
     window = int(round(period / (40.0 * dt))) | 1
     window = max(5, min(window, (t.size // 4) | 1))
     if t.size < 7 or window >= t.size or np.ptp(steps) > 0.5 * dt:
@@ -540,40 +554,6 @@ def _input_name(test) -> str | None:
     return None
 
 
-def _stuck_findings(values: np.ndarray) -> list[tuple]:
-    """``[(kind, start, end, level)]`` of the stuck or clipped runs of one channel.
-
-    Stuck: a run of equal values longer than :func:`_stuck_threshold`. Clipped: the samples at
-    an extreme value when the channel piles up there (visited in at least two separate runs,
-    or in one stuck run, with ten times more samples than the mean of the five levels just
-    inside it: a smooth quantised peak holds about three times more).
-    """
-    out = []
-    starts, lengths = _repeat_runs(values)
-    threshold = _stuck_threshold(lengths)
-    hi, lo = float(values.max()), float(values.min())
-    levels, counts = np.unique(values, return_counts=True)
-    clip_levels = set()
-    for level in {hi, lo}:
-        if hi == lo:
-            break
-        k = int(np.searchsorted(levels, level))
-        count = int(counts[k])
-        at_runs = lengths[values[starts] == level]
-        near = counts[max(k - 5, 0):k] if level == hi else counts[k + 1:k + 6]
-        pile = count > 10 * max(float(np.mean(near)) if near.size else 1.0, 1.0)
-        if count >= 3 and pile and (at_runs.size >= 2 or at_runs.max() >= threshold):
-            clip_levels.add(level)
-    for s, n_run in zip(starts, lengths):
-        level = float(values[s])
-        e = int(s + n_run)
-        if level in clip_levels:
-            out.append(("clipped", int(s), e, level))
-        elif n_run >= threshold:
-            out.append(("stuck", int(s), e, level))
-    return out
-
-
 def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray | None = None,
            velocity_measured: bool | None = None) -> Screening:
     """Screen one damper test (see the module docstring for the checks).
@@ -650,7 +630,7 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     # stuck, clipped and frozen channels
     channels = [("force", f), ("displacement", x)] + ([("velocity", v)] if velocity_measured else [])
     for ch, values in channels:
-        for kind, a, b, level in _stuck_findings(values):
+        for kind, a, b, level in stuck_spans(values):
             if idle[a:b].all():
                 continue  # a sensor at rest during an idle span: reported as idle
             span = f[a:b]
@@ -677,7 +657,8 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     # a fault's lurch: the velocity far beyond the test's own envelope next to a fault
     fault = input_bad | excluded & ~idle
     if fault.any():
-        speed = np.abs(v if velocity_measured else _derivative(t, x, period))
+        speed = np.abs(v if velocity_measured else _derivative(
+            t, x, period, band_edge(t, np.gradient(x, t))))
         quiet_ok = ~excluded
         envelope = float(np.percentile(speed[quiet_ok], 99.5)) if quiet_ok.sum() > 8 else 0.0
         if envelope > 0:
@@ -703,9 +684,13 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
                 excluded[lo:hi] = True
                 input_bad[lo:hi] = True
 
-    # velocity against the derivative of the displacement; offsets by cross-correlation
+    # velocity against the derivative of the displacement; offsets by cross-correlation. The
+    # derivative's window follows the velocity's band too: over a random motion's slow drift
+    # (its dominant period) it would smooth away what the velocity channel measures
     max_lag = max(int(round(0.1 * period / dt)), 2)
-    deriv = _derivative(t, x, period)
+    ok = ~excluded
+    edge = band_edge(t[ok], (v if velocity_measured else np.gradient(x, t))[ok]) if ok.sum() > 8 else 0.0
+    deriv = _derivative(t, x, period, edge)
     if velocity_measured and np.ptp(deriv) > 0 and np.ptp(v) > 0:
         ok = ~excluded
         lag, gain, corr = _delay(np.where(ok, v, 0.0), np.where(ok, deriv, 0.0), max_lag)
@@ -752,9 +737,11 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
                                     "(wrong unit?)", excluded=False))
 
     # settling after unusable input spans: up to the next displacement reversal
+    motion_fault = input_bad.copy()
     for a, b in _runs(input_bad):
         end = _settling_end(x, b) if b < n else n
         if end > b:
+            motion_fault[b:end] = True
             added = int((~excluded[b:end]).sum())
             if added:
                 excluded[b:end] = True
@@ -764,10 +751,14 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     # islands: a usable stretch shorter than one dominant period between two flagged spans, or
     # between one and the test's start or end, is no test of its own (its start is still
     # settling, its end already in the next fault; a fragment after a recording's last fault is
-    # what is left of a rig out of control)
+    # what is left of a rig out of control). Only next to a fault of the motion (an input
+    # channel, a gap, a lurch, the settling after them): where only the force was flagged
+    # (clipped at each peak, a dropout) the model ran through the same motion and the samples
+    # between are data
     near = max(int(round(period / dt)), 1)
     for a, b in _runs(~excluded):
-        if (a > 0 or b < n) and b - a < near:
+        beside_motion_fault = (a > 0 and motion_fault[a - 1]) or (b < n and motion_fault[b])
+        if (a > 0 or b < n) and b - a < near and beside_motion_fault:
             excluded[a:b] = True
             where = ("between two flagged spans" if a > 0 and b < n
                      else "after the last flagged span" if a > 0 else "before the first flagged span")

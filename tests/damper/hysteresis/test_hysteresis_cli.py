@@ -173,3 +173,42 @@ def test_benchmark_training_file_meets_the_targets(shared_dir, tmp_path, capsys)
     for name, (u, y) in hb.test_sets().items():
         err = hb.rms_error(fitted.simulate(u, hb.FS, periodic=name == "multisine"), y)
         assert err < (2e-6 if name == "multisine" else 1e-5), (name, err)
+
+
+@pytest.mark.parametrize("flaw, words", [
+    ("clipped", "force clipped in"),
+    ("frozen", "displacement frozen in 1 span (300 samples"),
+    ("ms", "sampling rate 0.75 Hz is outside"),
+])
+def test_flawed_data_are_refused_unless_kept(tmp_path, capsys, flaw, words):
+    """A clipped force, a frozen displacement sensor or a time column in ms would be fitted as
+    the specimen's behaviour (mass 2e6 kg from the ms file): one line, no model file;
+    --keep-flagged fits anyway and says so."""
+    u, y = hb.synthesize(hb.true_system(), np.tile(hb.multisine(n=2048, seed=4), 2), decimate=False)
+    fs = hb.FS
+    if flaw == "clipped":
+        u = np.clip(u, -np.inf, np.percentile(u, 96))
+    elif flaw == "frozen":
+        y = y.copy()
+        y[1000:1300] = y[1000]
+    else:
+        fs = hb.FS / 1000.0
+    data = _write_csv(tmp_path / "flawed.csv", u, y, fs=fs)
+    out = tmp_path / "m.json"
+    assert main(["hysteresis", "fit", "--data", str(data), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("sbib: error:") and words in err and "--keep-flagged" in err and "\n" not in err, err
+    assert not out.exists()
+    if flaw == "frozen":
+        status = main(["hysteresis", "fit", "--data", str(data), "--out", str(out), "--keep-flagged",
+                       "--max-iterations", "2"])
+        assert status == 0 and out.exists()
+        assert "warning:" in capsys.readouterr().err
+
+
+def test_benchmark_training_data_have_no_flaw(shared_dir):
+    from damper.hysteresis.files import data_flaws, read_data
+    path = shared_dir / "hysteresis_data/boucwen_benchmark/dynonet_h5/train.h5"
+    if not path.exists():
+        pytest.skip(f"{path} not present")
+    assert data_flaws(read_data(path)) == []

@@ -1,0 +1,115 @@
+"""Dirty real-world files the screening must not over- or under-flag (issue 24 item 1, found by
+probing the readers with corrupted copies): a single dropout in a broadband recording, a force
+clipped at every peak, a force pinned at one value in every cycle, implausible units and a
+test too short to trace, each with the one-line message a user gets."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from benchmark.foundation.errors import InputError
+from damper.io.data import DamperTest, read_utfsm, write_csv
+from damper.io.dyke import read_dyke
+from damper.io.reader import require_samples
+from damper.io.screening import screen, screened, stuck_spans
+from damper.lab.laboratory import general_test, periodic_test
+
+UTFSM = "hysteresis_data/quiroz_utfsm_mr_damper_sinusoidal/Preprocesados"
+DYKE = "hysteresis_data/dyke_mr_damper_random_voltage/ransim_u_converted.csv"
+
+
+def _broadband(seconds=12.0, rate=2000.0):
+    """A random motion with a slow drift (its largest spectral peak) and a band up to ~30 Hz."""
+    t = np.arange(int(seconds * rate)) / rate
+    rng = np.random.default_rng(7)
+    fast = np.convolve(rng.standard_normal(t.size), np.hanning(61) / 30, mode="same")
+    x = 0.004 * np.sin(2 * np.pi * 0.2 * t) + 0.002 * fast / np.std(fast)
+    v = np.where(np.floor(t / 0.5) % 2 == 0, 0.2, 0.8)
+    return general_test("virtual", t, x, v, noise=0.01, seed=2)
+
+
+def test_one_dropout_in_a_broadband_test_excludes_that_sample_only():
+    """A NaN force in a random-motion test: the velocity check's derivative keeps the velocity's
+    band (the dominant period, the slow drift, would smooth it into departures everywhere) and
+    no island is cut around a force-only flag."""
+    test = _broadband()
+    assert screen(test).clean, screen(test).lines()
+    mask = np.ones(test.n_samples, dtype=bool)
+    mask[test.n_samples // 2] = False
+    scr = screen(test, prior_excluded=~mask)
+    assert int((~scr.usable).sum()) == 1, scr.lines()
+    assert not {f.kind for f in scr.findings} & {"velocity", "island"}
+
+
+@pytest.mark.parametrize("cell", ["NaN", ""])
+def test_one_dropout_in_the_dyke_recording(shared_dir, tmp_path, cell):
+    """A missing force (a NaN or an empty cell, as loggers write them) in half the shared
+    recording: that one sample is left out (the whole file was, before)."""
+    lines = (shared_dir / DYKE).read_text().splitlines()[:30001]
+    row = lines[15001].split(",")
+    row[6] = cell
+    lines[15001] = ",".join(row)
+    path = tmp_path / "dropout.csv"
+    path.write_text("\n".join(lines) + "\n")
+    test = read_dyke(path)
+    scr = test.metadata["screening"]
+    assert int((~test.mask).sum()) == 1, scr.lines()
+    assert {f.kind for f in scr.findings} == {"nan", "rounded"}
+
+
+def test_force_clipped_at_every_peak_excludes_the_clipped_samples_only():
+    """A load cell saturating at each force peak: the motion is intact, so the samples between
+    the clipped spans are data (no island)."""
+    test = periodic_test("virtual", 0.02, 1.0, 0.5, cycles=6, sample_rate=500.0, noise=0.01, seed=3)
+    level = np.percentile(test.force, 97)
+    f = np.minimum(test.force, level)
+    scr = screen(dataclasses.replace(test, force=f, mask=None, metadata={}))
+    clipped = f == level
+    assert {f.kind for f in scr.findings} == {"clipped"}, scr.lines()
+    assert np.array_equal(~scr.usable, clipped)
+
+
+def test_force_pinned_at_one_value_in_every_cycle_is_stuck(shared_dir):
+    """Runs at one constant inside the range (not the channel's extreme), many per file: more
+    than the 1 % of the runs the old trimming left out of the channel's own repeat statistics."""
+    test = read_utfsm(shared_dir / UTFSM / "10mm1Hz1A.txt")
+    f = test.force.copy()
+    pinned = (f > 0) & (f < 1000)
+    f[pinned] = 1436.9
+    starts = np.flatnonzero(np.diff(np.r_[0, pinned.astype(int)]) == 1)
+    assert starts.size >= 10
+    spans = stuck_spans(f)
+    flagged = np.zeros(f.size, dtype=bool)
+    for kind, a, b, level in spans:
+        assert kind == "stuck" and level == 1436.9
+        flagged[a:b] = True
+    assert np.array_equal(flagged, pinned)
+    # the clean files' own repeats stay below the threshold
+    assert stuck_spans(test.force) == []
+
+
+def test_a_rejected_file_says_what_the_screening_found(tmp_path):
+    test = periodic_test("virtual", 0.02, 1.0, 0.5, cycles=6, sample_rate=500.0, noise=0.01, seed=3)
+    f = test.force.copy()
+    f[:-5] = 123.0                                       # a dead load cell
+    bad = screened(dataclasses.replace(test, force=f, mask=None, metadata={}))
+    with pytest.raises(InputError, match=r"\((stuck|clipped) force: 1 span, 2996 samples; --keep-flagged"):
+        require_samples(bad, "dead.csv")
+
+
+def test_implausible_units_are_refused_by_the_command_line_readers(tmp_path):
+    test = periodic_test("virtual", 0.02, 1.0, 0.5, cycles=6, sample_rate=500.0, noise=0.01, seed=3)
+    in_ms = DamperTest(test.time * 1e3, test.displacement, test.velocity / 1e3, test.force,
+                       voltage=test.voltage, name="ms")
+    with pytest.raises(InputError, match=r"implausible units \(time: sample rate 0\.5 Hz.*convert the file to SI"):
+        require_samples(screened(in_ms), "ms.csv")
+
+
+def test_too_short_to_trace_is_one_clear_error():
+    from damper.diagnosis import diagnose
+    test = periodic_test("virtual", 0.02, 2.0, 0.5, cycles=1.2, sample_rate=120.0, noise=0.01, seed=3)
+    with pytest.raises(InputError, match=r"usable held-out samples; the residual trace needs at least 80"):
+        diagnose([test])
