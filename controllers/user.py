@@ -133,7 +133,7 @@ def load_user_controller(spec: str) -> "GuardedController":
     if cls is None:
         raise InputError(f"controller {spec!r}: {target} has no {cls_name}")
     if not inspect.isclass(cls):
-        raise InputError(f"controller {spec!r}: {cls_name} is a {type(cls).__name__}, expected a class")
+        raise InputError(f"controller {spec!r}: {cls_name} is not a class (a {type(cls).__name__!r} object); expected a class")
     step = getattr(cls, "step", None)
     if not callable(step):
         raise InputError(f"controller {spec!r}: {cls_name} has no step(self, measurements) method")

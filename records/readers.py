@@ -363,7 +363,7 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
             raise InputError(f"{where}:3: units {units!r} given but the header says {found_units!r}")
         units_from = "argument"
     elif found_units is None:
-        raise InputError(f"{where}:3: units not recognised in {lines[2].strip()!r}; give units (e.g. units='g')")
+        raise InputError(f"{where}:3: units not recognised in {lines[2].strip()!r}; give the units (--units g on the command line, units='g' in Python)")
     else:
         units, units_from = found_units, "header"
     factor = unit_factor(units, where)

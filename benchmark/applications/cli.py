@@ -152,9 +152,18 @@ def _dispatch(args: argparse.Namespace) -> int:
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         _silence_stdout()
         return 0
-    except OSError as exc:  # an output path that cannot be created or written (the message names it)
-        print(f"sbib: error: {exc}", file=sys.stderr)
+    except OSError as exc:  # an output path that cannot be created or written: name it, not errno
+        print(f"sbib: error: {_os_error_line(exc)}", file=sys.stderr)
         return EXIT_INPUT_ERROR
+
+
+def _os_error_line(exc: OSError) -> str:
+    """``path: reason`` for an OSError (the destination, not an atomic writer's temporary name)."""
+    path = exc.filename2 if exc.filename2 is not None else exc.filename
+    reason = exc.strerror or str(exc)
+    if path is None:
+        return reason
+    return f"{path}: {reason.lower() if reason[:1].isupper() and reason[1:2].islower() else reason}"
 
 
 def _interrupted() -> int:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.atomic import output_dir
 from benchmark.applications.speed import run_bench
 
 __all__ = ["register"]
@@ -25,7 +26,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "that a second process does not recompile, time the identification study, "
                     "measure peak memory and scaling. Prints a table; writes bench.json and "
                     "scaling.png into --out. Timings are measured, never asserted.")
-    p.add_argument("--out", default="results/bench", help="output directory (default: results/bench)")
+    p.add_argument("--out", default="results/bench", type=output_dir, help="output directory (default: results/bench)")
     p.add_argument("--quick", action="store_true", help="fewer repeats and scaling points (smoke run)")
     p.add_argument("--jobs", type=int, default=2, help="processes of the suite and ensemble cases (default 2)")
     p.add_argument("--only", default=None,

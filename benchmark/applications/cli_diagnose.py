@@ -34,6 +34,7 @@ import textwrap
 from pathlib import Path
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.atomic import output_dir
 from damper.io.reader import read_test, require_samples
 from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
@@ -118,7 +119,7 @@ def register(subparsers) -> None:
                    help="keep the samples the screening flags (stuck or clipped channels, frozen "
                         "displacement, idle spans, ...) in the fit and the errors; the findings are "
                         "still reported")
-    p.add_argument("--out", metavar="DIR", help="write report.md, diagnosis.json, plots, base_model.json and final_model.json here")
+    p.add_argument("--out", metavar="DIR", type=output_dir, help="write report.md, diagnosis.json, plots, base_model.json and final_model.json here")
     p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
     p.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
     p.set_defaults(func=run)

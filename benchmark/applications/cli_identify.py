@@ -24,6 +24,7 @@ from records.options import orientation_name
 
 from benchmark.foundation.display_units import format_si
 from benchmark.foundation.progress import progress_bar
+from benchmark.foundation.atomic import output_dir
 from damper.identification.measured import identify_files
 from damper.io.reader import read_test, require_samples
 from benchmark.applications.model_files import write_identified_models
@@ -45,7 +46,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Without --data: identify the virtual benchmark damper over 0-1 V through the "
                     "virtual laboratory, fit the voltage laws and validate inside every earthquake "
                     "run. With --data: identify measured constant-voltage/current tests.")
-    p.add_argument("--out", default=None,
+    p.add_argument("--out", default=None, type=output_dir,
                    help="output directory (default: results/identify, or results/identify-data with --data)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--data", nargs="+", metavar="FILE", default=None,

@@ -9,6 +9,7 @@ import tempfile
 import time
 
 from benchmark.applications.study import run_study
+from benchmark.foundation.atomic import output_dir
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -22,7 +23,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     """
     p = subparsers.add_parser("study", help="run the main job: records, benchmark suite, controllers, identification",
                               description="Run everything end to end and write results and plots to --out.")
-    p.add_argument("--out", default="results", help="output directory (default: results)")
+    p.add_argument("--out", default="results", type=output_dir, help="output directory (default: results)")
     p.add_argument("--records-dir", default=None, help="directory of the benchmark record files")
     p.add_argument("--quick", action="store_true", help="fewer runs (smoke test)")
     p.add_argument("--dyke", action="store_true",

@@ -38,6 +38,8 @@ def decode_text(raw: bytes, where: str) -> str:
         A NUL byte (a binary file), or bytes that are not UTF-8 (the message gives the line
         and the offending byte).
     """
+    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):  # a UTF-16 byte-order mark (a spreadsheet's "Unicode text")
+        raise InputError(f"{where}: UTF-16 text; expected UTF-8 (save it as UTF-8 or plain CSV)")
     if b"\x00" in raw[:_SNIFF] or (len(raw) > _SNIFF and b"\x00" in raw):
         raise InputError(f"{where}: looks like a binary file (it holds NUL bytes); expected a UTF-8 text file")
     try:

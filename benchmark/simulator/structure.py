@@ -338,6 +338,13 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
         raise InputError(f"{path}: field 'bearing_xy' has shape {bearing_xy.shape}, expected (n, 2)")
     if np.any(np.diff(heights) <= 0):
         raise InputError(f"{path}: field 'floor_height_above_base' must increase")
+    for name, values in (("floor_mass", floor_mass), ("floor_rot_inertia", floor_inertia),
+                         ("base_mass", np.atleast_1d(base_mass)), ("base_rot_inertia", np.atleast_1d(base_inertia))):
+        if np.any(values <= 0):
+            raise InputError(f"{path}: field '{name}' must be positive, got {values[values <= 0][0] / _KILO:g} "
+                             f"at entry {int(np.flatnonzero(values <= 0)[0])}")
+    if not 0.0 <= zeta < 1.0:
+        raise InputError(f"{path}: field 'modal_damping_ratio' must lie in [0, 1), got {zeta:g}")
 
     # File rows: row 3*(k-1)+j is floor 9-k. Re-order to floor 1 → floor 8.
     order = np.ravel([[3 * (N_FLOORS - f) + j for j in range(3)] for f in range(1, N_FLOORS + 1)])

@@ -99,3 +99,15 @@ def test_bad_files_raise_clear_errors(tmp_path, shared_dir):
     (tmp_path / "broken.json").write_text("{ not json")
     with pytest.raises(InputError, match="line 1"):
         load_superstructure(tmp_path / "broken.json")
+
+
+def test_negative_masses_and_damping_are_named(tmp_path, shared_dir):
+    data = json.loads((shared_dir / "benchmark" / "structure.json").read_text())
+    masses = list(data["floor_mass"])
+    masses[3] = -masses[3]
+    (tmp_path / "neg.json").write_text(json.dumps(dict(data, floor_mass=masses)))
+    with pytest.raises(InputError, match=r"'floor_mass' must be positive, got -[\d.]+ at entry 3"):
+        load_superstructure(tmp_path / "neg.json")
+    (tmp_path / "zeta.json").write_text(json.dumps(dict(data, modal_damping_ratio=5.0)))
+    with pytest.raises(InputError, match=r"'modal_damping_ratio' must lie in \[0, 1\), got 5"):
+        load_superstructure(tmp_path / "zeta.json")

@@ -56,6 +56,16 @@ def test_readers_reject_non_text_with_one_line(tmp_path, name, kind):
     assert ("binary" in message) if kind == "binary" else ("UTF-8" in message)
 
 
+@pytest.mark.parametrize("name", sorted(LATIN1))
+def test_readers_name_utf16(tmp_path, name):
+    """A spreadsheet's "Unicode text" export (UTF-16 with its byte-order mark) is named as such,
+    not as a binary file."""
+    path = tmp_path / name
+    path.write_bytes(LATIN1[name].encode("utf-16"))
+    with pytest.raises(InputError, match="UTF-16 text; expected UTF-8"):
+        _readers()[name](path)
+
+
 def test_structure_file_rejects_non_text(tmp_path):
     from benchmark.simulator.structure import load_superstructure
 

@@ -1,0 +1,49 @@
+"""An output path that cannot be written is refused when the command is parsed, in one line,
+before any work (found by probing: errno text after minutes of computation, or an atomic
+writer's temporary name in the message)."""
+
+from __future__ import annotations
+
+import errno
+
+import pytest
+
+from benchmark.applications.cli import _os_error_line, main
+from benchmark.foundation.atomic import check_output
+from benchmark.foundation.errors import InputError
+
+
+def test_check_output_cases(tmp_path):
+    a_file = tmp_path / "afile"
+    a_file.write_text("x")
+    check_output(tmp_path / "new" / "deeper" / "run.h5")          # parents made later
+    check_output(tmp_path / "newdir", directory=True)
+    with pytest.raises(InputError, match="exists and is not a directory"):
+        check_output(a_file, directory=True)
+    with pytest.raises(InputError, match="is a directory; expected a file name"):
+        check_output(tmp_path)
+    with pytest.raises(InputError, match="is a file, not a directory"):
+        check_output(a_file / "x" / "run.h5")
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["diagnose", "--data", "whatever.csv", "--out", "{file}"], "exists and is not a directory"),
+    (["run", "--record", "kobe", "--out", "{dir}"], "is a directory; expected a file name"),
+    (["study", "--out", "{file}/results"], "is a file, not a directory"),
+    (["hysteresis", "fit", "--data", "x.csv", "--out", "{dir}"], "is a directory"),
+])
+def test_commands_refuse_bad_outputs_at_once(tmp_path, capsys, argv, words):
+    a_file = tmp_path / "afile"
+    a_file.write_text("x")
+    argv = [a.format(file=a_file, dir=tmp_path) for a in argv]
+    with pytest.raises(SystemExit) as stop:  # an argparse error: exit status 2 at parse time
+        main(argv)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("sbib: error:") and "--out" in err and words in err and "\n" not in err, err
+
+
+def test_os_error_line_names_the_destination_not_the_temporary_file():
+    exc = OSError(errno.EISDIR, "Is a directory", "/x/.out.partial-abc", None, "/x/out")
+    assert _os_error_line(exc) == "/x/out: is a directory"
+    assert _os_error_line(OSError(errno.EEXIST, "File exists", "out/afile")) == "out/afile: file exists"
