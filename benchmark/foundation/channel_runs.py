@@ -101,7 +101,9 @@ def stuck_spans(values: np.ndarray) -> list[tuple[str, int, int, float]]:
     Stuck: a run of equal values longer than :func:`stuck_threshold`. Clipped: the samples at
     an extreme value when the channel piles up there (visited in at least two separate runs,
     or in one stuck run, with ten times more samples than the mean of the five levels just
-    inside it: a smooth quantised peak holds about three times more). Fewer than 8 samples: none.
+    inside it: a smooth quantised peak holds about three times more), and held there for two
+    consecutive samples at least once (a sine sampled exactly at its amplitude only touches
+    it). Fewer than 8 samples: none.
 
     Parameters
     ----------
@@ -125,7 +127,9 @@ def stuck_spans(values: np.ndarray) -> list[tuple[str, int, int, float]]:
         at_runs = lengths[values[starts] == level]
         near = counts[max(k - 5, 0):k] if level == hi else counts[k + 1:k + 6]
         pile = count > 10 * max(float(np.mean(near)) if near.size else 1.0, 1.0)
-        if count >= 3 and pile and (at_runs.size >= 2 or at_runs.max() >= threshold):
+        # a clipped channel *stays* at its limit for consecutive samples somewhere; a smooth
+        # signal sampled exactly at its peak value (a synthetic sine sweep) only touches it
+        if count >= 3 and pile and at_runs.max() >= 2 and (at_runs.size >= 2 or at_runs.max() >= threshold):
             clip_levels.add(level)
     for s, n_run in zip(starts, lengths):
         level = float(values[s])

@@ -212,3 +212,15 @@ def test_benchmark_training_data_have_no_flaw(shared_dir):
     if not path.exists():
         pytest.skip(f"{path} not present")
     assert data_flaws(read_data(path)) == []
+
+
+def test_a_sine_sweep_sampled_at_its_amplitude_is_not_clipped():
+    """The benchmark's test sweep hits exactly ±40 N at 30 samples, one at a time: touching a
+    level is not staying there (a clipped channel holds it for consecutive samples)."""
+    from damper.hysteresis.files import ForceData, data_flaws
+    u = hb.sine_sweep(duration=180.0, upsample=1)
+    assert np.sum(np.abs(u) == 40.0) >= 10
+    y = 1e-5 * np.sin(np.arange(u.size) * 0.37)
+    assert data_flaws(ForceData(u, y, hb.FS, 0.0, "sweep")) == []
+    clipped = np.clip(u, -30.0, 30.0)
+    assert any("force clipped" in f for f in data_flaws(ForceData(clipped, y, hb.FS, 0.0, "clipped")))
