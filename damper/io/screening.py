@@ -689,7 +689,11 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     # (its dominant period) it would smooth away what the velocity channel measures
     max_lag = max(int(round(0.1 * period / dt)), 2)
     ok = ~excluded
-    edge = band_edge(t[ok], (v if velocity_measured else np.gradient(x, t))[ok]) if ok.sum() > 8 else 0.0
+    edge = 0.0
+    if ok.sum() > 8:  # on the longest unflagged stretch: a uniform grid, no fault in the spectrum
+        a_ok, b_ok = max(_runs(ok), key=lambda r: r[1] - r[0])
+        if b_ok - a_ok > 8:
+            edge = band_edge(t[a_ok:b_ok], (v if velocity_measured else np.gradient(x, t))[a_ok:b_ok])
     deriv = _derivative(t, x, period, edge)
     if velocity_measured and np.ptp(deriv) > 0 and np.ptp(v) > 0:
         ok = ~excluded
