@@ -26,7 +26,7 @@ from typing import Sequence
 
 from benchmark import __version__
 from benchmark.foundation.errors import InputError, NumericalError, SbibError
-from benchmark.foundation.kernel_cache import ensure_fresh_once
+from benchmark.foundation.kernel_cache import ensure_fresh_once, stepping_kernel_cached
 from benchmark.foundation.pools import stop_children
 
 __all__ = ["main", "run", "build_parser", "COMMAND_MODULES"]
@@ -100,6 +100,10 @@ def plain_text(text: str) -> str:
     return re.sub(r"(\S)::[ \t]*$", r"\1:", text, flags=re.MULTILINE)
 
 
+#: Commands that run the building (and so its stepping kernel).
+_BUILDING_COMMANDS = frozenset({"run", "compare", "ensemble", "study", "identify", "bench"})
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Return the ``sbib`` argument parser with every registered sub-command."""
     parser = _Parser(
@@ -131,6 +135,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not getattr(args, "func", None):
             parser.print_help()
             return EXIT_INPUT_ERROR
+        if args.command in _BUILDING_COMMANDS and not stepping_kernel_cached():
+            # a fresh checkout, or kernels edited since: minutes of silence otherwise
+            print("sbib: compiling the simulation kernels once (a few minutes on 2 cores; `make run` and "
+                  "`sbib warm-up` do it at set-up; later runs load them in about 2 s)", file=sys.stderr, flush=True)
         return _dispatch(args)
     except KeyboardInterrupt:
         return _interrupted()

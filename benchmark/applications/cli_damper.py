@@ -74,14 +74,17 @@ def default_model(name: str, overrides: dict[str, float] | None = None):
     return cls(**overrides)
 
 
-def _param(text: str) -> tuple[str, float]:
+def _param(text: str) -> tuple[str, float | tuple[float, ...]]:
     if "=" not in text:
         raise argparse.ArgumentTypeError(f"expected NAME=VALUE, got {text!r}")
     key, value = text.split("=", 1)
     try:
+        if "," in value:  # a pair such as voltage_range=0,2.25
+            return key.strip(), tuple(float(v) for v in value.split(","))
         return key.strip(), float(value)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{key}: expected a number, got {value!r}") from None
+        raise argparse.ArgumentTypeError(f"{key}: expected a number (or numbers separated by commas, "
+                                         f"e.g. voltage_range=0,2), got {value!r}") from None
 
 
 def responds_to_voltage(model) -> bool:

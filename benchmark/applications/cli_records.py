@@ -36,6 +36,7 @@ from records.options import record_kwargs
 from records.resolve import resolve_record, looks_like_file
 from records.resample import resample
 from records.readers import unit_factor
+from records.plausibility import MAX_DT_S, MIN_DT_S
 from benchmark.foundation.errors import DataNotFoundError
 from benchmark.foundation.provenance import provenance
 from benchmark.foundation.atomic import output_file
@@ -97,7 +98,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "CSV: time [s] and one column per component, with the units in the header and comment "
                     "lines saying where the record came from, how it was resampled and by which sbib. A "
                     "finer step interpolates linearly between the samples (the motion the simulator "
-                    "integrates anyway); a coarser one low-passes first (zero-phase Butterworth at 80 %% of "
+                    "integrates anyway); a coarser one low-passes first (zero-phase Butterworth at 80 % of "
                     "the new Nyquist frequency) so that nothing aliases. sbib run does not need it: it "
                     "interpolates any record onto its own step. Example: sbib records resample "
                     "KJM-000 --dt 0.02 --units g --step 0.005 --out KJM-000_0.005.csv")
@@ -263,6 +264,11 @@ def _generate(args: argparse.Namespace) -> int:
 def _resample(args: argparse.Namespace) -> int:
     if not (math.isfinite(args.step) and args.step > 0):
         raise InputError(f"--step {args.step!r}: expected a positive time step in s, e.g. 0.005")
+    if not MIN_DT_S <= args.step <= MAX_DT_S:
+        # the plausible steps of a strong-motion record (records.plausibility): 1e-7 s wrote 3e8
+        # rows for minutes; 5 s kept 6 samples of kobe
+        raise InputError(f"--step {args.step:g}: expected a time step in s between {MIN_DT_S:g} and {MAX_DT_S:g} "
+                         "(what accelerographs sample at), e.g. 0.005")
     out = Path(args.out).expanduser()
     if looks_like_file(args.name) and Path(args.name).expanduser().resolve() == out.resolve():
         raise InputError(f"--out {args.out}: is the input record itself; give another file")

@@ -25,7 +25,8 @@ import hashlib
 import os
 from pathlib import Path
 
-__all__ = ["ensure_fresh", "ensure_fresh_once", "kernel_source_fingerprint", "KERNEL_SOURCES", "KERNEL_SOURCE_DIRS"]
+__all__ = ["ensure_fresh", "ensure_fresh_once", "kernel_source_fingerprint", "stepping_kernel_cached",
+           "KERNEL_SOURCES", "KERNEL_SOURCE_DIRS"]
 
 _ROOT = Path(__file__).resolve().parents[2]  # the repository root (benchmark/foundation/..)
 #: Source files (globs relative to the repository root) the stepping kernel can reach.
@@ -92,3 +93,15 @@ def ensure_fresh_once() -> None:
     if not _CHECKED:
         _CHECKED = True
         ensure_fresh()
+
+
+def stepping_kernel_cached() -> bool:
+    """Whether the building's stepping kernel has a compiled copy in numba's on-disk cache (False:
+    the next run compiles it, a few minutes on 2 cores; the command line says so first)."""
+    custom = os.environ.get("NUMBA_CACHE_DIR")
+    folders = [Path(custom)] if custom else [_ROOT / "benchmark" / "simulator" / "__pycache__"]
+    for folder in folders:
+        with contextlib.suppress(OSError):
+            if any(folder.rglob("stepping.run_steps-*.nbi")):
+                return True
+    return False

@@ -250,9 +250,10 @@ def _case_building(case: Case, with_devices: bool) -> Building:
                             damper_model=case.damper_model)
 
 
-def with_record_note(exc: NumericalError, implausible: list[str]) -> NumericalError:
-    """``exc`` with the record's first implausibility flag appended (one line), or ``exc`` itself:
-    a run that blows up on a record read in the wrong units says so in its one error line.
+def with_record_note(exc: NumericalError, implausible: list[str]) -> NumericalError | InputError:
+    """``exc`` itself, or, when the record was flagged implausible, an :class:`InputError` that
+    leads with the flag and ends with ``exc`` (one line): a run that blows up on a record read in
+    the wrong units is a problem of its input (exit status 2), not of the numerics.
 
     Parameters
     ----------
@@ -264,9 +265,7 @@ def with_record_note(exc: NumericalError, implausible: list[str]) -> NumericalEr
     if not implausible:
         return exc
     extra = f" ({len(implausible) - 1} more)" if len(implausible) > 1 else ""
-    noted = NumericalError(f"{exc}; the record is implausible: {implausible[0]}{extra}")
-    noted.time, noted.state, noted.hint = exc.time, exc.state, exc.hint
-    return noted
+    return InputError(f"the record is implausible: {implausible[0]}{extra}; the run then failed: {exc}")
 
 
 def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = REFERENCES) -> CaseResult:

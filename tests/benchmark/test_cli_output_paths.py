@@ -47,3 +47,14 @@ def test_os_error_line_names_the_destination_not_the_temporary_file():
     exc = OSError(errno.EISDIR, "Is a directory", "/x/.out.partial-abc", None, "/x/out")
     assert _os_error_line(exc) == "/x/out: is a directory"
     assert _os_error_line(OSError(errno.EEXIST, "File exists", "out/afile")) == "out/afile: file exists"
+
+
+def test_a_cold_kernel_cache_is_announced_for_building_commands(monkeypatch, capsys):
+    """A fresh checkout's first `sbib run` compiles for minutes: it says so first (only for the
+    commands that run the building)."""
+    import benchmark.applications.cli as cli
+    monkeypatch.setattr(cli, "stepping_kernel_cached", lambda: False)
+    assert main(["run", "--record", "no-such-record.csv"]) == 2
+    assert "compiling the simulation kernels once" in capsys.readouterr().err
+    main(["records", "list", "--json"])
+    assert "compiling" not in capsys.readouterr().err

@@ -89,3 +89,15 @@ def test_voltage_is_accepted_for_a_voltage_law(tmp_path):
     check_voltage_effect(model, "bingham", 1.0)          # no error
     with pytest.raises(Exception, match="does not depend on the voltage"):
         check_voltage_effect(Bingham(f_c=500.0, c0=5.0e3, f0=0.0), "bingham", 1.0)
+
+
+def test_param_takes_a_pair_for_the_voltage_range(tmp_path, capsys):
+    """`--param` lists voltage_range among a model's parameters: a pair is given as 0,3."""
+    from benchmark.applications.cli import main
+    out = tmp_path / "vr.csv"
+    assert main(["damper", "test", "--model", "virtual", "--amplitude", "0.05", "--frequency", "1",
+                 "--voltage", "2.5", "--param", "voltage_range=0,3", "--out", str(out)]) == 0
+    assert out.exists()
+    assert main(["damper", "test", "--model", "virtual", "--amplitude", "0.05", "--frequency", "1",
+                 "--voltage", "2.5", "--out", str(out)]) == 2       # outside the default range
+    assert "voltage" in capsys.readouterr().err

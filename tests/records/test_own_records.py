@@ -347,7 +347,8 @@ def test_a_blow_up_on_an_implausible_record_says_so_in_one_line(capsys, tmp_path
 
     absurd = write_csv(Record("absurd", 0.01, kobe_files["acc"] * 1e4), tmp_path / "absurd.csv")
     status, out, err = _run(capsys, ["run", "--record", str(absurd), "--json", *FAST])
-    assert status == 3 and out == ""
+    # the record was flagged before the run: its blow-up is an input error (exit 2) led by the flag
+    assert status == 2 and out == ""
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("sbib: numerical failure: ")
-    assert "implausible" in lines[0] and "PGA" in lines[0]
+    assert len(lines) == 1 and lines[0].startswith("sbib: error: the record is implausible: ")
+    assert "PGA" in lines[0] and "the run then failed" in lines[0]

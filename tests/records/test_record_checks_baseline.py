@@ -51,8 +51,9 @@ def test_pga_and_duration_checks():
     with pytest.raises(InputError, match="1 expected PGAs for 2 components"):
         check_pga(rec, (0.5,))
     assert check_duration(rec, 1.0) == [] and check_duration(rec, 3.0)[0].kind == "duration_mismatch"
+    # constant components: they drift, and a channel that never changes is frozen
     assert {f.kind for f in check_record(rec, (0.1, 1.0), 5.0)} == {"pga_mismatch", "duration_mismatch",
-                                                                       "baseline_drift"}  # constant: drifts
+                                                                       "baseline_drift", "stuck_channel"}
 
 
 def test_baseline_correction_removes_an_offset_and_trend():

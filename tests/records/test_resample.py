@@ -68,7 +68,7 @@ def test_cli_writes_units_and_provenance_and_reads_back(shared_dir, tmp_path, ca
 @pytest.mark.parametrize("extra, match", [
     (["--step", "0"], "--step"),
     (["--step", "-1"], "--step"),
-    (["--step", "500"], "longer than the record"),
+    (["--step", "500"], "between 0.0001 and 0.05"),
     (["--step", "0.01", "--out-units", "furlong"], "--out-units"),
 ])
 def test_cli_refuses_bad_input_in_one_line_and_writes_nothing(records_dir, tmp_path, capsys, extra, match):
@@ -86,3 +86,13 @@ def test_cli_refuses_to_overwrite_its_input(tmp_path, capsys):
     assert main(["records", "resample", str(src), "--step", "0.005", "--out", str(src)]) == 2
     assert "input record itself" in capsys.readouterr().err
     assert src.read_text() == before
+
+
+@pytest.mark.parametrize("step", ["1e-7", "5"])
+def test_resample_refuses_steps_no_accelerograph_has(tmp_path, capsys, step):
+    """1e-7 s wrote 3e8 rows for minutes; 5 s kept 6 samples of kobe (and sbib run then called
+    the file implausible): both are refused before any work, in one line."""
+    out = tmp_path / "r.csv"
+    assert main(["records", "resample", "kobe", "--step", step, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "between 0.0001 and 0.05" in err and "\n" not in err and not out.exists()
