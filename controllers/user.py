@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmark.foundation.errors import InputError, SbibError
+from benchmark.foundation.errors import InputError, SbibError, UserCodeError
 from controllers.base import ControlContext, Controller
 
 __all__ = ["is_user_controller_spec", "load_user_controller", "GuardedController", "VOLTAGE_TOLERANCE"]
@@ -190,7 +190,7 @@ class GuardedController(Controller):
 
     def _fail(self, where: str, exc: BaseException) -> InputError:
         t = self._k * self.context.control_step if self.context is not None else 0.0
-        return InputError(f"controller {self.spec!r}: {where} raised {type(exc).__name__} at t = {t:.6g} s: "
+        return UserCodeError(f"controller {self.spec!r}: {where} raised {type(exc).__name__} at t = {t:.6g} s: "
                           f"{_one_line(exc)}")
 
     def reset(self, context: ControlContext) -> None:
@@ -229,7 +229,7 @@ class GuardedController(Controller):
             bad = np.flatnonzero(np.isfinite(v) & ((v < -tol) | (v > vmax + tol)))
             if bad.size:
                 j = int(bad[0])
-                raise InputError(f"controller {self.spec!r}: command {v[j]:.6g} for device {j} at t = {t:.6g} s is "
+                raise UserCodeError(f"controller {self.spec!r}: command {v[j]:.6g} for device {j} at t = {t:.6g} s is "
                                  f"outside [0, {vmax[j]:g}] (the device's input range)"
                                  + (f"; {bad.size} devices" if bad.size > 1 else ""))
         return v

@@ -92,7 +92,7 @@ def _run(args: argparse.Namespace) -> int:
             for d in info["dampers"]:
                 print(f"damper {d['damper']} ({d['model']}): {d['scale_basis']}; {d['input_mapping']}")
                 for note in d["notes"]:
-                    print(f"  note: {note}")
+                    print(f"  {note if note.startswith('warning: ') else 'note: ' + note}")
         units = result.settings.get("record_units") or {}
         if units:
             print("record values read as: " + "; ".join(f"{k}: {v}" for k, v in units.items()))

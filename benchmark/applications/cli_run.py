@@ -73,6 +73,13 @@ from benchmark.foundation.atomic import output_file
 
 __all__ = ["register", "run_command", "main_run"]
 
+def _command_unit(damper: Any) -> str:
+    """The unit of the devices' command: the damper models' input unit (V unless all read A)."""
+    units = {d.get("input", {}).get("unit", "V") for d in (damper or {}).get("dampers", [])
+             if isinstance(d, dict)}
+    return units.pop() if len(units) == 1 else "V"
+
+
 def _clean(d: dict[str, Any]) -> dict[str, Any]:
     out = {}
     for k, v in d.items():
@@ -165,7 +172,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
                                           devices=layout, n_modes=n_modes)
     if warn:
         for note in dict.fromkeys(n for c in used for n in c.notes):
-            print(f"sbib run: note: {note}", file=sys.stderr, flush=True)
+            print(f"sbib run: {note if note.startswith('warning: ') else 'note: ' + note}", file=sys.stderr,
+                  flush=True)
     case = Case(record=record, orientation=orientation, controller=controller, isolation=isolation,
                 building=building_given,
                 n_modes=n_modes, control_step=control_step, record_options=record_options,
@@ -224,6 +232,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
                      n_modes="all" if n_modes is None else n_modes, building=json.dumps(building.describe(),
                                                                                          default=str),
                      precision="double" if full_histories else "single",
+                     command_unit=_command_unit(summary.get("damper")),
                      damper=json.dumps(summary["damper"], default=str))
         summary["out"] = str(out)
     if plot_dir:

@@ -228,7 +228,8 @@ class ComparisonResult:
                     h5.attrs[key] = value
                 h5.attrs["settings"] = json.dumps(self.settings, default=str)
                 h5.attrs["summary"] = json.dumps(self.summary())
-                h5.attrs["units"] = "SI: m, N, V, s; J's dimensionless"
+                h5.attrs["units"] = ("SI: m, N, s; device commands in each damper model's input unit "
+                                     "(V, or A for a model identified on the coil current); J's dimensionless")
                 h5.attrs["criteria"] = json.dumps(key_json())
                 for (rec, ori), p in self.references.items():
                     g = h5.require_group(f"reference/{rec}/{ori}")
@@ -481,8 +482,17 @@ def _damper_buildings(dampers, devices, damper_scale, isolation, n_modes) -> tup
         raise InputError("--dampers: empty list; expected model files or registered names")
     buildings: dict = {}
     info: dict = {"layout": None, "dampers": []}
+    seen: set = set()
+    names = [Path(str(i)).name for i in items if i]
+    clash = {n for n in names if names.count(n) > 1}  # d1/final_model.json, d2/final_model.json
     for k, item in enumerate(items):
+        where = str(Path(str(item)).resolve()) if item and Path(str(item)).exists() else item
+        if where in seen:
+            raise InputError(f"--dampers: {item} given twice")
+        seen.add(where)
         choice = resolve_damper(item, damper_scale)
+        if item and Path(str(item)).name in clash:
+            choice = dataclasses.replace(choice, label=str(item))
         if k == 0 and parse_scale(damper_scale) is not None:
             # one device, one similitude: every model gets the first model's factor
             damper_scale, basis = choice.scale, choice.scale_basis

@@ -38,7 +38,8 @@ from benchmark.foundation.errors import InputError
 from benchmark.simulator.devices import (DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout, DeviceSlot,
                                          default_damper_model)
 from damper.models.base import DamperModel
-from damper.io.model_file import (CAPACITY_TEST, InputSpec, as_range, ModelFile, capacity_force, looks_like_model_file,
+from damper.io.model_file import (CAPACITY_TEST, InputSpec, as_range, ModelFile, capacity_force, dropped_share,
+                                  looks_like_model_file,
                                read_model_file)
 from damper.models.registry import MODELS, get_model_class
 
@@ -89,6 +90,14 @@ class DamperChoice:
                 "scale": self.scale, "scale_basis": self.scale_basis, "input_mapping": self.input_mapping,
                 "effects": [{"name": e.name, "value": e.value, "unit": e.unit} for e in self.source.effects],
                 "notes": list(self.notes)}
+
+
+#: A model file run without --damper-scale whose capacity is below this share of the benchmark
+#: damper's is said to be unscaled (a laboratory device).
+UNSCALED_WARNING = 0.05
+#: Share of a model's force (RMS, capacity test) carried by effects the building cannot run above
+#: which the run says its results are not the fitted device's.
+DROPPED_WARNING = 0.05
 
 
 def parse_scale(text: Any) -> tuple[str, float] | None:
@@ -181,7 +190,9 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
             factor = value
             basis = f"force similitude x{factor:g} (given)"
         else:
-            cap = capacity_force(model)
+            # the fitted device's capacity, effects the building cannot run included: the scale
+            # maps that device onto the target, whatever the building then leaves out
+            cap = capacity_force(source.augmented() if dropped else model)
             factor = value / cap
             basis = (f"force similitude x{factor:.6g}: capacity {cap / 1e3:.4g} kN -> {value / 1e3:.4g} kN (peak force at "
                      f"{source.input.range[1]:g} {source.input.unit}, ±{CAPACITY_TEST['amplitude_m']:g} m at "
@@ -199,6 +210,29 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
     if lo > 0:
         mapping += f"; commands below {lo:g} {spec_in.unit} are outside the model's range"
     notes = list(dropped)
+    if spec_in.levels and not spec_in.single_level:
+        top, bottom = max(spec_in.levels), min(spec_in.levels)
+        span = top - bottom
+        if hi > top + 1e-6 * span or lo < bottom - 1e-6 * span:
+            notes.append(f"warning: {label}: input range [{lo:g}, {hi:g}] {spec_in.unit} goes beyond the levels it "
+                         f"was fitted at ({bottom:g}-{top:g} {spec_in.unit}); its laws hold their end values "
+                         "there (an extrapolation nobody measured)")
+    if dropped:
+        share = dropped_share(source.augmented(), model)
+        names = ", ".join(e.name for e in source.effects
+                          if any(line.startswith(f"{e.name} (") for line in dropped))
+        line = (f"{label}: the building runs it without {names}, {100 * share:.0f} % of its force (RMS "
+                f"over a ±{CAPACITY_TEST['amplitude_m']:g} m, {CAPACITY_TEST['frequency_hz']:g} Hz cycle at "
+                f"{spec_in.range[1]:g} {spec_in.unit})")
+        notes.append(f"warning: {line}: its results are not the fitted device's" if share >= DROPPED_WARNING
+                     else line)
+    if how is None and source.path:
+        # a laboratory device (kN) among 16 building dampers of ~1 MN: almost surely a missing scale
+        cap, ref = capacity_force(model), capacity_force(_source(DEFAULT_DAMPER).model)
+        if cap < UNSCALED_WARNING * ref:
+            notes.append(f"warning: {label}: capacity {cap / 1e3:.4g} kN, {100 * cap / ref:.2g} % of the benchmark "
+                         f"damper's {ref / 1e3:.4g} kN, run as fitted: give --damper-scale (e.g. 1000kN) to "
+                         "size the device for the building")
     if spec_in.single_level:
         notes.append(f"{label}: fitted at one {spec_in.quantity} level ({spec_in.levels[0]:g} {spec_in.unit}); its "
                      "force does not depend on the command: a controller has nothing to command")

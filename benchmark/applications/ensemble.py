@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import dataclasses
+import contextlib
 import hashlib
 import importlib
 import itertools
@@ -58,7 +59,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.applications.ensemble_journal import Journal, JournalEntry
-from benchmark.foundation.errors import InputError, NumericalError
+from benchmark.foundation.errors import InputError, NumericalError, UserCodeError
 from benchmark.applications.ensemble_simulation import run_ensemble_case
 from benchmark.foundation.provenance import provenance
 from benchmark.foundation.errors import DataNotFoundError
@@ -472,6 +473,15 @@ def _orientations() -> tuple[str, ...]:
     return tuple(ORIENTATIONS)
 
 
+def _building_file_hashes(building) -> dict:
+    """``{file name: SHA-256}`` of the damper model and layout files of ``building``."""
+    out = {}
+    for value in building or ():
+        if value and isinstance(value, str) and Path(value).is_file():
+            out[Path(value).name] = hashlib.sha256(Path(value).read_bytes()).hexdigest()
+    return out
+
+
 def _flatten(table: Mapping[str, Any], prefix: str = "") -> Iterable[tuple[str, Any]]:
     """Flatten nested TOML tables: ``[grid.damper] kappa_w = [...]`` → ``damper.kappa_w``."""
     for name, value in table.items():
@@ -657,12 +667,13 @@ def journal_path(out: str | os.PathLike) -> Path:
 
 
 def _execute(run: str | Callable[[EnsembleMember], dict[str, Any]], case: EnsembleMember) -> JournalEntry:
-    """Run one case on a worker; a NumericalError becomes a failed entry, other errors propagate."""
+    """Run one case on a worker; a NumericalError or a user's code failing during the run (a
+    controller raising at some step) becomes a failed entry, other errors propagate."""
     function = resolve_run_function(run)
     start = time.perf_counter()
     try:
         result = function(case)
-    except NumericalError as exc:
+    except (NumericalError, UserCodeError) as exc:
         return JournalEntry(key=case.key, status="failed", error=str(exc),
                             elapsed_s=time.perf_counter() - start)
     if not isinstance(result, dict):
@@ -778,7 +789,11 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
     resolve_run_function(run_spec)  # fail early, in the parent, with a clear message
     out = Path(out)
     cases = config.cases()
-    journal = Journal(journal_path(out), header={"base_seed": config.base_seed, "run": run_label})
+    header = {"base_seed": config.base_seed, "run": run_label}
+    files = _building_file_hashes(config.building)
+    if files:  # an edited damper or layout file is another device: its runs are not resumed
+        header["building_files_sha256"] = files
+    journal = Journal(journal_path(out), header=header)
     known = {c.key for c in cases}
     n_resumed = sum(1 for key in journal.entries if key in known)
     todo = [c for c in cases if c.key not in journal.entries]
@@ -806,14 +821,18 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
                 if todo and time.monotonic() - last_checkpoint > checkpoint_seconds:
                     write_hdf5(config, cases, journal.entries, out, run_label)
                     last_checkpoint = time.monotonic()
-    except KeyboardInterrupt:
+    except BaseException:  # Ctrl-C or an error that ends the ensemble: keep the finished runs
         close = getattr(stream, "close", None)
         if close is not None:  # stop the workers first (the generator's pool), then write
             close()
         if bar is not None:
             bar.close()
             bar = None
-        write_hdf5(config, cases, journal.entries, out, run_label)
+        if journal.entries:
+            write_hdf5(config, cases, journal.entries, out, run_label)
+        else:  # nothing finished (a case the config could not build): no journal to block a fix
+            with contextlib.suppress(OSError):
+                journal.path.unlink()
         raise
     finally:
         if bar is not None:

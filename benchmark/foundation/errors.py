@@ -15,6 +15,7 @@ __all__ = [
     "InputError",
     "ParameterError",
     "DataNotFoundError",
+    "UserCodeError",
     "NumericalError",
 ]
 
@@ -33,6 +34,11 @@ class ParameterError(InputError):
 
 class DataNotFoundError(InputError, FileNotFoundError):
     """A data file or directory the run needs is absent."""
+
+
+class UserCodeError(InputError):
+    """A user's code (a controller class) raised or misbehaved during a run: that run fails, an
+    ensemble records it as failed and goes on (its other cases do not run that code)."""
 
 
 class NumericalError(SbibError, RuntimeError):

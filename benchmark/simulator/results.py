@@ -521,7 +521,7 @@ def _json_default(obj: Any) -> Any:
 _PRECISIONS = {"double": np.float64, "single": np.float32}
 
 
-def _write_run(group: Any, result: Any, dtype: Any = np.float64) -> None:
+def _write_run(group: Any, result: Any, dtype: Any = np.float64, command_unit: str = "V") -> None:
     items = _result_items(result)
     th = group.create_group("time_histories")
     n = None
@@ -539,6 +539,9 @@ def _write_run(group: Any, result: Any, dtype: Any = np.float64) -> None:
             name, ("SI", "field not in the results schema (see benchmark.simulator.simulation)", ""))
         kwargs = {"compression": "gzip", "compression_opts": 4, "shuffle": True} if arr.size > 4096 else {}
         ds = th.create_dataset(name, data=arr, **kwargs)
+        if name == "voltage" and command_unit != "V":
+            # a damper model identified on the coil current reads the command as amperes
+            units, description = command_unit, f"command input of each device, in the damper model's {command_unit}"
         ds.attrs["units"] = units
         ds.attrs["description"] = description
         ds.attrs["axes"] = axes
@@ -564,7 +567,7 @@ def _write_run(group: Any, result: Any, dtype: Any = np.float64) -> None:
 
 def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
                  evaluation: dict[str, float | None] | None = None, isolation: Any = None,
-                 precision: str = "double", **extra: object) -> Path:
+                 precision: str = "double", command_unit: str = "V", **extra: object) -> Path:
     """Write a run (and optionally its reference run and J1–J9) to an HDF5 file, atomically.
 
     Parameters
@@ -583,6 +586,9 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
         Storage type of the float histories and energies (the time vector stays float64);
         ``"single"`` halves the file (module docstring). Peaks and J's are computed before
         storing, in double precision, either way.
+    command_unit : str
+        Unit of the devices' command history (``voltage``): ``"V"``, or ``"A"`` for damper models
+        identified on the coil current (:mod:`benchmark.applications.damper_choice`).
     **extra
         Further root attributes (converted to ``str``), e.g. ``record_source``.
 
@@ -619,9 +625,9 @@ def write_result(result: Any, path: str | os.PathLike, *, reference: Any = None,
             if isolation is not None:
                 f.attrs["isolation_json"] = (isolation.to_json() if hasattr(isolation, "to_json")
                                              else json.dumps(isolation, default=_json_default))
-            _write_run(f.create_group("run"), result, dtype)
+            _write_run(f.create_group("run"), result, dtype, command_unit)
             if reference is not None:
-                _write_run(f.create_group("reference"), reference, dtype)
+                _write_run(f.create_group("reference"), reference, dtype, command_unit)
             if evaluation is not None:
                 eg = f.create_group("evaluation")
                 for key, value in evaluation.items():

@@ -73,7 +73,7 @@ from damper.models.voltage_laws import (Constant, Exponential, Polynomial, Satur
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "ModelFile", "InputSpec", "read_model_file", "write_model_file",
            "parameter_unit", "file_provenance", "OSCILLATOR_MODEL", "LAW_FIELDS", "looks_like_model_file",
-           "capacity_force", "CAPACITY_TEST", "as_range", "load_json"]
+           "capacity_force", "dropped_share", "CAPACITY_TEST", "as_range", "load_json"]
 
 FORMAT = "sbib-damper-model"
 FORMAT_VERSION = 1
@@ -757,14 +757,47 @@ def _read_legacy_oscillator(doc: dict, where: str) -> ModelFile:
                      path=where)
 
 
+def _capacity_cycle(model, test: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Force [N] of ``model`` (registered or augmented) over the last cycle of the capacity test."""
+    test = dict(CAPACITY_TEST if test is None else test)
+    f, a, cycles = test["frequency_hz"], test["amplitude_m"], test["cycles"]
+    t = np.linspace(0.0, cycles / f, int(cycles * 400) + 1)
+    w = 2 * np.pi * f
+    x, xd, xdd = a * np.sin(w * t), w * a * np.cos(w * t), -w * w * a * np.sin(w * t)
+    top = float(model.base.voltage_range[1] if isinstance(model, AugmentedModel) else model.voltage_range[1])
+    force = (model.simulate(t, x, xd, xdd, top).force if isinstance(model, AugmentedModel)
+             else simulate(model, t, x, xd, top).force)
+    last = t >= (cycles - 1) / f
+    return t[last], force[last]
+
+
+def dropped_share(full, building) -> float:
+    """RMS of the force the building model lacks, over the full model's RMS force, on the last
+    cycle of :data:`CAPACITY_TEST` at the top input: how much of the fitted device the effects
+    without a building kernel carry (:meth:`ModelFile.building_model`).
+
+    Parameters
+    ----------
+    full : AugmentedModel or DamperModel
+        The model as fitted (:meth:`ModelFile.augmented`).
+    building : DamperModel
+        The model the building runs.
+    """
+    _, f_full = _capacity_cycle(full)
+    _, f_run = _capacity_cycle(building)
+    den = float(np.sqrt(np.mean(f_full ** 2)))
+    return float(np.sqrt(np.mean((f_full - f_run) ** 2)) / den) if den > 0 else 0.0
+
+
 def capacity_force(model: DamperModel, test: dict | None = None) -> float:
     """Peak force [N] of ``model`` at its largest input under :data:`CAPACITY_TEST` (the force a
     target capacity is compared with).
 
     Parameters
     ----------
-    model : DamperModel
-        A registered damper model; driven at the top of its ``voltage_range``.
+    model : DamperModel or AugmentedModel
+        A registered damper model, or one with effects; driven at the top of its
+        ``voltage_range``.
     test : dict, optional
         The sine motion: ``amplitude_m`` [m], ``frequency_hz`` [Hz] and ``cycles``; default
         :data:`CAPACITY_TEST`. The peak is taken over the last cycle.
@@ -774,10 +807,4 @@ def capacity_force(model: DamperModel, test: dict | None = None) -> float:
     float
         Peak absolute force [N] over the last cycle.
     """
-    test = dict(CAPACITY_TEST if test is None else test)
-    f, a, cycles = test["frequency_hz"], test["amplitude_m"], test["cycles"]
-    t = np.linspace(0.0, cycles / f, int(cycles * 400) + 1)
-    x = a * np.sin(2 * np.pi * f * t)
-    force = simulate(model, t, x, 2 * np.pi * f * a * np.cos(2 * np.pi * f * t), float(model.voltage_range[1])).force
-    last = t >= (cycles - 1) / f
-    return float(np.max(np.abs(force[last])))
+    return float(np.max(np.abs(_capacity_cycle(model, test)[1])))

@@ -110,16 +110,51 @@ def test_model_file_in_the_building_scaled_with_stated_mapping(capsys, tmp_path,
     d = s["damper"]
     assert d["n_devices"] == 8 and d["layout"] == "perimeter-8"
     (c,) = d["dampers"]
-    model, _ = read_model_file(model_files["final"]).building_model()
-    assert c["scale"] == pytest.approx(1e6 / capacity_force(model), rel=1e-9)
+    # the scale maps the fitted device (the inertia the building cannot run included) onto 1000 kN
+    assert c["scale"] == pytest.approx(1e6 / capacity_force(read_model_file(model_files["final"]).augmented()),
+                                       rel=1e-9)
     assert c["model"] == "series_dashpot_bouc_wen" and "current in A" in c["input_mapping"]
     assert any(n.startswith("inertia") for n in c["notes"]) and "inertia" in err
+    # 15 kg of inertia is ~1 % of the force at the capacity test: a note with its share, no warning
+    share = [n for n in c["notes"] if "the building runs it without inertia" in n]
+    assert share and not share[0].startswith("warning:"), c["notes"]
     with h5py.File(out) as h5:
         assert json.loads(h5.attrs["damper"])["dampers"][0]["scale"] == pytest.approx(c["scale"])
+        # the command of a model identified on current is in amperes
+        assert h5["run/time_histories/voltage"].attrs["units"] == "A"
     # the reference stays the building without devices
     ref, _ = _run(capsys, "--record", short_record, "--controller", "clipped-optimal")
     assert s["reference_peaks"] == ref["reference_peaks"]
     assert s["peaks"] != ref["peaks"]
+
+
+def test_effects_without_a_building_kernel_warn_with_their_share(capsys, tmp_path, short_record):
+    """A diagnosis whose final model moved most of its viscous force into shear_thinning (no
+    building kernel): the building runs it without that term, and the run says how much of the
+    device's force is missing instead of a bare note."""
+    from damper.diagnosis.effects import ShearThinning
+    from damper.io.model_file import dropped_share
+    levels = (0.0, 0.5, 1.0)
+    base = NormalizedBoucWen(kappa_xdot=Tabulated(levels, (10.0, 20.0, 30.0)),
+                             kappa_w=Tabulated(levels, (130.0, 700.0, 1130.0)), rho=3000.0, sigma=1.1, n=2.5)
+    spec = InputSpec("current", "A", (0.0, 1.0), levels)
+    path = write_model_file(tmp_path / "thinning.json", AugmentedModel(base, (ShearThinning(2000.0),)), input=spec)
+    source = read_model_file(path)
+    share = dropped_share(source.augmented(), source.building_model()[0])
+    assert 0.3 < share < 1.0
+    s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(path),
+                  "--damper-scale", "1000kN")
+    assert f"warning: thinning.json: the building runs it without shear_thinning, {100 * share:.0f} % of its force" in err
+
+
+def test_input_range_beyond_the_fitted_levels_is_said(capsys, tmp_path, short_record, model_files):
+    doc = json.loads(Path(model_files["final"]).read_text())
+    doc["input"]["range"] = [0.0, 2.0]
+    wide = tmp_path / "wide.json"
+    wide.write_text(json.dumps(doc))
+    s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(wide),
+                  "--damper-scale", "300")
+    assert "input range [0, 2] A goes beyond the levels it was fitted at (0-1 A)" in err
 
 
 def test_single_level_model_says_nothing_to_command(capsys, short_record, model_files):
@@ -229,3 +264,91 @@ def test_chain_diagnose_compare_run(capsys, tmp_path, shared_dir, monkeypatch):
     assert "dJ:" in out
     assert len(list((tmp_path / "figs").glob("force_difference_kobe_*_clipped-optimal.png"))) == 2
     assert main(["run", "--record", "kobe", "--controller", EXAMPLE]) == 0
+
+
+def test_ensemble_does_not_resume_runs_of_an_edited_damper_file(tmp_path, model_files):
+    """The case keys name the damper file, not its content: the journal keeps the file's SHA-256
+    and a resume after an edit is refused (the finished runs were of another device)."""
+    import shutil
+    from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
+    from benchmark.foundation.errors import InputError
+    model = tmp_path / "m.json"
+    shutil.copy(model_files["final"], model)
+    toml = tmp_path / "e.toml"
+    toml.write_text(f'controllers = ["passive-off"]\nrecords = ["kobe"]\ndamper = "{model}"\n')
+    out = tmp_path / "e.h5"
+    run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)
+    run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)  # unchanged: resumes
+    doc = json.loads(model.read_text())
+    doc["notes"] = list(doc.get("notes", [])) + ["edited"]
+    model.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match="building_files_sha256.*do not belong to this ensemble"):
+        run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)
+
+
+def test_compare_two_diagnoses_with_the_same_file_name(capsys, tmp_path, short_record, model_files):
+    """sbib diagnose always writes final_model.json: two of them from two folders are two models,
+    labelled by their paths; the same file twice is still refused."""
+    import shutil
+    for d in ("a", "b"):
+        (tmp_path / d).mkdir()
+        shutil.copy(model_files["base" if d == "a" else "final"], tmp_path / d / "final_model.json")
+    a, b = str(tmp_path / "a" / "final_model.json"), str(tmp_path / "b" / "final_model.json")
+    status = main(["compare", "--records", short_record, "--orientations", "FN-x", "--controllers", "passive-off",
+                   "--dampers", f"{a},{b}", "--damper-scale", "300", "--jobs", "1", "--json", "--no-progress"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    assert {r["damper"] for r in json.loads(out)["runs"]} == {a, b}
+    assert main(["compare", "--records", short_record, "--controllers", "passive-off",
+                 "--dampers", f"{a},{a}", "--damper-scale", "300", "--no-progress"]) == 2
+    assert "given twice" in capsys.readouterr().err
+
+
+def test_ensemble_records_a_user_controller_that_raises_as_failed(tmp_path):
+    """A controller raising at its 100th step fails that case (status, error kept); the other
+    cases run and the HDF5 file is written."""
+    import h5py
+    from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
+    (tmp_path / "ctl.py").write_text(
+        "import numpy as np\nfrom controllers.base import Controller\n"
+        "class Half(Controller):\n    name = 'half'\n"
+        "    def step(self, m):\n        return 0.5 * self.context.voltage_max\n"
+        "class Boom(Half):\n    name = 'boom'\n"
+        "    def reset(self, context):\n        super().reset(context); self.k = 0\n"
+        "    def step(self, m):\n        self.k += 1\n"
+        "        if self.k == 100:\n            raise RuntimeError('boom at step 100')\n"
+        "        return super().step(m)\n")
+    ctl = tmp_path / "ctl.py"
+    toml = tmp_path / "e.toml"
+    toml.write_text(f'controllers = ["{ctl}:Half", "{ctl}:Boom"]\nrecords = ["kobe"]\norientations = ["FN-x"]\n')
+    out = tmp_path / "e.h5"
+    summary = run_ensemble(EnsembleConfig.from_toml(toml), out, progress=False)
+    assert summary.n_run == 2 and summary.n_failed == 1 and out.exists()
+    with h5py.File(out) as h5:
+        status = [s.decode() if isinstance(s, bytes) else s for s in h5["cases/status"][()]]
+        error = [s.decode() if isinstance(s, bytes) else s for s in h5["cases/error"][()]]
+    assert sorted(status) == ["failed", "ok"]
+    assert any("raised RuntimeError at t = " in e and "boom at step 100" in e for e in error)
+
+
+def test_a_run_that_blows_up_on_an_implausible_record_is_an_input_error(tmp_path, capsys, records_dir):
+    """kobe's cm/s² values in a CSV whose header says g (PGA 825 "g"): the run was flagged before it
+    started; when it blows up the one line leads with the record, exit status 2 (not 3)."""
+    from records import load_benchmark_record
+    rec = load_benchmark_record("kobe", "FN-x", records_dir=records_dir)
+    gal = rec.acceleration * 100.0  # m/s² -> cm/s², then declared as g
+    path = tmp_path / "kobe_gal_as_g.csv"
+    path.write_text("time [s],ax [g],ay [g]\n" + "".join(
+        f"{k * rec.dt:.4f},{a:.6g},{b:.6g}\n" for k, (a, b) in enumerate(gal)))
+    assert main(["run", "--record", str(path), "--controller", "passive-on"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("sbib: error: the record is implausible: ") and "the run then failed" in err
+
+
+def test_a_laboratory_model_run_unscaled_is_said(capsys, short_record, model_files):
+    s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper",
+                  str(model_files["final"]))
+    assert "warning: final.json: capacity" in err and "give --damper-scale" in err
+    s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper",
+                  str(model_files["final"]), "--damper-scale", "1000kN")
+    assert "give --damper-scale" not in err

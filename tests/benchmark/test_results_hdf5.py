@@ -81,7 +81,7 @@ def test_round_trip_with_units_provenance_and_evaluation(tmp_path):
 
 
 def test_failed_write_leaves_no_file(tmp_path, monkeypatch):
-    def boom(group, result, dtype):
+    def boom(group, result, dtype, *args):
         group.create_dataset("partial", data=np.zeros(3))
         raise RuntimeError("disk full")
     monkeypatch.setattr(results_module, "_write_run", boom)
@@ -93,7 +93,7 @@ def test_failed_write_leaves_no_file(tmp_path, monkeypatch):
 def test_existing_file_is_replaced_only_when_complete(tmp_path, monkeypatch):
     path = write_result(make_run(0), tmp_path / "out.h5")
     before = read_result(path).base_displacement.copy()
-    monkeypatch.setattr(results_module, "_write_run", lambda g, r, d: (_ for _ in ()).throw(KeyboardInterrupt()))
+    monkeypatch.setattr(results_module, "_write_run", lambda g, r, d, *a: (_ for _ in ()).throw(KeyboardInterrupt()))
     with pytest.raises(KeyboardInterrupt):
         write_result(make_run(5), path)
     assert np.array_equal(read_result(path).base_displacement, before)
