@@ -29,7 +29,7 @@ from typing import Sequence
 
 import numpy as np
 
-from benchmark.foundation.channel_runs import stuck_spans
+from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
 from benchmark.foundation.errors import InputError
 from records.record import STANDARD_GRAVITY, Record
 from records.flaws import Flaw
@@ -142,10 +142,7 @@ def check_stuck_channels(record: Record) -> list[Flaw]:
     for c in range(record.n_components):
         a = record.acceleration[:, c]
         spans = [(kind, i, j, level) for kind, i, j, level in stuck_spans(a) if level != 0.0]
-        for kind in ("clipped", "stuck"):
-            hits = [(i, j, level) for k, i, j, level in spans if k == kind]
-            if not hits:
-                continue
+        for kind, hits in spans_by_kind(spans).items():
             n = sum(j - i for i, j, _ in hits)
             levels = sorted({level for _, _, level in hits})
             values = " and ".join(f"{v:.4g}" for v in levels[:3]) + (" ..." if len(levels) > 3 else "")

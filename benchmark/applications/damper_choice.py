@@ -25,6 +25,7 @@ uncontrolled reference is the building without devices whatever the damper.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import re
@@ -98,6 +99,12 @@ UNSCALED_WARNING = 0.05
 #: Share of a model's force (RMS, capacity test) carried by effects the building cannot run above
 #: which the run says its results are not the fitted device's.
 DROPPED_WARNING = 0.05
+
+
+@functools.lru_cache(maxsize=1)
+def _benchmark_capacity() -> float:
+    """Capacity [N] of the benchmark's own damper (:data:`DEFAULT_DAMPER`), computed once."""
+    return capacity_force(_source(DEFAULT_DAMPER).model)
 
 
 def parse_scale(text: Any) -> tuple[str, float] | None:
@@ -219,8 +226,7 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
                          "there (an extrapolation nobody measured)")
     if dropped:
         share = dropped_share(source.augmented(), model)
-        names = ", ".join(e.name for e in source.effects
-                          if any(line.startswith(f"{e.name} (") for line in dropped))
+        names = ", ".join(line.split(" (", 1)[0] for line in dropped)  # "name (parameter ...): ..."
         line = (f"{label}: the building runs it without {names}, {100 * share:.0f} % of its force (RMS "
                 f"over a ±{CAPACITY_TEST['amplitude_m']:g} m, {CAPACITY_TEST['frequency_hz']:g} Hz cycle at "
                 f"{spec_in.range[1]:g} {spec_in.unit})")
@@ -228,7 +234,7 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
                      else line)
     if how is None and source.path:
         # a laboratory device (kN) among 16 building dampers of ~1 MN: almost surely a missing scale
-        cap, ref = capacity_force(model), capacity_force(_source(DEFAULT_DAMPER).model)
+        cap, ref = capacity_force(model), _benchmark_capacity()
         if cap < UNSCALED_WARNING * ref:
             notes.append(f"warning: {label}: capacity {cap / 1e3:.4g} kN, {100 * cap / ref:.2g} % of the benchmark "
                          f"damper's {ref / 1e3:.4g} kN, run as fitted: give --damper-scale (e.g. 1000kN) to "

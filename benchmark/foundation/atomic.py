@@ -56,6 +56,15 @@ def check_output(path: str | os.PathLike, directory: bool = False, option: str =
     return p
 
 
+def _checked_output(text: str, directory: bool) -> str:
+    import argparse  # only the command line needs it
+    try:
+        check_output(text, directory=directory, option="")
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(str(exc).strip()) from None
+    return text
+
+
 def output_file(text: str) -> str:
     """``argparse`` type of an output file option: :func:`check_output` at parse time.
 
@@ -64,12 +73,7 @@ def output_file(text: str) -> str:
     text : str
         The option's value.
     """
-    import argparse  # only the command line needs it
-    try:
-        check_output(text, option="")
-    except InputError as exc:
-        raise argparse.ArgumentTypeError(str(exc).strip()) from None
-    return text
+    return _checked_output(text, directory=False)
 
 
 def output_dir(text: str) -> str:
@@ -80,12 +84,7 @@ def output_dir(text: str) -> str:
     text : str
         The option's value.
     """
-    import argparse
-    try:
-        check_output(text, directory=True, option="")
-    except InputError as exc:
-        raise argparse.ArgumentTypeError(str(exc).strip()) from None
-    return text
+    return _checked_output(text, directory=True)
 
 
 @contextlib.contextmanager

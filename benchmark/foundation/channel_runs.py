@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-__all__ = ["runs", "repeat_runs", "stuck_threshold", "stuck_spans", "MIN_STUCK_RUN"]
+__all__ = ["runs", "repeat_runs", "stuck_threshold", "stuck_spans", "spans_by_kind", "MIN_STUCK_RUN"]
 
 #: A run of identical values shorter than this is never called stuck.
 MIN_STUCK_RUN = 8
@@ -138,4 +138,21 @@ def stuck_spans(values: np.ndarray) -> list[tuple[str, int, int, float]]:
             out.append(("clipped", int(s), e, level))
         elif n_run >= threshold:
             out.append(("stuck", int(s), e, level))
+    return out
+
+
+def spans_by_kind(spans) -> dict[str, list[tuple[int, int, float]]]:
+    """:func:`stuck_spans`'s findings as ``{"clipped": [(start, end, level), ...], "stuck": [...]}``
+    (only the kinds found, clipped first), for a report of one line per kind.
+
+    Parameters
+    ----------
+    spans : iterable of (kind, start, end_exclusive, level)
+        What :func:`stuck_spans` returns (filtered or not).
+    """
+    out: dict[str, list[tuple[int, int, float]]] = {}
+    for kind in ("clipped", "stuck"):
+        hits = [(a, b, level) for k, a, b, level in spans if k == kind]
+        if hits:
+            out[kind] = hits
     return out

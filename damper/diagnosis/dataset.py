@@ -80,7 +80,7 @@ def acceleration_window(t: np.ndarray, velocity: np.ndarray,
 
 
 def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
-                               displacement: np.ndarray | None = None) -> np.ndarray:
+                               displacement: np.ndarray | None = None, window: int | None = None) -> np.ndarray:
     """Acceleration [m/s²] as the Savitzky-Golay derivative (order 2) of the velocity.
 
     The window (:func:`acceleration_window`) spans about 1/20 of the dominant period of the
@@ -102,10 +102,13 @@ def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
         Velocity [m/s] at ``t``.
     displacement : np.ndarray | None, optional
         Displacement [m] at ``t``, to find the dominant period; None: from the velocity.
+    window : int | None, optional
+        :func:`acceleration_window` of these samples when the caller has it already.
     """
     t = np.asarray(t, dtype=float)
     velocity = np.asarray(velocity, dtype=float)
-    window = acceleration_window(t, velocity, displacement)
+    if window is None:
+        window = acceleration_window(t, velocity, displacement)
     if window == 0:
         return np.gradient(velocity, t, edge_order=2)
     dt = float(np.mean(np.diff(t)))
@@ -251,7 +254,7 @@ class DiagnosisData:
             xd = np.asarray(test.velocity, dtype=float)
             _, v = _input_of(test)
             window = acceleration_window(t, xd, x)
-            motion = Motion(t, x, xd, acceleration_from_velocity(t, xd, x), v,
+            motion = Motion(t, x, xd, acceleration_from_velocity(t, xd, x, window), v,
                             name=test.name or test.source or f"test {len(motions) + 1}")
             start = first_reversal(x)
             usable = np.zeros(t.size, dtype=bool)

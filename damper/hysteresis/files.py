@@ -28,7 +28,8 @@ from benchmark.foundation.errors import DataNotFoundError, InputError, Parameter
 from damper.io.data import parse_row
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
-from damper.io.screening import PLAUSIBLE, stuck_spans
+from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
+from damper.io.screening import PLAUSIBLE
 
 __all__ = ["ForceData", "read_data", "read_force_csv", "read_hdf5", "write_displacement_csv",
            "save_model", "load_model", "data_flaws", "MODEL_KIND"]
@@ -89,17 +90,14 @@ def data_flaws(data: ForceData) -> list[str]:
     for channel, values, unit in (("force", data.force, "N"), ("displacement", data.displacement, "m")):
         if values is None:
             continue
-        spans = stuck_spans(values)
-        for kind in ("clipped", "stuck"):
-            hits = [(a, b, level) for k, a, b, level in spans if k == kind]
-            if hits:
-                a, b, level = hits[0]
-                word = "frozen" if kind == "stuck" and channel == "displacement" else kind
-                why = ("the force that drove the specimen is unknown there" if channel == "force"
-                       else "the response is unknown there")
-                out.append(f"{channel} {word} in {len(hits)} span{'s' if len(hits) > 1 else ''} "
-                           f"({sum(e - s for s, e, _ in hits)} samples; the first at "
-                           f"{t[a]:.4g}-{t[b - 1]:.4g} s, {level:.6g} {unit}): {why}")
+        for kind, hits in spans_by_kind(stuck_spans(values)).items():
+            a, b, level = hits[0]
+            word = "frozen" if kind == "stuck" and channel == "displacement" else kind
+            why = ("the force that drove the specimen is unknown there" if channel == "force"
+                   else "the response is unknown there")
+            out.append(f"{channel} {word} in {len(hits)} span{'s' if len(hits) > 1 else ''} "
+                       f"({sum(e - s for s, e, _ in hits)} samples; the first at "
+                       f"{t[a]:.4g}-{t[b - 1]:.4g} s, {level:.6g} {unit}): {why}")
     return out
 
 
