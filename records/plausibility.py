@@ -25,6 +25,9 @@ time step dt            > 0.05 s     strong-motion records are sampled at 50–2
 time step dt            < 1e-4 s     no accelerograph samples faster than 10 kHz; a time in ms read as s
                                      gives this
 duration n·dt           > 1000 s     the longest strong-motion files (K-NET, 2011 Tohoku) last 300 s
+duration n·dt           < 5 s        triggered accelerographs keep 10-20 s of pre-event memory and the
+                                     shortest NGA-West2 files last about 10 s: a truncated file, or a
+                                     time step given 10x too small
 ======================  ===========  ==================================================================
 
 Velocity and displacement are checked after :func:`records.baseline.baseline_correct` (cubic
@@ -51,7 +54,7 @@ from records.record import units_assumed
 from records.baseline import baseline_correct
 
 __all__ = ["check_plausibility", "MAX_PGA_G", "MAX_PGV_M_S", "MAX_PGD_M", "MAX_DT_S", "MIN_DT_S",
-           "MAX_DURATION_S"]
+           "MAX_DURATION_S", "MIN_DURATION_S"]
 
 #: Largest plausible PGA of one horizontal component [g] (module docstring).
 MAX_PGA_G = 5.0
@@ -65,6 +68,8 @@ MAX_DT_S = 0.05
 MIN_DT_S = 1e-4
 #: Longest plausible record [s].
 MAX_DURATION_S = 1000.0
+#: Shortest plausible record [s].
+MIN_DURATION_S = 5.0
 
 
 def _units_hint(record: Record) -> str:
@@ -123,5 +128,11 @@ def check_plausibility(record: Record) -> list[Flaw]:
                           f"{name}: {record.n_samples} samples at dt = {record.dt:g} s last {record.duration:g} s, longer "
                           f"than any strong-motion record (flagged above {MAX_DURATION_S:g} s); wrong time step? "
                           "(give --dt)",
+                          None, {"dt_s": record.dt, "duration_s": record.duration}))
+    if record.duration < MIN_DURATION_S:
+        flaws.append(Flaw("implausible_duration",
+                          f"{name}: {record.n_samples} samples at dt = {record.dt:g} s last {record.duration:g} s, shorter "
+                          f"than any strong-motion record (flagged below {MIN_DURATION_S:g} s); a truncated file "
+                          "or a wrong time step? (give --dt)",
                           None, {"dt_s": record.dt, "duration_s": record.duration}))
     return flaws

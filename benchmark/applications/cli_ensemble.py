@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
 from benchmark.foundation.errors import InputError
-from benchmark.foundation.atomic import output_file
+from benchmark.foundation.atomic import output_file_of
 
 __all__ = ["register"]
 
@@ -29,7 +29,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "one HDF5 file. Re-running the same command after an interruption (Ctrl-C, kill) "
                     "runs only the unfinished cases.")
     p.add_argument("--config", required=True, help="ensemble description (TOML)")
-    p.add_argument("--out", default=None, type=output_file,
+    p.add_argument("--out", default=None, type=output_file_of("hdf5"),
                    help="HDF5 results file (default: <config stem>.h5 beside the config); "
                         "its journal is <out>.journal")
     p.add_argument("--jobs", type=int, default=None,

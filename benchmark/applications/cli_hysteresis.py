@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from benchmark.foundation.atomic import atomic_write_text, output_dir, output_file
+from benchmark.foundation.atomic import atomic_write_text, output_dir, output_file_of
 from damper.hysteresis import noel_schoukens
 from damper.hysteresis.noel_schoukens import FS, rms_error
 from damper.hysteresis.files import data_flaws, load_model, read_data, save_model, write_displacement_csv
@@ -206,7 +206,7 @@ def register(subparsers) -> None:
 
     p = sub.add_parser("fit", help="identify the model from force/displacement data")
     p.add_argument("--data", required=True, help="benchmark HDF5 or CSV time,force,displacement (SI)")
-    p.add_argument("--out", required=True, type=output_file, help="output model JSON")
+    p.add_argument("--out", required=True, type=output_file_of("json"), help="output model JSON")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--holdout", type=_fraction, default=0.2,
                    help="fraction of the record, at its end, left out of the fit and reported "
@@ -227,7 +227,7 @@ def register(subparsers) -> None:
     p = sub.add_parser("predict", help="displacement response of a fitted model to a force")
     p.add_argument("--model", required=True, help="model JSON written by 'sbib hysteresis fit'")
     p.add_argument("--input", required=True, help="CSV time,force[,displacement] (SI) or HDF5")
-    p.add_argument("--out", required=True, type=output_file, help="output CSV time,displacement")
+    p.add_argument("--out", required=True, type=output_file_of("csv"), help="output CSV time,displacement")
     p.add_argument("--periodic", action="store_true",
                    help="the input is one period of a periodic force: return the steady state")
     p.add_argument("--upsample", type=_positive_int, default=None,

@@ -39,7 +39,7 @@ from records.readers import unit_factor
 from records.plausibility import MAX_DT_S, MIN_DT_S
 from benchmark.foundation.errors import DataNotFoundError
 from benchmark.foundation.provenance import provenance
-from benchmark.foundation.atomic import output_file
+from benchmark.foundation.atomic import output_file_of
 
 __all__ = ["register"]
 
@@ -86,7 +86,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        description="Generate the synthetic record like a benchmark record (PGA, duration, "
                                    "D5-95, mean period, pulse period) and write it as CSV in m/s2.")
     p.add_argument("name", help="benchmark record to imitate")
-    p.add_argument("--out", required=True, type=output_file, help="output CSV file")
+    p.add_argument("--out", required=True, type=output_file_of("csv"), help="output CSV file")
     p.add_argument("--orientation", default="FN-x", type=orientation_name, help=ORIENTATION_HELP + " (default FN-x)")
     p.add_argument("--seed", type=int, default=0, help="seed (default 0)")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="also plot it")
@@ -104,7 +104,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "KJM-000 --dt 0.02 --units g --step 0.005 --out KJM-000_0.005.csv")
     p.add_argument("name", metavar="NAME|FILE", help="benchmark record name (erzincan accepted) or a file path")
     p.add_argument("--step", type=float, required=True, metavar="S", help="new time step [s], e.g. 0.005")
-    p.add_argument("--out", required=True, metavar="FILE.csv", type=output_file, help="output CSV file (written atomically)")
+    p.add_argument("--out", required=True, metavar="FILE.csv", type=output_file_of("csv"), help="output CSV file (written atomically)")
     p.add_argument("--out-units", default=None, metavar="U",
                    help="units of the written values: g, m/s2, cm/s2 (gal), mm/s2 (default: those the "
                         "record was read in)")

@@ -96,6 +96,10 @@ class DamperChoice:
 #: A model file run without --damper-scale whose capacity is below this share of the benchmark
 #: damper's is said to be unscaled (a laboratory device).
 UNSCALED_WARNING = 0.05
+#: A device whose capacity exceeds this multiple of the benchmark damper's is said to be
+#: oversized: 16 of them at 10 MN already resist ~80 % of the building's weight (203 MN), and a
+#: stiffer device than the step can follow makes the run fail numerically (probed: 1000MN).
+OVERSIZE_WARNING = 10.0
 #: Share of a model's force (RMS, capacity test) carried by effects the building cannot run above
 #: which the run says its results are not the fitted device's.
 DROPPED_WARNING = 0.05
@@ -239,6 +243,11 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
             notes.append(f"warning: {label}: capacity {cap / 1e3:.4g} kN, {100 * cap / ref:.2g} % of the benchmark "
                          f"damper's {ref / 1e3:.4g} kN, run as fitted: give --damper-scale (e.g. 1000kN) to "
                          "size the device for the building")
+    if how is not None and (cap := capacity_force(model)) > OVERSIZE_WARNING * _benchmark_capacity():
+        notes.append(f"warning: {label}: capacity {cap / 1e6:.4g} MN after --damper-scale, "
+                     f"{cap / _benchmark_capacity():.3g} times the benchmark damper's "
+                     f"{_benchmark_capacity() / 1e3:.4g} kN: a device that size is not in the building's range "
+                     "(a unit slip, kN for MN?), and a run may fail numerically")
     if spec_in.single_level:
         notes.append(f"{label}: fitted at one {spec_in.quantity} level ({spec_in.levels[0]:g} {spec_in.unit}); its "
                      "force does not depend on the command: a controller has nothing to command")

@@ -67,6 +67,7 @@ from records import BENCHMARK_RECORDS, ORIENTATIONS
 from records.catalogue import ORIENTATION_ALIASES
 from benchmark.foundation.textfile import read_text
 from benchmark.simulator.criteria import CRITERIA
+from benchmark.simulator.peaks import PEAK_UNITS
 from benchmark.foundation.pools import WorkerPool
 from benchmark.foundation.progress import progress_bar
 from benchmark.applications.damper_choice import resolve_damper, resolve_layout
@@ -676,6 +677,10 @@ def _execute(run: str | Callable[[EnsembleMember], dict[str, Any]], case: Ensemb
     except (NumericalError, UserCodeError) as exc:
         return JournalEntry(key=case.key, status="failed", error=str(exc),
                             elapsed_s=time.perf_counter() - start)
+    except InputError as exc:
+        # a grid value the simulation refuses is only seen when its case runs: name the case (its
+        # key holds the configuration's values), not just the model field deep inside
+        raise InputError(f"case {case.key}: {exc}") from None
     if not isinstance(result, dict):
         raise InputError(f"run function {run!r} returned {type(result).__name__} for case {case.key!r}; "
                          "expected a dict of metric name -> number or array")
@@ -939,7 +944,11 @@ def write_hdf5(config: EnsembleConfig, cases: list[EnsembleMember], entries: Map
                 if metric in CRITERIA:   # the J's carry their key (benchmark.simulator.criteria)
                     c = CRITERIA[metric]
                     r[metric].attrs.update(name=c.name, formula=c.formula, normalised_by=c.normalised_by,
-                                           source=c.source, choice=c.choice)
+                                           source=c.source, choice=c.choice, units="1")
+                elif metric in PEAK_UNITS:
+                    r[metric].attrs["units"] = PEAK_UNITS[metric]
+                else:  # a run function of the user's: its own quantity
+                    r[metric].attrs["units"] = "as returned by the run function"
     return complete
 
 

@@ -19,7 +19,8 @@ from typing import Callable, Iterator
 
 from benchmark.foundation.errors import InputError
 
-__all__ = ["atomic_path", "atomic_write_text", "check_output", "output_file", "output_dir"]
+__all__ = ["atomic_path", "atomic_write_text", "check_output", "output_file", "output_file_of", "output_dir",
+           "DATA_SUFFIXES"]
 
 
 def check_output(path: str | os.PathLike, directory: bool = False, option: str = "--out") -> Path:
@@ -74,6 +75,45 @@ def output_file(text: str) -> str:
         The option's value.
     """
     return _checked_output(text, directory=False)
+
+
+#: File name endings of the data formats the commands read or write, by format: an output
+#: named for another format would be misread later (``sbib run --record x.h5`` on a CSV).
+DATA_SUFFIXES = {
+    "csv": (".csv", ".txt", ".dat"),
+    "hdf5": (".h5", ".hdf5", ".hdf"),
+    "json": (".json",),
+    "png": (".png",),
+    "other": (".at2", ".mat", ".toml", ".npy", ".npz", ".pdf", ".svg", ".html"),
+}
+
+
+def output_file_of(fmt: str) -> Callable[[str], str]:
+    """``argparse`` type of an output file in format ``fmt``: :func:`output_file`, and a name
+    ending in another format's suffix (:data:`DATA_SUFFIXES`) is refused.
+
+    A name with no suffix or an unknown one is accepted: the check only catches a file that
+    would announce another format than its contents.
+
+    Parameters
+    ----------
+    fmt : str
+        A key of :data:`DATA_SUFFIXES` (``"csv"``, ``"hdf5"``, ``"json"``, ``"png"``).
+    """
+    expected = DATA_SUFFIXES[fmt]
+    others = {s for key, group in DATA_SUFFIXES.items() if key != fmt for s in group}
+
+    def check(text: str) -> str:
+        import argparse  # only the command line needs it
+        suffix = Path(text).suffix.lower()
+        if suffix in others:
+            raise argparse.ArgumentTypeError(
+                f"{text}: this option writes {fmt.upper()}, not {suffix[1:].upper()}; "
+                f"name it with {' or '.join(expected[:2])}")
+        return _checked_output(text, directory=False)
+
+    check.__name__ = f"{fmt} output file"  # argparse names the type in its messages
+    return check
 
 
 def output_dir(text: str) -> str:

@@ -102,10 +102,14 @@ def controller_authority_warnings(devices, controller_name: str) -> list[str]:
         return []
     names = sorted({getattr(m, "name", type(m).__name__) for m in deaf})
     lo_hi = sorted({tuple(float(v) for v in m.voltage_range) for m in deaf})
-    span = ", ".join(f"{lo:g} and {hi:g} V" for lo, hi in lo_hi)
+    # the models' input is a voltage or a coil current (a model file says which; the building
+    # only sees the range), so the ends are named without a unit
+    span = ", ".join(f"{lo:g} and {hi:g}" for lo, hi in lo_hi)
     why = (f"the force of damper model {', '.join(names)} does not depend on the command (the same force at "
-           f"{span} on a {100 * PROBE_AMPLITUDE:g}-cm, {PROBE_FREQUENCY:g}-Hz test motion)")
+           f"the ends of its input range, {span}, on a {100 * PROBE_AMPLITUDE:g}-cm, {PROBE_FREQUENCY:g}-Hz "
+           "test motion)")
     if len(deaf) == len(models):
         return [f"warning: controller {controller_name!r} cannot act: {why}, so every controller gives the "
-                "response of passive-off; give a damper model whose parameters depend on the voltage"]
+                "response of passive-off; give a damper model whose parameters depend on its input (voltage "
+                "or current)"]
     return [f"warning: controller {controller_name!r} cannot act on {len(deaf)} of {len(models)} devices: {why}"]

@@ -43,6 +43,30 @@ def test_commands_refuse_bad_outputs_at_once(tmp_path, capsys, argv, words):
     assert err.startswith("sbib: error:") and "--out" in err and words in err and "\n" not in err, err
 
 
+@pytest.mark.parametrize("argv, words", [
+    # probed: `records generate kobe --out x.h5` wrote CSV text into x.h5, which `sbib run
+    # --record x.h5` then read as HDF5
+    (["records", "generate", "kobe", "--out", "{dir}/x.h5"], "writes CSV, not H5"),
+    (["records", "resample", "kobe", "--step", "0.01", "--out", "{dir}/x.AT2"], "writes CSV, not AT2"),
+    (["run", "--record", "kobe", "--out", "{dir}/kobe.csv"], "writes HDF5, not CSV"),
+    (["hysteresis", "fit", "--data", "x.csv", "--out", "{dir}/model.h5"], "writes JSON, not H5"),
+    (["damper", "test", "--out", "{dir}/t.json"], "writes CSV, not JSON"),
+])
+def test_outputs_named_for_another_format_are_refused(tmp_path, capsys, argv, words):
+    with pytest.raises(SystemExit) as stop:
+        main([a.format(dir=tmp_path) for a in argv])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("sbib: error:") and words in err and "\n" not in err, err
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("name", ["out.csv", "out.TXT", "out", "out.data"])
+def test_csv_outputs_accept_their_own_or_unknown_suffixes(tmp_path, name):
+    from benchmark.foundation.atomic import output_file_of
+    assert output_file_of("csv")(str(tmp_path / name)) == str(tmp_path / name)
+
+
 def test_os_error_line_names_the_destination_not_the_temporary_file():
     exc = OSError(errno.EISDIR, "Is a directory", "/x/.out.partial-abc", None, "/x/out")
     assert _os_error_line(exc) == "/x/out: is a directory"

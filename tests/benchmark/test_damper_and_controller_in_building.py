@@ -352,3 +352,12 @@ def test_a_laboratory_model_run_unscaled_is_said(capsys, short_record, model_fil
     s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper",
                   str(model_files["final"]), "--damper-scale", "1000kN")
     assert "give --damper-scale" not in err
+
+
+def test_an_oversized_scale_is_said(capsys, short_record):
+    """Probed: `--damper-scale 1000MN` (kN meant) ended in a bare numerical failure."""
+    from benchmark.applications.damper_choice import resolve_damper
+    assert not [n for n in resolve_damper(None, "2000kN").notes if "capacity" in n]
+    notes = [n for n in resolve_damper(None, "1000MN").notes if "capacity" in n]
+    assert len(notes) == 1 and "1000 MN after --damper-scale" in notes[0] and "kN for MN" in notes[0]
+    assert [n for n in resolve_damper(None, 50).notes if "times the benchmark damper's" in n]

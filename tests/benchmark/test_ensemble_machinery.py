@@ -172,6 +172,9 @@ def test_results_do_not_depend_on_process_count(tmp_path):
     assert len(np.unique(a.results["draw"])) == a.n_cases
     assert a.results["samples"].shape == (a.n_cases, 4)
     assert (a.parameters["damper.scale"] == a.results["parameter_sum"]).all()
+    import h5py  # a user's metrics say that their units are the run function's own
+    with h5py.File(tmp_path / "one.h5") as f:
+        assert f["results/draw"].attrs["units"] == "as returned by the run function"
 
 
 def test_failed_runs_are_recorded_not_redone(tmp_path):
@@ -221,3 +224,16 @@ def test_example_config_parses_with_the_documented_size():
     # (2 records x 2 orientations + 2 templates x 2 orientations x 5 realisations) x 3 controllers x 2
     assert len(cfg.motions()) == 24 and len(cfg.cases()) == 144
     assert cfg.run == "simulation" and cfg.parameter_names == ("control_step",)
+
+
+def test_a_case_the_simulation_refuses_is_named(tmp_path):
+    """Probed: a grid value refused inside the run (n_modes = 30) named only the model field."""
+    from benchmark.applications.ensemble import _execute
+
+    def refuse(case):
+        raise InputError("n_modes: expected an integer in 1..24, got 30")
+
+    case = _config(tmp_path).cases()[0]
+    with pytest.raises(InputError) as err:
+        _execute(refuse, case)
+    assert str(err.value) == f"case {case.key}: n_modes: expected an integer in 1..24, got 30"

@@ -55,6 +55,12 @@ def test_small_simulation_ensemble_is_consistent_and_process_independent(tmp_pat
     # J3 is the ratio of the peak base displacements of the run and the uncontrolled run
     d = res.results["peak_base_displacement"]
     assert np.allclose(res.results["J3"], d / d[none][0])
+    # every metric says its unit (probed: the results had none)
+    import h5py
+    with h5py.File(tmp_path / "one.h5") as f:
+        units = {name: f["results"][name].attrs["units"] for name in f["results"]}
+    assert units["peak_base_shear"] == "N" and units["peak_base_displacement"] == "m" and units["J3"] == "1"
+    assert set(units) == set(res.results)
     s2 = run_ensemble(config, tmp_path / "two.h5", jobs=2, progress=False)
     assert s2.complete
     other = read_ensemble(tmp_path / "two.h5")

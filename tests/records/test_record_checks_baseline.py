@@ -52,8 +52,22 @@ def test_pga_and_duration_checks():
         check_pga(rec, (0.5,))
     assert check_duration(rec, 1.0) == [] and check_duration(rec, 3.0)[0].kind == "duration_mismatch"
     # constant components: they drift, and a channel that never changes is frozen
+    # (and 1 s is shorter than any strong-motion record)
     assert {f.kind for f in check_record(rec, (0.1, 1.0), 5.0)} == {"pga_mismatch", "duration_mismatch",
-                                                                       "baseline_drift", "stuck_channel"}
+                                                                       "baseline_drift", "stuck_channel",
+                                                                       "implausible_duration"}
+
+
+def test_a_record_shorter_than_any_earthquake_is_flagged():
+    """Probed: a 0.5-s file (a truncated export) ran with 'flaws: none found'."""
+    from records.plausibility import MIN_DURATION_S, check_plausibility
+    t = np.arange(0.0, 0.5, 0.005)
+    short = Record("short", 0.005, np.column_stack([np.sin(12 * t), np.cos(12 * t)]))
+    flaws = [f for f in check_plausibility(short) if f.kind == "implausible_duration"]
+    assert len(flaws) == 1 and "shorter than any strong-motion record" in flaws[0].message
+    t = np.arange(0.0, MIN_DURATION_S + 1.0, 0.005)
+    ok = Record("ok", 0.005, np.column_stack([np.sin(12 * t), np.cos(12 * t)]))
+    assert not [f for f in check_plausibility(ok) if f.kind == "implausible_duration"]
 
 
 def test_baseline_correction_removes_an_offset_and_trend():
