@@ -80,7 +80,8 @@ def output_file(text: str) -> str:
 #: File name endings of the data formats the commands read or write, by format: an output
 #: named for another format would be misread later (``sbib run --record x.h5`` on a CSV).
 DATA_SUFFIXES = {
-    "csv": (".csv", ".txt", ".dat"),
+    "csv": (".csv",),
+    "text": (".txt", ".dat"),  # any text: CSV or JSON may carry them, HDF5 or PNG may not
     "hdf5": (".h5", ".hdf5", ".hdf"),
     "json": (".json",),
     "png": (".png",),
@@ -98,10 +99,12 @@ def output_file_of(fmt: str) -> Callable[[str], str]:
     Parameters
     ----------
     fmt : str
-        A key of :data:`DATA_SUFFIXES` (``"csv"``, ``"hdf5"``, ``"json"``, ``"png"``).
+        A key of :data:`DATA_SUFFIXES` (``"csv"``, ``"hdf5"``, ``"json"``, ``"png"``); CSV and
+        JSON files may also be named ``.txt`` or ``.dat``.
     """
-    expected = DATA_SUFFIXES[fmt]
-    others = {s for key, group in DATA_SUFFIXES.items() if key != fmt for s in group}
+    text = fmt in ("csv", "json")
+    expected = DATA_SUFFIXES[fmt] + (DATA_SUFFIXES["text"] if text else ())
+    others = {s for key, group in DATA_SUFFIXES.items() if key != fmt for s in group} - set(expected)
 
     def check(text: str) -> str:
         import argparse  # only the command line needs it
