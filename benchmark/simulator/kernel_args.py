@@ -38,7 +38,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.control import control_context
-from benchmark.simulator.isolation.registry import LinearBearing
+from benchmark.simulator.isolation.registry import LinearBearing, lockstep_forms
 from benchmark.simulator.sensors import n_measurements, noise_samples
 from controllers.base import ControllerSession
 from controllers.measurements import MeasurementLayout, measurement_layout
@@ -91,6 +91,9 @@ class Bearings(NamedTuple):
         Packed parameters (nb, MAX_PARAMS).
     state : np.ndarray
         States (nb, MAX_STATES), advanced in place.
+    form : np.ndarray
+        The lock-step form of each bearing (LOCKSTEP_FORM, nb)
+        (:func:`benchmark.simulator.isolation.registry.lockstep_forms`).
     """
 
     index: np.ndarray    # (nb,) int64: position of each in the layer (the output's bearing axis)
@@ -98,6 +101,7 @@ class Bearings(NamedTuple):
     type_id: np.ndarray  # (nb,) int64
     params: np.ndarray   # (nb, MAX_PARAMS)
     state: np.ndarray    # (nb, MAX_STATES), advanced in place
+    form: np.ndarray     # (LOCKSTEP_FORM, nb): the RK4 update's lock-step coefficients
 
 
 class Devices(NamedTuple):
@@ -448,7 +452,8 @@ def pack_run(building: Any, record: Any, plant_extra: dict, n: int, dt: float, r
                         xy=np.ascontiguousarray(b_xy[hysteretic]),
                         type_id=np.ascontiguousarray(b_type[hysteretic]),
                         params=np.ascontiguousarray(b_params[hysteretic]),
-                        state=np.ascontiguousarray(b_state[hysteretic]))
+                        state=np.ascontiguousarray(b_state[hysteretic]),
+                        form=lockstep_forms(b_type[hysteretic], b_params[hysteretic]))
     dev = Devices(influence=_f64(d_infl), model_id=np.ascontiguousarray(d_model, dtype=np.int64),
                   params=_f64(d_params), state=_f64(d_state))
     sensors = Sensors(C_acc=plant_extra["C_acc"], D_acc_g=plant_extra["D_acc_g"],

@@ -257,10 +257,12 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         step on 30 s of Kobe with clipped-optimal control) but, with the tangents' cost, was
         9-15 % slower when measured (docs/performance.md). ``None`` (default): Newton with the
         closed-form integrator (its tangents come with the update), fixed point with RK4.
-    integrator : {"rk4", "closed-form"}
+    integrator : {"rk4", "closed-form", "rk4-per-bearing"}
         How the bearings' Park–Wen states advance over a step. ``"rk4"`` (default): RK4
         sub-steps along the step's cubic Hermite path, as many as the sub-step tolerance needs
-        (the path checked against ``solve_ivp`` by the oracle tests, kept as the reference).
+        (the path checked against ``solve_ivp`` by the oracle tests, kept as the reference),
+        the bearings' sub-steps taken in lock-step (vectorised across bearings);
+        ``"rk4-per-bearing"``: the same update one bearing after another (equal to rounding).
         ``"closed-form"``: the model's exact flow along the chord of each monotone piece of the
         path (:func:`benchmark.simulator.isolation.park_wen.park_wen_chord`: no sub-steps, no
         iteration, unconditionally stable, with its tangent); exact for straight-line motion,

@@ -74,7 +74,9 @@ import scipy.linalg
 
 
 
-from benchmark.simulator.isolation.registry import bearing_step, bearing_step_closed_form, bearing_tangent  # noqa: E402
+from benchmark.simulator.isolation.registry import (bearing_step, bearing_step_closed_form, bearing_tangent,  # noqa: E402
+                                                    bearings_step_lockstep)
+from benchmark.simulator.isolation.park_wen import LOCKSTEP_ROWS  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402
 from damper.models.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent_memo  # noqa: E402
 
@@ -82,7 +84,8 @@ __all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_be
            "energy_histories",
            "STATUS_MESSAGES",
            "STATUS_OK", "STATUS_NONFINITE", "STATUS_NOT_CONVERGED", "STATUS_BLOWUP",
-           "STATUS_CONTROLLER", "ROTATION_RADIUS", "INTEGRATORS", "INTEGRATOR_RK4", "INTEGRATOR_CLOSED_FORM"]
+           "STATUS_CONTROLLER", "ROTATION_RADIUS", "INTEGRATORS", "INTEGRATOR_RK4", "INTEGRATOR_CLOSED_FORM",
+           "INTEGRATOR_RK4_PER_BEARING"]
 
 STATUS_OK = 0
 STATUS_NONFINITE = 1
@@ -96,11 +99,16 @@ STATUS_MESSAGES = {
     STATUS_CONTROLLER: "the compiled controller's state or desired force became NaN or infinite",
 }
 #: ``Settings.integrator`` values: explicit RK4 sub-steps of every hysteretic element (the
-#: oracle-checked reference path), or the implicit element updates with consistent tangents.
+#: oracle-checked reference path; the bearings' sub-steps taken in lock-step across bearings,
+#: :func:`benchmark.simulator.isolation.registry.bearings_step_lockstep`), the same one bearing
+#: after another (the path before the lock-step, kept to check it against), or the implicit
+#: element updates with consistent tangents.
 INTEGRATOR_RK4 = 0
 INTEGRATOR_CLOSED_FORM = 1
+INTEGRATOR_RK4_PER_BEARING = 2
 #: names accepted by ``simulate(integrator=...)``
-INTEGRATORS = {"rk4": INTEGRATOR_RK4, "closed-form": INTEGRATOR_CLOSED_FORM}
+INTEGRATORS = {"rk4": INTEGRATOR_RK4, "closed-form": INTEGRATOR_CLOSED_FORM,
+               "rk4-per-bearing": INTEGRATOR_RK4_PER_BEARING}
 #: Radius [m] that turns a base rotation into a displacement for tolerances and limits.
 ROTATION_RADIUS = 30.0
 #: LLVM fast-math flags of the kernels: reassociation lets the dense products and the energy
@@ -499,6 +507,9 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
     mat = np.empty((3, 3))
     tangent = np.empty((2, 4))
     implicit = settings.integrator == INTEGRATOR_CLOSED_FORM
+    lockstep = settings.integrator == INTEGRATOR_RK4
+    lock_ws = np.empty((LOCKSTEP_ROWS, nb if lockstep else 0))
+    lock_ns = np.empty(nb if lockstep else 0, dtype=np.int64)
     # consistent tangents of the implicit bearing updates, written by the evaluation itself
     b_tan = np.zeros((nb if implicit else 0, 2, 4))
     # per-device scratch of values that depend only on a step's start state and voltage (the
@@ -583,7 +594,16 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
             for c in range(3):
                 gb_new[c] = 0.0
                 gd_new[c] = 0.0
-            for i in range(nb):
+            if lockstep:
+                bearings_step_lockstep(b_type, b_params, b_state, bearings.form, b_xy, ux0b, uy0b, th0, ub1,
+                                       vx0b, vy0b, om0, vb1, dt, lock_ws, lock_ns, fb_tmp)
+            for i in range(nb if lockstep else 0):
+                bx = b_xy[i, 0]
+                by = b_xy[i, 1]
+                gb_new[0] += fb_tmp[i, 0]
+                gb_new[1] += fb_tmp[i, 1]
+                gb_new[2] += -by * fb_tmp[i, 0] + bx * fb_tmp[i, 1]
+            for i in range(0 if lockstep else nb):
                 bx = b_xy[i, 0]
                 by = b_xy[i, 1]
                 ux0 = ux0b - by * th0

@@ -39,7 +39,7 @@ import numpy as np
 from benchmark.foundation.errors import ParameterError
 from benchmark.simulator.isolation.base import (BearingParameters, KERNEL_FRICTION_PENDULUM, register_bearing, require_nonnegative, require_positive,
                                       require_range)
-from benchmark.simulator.isolation.park_wen import (park_wen_advance, park_wen_closed_form, park_wen_rates,
+from benchmark.simulator.isolation.park_wen import (lockstep_coefficients, park_wen_advance, park_wen_closed_form, park_wen_rates,
                                                    park_wen_tangent)
 
 __all__ = ["FrictionPendulumBearing", "N_PARAMS", "friction_pendulum_step",
@@ -131,6 +131,19 @@ class FrictionPendulumBearing(BearingParameters):
         return np.array([self.pendulum_stiffness, self.c, self.weight, self.mu_max, self.mu_min,
                          self.rate_parameter, self.yield_displacement, self.A, self.beta,
                          self.gamma, self.substep_tolerance], dtype=np.float64)
+
+    @staticmethod
+    def lockstep_form(params: np.ndarray) -> np.ndarray:
+        """The bearing's column of the lock-step form (:data:`park_wen.LOCKSTEP_FORM`) from its
+        packed parameters: friction :math:`\\mu_{max} - (\\mu_{max} - \\mu_{min}) e^{-a|v|}` on W.
+
+        Parameters
+        ----------
+        params : ndarray
+            Packed parameters (:meth:`to_array`).
+        """
+        return np.array([*lockstep_coefficients(*params[6:11]), params[2], params[3], params[3] - params[4],
+                         params[5]])
 
     def rates(self, state, ux, uy, vx, vy):
         rzx, rzy = park_wen_rates(float(state[0]), float(state[1]), float(vx), float(vy),

@@ -35,7 +35,7 @@ import numpy as np
 from benchmark.foundation.errors import ParameterError
 from benchmark.simulator.isolation.base import (BearingParameters, KERNEL_LEAD_RUBBER, register_bearing, require_nonnegative, require_positive,
                                       require_range)
-from benchmark.simulator.isolation.park_wen import (park_wen_advance, park_wen_closed_form, park_wen_rates,
+from benchmark.simulator.isolation.park_wen import (lockstep_coefficients, park_wen_advance, park_wen_closed_form, park_wen_rates,
                                                    park_wen_tangent)
 
 __all__ = ["LeadRubberBearing", "N_PARAMS", "lead_rubber_step", "lead_rubber_step_closed_form"]
@@ -110,6 +110,18 @@ class LeadRubberBearing(BearingParameters):
         return np.array([self.alpha * self.k_initial, self.c, self.characteristic_strength,
                          self.yield_displacement, self.A, self.beta, self.gamma,
                          self.substep_tolerance], dtype=np.float64)
+
+    @staticmethod
+    def lockstep_form(params: np.ndarray) -> np.ndarray:
+        """The bearing's column of the lock-step form (:data:`park_wen.LOCKSTEP_FORM`) from its
+        packed parameters: the characteristic strength Q_d on z (mu0 = 1, no rate dependence).
+
+        Parameters
+        ----------
+        params : ndarray
+            Packed parameters (:meth:`to_array`).
+        """
+        return np.array([*lockstep_coefficients(*params[3:8]), params[2], 1.0, 0.0, 0.0])
 
     def rates(self, state, ux, uy, vx, vy):
         rzx, rzy = park_wen_rates(float(state[0]), float(state[1]), float(vx), float(vy),
