@@ -32,7 +32,9 @@ Adding a bearing type is one class decorated with
 integer the kernels below dispatch on is the class's kernel *family*
 (:data:`benchmark.simulator.isolation.base.BEARING_KERNELS`), never an id chosen per type. A new
 family adds its numba step beside its class and one branch each to :func:`bearing_step`,
-:func:`bearing_step_closed_form` and :func:`bearing_tangent`.
+:func:`bearing_step_closed_form` and :func:`bearing_tangent`; a Park–Wen family also gives its
+``lockstep_form`` (``_LOCKSTEP_FORMS``) so that :func:`bearings_step_lockstep` takes its RK4
+sub-steps together with the other bearings' (without one it takes the per-bearing update).
 """
 
 from __future__ import annotations
