@@ -102,8 +102,7 @@ def output_file_of(fmt: str) -> Callable[[str], str]:
         A key of :data:`DATA_SUFFIXES` (``"csv"``, ``"hdf5"``, ``"json"``, ``"png"``); CSV and
         JSON files may also be named ``.txt`` or ``.dat``.
     """
-    text = fmt in ("csv", "json")
-    expected = DATA_SUFFIXES[fmt] + (DATA_SUFFIXES["text"] if text else ())
+    expected = DATA_SUFFIXES[fmt] + (DATA_SUFFIXES["text"] if fmt in ("csv", "json") else ())
     others = {s for key, group in DATA_SUFFIXES.items() if key != fmt for s in group} - set(expected)
 
     def check(text: str) -> str:

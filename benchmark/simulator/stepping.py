@@ -411,41 +411,48 @@ def _compiled_control(k, plant, ag, devices, sensors, control, out, y, g_tot, fc
                              y, fc, control.xc, control.voltage, out.desired[kc])
 
 
+@numba.njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _exact_linear_step(plant, ag, gb_out, gd_out, k, z0, w0, zlin):
+    """``zlin = Phi z0 + G0 w_k + G1[:, :2] a_g,k+1``: step ``k``'s exact linear update with its
+    known inputs (``w0``, filled here: the ground acceleration and the base's forces at the
+    step's start); the forces at its end enter through ``G1[:, 2:5]`` once they are known."""
+    Phi = plant.Phi
+    G0 = plant.G0
+    G1 = plant.G1
+    nz = Phi.shape[0]
+    w0[0] = ag[k, 0]
+    w0[1] = ag[k, 1]
+    for c in range(3):
+        w0[2 + c] = gb_out[k, c] + gd_out[k, c]
+    a1x = ag[k + 1, 0]
+    a1y = ag[k + 1, 1]
+    for r in range(nz):
+        s = 0.0
+        for c in range(nz):
+            s += Phi[r, c] * z0[c]
+        for c in range(5):
+            s += G0[r, c] * w0[c]
+        s += G1[r, 0] * a1x + G1[r, 1] * a1y
+        zlin[r] = s
+
+
 @numba.njit(cache=True, fastmath=_FASTMATH)
 def _linear_steps(k_start, k_stop, plant, ag, settings, out):
     """:func:`run_steps` for a building with no nonlinear force and nothing commanded (linear
     isolation, no devices): the exact linear step alone, with the same sums as the general loop
     (the base's force inputs, zero here, included) and the same checks, but in the linear floor's
     loop (:mod:`benchmark.applications.linear_floor`; the general loop took ~1.6x it)."""
-    Phi = plant.Phi
-    G0 = plant.G0
-    G1 = plant.G1
     nq = plant.nq
-    nz = Phi.shape[0]
+    nz = plant.Phi.shape[0]
     z_out = out.z
-    gb_out = out.gb
-    gd_out = out.gd
     limit = settings.blowup_limit
     w0 = np.empty(5)
     for k in range(k_start, k_stop):
-        z0 = z_out[k]
         z1 = z_out[k + 1]
-        w0[0] = ag[k, 0]
-        w0[1] = ag[k, 1]
-        for c in range(3):
-            w0[2 + c] = gb_out[k, c] + gd_out[k, c]
-        a1x = ag[k + 1, 0]
-        a1y = ag[k + 1, 1]
+        _exact_linear_step(plant, ag, out.gb, out.gd, k, z_out[k], w0, z1)
         finite = True
         for r in range(nz):
-            s = 0.0
-            for c in range(nz):
-                s += Phi[r, c] * z0[c]
-            for c in range(5):
-                s += G0[r, c] * w0[c]
-            s += G1[r, 0] * a1x + G1[r, 1] * a1y
-            z1[r] = s
-            finite = finite and math.isfinite(s)
+            finite = finite and math.isfinite(z1[r])
         out.iters[k + 1] = 1
         if not finite:
             return STATUS_NONFINITE, k
@@ -497,7 +504,6 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
         the step whose end failed.
     """
     Phi = plant.Phi
-    G0 = plant.G0
     G1 = plant.G1
     Gb = plant.Gb
     dt = plant.dt
@@ -572,20 +578,7 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
             out.v[k, j] = voltage[j]
 
         # ---- linear part with the known inputs
-        w0[0] = ag[k, 0]
-        w0[1] = ag[k, 1]
-        for c in range(3):
-            w0[2 + c] = gb_out[k, c] + gd_out[k, c]
-        a1x = ag[k + 1, 0]
-        a1y = ag[k + 1, 1]
-        for r in range(nz):
-            s = 0.0
-            for c in range(nz):
-                s += Phi[r, c] * z0[c]
-            for c in range(5):
-                s += G0[r, c] * w0[c]
-            s += G1[r, 0] * a1x + G1[r, 1] * a1y
-            zlin[r] = s
+        _exact_linear_step(plant, ag, gb_out, gd_out, k, z0, w0, zlin)
         for r in range(3):
             zb_lin[r] = zlin[nq + r]
             zb_lin[3 + r] = zlin[nv + nq + r]

@@ -167,6 +167,35 @@ def _travel(s: float, a: float, b: float, c: float) -> float:
     return ((a * _THIRD * s + 0.5 * b) * s + c) * s
 
 
+@numba.njit(cache=True, inline="always")
+def _rk4_substep(zx: float, zy: float, fx: float, fy: float, mx: float, my: float, ex: float, ey: float,
+                 h: float, a_: float, b_: float, g_: float):
+    # one classical RK4 sub-step of length h in s, with the direction of motion du/ds at its
+    # start (f), middle (m) and end (e): Y dz/ds = A d - z (z . G d),
+    # G = diag(beta + gamma sgn(d_j z_j)) (park_wen_rates); a_, b_, g_ = A/Y, beta/Y, gamma/Y
+    h2 = 0.5 * h
+    q = zx * _g(fx * zx, b_, g_) * fx + zy * _g(fy * zy, b_, g_) * fy
+    k1x = a_ * fx - zx * q
+    k1y = a_ * fy - zy * q
+    wx = zx + h2 * k1x
+    wy = zy + h2 * k1y
+    q = wx * _g(mx * wx, b_, g_) * mx + wy * _g(my * wy, b_, g_) * my
+    k2x = a_ * mx - wx * q
+    k2y = a_ * my - wy * q
+    wx = zx + h2 * k2x
+    wy = zy + h2 * k2y
+    q = wx * _g(mx * wx, b_, g_) * mx + wy * _g(my * wy, b_, g_) * my
+    k3x = a_ * mx - wx * q
+    k3y = a_ * my - wy * q
+    wx = zx + h * k3x
+    wy = zy + h * k3y
+    q = wx * _g(ex * wx, b_, g_) * ex + wy * _g(ey * wy, b_, g_) * ey
+    k4x = a_ * ex - wx * q
+    k4y = a_ * ey - wy * q
+    h6 = h * _SIXTH
+    return zx + h6 * (k1x + 2.0 * (k2x + k3x) + k4x), zy + h6 * (k1y + 2.0 * (k2y + k3y) + k4y)
+
+
 @numba.njit(cache=True)
 def park_wen_substeps(ux0: float, uy0: float, ux1: float, uy1: float,
                       vx0: float, vy0: float, vx1: float, vy1: float, dt: float,
@@ -276,10 +305,8 @@ def park_wen_advance(state: np.ndarray, offset: int,
         n = max(int(math.ceil(x)), 1)
         n_total += n
         h = (s1 - s0) / n
-        h2 = 0.5 * h
-        h6 = h * _SIXTH
         for i in range(n):
-            sm = s0 + i * h + h2
+            sm = s0 + i * h + 0.5 * h
             se = s1 if i == n - 1 else s0 + (i + 1) * h
             # direction of motion (du/ds) at the RK4 nodes; the midpoint serves stages 2 and 3
             mx = (ax * sm + bx) * sm + dx0
@@ -288,27 +315,7 @@ def park_wen_advance(state: np.ndarray, offset: int,
             fy = ey
             ex = (ax * se + bx) * se + dx0
             ey = (ay * se + by) * se + dy0
-            # Y dz/ds = A d - z (z . G d), G = diag(beta + gamma sgn(d_j z_j)) (park_wen_rates)
-            q = zx * _g(fx * zx, b_, g_) * fx + zy * _g(fy * zy, b_, g_) * fy
-            k1x = a_ * fx - zx * q
-            k1y = a_ * fy - zy * q
-            wx = zx + h2 * k1x
-            wy = zy + h2 * k1y
-            q = wx * _g(mx * wx, b_, g_) * mx + wy * _g(my * wy, b_, g_) * my
-            k2x = a_ * mx - wx * q
-            k2y = a_ * my - wy * q
-            wx = zx + h2 * k2x
-            wy = zy + h2 * k2y
-            q = wx * _g(mx * wx, b_, g_) * mx + wy * _g(my * wy, b_, g_) * my
-            k3x = a_ * mx - wx * q
-            k3y = a_ * my - wy * q
-            wx = zx + h * k3x
-            wy = zy + h * k3y
-            q = wx * _g(ex * wx, b_, g_) * ex + wy * _g(ey * wy, b_, g_) * ey
-            k4x = a_ * ex - wx * q
-            k4y = a_ * ey - wy * q
-            zx += h6 * (k1x + 2.0 * (k2x + k3x) + k4x)
-            zy += h6 * (k1y + 2.0 * (k2y + k3y) + k4y)
+            zx, zy = _rk4_substep(zx, zy, fx, fy, mx, my, ex, ey, h, a_, b_, g_)
         s0 = s1
         px0 = px1
         py0 = py1
@@ -414,15 +421,13 @@ def park_wen_lockstep(ws: np.ndarray, ns: np.ndarray, a_: np.ndarray, b_: np.nda
     for j in range(n_max):
         for i in range(n_lanes):
             h = ws[6, i]
-            h2 = 0.5 * h
-            h6 = h * _SIXTH
             ax = ws[0, i]
             bx = ws[1, i]
             ay = ws[2, i]
             by = ws[3, i]
             dx0 = ws[4, i]
             dy0 = ws[5, i]
-            sm = j * h + h2
+            sm = j * h + 0.5 * h
             se = 1.0 if j == ns[i] - 1 else (j + 1) * h
             mx = (ax * sm + bx) * sm + dx0
             my = (ay * sm + by) * sm + dy0
@@ -432,30 +437,10 @@ def park_wen_lockstep(ws: np.ndarray, ns: np.ndarray, a_: np.ndarray, b_: np.nda
             ey = (ay * se + by) * se + dy0
             zx = ws[9, i]
             zy = ws[10, i]
-            a = a_[i]
-            b = b_[i]
-            g = g_[i]
-            q = zx * _g(fx * zx, b, g) * fx + zy * _g(fy * zy, b, g) * fy
-            k1x = a * fx - zx * q
-            k1y = a * fy - zy * q
-            wx = zx + h2 * k1x
-            wy = zy + h2 * k1y
-            q = wx * _g(mx * wx, b, g) * mx + wy * _g(my * wy, b, g) * my
-            k2x = a * mx - wx * q
-            k2y = a * my - wy * q
-            wx = zx + h2 * k2x
-            wy = zy + h2 * k2y
-            q = wx * _g(mx * wx, b, g) * mx + wy * _g(my * wy, b, g) * my
-            k3x = a * mx - wx * q
-            k3y = a * my - wy * q
-            wx = zx + h * k3x
-            wy = zy + h * k3y
-            q = wx * _g(ex * wx, b, g) * ex + wy * _g(ey * wy, b, g) * ey
-            k4x = a * ex - wx * q
-            k4y = a * ey - wy * q
+            nzx, nzy = _rk4_substep(zx, zy, fx, fy, mx, my, ex, ey, h, a_[i], b_[i], g_[i])
             active = j < ns[i]
-            ws[9, i] = zx + h6 * (k1x + 2.0 * (k2x + k3x) + k4x) if active else zx
-            ws[10, i] = zy + h6 * (k1y + 2.0 * (k2y + k3y) + k4y) if active else zy
+            ws[9, i] = nzx if active else zx
+            ws[10, i] = nzy if active else zy
             ws[7, i] = ex if active else fx
             ws[8, i] = ey if active else fy
 
