@@ -243,7 +243,9 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
             notes.append(f"warning: {label}: capacity {cap / 1e3:.4g} kN, {100 * cap / ref:.2g} % of the benchmark "
                          f"damper's {ref / 1e3:.4g} kN, run as fitted: give --damper-scale (e.g. 1000kN) to "
                          "size the device for the building")
-    if how is not None and (cap := capacity_force(model)) > OVERSIZE_WARNING * _benchmark_capacity():
+    # a target capacity is the scaled device's capacity; a factor needs the scaled model's
+    cap = None if how is None else how[1] if how[0] == "capacity" else capacity_force(model)
+    if cap is not None and cap > OVERSIZE_WARNING * _benchmark_capacity():
         notes.append(f"warning: {label}: capacity {cap / 1e6:.4g} MN after --damper-scale, "
                      f"{cap / _benchmark_capacity():.3g} times the benchmark damper's "
                      f"{_benchmark_capacity() / 1e3:.4g} kN: a device that size is not in the building's range "
