@@ -4,8 +4,9 @@ update one bearing after another (`integrator="rk4-per-bearing"`, the path befor
 Both evaluate the same Hermite path with the same sub-step count and the same arithmetic per
 bearing; only the compiled instructions differ (the lock-step loop is vectorised, and
 floating-point contraction may fuse other multiply-adds), so results agree to rounding: the
-tolerances below are 1e-12 relative for one step and 1e-9 over a 30-s run, where a rounding
-difference can grow through the hysteresis and the fixed-point iteration (measured: 4e-14).
+tolerances below are 1e-12 relative for one step and, over a 30-s run, the fixed-point
+iteration's own tolerance (1e-6), which a rounding difference can reach on another CPU by
+changing where a step stops iterating (measured here: 4e-14, the same iterations).
 """
 
 from __future__ import annotations
@@ -110,8 +111,18 @@ def test_building_run_equals_the_per_bearing_path(records_dir, controller):
     a = simulate(building, rec, ctrl, bearing_histories=True, integrator="rk4-per-bearing")
     b = simulate(building, rec, get_controller(controller) if controller else None, bearing_histories=True,
                  integrator="rk4")
-    assert np.array_equal(a.iterations, b.iterations)
-    for name in ("base_shear", "base_displacement", "bearing_force", "device_force", "voltage"):
+    # On this machine both paths take the same iterations at every step and agree to 4e-14. On
+    # another CPU the rounding differs, and a step whose error lands within rounding of the
+    # fixed-point tolerance (1e-6 relative) may take one iteration more on one path: allow a
+    # few such steps, and differences up to that tolerance.
+    assert np.mean(a.iterations == b.iterations) >= 0.999
+    if controller is not None:
+        # the bang-bang law could then also switch a damper one control step apart where
+        # (f_desired - f) f is within rounding of 0: the oracle tests' 0.5 % on peaks
+        assert np.mean(a.voltage == b.voltage) >= 0.999
+        for name, value in a.peaks.as_record().items():
+            assert abs(b.peaks.as_record()[name] - value) <= 5e-3 * abs(value), name
+        return
+    for name in ("base_shear", "base_displacement", "bearing_force"):
         x, y = getattr(a, name), getattr(b, name)
-        if x.size:
-            assert np.abs(x - y).max() <= 1e-9 * np.abs(x).max(), name
+        assert np.abs(x - y).max() <= 1e-6 * np.abs(x).max(), name
