@@ -22,7 +22,8 @@ __all__ = ["least_squares_fit", "jacobian_covariance"]
 
 def least_squares_fit(residuals: Callable[[np.ndarray], np.ndarray], q0: np.ndarray, lower: np.ndarray,
                       upper: np.ndarray, *, tolerance: float = 1e-10, diff_step: float = 1e-5,
-                      max_nfev: int | None = None, jac_sparsity: Any = None):
+                      max_nfev: int | None = None, jac_sparsity: Any = None,
+                      stall: tuple[int, float] | None = None):
     """Minimise ``sum(residuals(q)**2)`` over ``lower <= q <= upper`` from ``q0``.
 
     Parameters
@@ -39,15 +40,37 @@ def least_squares_fit(residuals: Callable[[np.ndarray], np.ndarray], q0: np.ndar
         Cap on residual evaluations.
     jac_sparsity : array or sparse matrix, optional
         Sparsity of the Jacobian (block fits).
+    stall : (int, float), optional
+        ``(k, rel)``: stop once ``k`` iterations in a row have lowered the cost by less than
+        ``rel`` of it in all (a crawl along an ill-conditioned valley, e.g. an inertial force
+        traded against a pre-yield stiffness). The result is then the last iterate, with
+        ``status`` -2 and ``success`` False, and its message says so. None: the tolerances and
+        ``max_nfev`` alone end the fit.
 
     Returns
     -------
     scipy.optimize.OptimizeResult
         ``x`` (the scaled optimum), ``fun``, ``jac``, ``success``, ``message``, ``nfev``.
     """
-    return least_squares(residuals, q0, bounds=(lower, upper), method="trf", jac_sparsity=jac_sparsity,
-                         x_scale=1.0, diff_step=diff_step, xtol=tolerance, ftol=tolerance, gtol=tolerance,
-                         max_nfev=max_nfev)
+    callback = None
+    if stall is not None:
+        window, rel = int(stall[0]), float(stall[1])
+        if window < 1 or not rel > 0.0:
+            raise ValueError(f"stall: expected (k >= 1, rel > 0), got {stall}")
+        costs: list[float] = []
+
+        def callback(intermediate_result):
+            costs.append(float(intermediate_result.cost))
+            if len(costs) > window and costs[-window - 1] - costs[-1] < rel * costs[-window - 1]:
+                raise StopIteration
+
+    sol = least_squares(residuals, q0, bounds=(lower, upper), method="trf", jac_sparsity=jac_sparsity,
+                        x_scale=1.0, diff_step=diff_step, xtol=tolerance, ftol=tolerance, gtol=tolerance,
+                        max_nfev=max_nfev, callback=callback)
+    if stall is not None and sol.status == -2:
+        sol.message = (f"stalled: the cost fell by less than {stall[1]:g} of itself over the last "
+                       f"{stall[0]} iterations")
+    return sol
 
 
 def jacobian_covariance(jac: np.ndarray, fun: np.ndarray, scale: np.ndarray) -> np.ndarray:

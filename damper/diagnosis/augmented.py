@@ -650,7 +650,7 @@ def predict(model: AugmentedModel, motions: Sequence[Motion]) -> list[np.ndarray
 def refit(start: AugmentedModel, motions: Sequence[Motion], forces: Sequence[np.ndarray],
           masks: Sequence[np.ndarray] | None = None, nodes: Sequence[float] | None = None,
           scales: dict | None = None, fixed_base: bool = False, max_nfev: int = 200,
-          tolerance: float = 1e-10) -> RefitResult:
+          tolerance: float = 1e-10, stall: tuple[int, float] | None = None) -> RefitResult:
     """Refit the base parameters and every effect's parameter jointly by least squares.
 
     Minimises :math:`\\sum_i \\sum_{k \\in \\mathcal M_i} (\\hat F_{ik}(p) - F_{ik})^2` over the
@@ -680,6 +680,10 @@ def refit(start: AugmentedModel, motions: Sequence[Motion], forces: Sequence[np.
         ``ftol``, ``xtol`` and ``gtol`` of :func:`scipy.optimize.least_squares`. The residual loop
         uses a looser value (1e-6: a relative change of the cost far below what its held-out
         BIC can tell apart) to save iterations.
+    stall : (int, float), optional
+        Stop once that many iterations in a row lowered the cost by less than that share of it
+        (:func:`damper.fitting.least_squares_fit`); the residual loop's trials use
+        :data:`damper.diagnosis.selection.DEFAULT_STALL`. None: no such stop.
 
     Returns
     -------
@@ -727,7 +731,7 @@ def refit(start: AugmentedModel, motions: Sequence[Motion], forces: Sequence[np.
     if par.size == 0:
         return RefitResult(start, float(np.linalg.norm(r0) * force_scale / norm), 1, True, "nothing to fit")
     sol = least_squares_fit(residuals, q0, par.lower / par.scale, par.upper / par.scale, tolerance=tolerance,
-                            diff_step=1e-6, max_nfev=max_nfev)
+                            diff_step=1e-6, max_nfev=max_nfev, stall=stall)
     model = par.model(sol.x * par.scale)
     rel = float(np.linalg.norm(sol.fun) * force_scale / norm)
     return RefitResult(model=model, relative_rms_error=rel, nfev=count["n"],
