@@ -114,7 +114,28 @@ def build_parser() -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMAND_MODULES:
         importlib.import_module(name).register(subparsers)
+    for command in _STRUCTURE_COMMANDS:
+        subparsers.choices[command].add_argument(
+            "--structure", default=None, metavar="FILE.json",
+            help="a variant of the benchmark's structure file (the fields of shared/benchmark/"
+                 "structure.json: masses, modes, damping ratio, bearing plan; 8 floors); the named "
+                 "isolation layers carry its weight on its bearings. Same as SBIB_STRUCTURE "
+                 "(default: shared/benchmark/structure.json)")
     return parser
+
+
+#: Commands that take ``--structure`` (it reaches their worker processes through SBIB_STRUCTURE).
+_STRUCTURE_COMMANDS = ("run", "compare", "ensemble")
+
+
+def _use_structure(path: str) -> None:
+    """Check ``--structure`` now (one-line error) and hand it to this process and its workers."""
+    from benchmark.foundation.paths import structure_file
+    from benchmark.simulator.structure import load_superstructure
+
+    resolved = structure_file(path).resolve()
+    load_superstructure(resolved)  # a malformed file is refused before anything runs
+    os.environ["SBIB_STRUCTURE"] = str(resolved)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -146,6 +167,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _dispatch(args: argparse.Namespace) -> int:
     try:
+        if getattr(args, "structure", None):
+            _use_structure(args.structure)
         return int(args.func(args) or 0)
     except NumericalError as exc:
         print(f"sbib: numerical failure: {exc}", file=sys.stderr)

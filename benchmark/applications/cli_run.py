@@ -25,7 +25,8 @@ cannot act on the devices) are printed on stderr too.
 
 ``--json`` prints exactly one JSON object on stdout::
 
-    {"record", "orientation" (FN-x or FP-x), "isolation", "controller",
+    {"record", "orientation" (FN-x or FP-x), "isolation", "structure": {"source", "total_mass_kg",
+     "n_bearings"} (the structure file read: the benchmark's or --structure), "controller",
      "control_step_s" (null without a controller), "units_assumed", "record_step_s",
      "integration_step_s" (the step of the results' time grid), "notes": [lines],
      "record_flaws": [messages],
@@ -51,6 +52,7 @@ import argparse
 import dataclasses
 import json
 import math
+import os
 import sys
 import time
 from typing import Any
@@ -66,7 +68,7 @@ from records.options import add_record_options
 from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.criteria import SOURCE, key_json
 from benchmark.simulator.building import Building
-from benchmark.simulator.isolation.configurations import get_isolation
+from benchmark.simulator.isolation.configurations import check_substep_tolerance
 from benchmark.applications.damper_choice import add_damper_options, resolve_damper, resolve_layout
 from controllers.registry import controller_names
 from benchmark.foundation.atomic import output_file_of
@@ -167,9 +169,10 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
     building_given = None
     layout, used = resolve_layout(devices, choice, damper_scale)
     if damper is not None or devices is not None or damper_scale is not None:
-        building_given = Building.default(isolation=get_isolation(isolation or DEFAULT_NONLINEAR,
-                                                                  substep_tolerance=substep_tolerance),
-                                          devices=layout, n_modes=n_modes)
+        building_given = Building.default(isolation=isolation or DEFAULT_NONLINEAR, devices=layout, n_modes=n_modes)
+        if substep_tolerance is not None:
+            building_given = building_given.with_isolation(
+                building_given.isolation.with_substep_tolerance(check_substep_tolerance(substep_tolerance)))
     if warn:
         for note in dict.fromkeys(n for c in used for n in c.notes):
             print(f"sbib run: {note if note.startswith('warning: ') else 'note: ' + note}", file=sys.stderr,
@@ -183,6 +186,11 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
     run = run_case(case)  # the one way to run a case (benchmark.simulator.case)
     say(f"ran {run.record.name} ({orientation}) and its uncontrolled reference in "
         f"{time.perf_counter() - start:.1f} s")
+    if warn and os.environ.get("SBIB_STRUCTURE"):
+        sup = run.building.superstructure
+        print(f"sbib run: note: structure {sup.source} ({sup.total_mass / 1e3:.6g} t on {sup.n_bearings} "
+              f"bearings; isolation '{run.building.isolation.name}': {run.building.isolation.description})",
+              file=sys.stderr, flush=True)
     if warn:
         for note in run.notes:
             flag = "warning: " if "implausible" in note and not note.startswith("warning: ") else ""
@@ -198,6 +206,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         "record": rec.name,
         "orientation": orientation,
         "isolation": layer.name,
+        # the structure file read (a variant given by --structure / SBIB_STRUCTURE shows here)
+        "structure": {"source": sup.source, "total_mass_kg": sup.total_mass, "n_bearings": sup.n_bearings},
         "controller": controller,
         "control_step_s": float(control_step) if ctrl_used else None,
         "units_assumed": rec.metadata.get("units_assumed", ""),

@@ -5,7 +5,8 @@ from a *shared* directory (the ``shared/`` folder beside the checkout), found in
 this order: an explicit argument, the ``SBIB_SHARED`` environment variable, then
 ``../shared`` relative to the repository root. A directory the user names (argument or
 ``SBIB_SHARED``) that does not exist is an error naming it, not a silent fallback. Records are looked up in
-``--records-dir``, ``SBIB_RECORDS_DIR``, then ``<shared>/records/raw/FDZ``.
+``--records-dir``, ``SBIB_RECORDS_DIR``, then ``<shared>/records/raw/FDZ``; the structure file
+in an explicit path, ``SBIB_STRUCTURE``, then ``<shared>/benchmark/structure.json``.
 """
 
 from __future__ import annotations
@@ -91,15 +92,21 @@ def structure_file(explicit: str | os.PathLike | None = None) -> Path:
     Parameters
     ----------
     explicit : str | os.PathLike | None, optional
-        A path given by the user (option or argument); None: the environment variable, then the default
-        location.
+        A path given by the user (option or argument); None: the ``SBIB_STRUCTURE`` environment
+        variable (a variant of the benchmark's structure file, also what ``--structure`` sets
+        for a command and its worker processes), then ``<shared>/benchmark/structure.json``.
 
     Raises
     ------
     DataNotFoundError
-        If the file is absent.
+        If the file is absent (naming ``SBIB_STRUCTURE`` when it came from there).
     """
-    path = Path(explicit) if explicit else shared_dir() / "benchmark" / "structure.json"
+    if explicit:
+        path, origin = Path(explicit), ""
+    elif os.environ.get("SBIB_STRUCTURE"):
+        path, origin = Path(os.environ["SBIB_STRUCTURE"]), " (SBIB_STRUCTURE)"
+    else:
+        path, origin = shared_dir() / "benchmark" / "structure.json", ""
     if not path.is_file():
-        raise DataNotFoundError(f"benchmark structure file {path} not found")
+        raise DataNotFoundError(f"benchmark structure file {path}{origin} not found")
     return path

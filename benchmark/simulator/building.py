@@ -83,7 +83,8 @@ class Building:
         if isolation is None:
             isolation = DEFAULT_NONLINEAR
         if isinstance(isolation, (str, os.PathLike)):
-            isolation = get_isolation(str(isolation))
+            # a named configuration's bearings carry this structure's weight on its plan
+            isolation = get_isolation(str(isolation), total_mass=sup.total_mass, n_bearings=sup.n_bearings)
         if isinstance(devices, str):
             if devices != "default":
                 raise InputError(f"devices: {devices!r}; expected 'default', a DeviceLayout or None")
@@ -115,7 +116,8 @@ class Building:
             The layer, the name of a configuration, or a JSON file (:func:`get_isolation`).
         """
         if isinstance(isolation, (str, os.PathLike)):
-            isolation = get_isolation(str(isolation))
+            sup = self.superstructure
+            isolation = get_isolation(str(isolation), total_mass=sup.total_mass, n_bearings=sup.n_bearings)
         return replace(self, isolation=isolation)
 
     def reduced(self, n_modes: int | None) -> "Building":

@@ -28,7 +28,7 @@ from benchmark.foundation.errors import InputError, NumericalError
 from benchmark.simulator.building import Building
 from benchmark.simulator.evaluation import evaluate
 from benchmark.simulator.peaks import Peaks, peaks_of
-from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, get_isolation
+from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR
 from benchmark.simulator.simulation import SimulationResult, check_control_step, simulate
 from controllers.registry import get_controller
 from damper.models.base import DamperModel
@@ -244,9 +244,9 @@ def resolve_case_record(case: Case) -> Record:
 def _case_building(case: Case, with_devices: bool) -> Building:
     if case.building is not None:
         return case.building if with_devices else case.building.without_devices()
-    # substep_tolerance (an option) is applied once, by simulate
-    layer = get_isolation(case.isolation or DEFAULT_NONLINEAR)
-    return Building.default(isolation=layer, devices="default" if with_devices else None, n_modes=case.n_modes,
+    # substep_tolerance (an option) is applied once, by simulate; a named layer is built by
+    # Building.default for the structure it loads (its weight on its bearing plan)
+    return Building.default(isolation=case.isolation or DEFAULT_NONLINEAR, devices="default" if with_devices else None, n_modes=case.n_modes,
                             damper_model=case.damper_model)
 
 

@@ -323,6 +323,11 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}: not valid JSON (line {exc.lineno}: {exc.msg})") from None
     n = 3 * N_FLOORS
+    floors = data.get("n_floors", N_FLOORS)
+    if floors != N_FLOORS:
+        raise InputError(f"{path}: field 'n_floors' = {floors!r}: sbib models the benchmark's {N_FLOORS}-storey "
+                         f"superstructure ({n} DOF); a variant may change its masses, modes, damping and "
+                         "bearing plan, not its number of floors")
     w2 = _field(data, "omega_squared", path, (n,))
     if np.any(w2 <= 0):
         raise InputError(f"{path}: field 'omega_squared' must be positive")

@@ -409,47 +409,65 @@ def load_isolation(path: str | os.PathLike) -> IsolationLayer:
 
 
 # -- named configurations -------------------------------------------------------------------
+# Each is a function of the building it carries: the total mass above the isolation interface
+# [kg] (the load the bearings share uniformly) and the number of bearings of its plan. The
+# benchmark's values (TOTAL_MASS, N_BEARINGS) are the defaults; a variant of the structure file
+# (other floor masses, another bearing plan) gets bearings loaded by its own weight
+# (:meth:`benchmark.simulator.building.Building.default` passes them).
 
-def _friction_pendulum_default() -> FrictionPendulumBearing:
-    return FrictionPendulumBearing(weight=WEIGHT_PER_BEARING, radius=_FP_RADIUS, mu_max=0.06,
+def _friction_pendulum_default(weight: float = WEIGHT_PER_BEARING) -> FrictionPendulumBearing:
+    return FrictionPendulumBearing(weight=weight, radius=_FP_RADIUS, mu_max=0.06,
                                    mu_min=0.03, rate_parameter=20.0, yield_displacement=5.0e-4)
 
 
-def _lead_rubber_default() -> LeadRubberBearing:
-    kd = WEIGHT_PER_BEARING / _FP_RADIUS
-    qd = _LRB_QD_RATIO * WEIGHT_PER_BEARING
+def _lead_rubber_default(weight: float = WEIGHT_PER_BEARING) -> LeadRubberBearing:
+    kd = weight / _FP_RADIUS
+    qd = _LRB_QD_RATIO * weight
     return LeadRubberBearing(k_initial=kd / _LRB_ALPHA, alpha=_LRB_ALPHA,
                              yield_force=qd / (1.0 - _LRB_ALPHA))
 
 
-def _linear() -> IsolationLayer:
-    return IsolationLayer("linear", (BearingGroup(LinearBearing(FDZ_K, FDZ_C), tuple(range(N_BEARINGS)),
-                                                  "linear elastomeric 1-92"),),
-                          description="92 linear elastomeric bearings, k = 919.422 kN/m, "
+def _linear(total_mass: float = TOTAL_MASS, n: int = N_BEARINGS) -> IsolationLayer:
+    # the FDZ values per bearing, whatever the building (they are published as such)
+    return IsolationLayer("linear", (BearingGroup(LinearBearing(FDZ_K, FDZ_C), tuple(range(n)),
+                                                  f"linear elastomeric 1-{n}"),), n_bearings=n,
+                          description=f"{n} linear elastomeric bearings, k = 919.422 kN/m, "
                                       "c = 27.717 kN·s/m (FDZ re-implementation values)")
 
 
-def _friction_lrb() -> IsolationLayer:
+def _sliding_count(n: int) -> int:
+    """Friction pendulums of ``friction-lrb`` on a plan of ``n`` bearings: 61 of the benchmark's
+    92, the same share on another plan (at least one of each type)."""
+    return 61 if n == N_BEARINGS else min(n - 1, max(1, round(n * 61 / N_BEARINGS)))
+
+
+def _friction_lrb(total_mass: float = TOTAL_MASS, n: int = N_BEARINGS) -> IsolationLayer:
+    w = total_mass * GRAVITY / n
+    m = _sliding_count(n)
     return IsolationLayer("friction-lrb", (
-        BearingGroup(_friction_pendulum_default(), tuple(range(61)), "friction pendulum 1-61"),
-        BearingGroup(_lead_rubber_default(), tuple(range(61, N_BEARINGS)), "lead-rubber 62-92")),
-        description="bearings 1-61 friction pendulum (R = 2.24 m, mu 0.03-0.06), 62-92 lead-rubber "
-                    "(alpha 0.1, Qd = 5 % of the load); post-yield period 3.0 s")
+        BearingGroup(_friction_pendulum_default(w), tuple(range(m)), f"friction pendulum 1-{m}"),
+        BearingGroup(_lead_rubber_default(w), tuple(range(m, n)), f"lead-rubber {m + 1}-{n}")),
+        n_bearings=n,
+        description=f"bearings 1-{m} friction pendulum (R = 2.24 m, mu 0.03-0.06), {m + 1}-{n} lead-rubber "
+                    f"(alpha 0.1, Qd = 5 % of the load); post-yield period 3.0 s; load per bearing "
+                    f"{w / 1e6:.4g} MN")
 
 
-def _all_lead_rubber() -> IsolationLayer:
-    return IsolationLayer("lead-rubber", (BearingGroup(_lead_rubber_default(), tuple(range(N_BEARINGS)),
-                                                       "lead-rubber 1-92"),),
-                          description="92 lead-rubber bearings (alpha 0.1, Qd = 5 % of the load); "
-                                      "post-yield period 3.0 s")
+def _all_lead_rubber(total_mass: float = TOTAL_MASS, n: int = N_BEARINGS) -> IsolationLayer:
+    w = total_mass * GRAVITY / n
+    return IsolationLayer("lead-rubber", (BearingGroup(_lead_rubber_default(w), tuple(range(n)),
+                                                       f"lead-rubber 1-{n}"),), n_bearings=n,
+                          description=f"{n} lead-rubber bearings (alpha 0.1, Qd = 5 % of the load); "
+                                      f"post-yield period 3.0 s; load per bearing {w / 1e6:.4g} MN")
 
 
-def _all_friction_pendulum() -> IsolationLayer:
-    return IsolationLayer("friction-pendulum", (BearingGroup(_friction_pendulum_default(),
-                                                             tuple(range(N_BEARINGS)),
-                                                             "friction pendulum 1-92"),),
-                          description="92 friction pendulum bearings (R = 2.24 m, mu 0.03-0.06); "
-                                      "pendulum period 3.0 s")
+def _all_friction_pendulum(total_mass: float = TOTAL_MASS, n: int = N_BEARINGS) -> IsolationLayer:
+    w = total_mass * GRAVITY / n
+    return IsolationLayer("friction-pendulum", (BearingGroup(_friction_pendulum_default(w),
+                                                             tuple(range(n)),
+                                                             f"friction pendulum 1-{n}"),), n_bearings=n,
+                          description=f"{n} friction pendulum bearings (R = 2.24 m, mu 0.03-0.06); "
+                                      f"pendulum period 3.0 s; load per bearing {w / 1e6:.4g} MN")
 
 
 _NAMED = {
@@ -486,7 +504,8 @@ def check_substep_tolerance(substep_tolerance: Any) -> float:
     return float(substep_tolerance)
 
 
-def get_isolation(name: str, substep_tolerance: float | None = None) -> IsolationLayer:
+def get_isolation(name: str, substep_tolerance: float | None = None, *, total_mass: float | None = None,
+                  n_bearings: int | None = None) -> IsolationLayer:
     """Return a named isolation layer, or one read from a ``.json`` file path.
 
     Parameters
@@ -495,14 +514,26 @@ def get_isolation(name: str, substep_tolerance: float | None = None) -> Isolatio
         One of :data:`ISOLATION_NAMES` or the path of a JSON configuration file.
     substep_tolerance : float, optional
         Replace the sub-step tolerance of every nonlinear bearing.
+    total_mass : float, optional
+        Mass above the isolation interface [kg] whose weight the named configurations' bearings
+        share (default :data:`TOTAL_MASS`, the benchmark's); a file's parameters are kept.
+    n_bearings : int, optional
+        Bearings of the plan for a named configuration (default :data:`N_BEARINGS`).
 
     Raises
     ------
     InputError
-        Unknown name (the message lists the known ones).
+        Unknown name (the message lists the known ones), or a mass or bearing count that is not
+        positive.
     """
     if name in _NAMED:
-        layer = _NAMED[name]()
+        mass = TOTAL_MASS if total_mass is None else float(total_mass)
+        n = N_BEARINGS if n_bearings is None else int(n_bearings)
+        if not (math.isfinite(mass) and mass > 0.0):
+            raise InputError(f"isolation {name!r}: total_mass must be a positive mass in kg, got {total_mass!r}")
+        if n < 2 if name == "friction-lrb" else n < 1:
+            raise InputError(f"isolation {name!r}: n_bearings {n} is too few for this configuration")
+        layer = _NAMED[name](mass, n)
     elif str(name).lower().endswith(".json"):
         layer = load_isolation(name)
     else:

@@ -1,0 +1,129 @@
+"""A variant of the benchmark's structure file: its weight and bearing plan reach the named
+isolation layers, through the API, ``SBIB_STRUCTURE`` and ``--structure`` (run and compare).
+
+The variant scales every mass by 1.2 (mode shapes renormalised, so ΦᵀMΦ = I still holds and the
+fixed-base frequencies are unchanged) and keeps the first 82 of the 92 bearings.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.paths import structure_file
+from benchmark.simulator.building import Building
+from benchmark.simulator.isolation.configurations import GRAVITY, TOTAL_MASS, WEIGHT_PER_BEARING, get_isolation
+from benchmark.simulator.structure import load_superstructure
+
+SCALE = 1.2
+N_KEPT = 82
+
+
+@pytest.fixture
+def variant(shared_dir, tmp_path):
+    data = json.loads((shared_dir / "benchmark" / "structure.json").read_text())
+    for key in ("floor_mass", "floor_rot_inertia"):
+        data[key] = [SCALE * m for m in data[key]]
+    data["base_mass"] *= SCALE
+    data["base_rot_inertia"] *= SCALE
+    data["mode_shapes_floor8_to_floor1"] = (np.asarray(data["mode_shapes_floor8_to_floor1"])
+                                            / math.sqrt(SCALE)).tolist()
+    data["bearing_xy"] = data["bearing_xy"][:N_KEPT]
+    path = tmp_path / "variant.json"
+    path.write_text(json.dumps(data))
+    return path, data
+
+
+def _weights(layer):
+    return [g.bearing.weight for g in layer.groups if hasattr(g.bearing, "weight")]
+
+
+def test_named_layer_carries_the_variants_weight(variant):
+    path, _ = variant
+    building = Building.default(structure_path=path)
+    sup = building.superstructure
+    # masses are read in t and converted: the total follows the scale to rounding
+    assert sup.total_mass == pytest.approx(SCALE * TOTAL_MASS, rel=1e-12)
+    layer = building.isolation
+    assert layer.n_bearings == N_KEPT == sup.n_bearings
+    w = SCALE * TOTAL_MASS * GRAVITY / N_KEPT
+    assert _weights(layer) == [pytest.approx(w, rel=1e-12)]
+    # the benchmark's 61-of-92 share of sliding bearings on the smaller plan: 54 of 82
+    sizes = [len(g.indices) for g in layer.groups]
+    assert sizes == [54, 28]
+    # the lead-rubber bearings' post-yield stiffness matches the pendulums' W/R, as in the benchmark
+    lrb = layer.groups[1].bearing
+    assert lrb.k_initial * lrb.alpha == pytest.approx(w / 2.24, rel=1e-12)
+    # and with_isolation by name does the same
+    again = Building.default(structure_path=path, isolation="linear").with_isolation("friction-pendulum")
+    assert _weights(again.isolation) == [pytest.approx(w, rel=1e-12)]
+    assert again.isolation.n_bearings == N_KEPT
+
+
+def test_benchmark_structure_keeps_the_benchmark_layer(shared_dir):
+    building = Building.default(structure_path=shared_dir / "benchmark" / "structure.json")
+    assert _weights(building.isolation) == [pytest.approx(WEIGHT_PER_BEARING, rel=1e-12)]
+    assert [len(g.indices) for g in building.isolation.groups] == [61, 31]
+
+
+def test_sbib_structure_environment_variable(variant, monkeypatch):
+    path, _ = variant
+    monkeypatch.setenv("SBIB_STRUCTURE", str(path))
+    assert structure_file() == path
+    assert load_superstructure().n_bearings == N_KEPT
+    monkeypatch.setenv("SBIB_STRUCTURE", str(path.parent / "absent.json"))
+    with pytest.raises(DataNotFoundError, match="SBIB_STRUCTURE"):
+        structure_file()
+
+
+def test_other_floor_count_is_refused(variant, tmp_path):
+    _, data = variant
+    path = tmp_path / "ten.json"
+    path.write_text(json.dumps({**data, "n_floors": 10}))
+    with pytest.raises(InputError, match="n_floors"):
+        load_superstructure(path)
+
+
+def test_bad_mass_or_count_for_named_layer():
+    with pytest.raises(InputError, match="total_mass"):
+        get_isolation("friction-lrb", total_mass=-1.0)
+    with pytest.raises(InputError, match="n_bearings"):
+        get_isolation("friction-lrb", n_bearings=1)
+
+
+def _sbib(*args, env=None):
+    return subprocess.run([sys.executable, "-m", "benchmark", *args], capture_output=True, text=True,
+                          env=env, timeout=600)
+
+
+def test_run_and_compare_take_structure(variant, shared_dir, tmp_path):
+    path, data = variant
+    run = _sbib("run", "--record", "kobe", "--orientation", "FN-x", "--json", "--structure", str(path))
+    assert run.returncode == 0, run.stderr
+    out = json.loads(run.stdout)
+    assert out["structure"]["n_bearings"] == N_KEPT
+    assert out["structure"]["total_mass_kg"] == pytest.approx(SCALE * TOTAL_MASS, rel=1e-12)
+    assert "note: structure" in run.stderr
+    base = _sbib("run", "--record", "kobe", "--orientation", "FN-x", "--json")
+    assert base.returncode == 0, base.stderr
+    # a heavier building on the same friction (per unit weight) sheds a larger base shear
+    ratio = out["peaks"]["peak_base_shear"] / json.loads(base.stdout)["peaks"]["peak_base_shear"]
+    assert 1.05 < ratio < 1.4
+    # compare's worker processes read the same variant (SBIB_STRUCTURE set by --structure)
+    cmp_ = _sbib("compare", "--records", "kobe", "--orientations", "FN-x", "--controllers", "passive-off",
+                 "--jobs", "2", "--no-progress", "--json", "--structure", str(path))
+    assert cmp_.returncode == 0, cmp_.stderr
+    row = json.loads(cmp_.stdout)["runs"][0]
+    assert row["peaks"]["peak_base_shear"] > 1.05 * json.loads(base.stdout)["peaks"]["peak_base_shear"]
+    # a malformed variant: one line, exit status 2, nothing run
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({**data, "floor_mass": data["floor_mass"][:7]}))
+    failed = _sbib("run", "--record", "kobe", "--structure", str(bad))
+    assert failed.returncode == 2
+    assert failed.stderr.strip().count("\n") == 0 and "floor_mass" in failed.stderr
