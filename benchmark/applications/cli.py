@@ -27,7 +27,9 @@ from typing import Sequence
 from benchmark import __version__
 from benchmark.foundation.errors import InputError, NumericalError, SbibError
 from benchmark.foundation.kernel_cache import ensure_fresh_once, stepping_kernel_cached
+from benchmark.foundation.paths import structure_file
 from benchmark.foundation.pools import stop_children
+from benchmark.simulator.structure import load_superstructure
 
 __all__ = ["main", "run", "build_parser", "COMMAND_MODULES"]
 
@@ -130,9 +132,6 @@ _STRUCTURE_COMMANDS = ("run", "compare", "ensemble")
 
 def _use_structure(path: str) -> None:
     """Check ``--structure`` now (one-line error) and hand it to this process and its workers."""
-    from benchmark.foundation.paths import structure_file
-    from benchmark.simulator.structure import load_superstructure
-
     resolved = structure_file(path).resolve()
     load_superstructure(resolved)  # a malformed file is refused before anything runs
     os.environ["SBIB_STRUCTURE"] = str(resolved)
