@@ -409,11 +409,16 @@ def load_isolation(path: str | os.PathLike) -> IsolationLayer:
 
 
 # -- named configurations -------------------------------------------------------------------
-# Each is a function of the building it carries: the total mass above the isolation interface
-# [kg] (the load the bearings share uniformly) and the number of bearings of its plan. The
-# benchmark's values (TOTAL_MASS, N_BEARINGS) are the defaults; a variant of the structure file
-# (other floor masses, another bearing plan) gets bearings loaded by its own weight
-# (:meth:`benchmark.simulator.building.Building.default` passes them).
+# Each is a function of the building it carries: the vertical load per bearing [N] (the weight
+# above the isolation interface shared uniformly, computed once by get_isolation) and the number
+# of bearings of its plan. The benchmark's values (WEIGHT_PER_BEARING, N_BEARINGS) are the
+# defaults; a variant of the structure file (other floor masses, another bearing plan) gets
+# bearings loaded by its own weight (:meth:`benchmark.simulator.building.Building.default`
+# passes them).
+
+#: friction pendulums of ``friction-lrb`` on the benchmark's 92 bearings (the same share on another plan)
+_SLIDING_OF_92 = 61
+
 
 def _friction_pendulum_default(weight: float = WEIGHT_PER_BEARING) -> FrictionPendulumBearing:
     return FrictionPendulumBearing(weight=weight, radius=_FP_RADIUS, mu_max=0.06,
@@ -427,47 +432,38 @@ def _lead_rubber_default(weight: float = WEIGHT_PER_BEARING) -> LeadRubberBearin
                              yield_force=qd / (1.0 - _LRB_ALPHA))
 
 
-def _linear(total_mass: float = TOTAL_MASS, n: int = N_BEARINGS) -> IsolationLayer:
-    # the FDZ values per bearing, whatever the building (they are published as such)
+def _linear(weight: float, n: int) -> IsolationLayer:
+    # the FDZ values per bearing, whatever the building's weight (they are published as such)
     return IsolationLayer("linear", (BearingGroup(LinearBearing(FDZ_K, FDZ_C), tuple(range(n)),
                                                   f"linear elastomeric 1-{n}"),), n_bearings=n,
                           description=f"{n} linear elastomeric bearings, k = 919.422 kN/m, "
                                       "c = 27.717 kN·s/m (FDZ re-implementation values)")
 
 
-def _sliding_count(n: int) -> int:
-    """Friction pendulums of ``friction-lrb`` on a plan of ``n`` bearings: 61 of the benchmark's
-    92, the same share on another plan (at least one of each type)."""
-    return 61 if n == N_BEARINGS else min(n - 1, max(1, round(n * 61 / N_BEARINGS)))
-
-
-def _friction_lrb(total_mass: float = TOTAL_MASS, n: int = N_BEARINGS) -> IsolationLayer:
-    w = total_mass * GRAVITY / n
-    m = _sliding_count(n)
+def _friction_lrb(weight: float, n: int) -> IsolationLayer:
+    m = min(n - 1, max(1, round(n * _SLIDING_OF_92 / N_BEARINGS)))  # at least one of each type
     return IsolationLayer("friction-lrb", (
-        BearingGroup(_friction_pendulum_default(w), tuple(range(m)), f"friction pendulum 1-{m}"),
-        BearingGroup(_lead_rubber_default(w), tuple(range(m, n)), f"lead-rubber {m + 1}-{n}")),
+        BearingGroup(_friction_pendulum_default(weight), tuple(range(m)), f"friction pendulum 1-{m}"),
+        BearingGroup(_lead_rubber_default(weight), tuple(range(m, n)), f"lead-rubber {m + 1}-{n}")),
         n_bearings=n,
         description=f"bearings 1-{m} friction pendulum (R = 2.24 m, mu 0.03-0.06), {m + 1}-{n} lead-rubber "
                     f"(alpha 0.1, Qd = 5 % of the load); post-yield period 3.0 s; load per bearing "
-                    f"{w / 1e6:.4g} MN")
+                    f"{weight / 1e6:.4g} MN")
 
 
-def _all_lead_rubber(total_mass: float = TOTAL_MASS, n: int = N_BEARINGS) -> IsolationLayer:
-    w = total_mass * GRAVITY / n
-    return IsolationLayer("lead-rubber", (BearingGroup(_lead_rubber_default(w), tuple(range(n)),
+def _all_lead_rubber(weight: float, n: int) -> IsolationLayer:
+    return IsolationLayer("lead-rubber", (BearingGroup(_lead_rubber_default(weight), tuple(range(n)),
                                                        f"lead-rubber 1-{n}"),), n_bearings=n,
                           description=f"{n} lead-rubber bearings (alpha 0.1, Qd = 5 % of the load); "
-                                      f"post-yield period 3.0 s; load per bearing {w / 1e6:.4g} MN")
+                                      f"post-yield period 3.0 s; load per bearing {weight / 1e6:.4g} MN")
 
 
-def _all_friction_pendulum(total_mass: float = TOTAL_MASS, n: int = N_BEARINGS) -> IsolationLayer:
-    w = total_mass * GRAVITY / n
-    return IsolationLayer("friction-pendulum", (BearingGroup(_friction_pendulum_default(w),
+def _all_friction_pendulum(weight: float, n: int) -> IsolationLayer:
+    return IsolationLayer("friction-pendulum", (BearingGroup(_friction_pendulum_default(weight),
                                                              tuple(range(n)),
                                                              f"friction pendulum 1-{n}"),), n_bearings=n,
                           description=f"{n} friction pendulum bearings (R = 2.24 m, mu 0.03-0.06); "
-                                      f"pendulum period 3.0 s; load per bearing {w / 1e6:.4g} MN")
+                                      f"pendulum period 3.0 s; load per bearing {weight / 1e6:.4g} MN")
 
 
 _NAMED = {
@@ -533,7 +529,7 @@ def get_isolation(name: str, substep_tolerance: float | None = None, *, total_ma
             raise InputError(f"isolation {name!r}: total_mass must be a positive mass in kg, got {total_mass!r}")
         if n < 2 if name == "friction-lrb" else n < 1:
             raise InputError(f"isolation {name!r}: n_bearings {n} is too few for this configuration")
-        layer = _NAMED[name](mass, n)
+        layer = _NAMED[name](mass * GRAVITY / n, n)
     elif str(name).lower().endswith(".json"):
         layer = load_isolation(name)
     else:
