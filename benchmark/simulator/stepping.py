@@ -78,7 +78,7 @@ from benchmark.simulator.isolation.registry import (bearing_step, bearing_step_c
                                                     bearings_step_lockstep)
 from benchmark.simulator.isolation.park_wen import LOCKSTEP_ROWS  # noqa: E402
 from controllers.compiled import controller_update  # noqa: E402
-from damper.models.registry import MEMO_LENGTH, device_step, device_step_memo, device_tangent_memo  # noqa: E402
+from damper.models.registry import device_step, device_tangent_memo, devices_step_memo, devices_workspace  # noqa: E402
 
 __all__ = ["discretize_foh", "run_steps", "measure", "initial_forces", "total_bearing_forces",
            "energy_histories",
@@ -562,8 +562,11 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
     # consistent tangents of the implicit bearing updates, written by the evaluation itself
     b_tan = np.zeros((nb if implicit else 0, 2, 4))
     # per-device scratch of values that depend only on a step's start state and voltage (the
-    # iterations below advance each device several times from the same state)
-    d_memo = np.full((nd, MEMO_LENGTH), np.nan)
+    # iterations below advance each device several times from the same state), and the
+    # Spencer-type devices' lock-step workspace (the per-bearing reference path keeps the
+    # per-device update of the devices too)
+    d_ws = devices_workspace(d_model, settings.integrator != INTEGRATOR_RK4_PER_BEARING)
+    d_memo = d_ws.memo
 
     if nb == 0 and nd == 0 and ctrl_mode == 0:
         return _linear_steps(k_start, k_stop, plant, ag, settings, out)
@@ -664,13 +667,14 @@ def run_steps(k_start, k_stop, plant, ag, bearings, devices, sensors, control, s
                 gb_new[1] += force[1]
                 gb_new[2] += -by * force[0] + bx * force[1]
             for j in range(nd):
-                x0 = d_infl[j, 0] * ux0b + d_infl[j, 1] * uy0b + d_infl[j, 2] * th0
-                x1 = d_infl[j, 0] * ub1[0] + d_infl[j, 1] * ub1[1] + d_infl[j, 2] * ub1[2]
-                xd0 = d_infl[j, 0] * vx0b + d_infl[j, 1] * vy0b + d_infl[j, 2] * om0
-                xd1 = d_infl[j, 0] * vb1[0] + d_infl[j, 1] * vb1[1] + d_infl[j, 2] * vb1[2]
-                f = device_step_memo(d_model[j], d_params[j], d_state[j], x0, x1, xd0, xd1, voltage[j], dt,
-                                     d_memo[j])
-                fd_tmp[j] = f
+                d_ws.x0[j] = d_infl[j, 0] * ux0b + d_infl[j, 1] * uy0b + d_infl[j, 2] * th0
+                d_ws.x1[j] = d_infl[j, 0] * ub1[0] + d_infl[j, 1] * ub1[1] + d_infl[j, 2] * ub1[2]
+                d_ws.xd0[j] = d_infl[j, 0] * vx0b + d_infl[j, 1] * vy0b + d_infl[j, 2] * om0
+                d_ws.xd1[j] = d_infl[j, 0] * vb1[0] + d_infl[j, 1] * vb1[1] + d_infl[j, 2] * vb1[2]
+            if nd > 0:
+                devices_step_memo(d_model, d_params, d_state, voltage, dt, d_ws, fd_tmp)
+            for j in range(nd):
+                f = fd_tmp[j]
                 for c in range(3):
                     gd_new[c] += d_infl[j, c] * f
             # Change of the end displacement/velocity the update causes.

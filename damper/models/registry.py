@@ -13,6 +13,8 @@ the built-in model modules, which registers them.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba
 import numpy as np
 
@@ -20,7 +22,8 @@ from benchmark.foundation.errors import InputError
 from damper.models.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANGENT, KERNEL_SPENCER_TYPE,
                                 MODELS, DamperModel, register_model)
 from damper.models.bouc_wen import bouc_wen_force, bouc_wen_step, bouc_wen_step_memo
-from damper.models.spencer import (MEMO_LENGTH, spencer_type_force_kernel, spencer_type_step,
+from damper.models.spencer import (LOCKSTEP_NODE_COLUMNS, MEMO_LENGTH, SPENCER_LOCKSTEP_ROWS,
+                                   spencer_type_force_kernel, spencer_type_lockstep, spencer_type_step,
                                    spencer_type_step_memo, spencer_type_tangent, spencer_type_tangent_memo)
 from damper.models.bingham import bingham_force, bingham_step
 from damper.models.hyperbolic_tangent import hyperbolic_tangent_force, hyperbolic_tangent_step
@@ -34,6 +37,9 @@ __all__ = [
     "kernel_id_of",
     "device_step",
     "device_step_memo",
+    "devices_step_memo",
+    "DevicesWorkspace",
+    "devices_workspace",
     "MEMO_LENGTH",
     "device_tangent",
     "device_tangent_memo",
@@ -264,3 +270,100 @@ def device_tangent_memo(kernel_id, params, state, x, xd, v, memo):
     if kernel_id == KERNEL_SPENCER_TYPE:
         return spencer_type_tangent_memo(params, memo)
     return device_tangent(kernel_id, params, state, x, xd, v)
+
+
+class DevicesWorkspace(NamedTuple):
+    """Scratch arrays of :func:`devices_step_memo` for ``n`` devices (made by :func:`devices_workspace`).
+
+    Parameters
+    ----------
+    lock
+        ``(n,)`` bool: the device is advanced in lock-step (a Spencer-type kernel).
+    memo
+        ``(n, MEMO_LENGTH)``: each device's memo (:func:`device_step_memo`).
+    x0, x1, xd0, xd1
+        ``(n,)``: the step's displacements [m] and velocities [m/s] at its start and end, per
+        device, set by the caller before each :func:`devices_step_memo`.
+    rows
+        ``(SPENCER_LOCKSTEP_ROWS, n)``: the lock-step's per-device values, one column a device.
+    nodes
+        ``(n, LOCKSTEP_NODE_COLUMNS)``: the voltage laws at each device's RK4 nodes.
+    order
+        ``(n,)`` int64: the lock-step devices in the order of decreasing sub-step counts.
+    n_subs
+        ``(n,)`` int64: their sub-step counts, in that order.
+    """
+
+    lock: np.ndarray
+    memo: np.ndarray
+    x0: np.ndarray
+    x1: np.ndarray
+    xd0: np.ndarray
+    xd1: np.ndarray
+    rows: np.ndarray
+    nodes: np.ndarray
+    order: np.ndarray
+    n_subs: np.ndarray
+
+
+@numba.njit(cache=True)
+def devices_workspace(kernel_ids, lockstep):
+    """The workspace of :func:`devices_step_memo` for devices of the kernel families
+    ``kernel_ids`` (``(n,)`` int), the Spencer types in lock-step if ``lockstep``; every memo
+    filled with NaN (no step taken yet).
+
+    Parameters
+    ----------
+    kernel_ids
+        Kernel family of each device (:data:`damper.models.base.KERNELS`).
+    lockstep
+        Whether the Spencer-type devices are advanced in lock-step (else each on its own, the
+        reference path).
+    """
+    n = kernel_ids.shape[0]
+    lock = np.zeros(n, dtype=np.bool_)
+    for j in range(n):
+        lock[j] = lockstep and kernel_ids[j] == KERNEL_SPENCER_TYPE
+    return DevicesWorkspace(lock, np.full((n, MEMO_LENGTH), np.nan), np.empty(n), np.empty(n), np.empty(n),
+                            np.empty(n), np.empty((SPENCER_LOCKSTEP_ROWS, n)),
+                            np.empty((n, LOCKSTEP_NODE_COLUMNS)), np.empty(n, dtype=np.int64),
+                            np.empty(n, dtype=np.int64))
+
+
+@numba.njit(cache=True)
+def devices_step_memo(kernel_ids, params, state, v, dt, ws, force):
+    """Advance every device over one step along the motion in ``ws.x0, ws.x1, ws.xd0, ws.xd1``;
+    write the forces [N] into ``force``.
+
+    :func:`device_step_memo` for each device, the Spencer-type devices marked in ``ws.lock``
+    together (:func:`damper.models.spencer.spencer_type_lockstep`: the same arithmetic, their
+    RK4 chains overlapped).
+
+    Parameters
+    ----------
+    kernel_ids
+        ``(n,)`` kernel family of each device (:data:`damper.models.base.KERNELS`).
+    params
+        ``(n, P)`` packed parameters (each model's ``to_array()``, padded).
+    state
+        ``(n, S)`` internal states, advanced in place.
+    v
+        ``(n,)`` commanded voltages [V], held over the step.
+    dt
+        Step length [s].
+    ws
+        :func:`devices_workspace` of these devices; its motion arrays set by the caller.
+    force
+        ``(n,)`` output.
+    """
+    n = kernel_ids.shape[0]
+    any_lock = False
+    for j in range(n):
+        any_lock = any_lock or ws.lock[j]
+    if any_lock:
+        spencer_type_lockstep(params, state, ws.memo, ws.lock, ws.x0, ws.x1, ws.xd0, ws.xd1, v, dt,
+                              ws.rows, ws.nodes, ws.order, ws.n_subs, force)
+    for j in range(n):
+        if not ws.lock[j]:
+            force[j] = device_step_memo(kernel_ids[j], params[j], state[j], ws.x0[j], ws.x1[j], ws.xd0[j],
+                                        ws.xd1[j], v[j], dt, ws.memo[j])

@@ -71,7 +71,11 @@ __all__ = [
     "spencer_type_rates",
     "spencer_type_step",
     "spencer_type_step_memo",
+    "spencer_type_lockstep",
     "MEMO_LENGTH",
+    "LOCKSTEP_MAX_SUBSTEPS",
+    "LOCKSTEP_NODE_COLUMNS",
+    "SPENCER_LOCKSTEP_ROWS",
     "spencer_type_force",
     "spencer_type_force_kernel",
     "spencer_type_tangent",
@@ -463,7 +467,11 @@ def _memo_laws(params, memo, slot, u, valid, store):
 
 
 @numba.njit(cache=True, inline="always")
-def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
+def _step_setup(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
+    """What a step needs before its sub-steps: ``(u1, du, field_settled, same_field, a, d0, d1,
+    a_1, d0_1, d1_1, n_sub, n_loading)``, the field at the step's end, the laws at its start and
+    end field, and the sub-step counts (``n_sub = -1``: the tolerance cannot be met;
+    ``n_loading < n_sub``: try the loading branch's count first, for sigma > 1)."""
     tol = params[0]
     k0 = params[1]
     eta = params[4]
@@ -517,11 +525,9 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
     lam_field = rho * ratio + kratio  # the dashpots' part of the rate bound, either branch
     lam = lam_field + rho * n * unloading_factor * w_factor * speed
     if not (lam * dt / tol <= MAX_SUBSTEPS):  # also NaN: the tolerance cannot be met
-        for i in range(state.shape[0]):
-            state[i] = math.nan
-        return math.nan
+        return u1, du, field_settled, same_field, a, d0, d1, a_1, d0_1, d1_1, -1, -1
     n_sub = max(1, int(math.ceil(lam * dt / tol)))
-    done = False
+    n_loading = n_sub
     if unloading_factor > 1.0:
         # sigma > 1: the bound above covers the unloading branch, stiffer by 2 sigma - 1 but
         # travelled only briefly after each reversal. A step that stays on the loading branch
@@ -529,21 +535,49 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
         # any RK4 node) is redone from its start with the bound above.
         lam_loading = lam_field + rho * n * w_factor * speed
         n_loading = max(1, int(math.ceil(lam_loading * dt / params[8])))
-        if n_loading < n_sub:
-            y1, w1, done = _integrate(params, memo, use_memo, same_field, field_settled, n_loading, True,
-                                      y, w, x0, x1, xd0, xd1, dt, v, du, a, d0, d1, a_1, d0_1, d1_1)
-    if not done:
-        y1, w1, _ = _integrate(params, memo, use_memo, same_field, field_settled, n_sub, False,
-                               y, w, x0, x1, xd0, xd1, dt, v, du, a, d0, d1, a_1, d0_1, d1_1)
+    return u1, du, field_settled, same_field, a, d0, d1, a_1, d0_1, d1_1, n_sub, n_loading
+
+
+@numba.njit(cache=True, inline="always")
+def _step_end(params, state, memo, use_memo, y1, w1, u1, x1, xd1, a_1, d0_1, d1_1):
+    """Store the step's end state and return its force (the laws at the end node are those at
+    ``u1``, so no law is evaluated again)."""
     state[0] = y1
     state[1] = w1
     state[2] = u1
-    # the laws at the end node are those at u1, so _force's evaluation is saved
-    ydot1 = (a_1 * w1 + d0_1 * xd1 + k0 * (x1 - y1)) / (d0_1 + d1_1)
+    ydot1 = (a_1 * w1 + d0_1 * xd1 + params[1] * (x1 - y1)) / (d0_1 + d1_1)
     if use_memo:  # the dashpots' series ratio and c0 at the end field, for the tangent
         memo[_TANGENT_SLOT] = d1_1 / (d0_1 + d1_1)
         memo[_TANGENT_SLOT + 1] = d0_1
     return d1_1 * ydot1 + params[2] * (x1 - params[3])
+
+
+@numba.njit(cache=True, inline="always")
+def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
+    (u1, du, field_settled, same_field, a, d0, d1, a_1, d0_1, d1_1,
+     n_sub, n_loading) = _step_setup(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo)
+    if n_sub < 0:
+        for i in range(state.shape[0]):
+            state[i] = math.nan
+        return math.nan
+    return _step_advance(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo, u1, du, field_settled,
+                         same_field, a, d0, d1, a_1, d0_1, d1_1, n_sub, n_loading)
+
+
+@numba.njit(cache=True, inline="always")
+def _step_advance(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo, u1, du, field_settled,
+                  same_field, a, d0, d1, a_1, d0_1, d1_1, n_sub, n_loading):
+    """The step's sub-steps (the loading branch's count first where it is smaller) and its end."""
+    y = state[0]
+    w = state[1]
+    done = False
+    if n_loading < n_sub:
+        y1, w1, done = _integrate(params, memo, use_memo, same_field, field_settled, n_loading, True,
+                                  y, w, x0, x1, xd0, xd1, dt, v, du, a, d0, d1, a_1, d0_1, d1_1)
+    if not done:
+        y1, w1, _ = _integrate(params, memo, use_memo, same_field, field_settled, n_sub, False,
+                               y, w, x0, x1, xd0, xd1, dt, v, du, a, d0, d1, a_1, d0_1, d1_1)
+    return _step_end(params, state, memo, use_memo, y1, w1, u1, x1, xd1, a_1, d0_1, d1_1)
 
 
 @numba.njit(cache=True, inline="always")
@@ -613,6 +647,186 @@ def _integrate(params, memo, use_memo, same_field, field_settled, n_sub, loading
         va = vb
         aa, da0, da1 = ab, db0, db1
     return y, w, True
+
+
+#: Most sub-steps a device takes in :func:`spencer_type_lockstep` (its nodes' laws fit the memo);
+#: a step that needs more takes the per-device update.
+LOCKSTEP_MAX_SUBSTEPS = (_END_SLOT - 10) // 6
+#: Columns of the node-law workspace of :func:`spencer_type_lockstep`: the laws at the step's
+#: start, then at each sub-step's midpoint and end.
+LOCKSTEP_NODE_COLUMNS = 3 + 6 * LOCKSTEP_MAX_SUBSTEPS
+# rows of its workspace: a device's column holds its values in the order of decreasing sub-step
+# counts (row _U1: the field at the step's end, in the device's own column)
+_Y, _W, _K0, _RHO, _SIG, _N, _X0, _X1, _XD0, _XD1, _H, _HS, _XA, _VA = range(14)
+_XM, _VM, _XB, _VB, _KY, _KW, _YS, _WS, _U1 = range(14, 23)
+#: Rows of the workspace of :func:`spencer_type_lockstep`.
+SPENCER_LOCKSTEP_ROWS = 23
+
+
+@numba.njit(cache=True)
+def spencer_type_lockstep(params, state, memo, lock, x0, x1, xd0, xd1, v, dt, ws, nodes, order,
+                          n_subs, force):
+    """Advance the Spencer-type devices ``j`` with ``lock[j]`` over one step, their RK4 sub-steps
+    in lock-step; write their forces [N] into ``force[j]``.
+
+    The same update as :func:`spencer_type_step_memo` for each device, with the same arithmetic
+    (the same results): each device's field, laws, sub-step count and its nodes' laws are set
+    first, then sub-step *k* of every device that has one is taken stage by stage, each stage in
+    one loop over the devices. A device's RK4 stages form one chain of dependent ``pow`` calls
+    (about 21 ns each on this project's machine); the stages of different devices are
+    independent, so the processor overlaps them (about 8 ns per ``pow``;
+    docs/performance.md). A device whose shape has ``sigma > 1`` (the loading branch's count tried
+    first) or whose step needs more than :data:`LOCKSTEP_MAX_SUBSTEPS` sub-steps takes the
+    per-device update.
+
+    Parameters
+    ----------
+    params, state, memo
+        The devices' packed parameters ``(n, P)``, states ``(n, >= 3)`` (advanced in place) and
+        memos ``(n, MEMO_LENGTH)`` (see :func:`spencer_type_step_memo`).
+    lock
+        ``(n,)`` bool: the devices to advance (Spencer-type kernels).
+    x0, x1, xd0, xd1, v
+        ``(n,)`` displacements [m] and velocities [m/s] at the step's start and end, commands [V].
+    dt
+        Step length [s].
+    ws, nodes, order, n_subs
+        Workspaces: ``(SPENCER_LOCKSTEP_ROWS, n)``, ``(n, LOCKSTEP_NODE_COLUMNS)``, ``(n,)`` int64
+        and ``(n,)`` int64.
+    force
+        ``(n,)`` output.
+    """
+    m = 0
+    for j in range(lock.shape[0]):
+        if not lock[j]:
+            continue
+        pj = params[j]
+        sj = state[j]
+        mj = memo[j]
+        (u1, du, field_settled, same_field, a, d0, d1, a_1, d0_1, d1_1,
+         n_sub, n_loading) = _step_setup(pj, sj, x0[j], x1[j], xd0[j], xd1[j], v[j], dt, mj, True)
+        if n_sub < 0:
+            for i in range(sj.shape[0]):
+                sj[i] = math.nan
+            force[j] = math.nan
+            continue
+        if n_loading < n_sub or n_sub > LOCKSTEP_MAX_SUBSTEPS:
+            force[j] = _step_advance(pj, sj, x0[j], x1[j], xd0[j], xd1[j], v[j], dt, mj, True, u1, du,
+                                     field_settled, same_field, a, d0, d1, a_1, d0_1, d1_1, n_sub,
+                                     n_loading)
+            continue
+        # the laws at every node, as _integrate takes them (and keeps them in the memo)
+        nodes_valid = same_field and mj[3] == n_sub
+        mj[3] = n_sub
+        q = math.exp(-0.5 * pj[4] * (dt / n_sub))
+        decay = 1.0
+        nj = nodes[j]
+        nj[0], nj[1], nj[2] = a, d0, d1
+        for k in range(n_sub):
+            o = 3 + 6 * k
+            if field_settled:
+                nj[o], nj[o + 1], nj[o + 2] = a, d0, d1
+                nj[o + 3], nj[o + 4], nj[o + 5] = a, d0, d1
+            else:
+                decay *= q
+                nj[o], nj[o + 1], nj[o + 2] = _memo_laws(pj, mj, 10 + 6 * k, v[j] + du * decay,
+                                                         nodes_valid, True)
+                decay *= q
+                if k == n_sub - 1:
+                    nj[o + 3], nj[o + 4], nj[o + 5] = a_1, d0_1, d1_1
+                else:
+                    nj[o + 3], nj[o + 4], nj[o + 5] = _memo_laws(pj, mj, 13 + 6 * k, v[j] + du * decay,
+                                                                 nodes_valid, True)
+        ws[_U1, j] = u1
+        # insertion into the order of decreasing sub-step counts: the devices still stepping at
+        # sub-step k are then the first columns
+        c = m
+        while c > 0 and n_subs[c - 1] < n_sub:
+            order[c] = order[c - 1]
+            n_subs[c] = n_subs[c - 1]
+            c -= 1
+        order[c] = j
+        n_subs[c] = n_sub
+        m += 1
+    for c in range(m):
+        j = order[c]
+        ws[_Y, c] = state[j, 0]
+        ws[_W, c] = state[j, 1]
+        ws[_K0, c] = params[j, 1]
+        ws[_RHO, c] = params[j, 5]
+        ws[_SIG, c] = params[j, 6]
+        ws[_N, c] = params[j, 7]
+        ws[_X0, c] = x0[j]
+        ws[_X1, c] = x1[j]
+        ws[_XD0, c] = xd0[j]
+        ws[_XD1, c] = xd1[j]
+        ws[_H, c] = dt / n_subs[c]
+        ws[_HS, c] = 1.0 / n_subs[c]
+        ws[_XA, c] = x0[j]
+        ws[_VA, c] = xd0[j]
+    n_max = n_subs[0] if m > 0 else 0
+    active = m
+    for k in range(n_max):
+        while n_subs[active - 1] <= k:
+            active -= 1
+        o = 3 + 6 * k
+        # the path at the sub-step's midpoint and end (as _integrate), and the first stage
+        for c in range(active):
+            j = order[c]
+            last = k == n_subs[c] - 1
+            hs = ws[_HS, c]
+            s_m = k * hs + 0.5 * hs
+            s_b = 1.0 if last else k * hs + hs
+            p0 = ws[_X0, c]
+            p1 = ws[_X1, c]
+            v0 = ws[_XD0, c]
+            v1 = ws[_XD1, c]
+            ws[_XM, c] = hermite_position(p0, p1, v0, v1, dt, s_m)
+            ws[_XB, c] = p1 if last else hermite_position(p0, p1, v0, v1, dt, s_b)
+            ws[_VM, c] = _hermite_velocity(p0, p1, v0, v1, dt, s_m)
+            ws[_VB, c] = _hermite_velocity(p0, p1, v0, v1, dt, s_b)
+            y = ws[_Y, c]
+            w = ws[_W, c]
+            h = ws[_H, c]
+            ky, kw, _ = _rates(y, w, ws[_XA, c], ws[_VA, c], nodes[j, o - 3], nodes[j, o - 2],
+                               nodes[j, o - 1], ws[_K0, c], ws[_RHO, c], ws[_SIG, c], ws[_N, c])
+            ws[_KY, c] = ky
+            ws[_KW, c] = kw
+            ws[_YS, c] = y + 0.5 * h * ky
+            ws[_WS, c] = w + 0.5 * h * kw
+        for c in range(active):  # second stage, at the midpoint
+            j = order[c]
+            h = ws[_H, c]
+            ky, kw, _ = _rates(ws[_YS, c], ws[_WS, c], ws[_XM, c], ws[_VM, c], nodes[j, o], nodes[j, o + 1],
+                               nodes[j, o + 2], ws[_K0, c], ws[_RHO, c], ws[_SIG, c], ws[_N, c])
+            ws[_KY, c] += 2.0 * ky
+            ws[_KW, c] += 2.0 * kw
+            ws[_YS, c] = ws[_Y, c] + 0.5 * h * ky
+            ws[_WS, c] = ws[_W, c] + 0.5 * h * kw
+        for c in range(active):  # third stage, at the midpoint
+            j = order[c]
+            h = ws[_H, c]
+            ky, kw, _ = _rates(ws[_YS, c], ws[_WS, c], ws[_XM, c], ws[_VM, c], nodes[j, o], nodes[j, o + 1],
+                               nodes[j, o + 2], ws[_K0, c], ws[_RHO, c], ws[_SIG, c], ws[_N, c])
+            ws[_KY, c] += 2.0 * ky
+            ws[_KW, c] += 2.0 * kw
+            ws[_YS, c] = ws[_Y, c] + h * ky
+            ws[_WS, c] = ws[_W, c] + h * kw
+        for c in range(active):  # fourth stage, at the end; the sub-step's update
+            j = order[c]
+            h = ws[_H, c]
+            ky, kw, _ = _rates(ws[_YS, c], ws[_WS, c], ws[_XB, c], ws[_VB, c], nodes[j, o + 3],
+                               nodes[j, o + 4], nodes[j, o + 5], ws[_K0, c], ws[_RHO, c], ws[_SIG, c],
+                               ws[_N, c])
+            ws[_Y, c] += h * (ws[_KY, c] + ky) / 6.0
+            ws[_W, c] += h * (ws[_KW, c] + kw) / 6.0
+            ws[_XA, c] = ws[_XB, c]
+            ws[_VA, c] = ws[_VB, c]
+    for c in range(m):
+        j = order[c]
+        e = 3 + 6 * n_subs[c]
+        force[j] = _step_end(params[j], state[j], memo[j], True, ws[_Y, c], ws[_W, c], ws[_U1, j], x1[j],
+                             xd1[j], nodes[j, e - 3], nodes[j, e - 2], nodes[j, e - 1])
 
 
 @numba.njit(cache=True)
