@@ -22,7 +22,6 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest
@@ -112,6 +111,10 @@ def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
     if window == 0:
         return np.gradient(velocity, t, edge_order=2)
     dt = float(np.mean(np.diff(t)))
+    # imported here, as in damper/io/screening.py: every building process imports this package
+    # (the augmented model's kernels), and scipy.signal with scipy.stats cost it 0.3 s and ~30 MB
+    from scipy.signal import savgol_filter
+
     return savgol_filter(velocity, window, 2, deriv=1, delta=dt, mode="interp")
 
 
