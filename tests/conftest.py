@@ -5,9 +5,16 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-import pytest
+# One BLAS thread, as every `sbib` process has (benchmark/applications/cli.py sets it before numpy
+# is imported), and set here before any test module imports numpy: the fixture below imports the
+# command line, which sets it for the processes the tests start, and a test process on
+# OpenBLAS's default threads would then compute an LQG design that differs from a subprocess's
+# in the last digits (tests/reliability/test_reproducible_runs.py compares them bit for bit).
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from benchmark.foundation.kernel_cache import ensure_fresh
+import pytest  # noqa: E402
+
+from benchmark.foundation.kernel_cache import ensure_fresh  # noqa: E402
 
 _DEFAULT_SHARED = Path(__file__).resolve().parent.parent.parent / "shared"
 
