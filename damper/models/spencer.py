@@ -663,6 +663,23 @@ _XM, _VM, _XB, _VB, _KY, _KW, _YS, _WS, _U1 = range(14, 23)
 SPENCER_LOCKSTEP_ROWS = 23
 
 
+@numba.njit(cache=True, inline="always")
+def _midpoint_stage(ws, nodes, order, active, o, reach):
+    """RK4's second or third stage of :func:`spencer_type_lockstep` for its first ``active``
+    columns, at the sub-step's midpoint (node laws from column ``o`` of ``nodes``); the next
+    stage's point is taken ``reach`` of the sub-step ahead (1/2 after the second, 1 after the
+    third; ``reach * h`` is ``h`` exactly for 1)."""
+    for c in range(active):
+        j = order[c]
+        h = ws[_H, c]
+        ky, kw, _ = _rates(ws[_YS, c], ws[_WS, c], ws[_XM, c], ws[_VM, c], nodes[j, o], nodes[j, o + 1],
+                           nodes[j, o + 2], ws[_K0, c], ws[_RHO, c], ws[_SIG, c], ws[_N, c])
+        ws[_KY, c] += 2.0 * ky
+        ws[_KW, c] += 2.0 * kw
+        ws[_YS, c] = ws[_Y, c] + reach * h * ky
+        ws[_WS, c] = ws[_W, c] + reach * h * kw
+
+
 @numba.njit(cache=True)
 def spencer_type_lockstep(params, state, memo, lock, x0, x1, xd0, xd1, v, dt, ws, nodes, order,
                           n_subs, force):
@@ -794,24 +811,8 @@ def spencer_type_lockstep(params, state, memo, lock, x0, x1, xd0, xd1, v, dt, ws
             ws[_KW, c] = kw
             ws[_YS, c] = y + 0.5 * h * ky
             ws[_WS, c] = w + 0.5 * h * kw
-        for c in range(active):  # second stage, at the midpoint
-            j = order[c]
-            h = ws[_H, c]
-            ky, kw, _ = _rates(ws[_YS, c], ws[_WS, c], ws[_XM, c], ws[_VM, c], nodes[j, o], nodes[j, o + 1],
-                               nodes[j, o + 2], ws[_K0, c], ws[_RHO, c], ws[_SIG, c], ws[_N, c])
-            ws[_KY, c] += 2.0 * ky
-            ws[_KW, c] += 2.0 * kw
-            ws[_YS, c] = ws[_Y, c] + 0.5 * h * ky
-            ws[_WS, c] = ws[_W, c] + 0.5 * h * kw
-        for c in range(active):  # third stage, at the midpoint
-            j = order[c]
-            h = ws[_H, c]
-            ky, kw, _ = _rates(ws[_YS, c], ws[_WS, c], ws[_XM, c], ws[_VM, c], nodes[j, o], nodes[j, o + 1],
-                               nodes[j, o + 2], ws[_K0, c], ws[_RHO, c], ws[_SIG, c], ws[_N, c])
-            ws[_KY, c] += 2.0 * ky
-            ws[_KW, c] += 2.0 * kw
-            ws[_YS, c] = ws[_Y, c] + h * ky
-            ws[_WS, c] = ws[_W, c] + h * kw
+        _midpoint_stage(ws, nodes, order, active, o, 0.5)  # second stage: the third's point at h/2
+        _midpoint_stage(ws, nodes, order, active, o, 1.0)  # third stage: the fourth's point at h
         for c in range(active):  # fourth stage, at the end; the sub-step's update
             j = order[c]
             h = ws[_H, c]
