@@ -78,7 +78,8 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
     InputError
         Fewer than ``minimum`` samples, fewer than ``minimum`` usable ones (the message sums up
         the screening's findings), or amplitudes no MR damper test has (a ``units`` finding:
-        a time in ms, a stroke in mm read as SI).
+        a time in ms, a stroke in mm read as SI), or a force that does net negative work on
+        the motion (a ``polarity`` finding: the force's sign inverted against the displacement).
     """
     if test.n_samples < minimum:
         raise InputError(f"{path}: {test.n_samples} samples; expected at least {minimum} (a test of a few "
@@ -93,4 +94,8 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
         # a time in ms or a stroke in mm read as SI: any fit would be of the wrong device
         raise InputError(f"{path}: implausible units ({units}); convert the file to SI (time [s], "
                          "displacement [m], velocity [m/s], force [N])")
+    polarity = screening.polarity_problem()
+    if polarity is not None:
+        # every model of the library dissipates: a fit would only find the parameters' bounds
+        raise InputError(f"{path}: {polarity}")
     return test

@@ -59,6 +59,13 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
 ``units``
     Amplitudes, peak velocities or forces outside what any MR damper test produces (e.g. a
     displacement in mm declared as m); reported, not excluded (the whole test would go).
+``polarity``
+    The force does net negative work on the motion: ∫ F·ẋ dt over the usable samples (ẋ the
+    displacement's derivative) is below :data:`POLARITY_SHARE` times -∫ |F·ẋ| dt. A damper,
+    passive or semi-active, only dissipates (its force opposes the velocity on average; an
+    elastic part adds no work over a cycle), so the force channel's sign is inverted against
+    the motion (a load cell read tension-positive against a compression-positive stroke, or the
+    other way round). Reported, not excluded; the command line refuses such a file.
 
 Where an *input* channel (displacement, velocity, coil input) is unusable the model cannot be
 simulated through it faithfully. The span is kept in the test (interpolated where values are
@@ -86,7 +93,8 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
-           "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR"]
+           "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "POLARITY_SHARE"]
 
 #: A time step this many times the median step is a gap.
 GAP_FACTOR = 2.5
@@ -100,6 +108,10 @@ PLAUSIBLE = {"amplitude": (2e-5, 1.0), "peak_velocity": (1e-5, 5.0), "peak_force
 #: is the fault's lurch (a Gaussian motion exceeds 2 x its 99.5th percentile, 5.6 sigma, with
 #: probability 2e-8 per sample; a sine never does).
 EXCURSION_FACTOR = 2.0
+#: ``polarity``: the force's net work on the motion, as a share of its absolute work, below minus
+#: this (a damper's is positive: the benchmark's virtual damper and the measured UTFSM and Dyke
+#: tests give 0.6-0.9; a spring-dominated loop nears 0 but does not go negative over cycles).
+POLARITY_SHARE = 0.2
 #: Channels screened for stuck values (the coil input is a command: constant runs are normal).
 _MEASURED = ("force", "displacement", "velocity")
 _INPUTS = ("displacement", "velocity", "voltage", "current")
@@ -113,7 +125,7 @@ class Finding:
     ----------
     kind : str
         ``nan``, ``time``, ``rounded``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
-        ``offset`` or ``units``.
+        ``offset``, ``units`` or ``polarity``.
     channel : str
         The channel (``force``, ``displacement``, ``velocity``, ``voltage``, ``current``,
         ``time``).
@@ -219,6 +231,11 @@ class Screening:
     def units_problem(self) -> str | None:
         """The ``units`` findings' text, joined (None when every amplitude is plausible)."""
         texts = [f"{f.channel}: {f.message}" for f in self.findings if f.kind == "units"]
+        return "; ".join(texts) or None
+
+    def polarity_problem(self) -> str | None:
+        """The ``polarity`` finding's text (None when the force dissipates, as a damper's does)."""
+        texts = [f.message for f in self.findings if f.kind == "polarity"]
         return "; ".join(texts) or None
 
     def estimate_line(self) -> str:
@@ -727,6 +744,24 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     if ok.sum() > 8 and np.ptp(f[ok]) > 0:
         lag, corr = _lag(f[ok], deriv[ok], max_lag)
         estimates.update(force_velocity_lag_s=lag * dt, force_velocity_correlation=corr)
+
+    # polarity: a damper only dissipates, so a force doing net negative work is read with the
+    # wrong sign against the motion; the motion is the displacement's derivative (a velocity
+    # channel of the wrong sign is the velocity check's finding, not the force's)
+    if ok.sum() > 8:
+        rate = f * deriv
+        spans = np.gradient(t)  # each sample's share of the time
+        work = float(np.sum((rate * spans)[ok]))
+        absolute = float(np.sum((np.abs(rate) * spans)[ok]))
+        if absolute > 0.0:
+            estimates["dissipated_work_share"] = work / absolute
+            if work < -POLARITY_SHARE * absolute:
+                findings.append(Finding(
+                    "polarity", "force", float(t[0]), float(t[-1]), 0,
+                    f"the force does net negative work on the motion ({work:.4g} J, {work / absolute:+.2f} of "
+                    "its absolute work): a damper dissipates, so the force's sign is inverted against the "
+                    "displacement (negate the force column, or the displacement and velocity)",
+                    excluded=False))
 
     # units: amplitudes outside what any MR damper test produces
     plaus = {"amplitude": 0.5 * stroke,
