@@ -57,8 +57,9 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     and the test's start or end, next to a fault of the motion (not where only the force was
     flagged): excluded too.
 ``units``
-    Amplitudes, peak velocities or forces outside what any MR damper test produces (e.g. a
-    displacement in mm declared as m); reported, not excluded (the whole test would go).
+    Amplitudes, peak velocities, forces or coil inputs outside what any MR damper test produces
+    (e.g. a displacement in mm declared as m, a current in mA declared as A); reported, not
+    excluded (the whole test would go).
 ``polarity``
     The force does net negative work on the motion: ∫ F·ẋ dt over the usable samples (ẋ the
     displacement's derivative) is below :data:`POLARITY_SHARE` times -∫ |F·ẋ| dt. A damper,
@@ -103,7 +104,11 @@ IDLE_FRACTION = 0.02
 #: Plausible ranges of an MR damper test (SI): from bench-top dampers (mm strokes, tens of N)
 #: to the large-scale 20-t devices (±0.6 m, 2 MN); a value outside them is a unit error.
 PLAUSIBLE = {"amplitude": (2e-5, 1.0), "peak_velocity": (1e-5, 5.0), "peak_force": (0.5, 5e6),
-             "sample_rate": (5.0, 1e6)}
+             "sample_rate": (5.0, 1e6),
+             # the coil input: drivers of MR dampers command up to 24 V or a few amperes (the
+             # UTFSM damper 0-1 A, the Dyke damper's command -0.44-2.7 V); mV or mA read as V or A
+             # lands far above these
+             "peak_voltage": (0.0, 60.0), "peak_current": (0.0, 25.0)}
 #: A velocity beyond this many times the test's 99.5th percentile of |velocity|, next to a fault,
 #: is the fault's lurch (a Gaussian motion exceeds 2 x its 99.5th percentile, 5.6 sigma, with
 #: probability 2e-8 per sample; a sine never does).
@@ -768,7 +773,11 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
              "peak_velocity": float(np.percentile(np.abs(v[ok] if ok.any() else v), 99.5)),
              "peak_force": float(np.percentile(np.abs(f[ok] if ok.any() else f), 99.5)),
              "sample_rate": 1.0 / dt}
-    units = {"amplitude": "m", "peak_velocity": "m/s", "peak_force": "N", "sample_rate": "Hz"}
+    coil = _input_name(test)
+    if coil is not None:
+        plaus[f"peak_{coil}"] = float(np.nanmax(np.abs(_channel(test, coil))))
+    units = {"amplitude": "m", "peak_velocity": "m/s", "peak_force": "N", "sample_rate": "Hz",
+             "peak_voltage": "V", "peak_current": "A"}
     for key, value in plaus.items():
         lo, hi = PLAUSIBLE[key]
         estimates[key] = value

@@ -108,6 +108,22 @@ def test_implausible_units_are_refused_by_the_command_line_readers(tmp_path):
         require_samples(screened(in_ms), "ms.csv")
 
 
+def test_a_coil_input_in_milli_units_is_refused_and_a_real_one_is_not(shared_dir):
+    """A current in mA (or a voltage in mV) declared as A (V): a `units` finding and a one-line
+    refusal; the UTFSM currents (0-1 A) and the Dyke command (-0.44-2.7 V) pass."""
+    test = periodic_test("virtual", 0.02, 1.0, 0.5, cycles=6, sample_rate=500.0, noise=0.01, seed=3)
+    in_mv = dataclasses.replace(test, voltage=test.voltage * 1e3, mask=None, metadata={})
+    with pytest.raises(InputError, match=r"implausible units \(voltage: peak voltage 500 V is outside the "
+                                         r"plausible 0-60 V"):
+        require_samples(screened(in_mv), "mv.csv")
+    utfsm = read_utfsm(shared_dir / "hysteresis_data/quiroz_utfsm_mr_damper_sinusoidal/Preprocesados/10mm1Hz1A.txt")
+    assert not [f for f in screen(utfsm).findings if f.kind == "units"]
+    in_ma = dataclasses.replace(utfsm, current=utfsm.current * 1e3, mask=None, metadata={})
+    assert [f.channel for f in screen(in_ma).findings if f.kind == "units"] == ["current"]
+    dyke = read_dyke(shared_dir / "hysteresis_data/dyke_mr_damper_random_voltage/ransim_u_converted.csv")
+    assert not [f for f in screen(dyke).findings if f.kind == "units"]
+
+
 def test_too_short_to_trace_is_one_clear_error():
     from damper.diagnosis import diagnose
     test = periodic_test("virtual", 0.02, 2.0, 0.5, cycles=1.2, sample_rate=120.0, noise=0.01, seed=3)
