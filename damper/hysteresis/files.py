@@ -29,7 +29,7 @@ from damper.io.data import parse_row
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
 from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
-from damper.io.screening import PLAUSIBLE
+from damper.io.screening import PLAUSIBLE, POLARITY_SHARE
 
 __all__ = ["ForceData", "read_data", "read_force_csv", "read_hdf5", "write_displacement_csv",
            "save_model", "load_model", "data_flaws", "MODEL_KIND"]
@@ -73,8 +73,11 @@ def data_flaws(data: ForceData) -> list[str]:
     The damper screening's rules (:mod:`damper.io.screening`) on a force-driven test: a force
     channel clipped or stuck (the force that drove the specimen is unknown there), a
     displacement channel frozen or clipped (the response is unknown there), and a sampling rate
-    no hysteresis test has (a time column in ms declared as s reads as ~1 Hz). The output-error
-    fit simulates the whole record, so such samples cannot simply be left out.
+    no hysteresis test has (a time column in ms declared as s reads as ~1 Hz), and a force
+    that does net negative work on the response (the specimen dissipates what the force puts in,
+    so the force's sign is inverted against the displacement: the benchmark's training data give
+    +0.40 of the absolute work, negated -0.40). The output-error fit simulates the whole record,
+    so such samples cannot simply be left out.
 
     Parameters
     ----------
@@ -98,6 +101,14 @@ def data_flaws(data: ForceData) -> list[str]:
             out.append(f"{channel} {word} in {len(hits)} span{'s' if len(hits) > 1 else ''} "
                        f"({sum(e - s for s, e, _ in hits)} samples; the first at "
                        f"{t[a]:.4g}-{t[b - 1]:.4g} s, {level:.6g} {unit}): {why}")
+    if data.displacement is not None and data.force.size > 8:
+        # the same rule as the damper screening's polarity check (damper/io/screening.py)
+        rate = data.force * np.gradient(data.displacement, t)
+        absolute = float(np.sum(np.abs(rate)))
+        if absolute > 0.0 and float(np.sum(rate)) < -POLARITY_SHARE * absolute:
+            out.append(f"the force does net negative work on the response ({np.sum(rate) / absolute:+.2f} of its "
+                       "absolute work): the specimen dissipates, so the force's sign is inverted against the "
+                       "displacement")
     return out
 
 

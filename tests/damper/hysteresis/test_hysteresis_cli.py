@@ -179,10 +179,12 @@ def test_benchmark_training_file_meets_the_targets(shared_dir, tmp_path, capsys)
     ("clipped", "force clipped in"),
     ("frozen", "displacement frozen in 1 span (300 samples"),
     ("ms", "sampling rate 0.75 Hz is outside"),
+    ("negated", "the force does net negative work on the response"),
 ])
 def test_flawed_data_are_refused_unless_kept(tmp_path, capsys, flaw, words):
-    """A clipped force, a frozen displacement sensor or a time column in ms would be fitted as
-    the specimen's behaviour (mass 2e6 kg from the ms file): one line, no model file;
+    """A clipped force, a frozen displacement sensor, a time column in ms or a force of the wrong
+    sign would be fitted as the specimen's behaviour (mass 2e6 kg from the ms file): one line, no
+    model file;
     --keep-flagged fits anyway and says so."""
     u, y = hb.synthesize(hb.true_system(), np.tile(hb.multisine(n=2048, seed=4), 2), decimate=False)
     fs = hb.FS
@@ -191,6 +193,8 @@ def test_flawed_data_are_refused_unless_kept(tmp_path, capsys, flaw, words):
     elif flaw == "frozen":
         y = y.copy()
         y[1000:1300] = y[1000]
+    elif flaw == "negated":  # a load cell read with the other sign convention
+        u = -u
     else:
         fs = hb.FS / 1000.0
     data = _write_csv(tmp_path / "flawed.csv", u, y, fs=fs)
