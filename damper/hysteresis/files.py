@@ -29,7 +29,7 @@ from damper.io.data import parse_row
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
 from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
-from damper.io.screening import PLAUSIBLE, POLARITY_SHARE
+from damper.io.screening import PLAUSIBLE, POLARITY_SHARE, net_work
 
 __all__ = ["ForceData", "read_data", "read_force_csv", "read_hdf5", "write_displacement_csv",
            "save_model", "load_model", "data_flaws", "MODEL_KIND"]
@@ -102,11 +102,10 @@ def data_flaws(data: ForceData) -> list[str]:
                        f"({sum(e - s for s, e, _ in hits)} samples; the first at "
                        f"{t[a]:.4g}-{t[b - 1]:.4g} s, {level:.6g} {unit}): {why}")
     if data.displacement is not None and data.force.size > 8:
-        # the same rule as the damper screening's polarity check (damper/io/screening.py)
-        rate = data.force * np.gradient(data.displacement, t)
-        absolute = float(np.sum(np.abs(rate)))
-        if absolute > 0.0 and float(np.sum(rate)) < -POLARITY_SHARE * absolute:
-            out.append(f"the force does net negative work on the response ({np.sum(rate) / absolute:+.2f} of its "
+        # the damper screening's polarity rule (damper/io/screening.py)
+        _, share = net_work(t, data.force, np.gradient(data.displacement, t))
+        if share < -POLARITY_SHARE:
+            out.append(f"the force does net negative work on the response ({share:+.2f} of its "
                        "absolute work): the specimen dissipates, so the force's sign is inverted against the "
                        "displacement")
     return out
