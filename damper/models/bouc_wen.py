@@ -159,6 +159,42 @@ class _BoucWenBase(DamperModel):
         """``[w] = [0]``: the device starts unloaded."""
         return np.zeros(1)
 
+    # -- the force is read from the state ------------------------------------------------
+    def state_parameters(self) -> np.ndarray:
+        """The packed parameters that the state's evolution reads: ``[tol, law(rho), law(sigma), law(n)]``.
+
+        :math:`\\dot w` involves ρ, σ, n only; κ_x, κ_ẋ and κ_w only read the force off the
+        state (module docstring). Two models of this family with equal ``state_parameters``,
+        initial state and input therefore follow the same history of :math:`w`, and
+        :meth:`force_history` gives either one's force from it. A fit's finite-difference
+        Jacobian uses this for its κ columns (:class:`damper.diagnosis.augmented.BaseForceMemo`).
+        """
+        return np.concatenate([[self.substep_tolerance]] + [self._law(p).to_array() for p in ("rho", "sigma", "n")])
+
+    def force_history(self, x: np.ndarray, xdot: np.ndarray, u: np.ndarray, states: np.ndarray) -> np.ndarray:
+        """The force [N] at each sample, read off a simulated state history.
+
+        The same sum as the kernel (:func:`bouc_wen_step`), with the coefficients at the input the
+        kernel reads for each sample: the held input of the step that ends there (``u[k-1]``),
+        ``u[0]`` at the first sample (:func:`damper.models.response.simulate`).
+
+        Parameters
+        ----------
+        x, xdot : ndarray (n,)
+            Displacement [m] and velocity [m/s] at the samples.
+        u : ndarray (n,)
+            Coil input at the samples [V] (or [A]), held from each sample to the next.
+        states : ndarray (n, 1)
+            The state ``w`` after each sample (``DamperResponse.states``).
+        """
+        u = np.asarray(u, dtype=float)
+        held = np.concatenate((u[:1], u[:-1]))
+        w = states[:, 0]
+        force = self._law("kappa_xdot")(held) * xdot + self._law("kappa_w")(held) * w
+        if "kappa_x" in self.parameter_names:
+            force = force + self._law("kappa_x")(held) * x
+        return force
+
     # -- plain numpy description (the scipy oracle) ----------------------------------------
     def check_voltage(self, v: float) -> float:
         """Return ``v`` as float, or raise :class:`InputError` outside ``voltage_range``."""
