@@ -575,6 +575,48 @@ def _numeric_row(line: str) -> tuple[str | None, bool] | None:
     return None
 
 
+#: A column name that gives its direction: an optional acceleration prefix, then the axis
+#: (``ax``, ``acc_y``, ``ag-x``, ``FN``, ``a_FP``, ``UP``, ``vertical``); spaces, ``_ - .`` ignored.
+_AXIS_NAME = re.compile(r"^(?:a|acc|accel|acceleration|ag|ug|ground|groundacc|groundacceleration)?"
+                        r"(x|y|z|fn|fp|up|ud|vert|vertical)$")
+#: Which slot of the record (component 0, then 1) each horizontal direction takes; None: vertical.
+_AXIS_SLOT = {"x": 0, "fn": 0, "y": 1, "fp": 1, "z": None, "up": None, "ud": None, "vert": None, "vertical": None}
+
+
+def _component_order(labels: Sequence[str], where: str) -> tuple[list[int], str | None]:
+    """The file's acceleration columns in the record's order, from their header names.
+
+    The record's components are taken in order (the first on x under ``FN-x``), so a header
+    that names the directions is followed rather than the columns' positions: ``ay, ax`` is
+    read as (ax, ay), ``FP, FN`` as (FN, FP). A vertical column (``az``, ``UP``) is not used:
+    the building is excited horizontally. Names that give no direction keep the file's order.
+    Returns the column indices to keep, in order, and a note saying what was done (None when
+    the file's order is kept whole).
+    """
+    keys = [re.sub(r"[\s_.\-]", "", label.lower()) for label in labels]
+    axes = [m.group(1) if (m := _AXIS_NAME.match(k)) else None for k in keys]
+    vertical = [i for i, a in enumerate(axes) if a is not None and _AXIS_SLOT[a] is None]
+    horizontal = [i for i in range(len(labels)) if i not in vertical]
+    if not horizontal:
+        raise InputError(f"{where}: only vertical acceleration ({', '.join(labels)}); the building is excited "
+                         "horizontally: expected a horizontal column (time, ax[, ay])")
+    slots = [_AXIS_SLOT[axes[i]] if axes[i] is not None else None for i in horizontal]
+    if all(s is not None for s in slots):
+        taken = list(slots)
+        if len(set(taken)) < len(taken):
+            twice = [labels[i] for i, s in zip(horizontal, slots) if taken.count(s) > 1]
+            raise InputError(f"{where}: columns {', '.join(map(repr, twice))} name the same direction; "
+                             "expected one column per direction (time, ax[, ay])")
+        horizontal = [i for _, i in sorted(zip(slots, horizontal))]
+    notes = []
+    if horizontal != sorted(horizontal):
+        notes.append("components taken by their header names: " + ", ".join(labels[i] for i in horizontal))
+    if vertical:
+        notes.append(f"vertical column{'s' if len(vertical) > 1 else ''} "
+                     f"{', '.join(labels[i] for i in vertical)} not used (the building is excited horizontally)")
+    return horizontal, "; ".join(notes) or None
+
+
 def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None = None,
              name: str | None = None, dt_tolerance: float = 1e-3) -> Record:
     """Read a CSV record ``time, ax[, ay, ...]``.
@@ -745,16 +787,22 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
 
     labels = tuple(header_names[1:]) if header_names else tuple(
         ("ax", "ay", "az")[i] if i < 3 else f"component {i + 1}" for i in range(n_columns - 1))
+    order, columns_note = _component_order(labels, where) if header_names else (list(range(len(labels))), None)
+    acceleration = rows[:, 1:][:, order]
+    labels = tuple(labels[i] for i in order)
     synthetic = comment_keys.get("synthetic") == "true"
     meta = {"format": "csv", "units_in_file": _canonical(units), "units_from": units_from,
             "time_start_s": float(time[0])}
+    if columns_note:
+        meta["columns"] = columns_note
+        meta["file_columns"] = [i + 1 for i in order]  # each component's acceleration column in the file
     if synthetic:  # a generated motion stays labelled as one (write_csv's comments)
         meta["file"] = str(path)
     return _record(
         path,
         name=name or (comment_keys.get("name") if synthetic else None) or path.stem,
         dt=step,
-        acceleration=_to_si(rows[:, 1:], factor),
+        acceleration=_to_si(acceleration, factor),
         labels=labels,
         source=(comment_keys.get("source") or f"synthetic: read from {path}") if synthetic else str(path),
         synthetic=synthetic,

@@ -54,18 +54,20 @@ def looks_like_file(spec: str | os.PathLike) -> bool:
 
 def _orient_file_record(record: Record, orientation: str) -> Record:
     acc = np.asarray(record.acceleration, dtype=float)
+    # a reader that took the components out of the file's order says where each came from
+    column = record.metadata.get("file_columns") or list(range(1, acc.shape[1] + 1))
     if acc.shape[1] == 1:
         zeros = np.zeros_like(acc)
         both = np.hstack([acc, zeros]) if orientation == "FN-x" else np.hstack([zeros, acc])
         label = tuple(record.labels)[0] if record.labels else "component"
         labels = (label, "zero") if orientation == "FN-x" else ("zero", label)
         record = record.replace(acceleration=both, labels=labels)
-        meta = dict(record.metadata, x_file_column=1 if orientation == "FN-x" else None,
-                    y_file_column=None if orientation == "FN-x" else 1)
+        meta = dict(record.metadata, x_file_column=column[0] if orientation == "FN-x" else None,
+                    y_file_column=None if orientation == "FN-x" else column[0])
     else:
         order = [0, 1] if orientation == "FN-x" else [1, 0]
         record = record.select(order)
-        meta = dict(record.metadata, x_file_column=order[0] + 1, y_file_column=order[1] + 1)
+        meta = dict(record.metadata, x_file_column=column[order[0]], y_file_column=column[order[1]])
     meta["orientation"] = orientation
     return record.replace(metadata=meta)
 

@@ -152,7 +152,7 @@ def _run_data(args: argparse.Namespace) -> int:
         # nothing identified: no model file, no empty output folder; the reasons in one line
         if not existed and Path(out).is_dir() and not any(Path(out).iterdir()):
             Path(out).rmdir()
-        files = {test.name: str(path) for path, test in zip(args.data, tests)}  # name the files, not the labels
+        files = {Path(path).name: str(path) for path in args.data}  # the labels are the files' names
         # one entry per file and reason, the model forms it failed for gathered ([normalized,
         # extended]): a changing command fails every form the same way
         gathered: dict[tuple[str, str], list[str]] = {}

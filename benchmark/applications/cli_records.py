@@ -184,7 +184,7 @@ def _show(args: argparse.Namespace) -> int:
         flaws = [f.message for f in check_record(record)]
     summary["flaws"] = list(flaws)
     for key in ("event", "station", "orientation", "x_file_column", "baseline_correction", "units_in_file",
-                "recorded_comparison"):
+                "recorded_comparison", "columns"):
         if key in record.metadata:
             summary[key] = record.metadata[key]
     if args.plot:
@@ -220,6 +220,8 @@ def _format_summary(s: dict[str, Any]) -> str:
     lines.append(f"dt {s['dt_s']:g} s, {s['n_samples']} samples, duration {s['duration_s']:.3f} s"
                  + (f"; {s['baseline_correction']}" if s.get("baseline_correction") else ""))
     lines.append(f"units: values read as {s['units_assumed']}; shown below in g, m/s², cm/s and cm")
+    if s.get("columns"):
+        lines.append(f"columns: {s['columns']}")
     axis = ["x: ", "y: "] if s["n_samples"] and len(s["labels"]) == 2 else [""] * len(s["labels"])
     lines.append(f"{'component':<28} {'PGA [g]':>8} {'PGA [m/s²]':>11} {'PGV [cm/s]':>11} {'PGD [cm]':>9} "
                  f"{'D5-95 [s]':>10} {'Tm [s]':>7} {'PSA peak [g] at T [s]':>22}")

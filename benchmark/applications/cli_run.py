@@ -211,6 +211,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         "controller": controller,
         "control_step_s": float(control_step) if ctrl_used else None,
         "units_assumed": rec.metadata.get("units_assumed", ""),
+        "record_columns": rec.metadata.get("columns"),
         "record_step_s": float(result.info.get("record_step", rec.dt)),
         "integration_step_s": float(result.info.get("integration_step", rec.dt)),
         "notes": list(run.notes),
@@ -263,6 +264,8 @@ def _print_table(summary: dict[str, Any]) -> None:
           + (f"; control step {summary['control_step_s']:g} s" if summary.get("control_step_s") else "")
           + f"; record step {summary['record_step_s']:g} s, integrated and reported every "
             f"{summary['integration_step_s']:g} s")
+    if summary.get("record_columns"):
+        print(f"  record columns: {summary['record_columns']}")
     for flaw in summary.get("record_flaws", []):
         print(f"  record flaw: {flaw}")
     print(f"  {'response':<26s} {'run':>12s} {'uncontrolled':>13s}  units")

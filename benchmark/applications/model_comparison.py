@@ -14,13 +14,13 @@ device's force in every run and the reference run's command.
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from benchmark.foundation.figures import save_figure
+from benchmark.foundation.paths import file_label
 from benchmark.simulator.criteria import J_NAMES
 from damper.models.response import simulate
 
@@ -170,10 +170,6 @@ def _pyplot():
     return plt
 
 
-def _safe(text: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.+-]+", "_", text)
-
-
 def plot_force_differences(result: Any, directory: Path) -> list[Path]:
     """One figure per run (module docstring); returns the paths.
 
@@ -230,7 +226,7 @@ def plot_force_differences(result: Any, directory: Path) -> list[Path]:
         fig.suptitle(f"Device force difference between damper models, {record} {orientation}, {controller}, "
                      f"damper {device + 1} (cf. seed Fig. 11)", fontsize=10)
         fig.tight_layout()
-        name = f"force_difference_{_safe(record)}_{_safe(orientation)}_{_safe(controller)}.png"
+        name = f"force_difference_{file_label(record)}_{file_label(orientation)}_{file_label(controller)}.png"
         paths.append(save_figure(fig, directory / name, dpi=110))
     return paths
 

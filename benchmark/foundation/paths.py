@@ -12,11 +12,12 @@ in an explicit path, ``SBIB_STRUCTURE``, then ``<shared>/benchmark/structure.jso
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 from benchmark.foundation.errors import DataNotFoundError
 
-__all__ = ["shared_dir", "records_dir", "structure_file"]
+__all__ = ["shared_dir", "records_dir", "structure_file", "file_label"]
 
 _REPO_ROOT = Path(__file__).resolve().parents[2]  # benchmark/foundation/paths.py -> repository root
 
@@ -110,3 +111,24 @@ def structure_file(explicit: str | os.PathLike | None = None) -> Path:
     if not path.is_file():
         raise DataNotFoundError(f"benchmark structure file {path}{origin} not found")
     return path
+
+
+def file_label(text: str, limit: int = 100) -> str:
+    """``text`` as one safe piece of a file name: letters, digits and ``_ . + -`` only.
+
+    Names that end up in output file names come from users' files (a test's ``# name:`` line, a
+    record's name); a separator or ``..`` in them must not place a file outside the output
+    folder, nor make a subfolder. Every other run of characters becomes ``_``; leading dots are
+    dropped (no hidden files, no ``..``); the result is cut to ``limit`` characters and is never
+    empty.
+
+    Parameters
+    ----------
+    text : str
+        The label (a test's or a record's name).
+    limit : int
+        Longest result, in characters.
+    """
+    label = re.sub(r"[^A-Za-z0-9_.+-]+", "_", str(text)).lstrip(".")[:limit]
+    return label or "_"
+

@@ -19,6 +19,7 @@ Every parameter a fit left at (or within 1e-3 of) a bound is flagged
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from pathlib import Path
@@ -28,6 +29,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.display_units import parameter_kind, si_unit
+from benchmark.foundation.paths import file_label
 from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
 from damper.identification.refine import parameters_at_bounds, refine_common
@@ -127,6 +129,29 @@ def fit_levels(identifications: Sequence[Identification], max_nfev: int = 100) -
     return out
 
 
+def _label(test) -> str:
+    """A test's label in messages: its file's name when it was read from one, else its name."""
+    source = getattr(test, "source", "")
+    return Path(source).name if source and Path(source).is_file() else str(test.name)
+
+
+def _unique_names(loaded: list) -> list:
+    """``(label, test)`` pairs with every test's name unique: two files with one ``# name:`` line
+    would otherwise share a held-out entry and a figure; a later one gets its file's label."""
+    seen: set[str] = set()
+    out = []
+    for label, test in loaded:
+        name, k = test.name, 2
+        while name in seen:
+            name = f"{test.name} ({label})" if k == 2 else f"{test.name} ({label}, {k - 1})"
+            k += 1
+        if name != test.name:
+            test = dataclasses.replace(test, name=name)
+        seen.add(name)
+        out.append((label, test))
+    return out
+
+
 def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "extended"),
                    n_bootstrap: int = 10, out=None, progress: Callable[[str], None] | None = None,
                    strict: bool = False) -> dict:
@@ -161,8 +186,8 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     idents: list[Identification] = []
     failed: dict[str, str] = {}
     # each file is read once, here (a DamperTest passes through as it is)
-    loaded = [(str(item.name), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
-              for item in files]
+    loaded = _unique_names([(_label(item), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
+                            for item in files])
     screenings = {label: test.metadata["screening"].to_json() for label, test in loaded
                   if "screening" in getattr(test, "metadata", {})}
     for label, test in loaded:
@@ -190,6 +215,7 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     if out is not None:
         folder = Path(out)
         folder.mkdir(parents=True, exist_ok=True)
+        used: set[str] = set()
         for ident in idents:
             others = [o for o in idents if o.model_name == ident.model_name and o is not ident
                       and _level_key(o) == _level_key(ident)]
@@ -198,8 +224,14 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
                 w = o.window
                 pred = simulate(ident.model, o.t, o.x, o.xdot, 0.0).force
                 shown.append((o.name, o.t[w], o.force[w], pred[w]))
-            figures.append(str(plots.plot_fit(ident, folder / f"fit_{ident.name}_{ident.model_name}.png",
-                                              held_out=shown)))
+            # the test's name comes from its file's header: made safe (nothing outside the
+            # folder) and unique (two names may read alike once made safe)
+            stem = f"fit_{file_label(ident.name)}_{ident.model_name}"
+            name, k = stem, 2
+            while name in used:
+                name, k = f"{stem}_{k}", k + 1
+            used.add(name)
+            figures.append(str(plots.plot_fit(ident, folder / f"{name}.png", held_out=shown)))
         if tests:
             figures.append(str(plots.plot_parameters_vs_level(
                 tests, folder / "parameters_vs_level.png", unit=idents[0].level_unit if idents else "A")))

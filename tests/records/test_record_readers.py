@@ -266,3 +266,51 @@ def test_csv_round_trip_property(tmp_path_factory, acc, dt):
     back = load_record(path)
     assert back.n_components == rec.n_components and back.dt == pytest.approx(dt, rel=1e-9)
     assert np.allclose(back.acceleration, acc, rtol=1e-9, atol=1e-12)
+
+
+@pytest.mark.parametrize("header, columns, want, note", [
+    ("time [s], ay [g], ax [g]", (0.1, 0.3), (0.3, 0.1), "header names: ax, ay"),
+    ("t, FP, FN", (0.1, 0.3), (0.3, 0.1), "header names: FN, FP"),
+    ("time, az, acc_x, acc_y", (0.5, 0.3, 0.1), (0.3, 0.1), "vertical column az not used"),
+    ("time, ax, ay, UP", (0.3, 0.1, 0.5), (0.3, 0.1), "vertical column UP not used"),
+    ("time, ax, ay", (0.3, 0.1), (0.3, 0.1), None),
+    ("time, H1, H2", (0.1, 0.3), (0.1, 0.3), None),  # no direction in the names: the file's order
+])
+def test_csv_components_follow_the_header_names(tmp_path, header, columns, want, note):
+    """A header that names the directions is followed, not the columns' positions; a vertical
+    column is left out and said so (a run would have taken it for a horizontal one)."""
+    t = np.arange(200) * 0.01
+    rows = "\n".join(", ".join([f"{ti:.2f}"] + [f"{a * np.sin(7 * ti):.6f}" for a in columns]) for ti in t)
+    path = tmp_path / "rec.csv"
+    path.write_text(header + "\n" + rows + "\n")
+    rec = read_csv(path, units="g")
+    assert rec.n_components == len(want)
+    peaks = np.max(np.abs(rec.acceleration), axis=0) / STANDARD_GRAVITY
+    np.testing.assert_allclose(peaks, want, rtol=1e-3)
+    if note is None:
+        assert "columns" not in rec.metadata
+    else:
+        assert note in rec.metadata["columns"]
+
+
+@pytest.mark.parametrize("header, message", [
+    ("time, ax, acc_x", "name the same direction"),
+    ("time, az", "only vertical acceleration"),
+])
+def test_csv_header_names_that_cannot_be_followed_are_refused(tmp_path, header, message):
+    path = tmp_path / "rec.csv"
+    n = header.count(",")
+    path.write_text(header + "\n" + "\n".join(", ".join([f"{0.01 * i:.2f}"] + ["0.1"] * n) for i in range(50)) + "\n")
+    with pytest.raises(InputError, match=message):
+        read_csv(path, units="g")
+
+
+def test_oriented_csv_record_names_the_file_column_it_took(tmp_path):
+    from records.resolve import resolve_record
+    path = tmp_path / "rec.csv"
+    path.write_text("time, ay [g], ax [g]\n" + "\n".join(f"{0.01 * i:.2f}, 0.1, {0.3 * np.sin(i):.5f}"
+                                                         for i in range(100)) + "\n")
+    fn, fp = resolve_record(path, orientation="FN-x"), resolve_record(path, orientation="FP-x")
+    assert (fn.metadata["x_file_column"], fn.metadata["y_file_column"]) == (2, 1)
+    assert (fp.metadata["x_file_column"], fp.metadata["y_file_column"]) == (1, 2)
+    assert fn.labels == ("ax", "ay") and fp.labels == ("ay", "ax")
