@@ -79,3 +79,24 @@ def test_one_model_file_per_form_with_laws_over_the_levels(tmp_path, capsys):
     assert "model file (normalized)" in capsys.readouterr().out
     mf = read_model_file(tmp_path / "one" / "normalized_model.json")
     assert mf.input.single_level and any("nothing" in n or "does not depend" in n for n in mf.notes)
+
+
+def test_test_names_from_files_make_safe_unique_figures_and_failures_name_the_file(csv_file, tmp_path, capsys):
+    """A test's name comes from its file's '# name:' line: it may not place a figure outside
+    --out, two files with one name keep two figures, and a failing file is named by its file."""
+    text = open(csv_file).read().splitlines()
+    assert text[0].startswith("# name:")
+    escape = tmp_path / "escape.csv"
+    escape.write_text("\n".join(["# name: ../../escaped/a:b*"] + text[1:]) + "\n")
+    twin = tmp_path / "twin.csv"
+    twin.write_text("\n".join(["# name: ../../escaped/a:b*"] + text[1:]) + "\n")
+    short = tmp_path / "short.csv"
+    short.write_text("\n".join(text[:25]) + "\n")
+    out = tmp_path / "out"
+    assert main(["identify", "--data", str(escape), str(twin), str(short), "--model", "normalized",
+                 "--bootstrap", "0", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    written = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*.png"))
+    assert all(p.parts[0] == "out" and len(p.parts) == 2 for p in written), written
+    assert len([p for p in written if p.name.startswith("fit_")]) == 2, written
+    assert "short.csv [normalized]: not identified" in printed, printed
