@@ -382,6 +382,8 @@ def _lag(a: np.ndarray, b: np.ndarray, max_lag: int) -> tuple[int, float]:
     if not (na > 0 and nb > 0):
         return 0, 0.0
     n = a.size
+    # a lag of more than half the signal leaves too little overlap to average (and none at n)
+    max_lag = min(int(max_lag), n // 2)
     size = 1 << int(math.ceil(math.log2(2 * n)))
     cc = np.fft.irfft(np.fft.rfft(a, size) * np.conj(np.fft.rfft(b, size)), size)
     lags = np.r_[np.arange(0, max_lag + 1), np.arange(-max_lag, 0)]
