@@ -55,7 +55,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.foundation.textfile import decode_text
+from benchmark.foundation.textfile import decode_text, parse_float
 from records.record import STANDARD_GRAVITY, Record
 
 __all__ = [
@@ -132,7 +132,7 @@ def _read_lines(path: str | os.PathLike) -> tuple[Path, list[str]]:
 
 def _number(token: str, path: Path, lineno: int, what: str) -> float:
     try:
-        value = float(token.replace("D", "E").replace("d", "e"))  # Fortran exponents (1.0D-03)
+        value = parse_float(token)  # Fortran exponents (1.0D-03) too
     except ValueError:
         raise InputError(f"{path}:{lineno}: {token!r} is not a number; expected {what}") from None
     if not math.isfinite(value):
@@ -504,7 +504,7 @@ def _split_csv(line: str, delimiter: str | None) -> list[str]:
 
 def _is_number(token: str, decimal_comma: bool = False) -> bool:
     try:
-        float(token.replace(",", ".") if decimal_comma else token)
+        parse_float(token.replace(",", ".") if decimal_comma else token)
     except ValueError:
         return False
     return True
@@ -853,7 +853,7 @@ def _first_column_is_time(rows: Sequence[str]) -> bool:
     repeated or backward stamp (the CSV reader then names that line) or two runs pasted end to
     end; an acceleration turns back at about every other row."""
     try:
-        first = np.array([float(line.split()[0]) for line in rows])
+        first = np.array([parse_float(line.split()[0]) for line in rows])
     except (ValueError, IndexError):
         return False
     if first.size <= 2 or not first[-1] > first[0]:

@@ -14,7 +14,7 @@ import json
 import sys
 from controllers.registry import controller_names
 from benchmark.foundation.errors import InputError
-from benchmark.foundation.atomic import output_file_of
+from benchmark.foundation.atomic import output_dir, output_file_of
 from benchmark.applications.comparison import compare
 from records.options import add_record_options
 from benchmark.applications.damper_choice import add_damper_options
@@ -56,7 +56,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--jobs", type=int, default=None, help="worker processes (default: all cores)")
     p.add_argument("--json", action="store_true", help="print {\"runs\": [...]} as JSON instead of the table")
     p.add_argument("--out", default=None, type=output_file_of("hdf5"), help="write every run to this HDF5 file (atomic)")
-    p.add_argument("--plot", default=None, metavar="DIR", help="write the PNG figures into DIR")
+    p.add_argument("--plot", default=None, metavar="DIR", type=output_dir, help="write the PNG figures into DIR")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     add_damper_options(p)  # --damper, --devices, --damper-scale
     p.add_argument("--dampers", default=None, metavar="A.json,B.json",

@@ -25,7 +25,7 @@ from dataclasses import MISSING, fields
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from benchmark.foundation.atomic import output_file_of
+from benchmark.foundation.atomic import output_file, output_file_of
 from damper.models.registry import get_model_class
 from damper.io.data import write_csv
 from damper.lab.laboratory import periodic_test
@@ -186,5 +186,5 @@ def register(subparsers) -> None:
     p.add_argument("--param", type=_param, action="append", metavar="NAME=VALUE",
                    help="model parameter in SI units (repeatable)")
     p.add_argument("--out", required=True, type=output_file_of("csv"), help="output CSV file")
-    p.add_argument("--plot", default=None, help="output PNG with the loops of the last cycle")
+    p.add_argument("--plot", default=None, type=output_file, help="output PNG with the loops of the last cycle")
     p.set_defaults(func=run_test)

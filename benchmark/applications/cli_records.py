@@ -39,7 +39,7 @@ from records.readers import unit_factor
 from records.plausibility import MAX_DT_S, MIN_DT_S
 from benchmark.foundation.errors import DataNotFoundError
 from benchmark.foundation.provenance import provenance
-from benchmark.foundation.atomic import output_file_of
+from benchmark.foundation.atomic import output_file, output_file_of
 
 __all__ = ["register"]
 
@@ -77,7 +77,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--synthetic", action="store_true", help="show the synthetic benchmark-like record instead")
     p.add_argument("--seed", type=int, default=0, help="seed of the synthetic record (default 0)")
     p.add_argument("--damping", type=float, default=0.05, help="damping ratio of the spectra (default 0.05)")
-    p.add_argument("--plot", default=None, metavar="FILE.png",
+    p.add_argument("--plot", default=None, metavar="FILE.png", type=output_file,
                    help="write time histories (acc, vel, disp) and response spectra to this file")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.set_defaults(func=_show)
@@ -89,7 +89,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--out", required=True, type=output_file_of("csv"), help="output CSV file")
     p.add_argument("--orientation", default="FN-x", type=orientation_name, help=ORIENTATION_HELP + " (default FN-x)")
     p.add_argument("--seed", type=int, default=0, help="seed (default 0)")
-    p.add_argument("--plot", default=None, metavar="FILE.png", help="also plot it")
+    p.add_argument("--plot", default=None, metavar="FILE.png", type=output_file, help="also plot it")
     p.set_defaults(func=_generate)
 
     p = sub.add_parser(

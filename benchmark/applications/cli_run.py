@@ -71,7 +71,7 @@ from benchmark.simulator.building import Building
 from benchmark.simulator.isolation.configurations import check_substep_tolerance
 from benchmark.applications.damper_choice import add_damper_options, resolve_damper, resolve_layout
 from controllers.registry import controller_names
-from benchmark.foundation.atomic import output_file_of
+from benchmark.foundation.atomic import output_dir, output_file_of
 
 __all__ = ["register", "run_command", "main_run"]
 
@@ -338,7 +338,7 @@ def register(subparsers: Any) -> None:
     add_damper_options(p)  # --damper, --devices, --damper-scale
     add_record_options(p)  # --orientation, --records-dir, --format, --dt, --units, --baseline-correct
     p.add_argument("--out", default=None, metavar="FILE.h5", type=output_file_of("hdf5"), help="write the time histories (HDF5)")
-    p.add_argument("--plot", default=None, metavar="DIR", help="write figures (PNG) into DIR")
+    p.add_argument("--plot", default=None, metavar="DIR", type=output_dir, help="write figures (PNG) into DIR")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--n-modes", type=int, default=None, metavar="N",
                    help="keep the first N superstructure modes (default all 24)")

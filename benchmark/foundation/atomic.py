@@ -147,10 +147,13 @@ def atomic_path(destination: str | os.PathLike, suffix: str | None = None) -> It
     ...     with h5py.File(tmp, "w") as f: ...
     """
     destination = Path(destination)
-    destination.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(prefix=f".{destination.name}.partial-",
-                                suffix=destination.suffix if suffix is None else suffix,
-                                dir=destination.parent)
+    try:
+        destination.parent.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(prefix=f".{destination.name}.partial-",
+                                    suffix=destination.suffix if suffix is None else suffix,
+                                    dir=destination.parent)
+    except OSError as exc:  # name the file asked for, not the temporary one
+        raise InputError(f"{destination}: cannot be written ({exc.strerror or exc})") from None
     os.close(fd)
     tmp = Path(name)
     # mkstemp creates 0600; a result file should get the permissions any new file gets.

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from benchmark.foundation.errors import DataNotFoundError, InputError
 
-__all__ = ["read_text", "decode_text"]
+__all__ = ["read_text", "decode_text", "parse_float"]
 
 #: Bytes looked at for NUL characters, which never occur in a text file.
 _SNIFF = 8192
@@ -78,3 +78,29 @@ def read_text(path: str | os.PathLike, what: str = "file") -> str:
     except OSError as exc:
         raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
     return decode_text(raw, str(path))
+
+
+def parse_float(token: str) -> float:
+    """A number written in a text file: what :func:`float` reads, and Fortran's ``D`` exponent.
+
+    Fortran programs (and the files of older strong-motion and test-rig software) write
+    ``1.0D-03`` for ``1.0E-03``. Every reader of numbers in a user's text file uses this, so
+    that such a file reads alike whichever format carries it.
+
+    Parameters
+    ----------
+    token : str
+        One cell of the file.
+
+    Raises
+    ------
+    ValueError
+        Not a number (as :func:`float`); the readers turn it into their one-line message.
+    """
+    try:
+        return float(token)
+    except ValueError:
+        if "d" not in token and "D" not in token:
+            raise
+        return float(token.replace("D", "E").replace("d", "e"))
+

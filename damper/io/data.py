@@ -37,7 +37,7 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.paths import shared_dir as _shared
-from benchmark.foundation.textfile import read_text
+from benchmark.foundation.textfile import parse_float, read_text
 from damper.io.screening import repair_samples, screened
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
@@ -246,7 +246,7 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
             values.append(math.nan)
             continue
         try:
-            value = float(cell)
+            value = parse_float(cell)
         except ValueError:
             raise InputError(f"{path}:{line_no}: column {col!r}: expected a number, "
                              f"got {cell.strip()!r}") from None
@@ -317,7 +317,7 @@ def decimal_points(row: list[str], delimiter: str | None) -> list[str]:
 
 def _is_float(cell: str) -> bool:
     try:
-        float(cell)
+        parse_float(cell)
     except ValueError:
         return False
     return True
@@ -515,7 +515,7 @@ def read_utfsm(path, keep_flagged: bool = False) -> DamperTest:
                 raise InputError(f"{path}:{line_no}: expected 4 columns (t [s], x [mm], "
                                  f"xdot [mm/s], F [N]), got {len(cells)}")
             try:
-                values = [float(c) for c in cells]
+                values = [parse_float(c) for c in cells]
             except ValueError:
                 raise InputError(f"{path}:{line_no}: expected 4 numbers, got {line.strip()!r}") from None
             if any(math.isinf(v) for v in values):

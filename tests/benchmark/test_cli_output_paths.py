@@ -31,6 +31,10 @@ def test_check_output_cases(tmp_path):
     (["run", "--record", "kobe", "--out", "{dir}"], "is a directory; expected a file name"),
     (["study", "--out", "{file}/results"], "is a file, not a directory"),
     (["hysteresis", "fit", "--data", "x.csv", "--out", "{dir}"], "is a directory"),
+    # probed: a --plot folder that is a file was found after the whole run, its HDF5 written
+    (["run", "--record", "kobe", "--plot", "{file}"], "exists and is not a directory"),
+    (["compare", "--records", "kobe", "--plot", "{file}/sub"], "is a file, not a directory"),
+    (["records", "show", "kobe", "--plot", "{dir}"], "is a directory; expected a file name"),
 ])
 def test_commands_refuse_bad_outputs_at_once(tmp_path, capsys, argv, words):
     a_file = tmp_path / "afile"
@@ -40,7 +44,8 @@ def test_commands_refuse_bad_outputs_at_once(tmp_path, capsys, argv, words):
         main(argv)
     assert stop.value.code == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("sbib: error:") and "--out" in err and words in err and "\n" not in err, err
+    option = "--plot" if "--plot" in argv else "--out"
+    assert err.startswith("sbib: error:") and option in err and words in err and "\n" not in err, err
 
 
 @pytest.mark.parametrize("argv, words", [
@@ -82,3 +87,15 @@ def test_a_cold_kernel_cache_is_announced_for_building_commands(monkeypatch, cap
     assert "compiling the simulation kernels once" in capsys.readouterr().err
     main(["records", "list", "--json"])
     assert "compiling" not in capsys.readouterr().err
+
+
+def test_a_writer_that_cannot_create_its_file_names_that_file(tmp_path):
+    """The atomic writer's temporary name is not what the user asked for: a folder that cannot be
+    made (here: under a file) is reported with the destination."""
+    from benchmark.foundation.atomic import atomic_write_text
+    a_file = tmp_path / "afile"
+    a_file.write_text("x")
+    with pytest.raises(InputError, match=r"afile/sub/out.json: cannot be written") as caught:
+        atomic_write_text(a_file / "sub" / "out.json", "{}")
+    assert ".partial" not in str(caught.value)
+

@@ -97,3 +97,18 @@ def test_utfsm_malformed(tmp_path):
     bad.write_text("0 1 2 3\n0.001 1 2\n")
     with pytest.raises(InputError, match=r"10mm1Hz0A.txt:2: expected 4 columns"):
         read_utfsm(bad)
+
+
+def test_fortran_d_exponents_are_read_in_csv_and_utfsm_files(tmp_path):
+    """docs/troubleshooting.md: Fortran exponents (1.0D-03) are accepted by every reader."""
+    t = np.linspace(0.0, 2.0, 201)
+    x, f = 0.01 * np.sin(2 * np.pi * t), 1e3 * np.cos(2 * np.pi * t)
+    csv = tmp_path / "d.csv"
+    csv.write_text("time [s],displacement [m],force [N]\n" + "\n".join(
+        f"{a:.6E},{b:.6E},{c:.6E}".replace("E", "D") for a, b, c in zip(t, x, f)) + "\n")
+    got = read_csv(csv)
+    np.testing.assert_allclose(got.force, f, rtol=1e-6, atol=1e-9)
+    utfsm = tmp_path / "10mm1Hz0A.txt"
+    utfsm.write_text("\n".join(f"{a:.6E} {1e3 * b:.6E} {2e3 * np.pi * 0.01 * np.cos(2 * np.pi * a):.6E} {c:.6E}"
+                               .replace("E", "D") for a, b, c in zip(t, x, f)) + "\n")
+    np.testing.assert_allclose(read_utfsm(utfsm).displacement, x, rtol=1e-6, atol=1e-12)

@@ -314,3 +314,14 @@ def test_oriented_csv_record_names_the_file_column_it_took(tmp_path):
     assert (fn.metadata["x_file_column"], fn.metadata["y_file_column"]) == (2, 1)
     assert (fp.metadata["x_file_column"], fp.metadata["y_file_column"]) == (1, 2)
     assert fn.labels == ("ax", "ay") and fp.labels == ("ay", "ax")
+
+
+@pytest.mark.parametrize("sep, header", [(", ", "time [s], ax [g]"), ("  ", ""), ("; ", "time;ax [g]")])
+def test_fortran_d_exponents_read_in_every_text_layout(tmp_path, sep, header):
+    """docs/troubleshooting.md: Fortran exponents (1.0D-03) are accepted, in any layout."""
+    rows = [f"{0.01 * i:.2f}".replace("e", "D") + sep + f"{0.1 * np.sin(i):.6E}".replace("E", "D") for i in range(60)]
+    path = tmp_path / "rec.csv"
+    path.write_text((header + "\n" if header else "") + "\n".join(rows) + "\n")
+    rec = load_record(path, units="g")
+    assert rec.acceleration.shape[0] == 60
+    np.testing.assert_allclose(rec.acceleration[:, 0] / STANDARD_GRAVITY, 0.1 * np.sin(np.arange(60)), atol=1e-6)
