@@ -27,7 +27,10 @@ Formats
     read back. An optional
     header row names the columns and may carry units in brackets (``ax [g]``), in
     parentheses (``Acc (g)``), as a suffix after ``_`` (``ax_cm_s2``, ``acc_gal``; a bare ``_g`` is "ground", not g) or in a row of
-    units under the names (``s, g, g``); a comment ``# units: g`` works too. A column in a
+    units under the names (``s, g, g``); a comment ``# units: g`` works too. Names that give a
+    direction order the components (``time, ay, ax`` is read as ax, ay; ``FP, FN`` as FN, FP) and
+    a vertical column (``az``, ``UP``) is left out, with a note in ``metadata["columns"]``
+    (:func:`_component_order`). A column in a
     velocity or displacement unit (``vel (cm/s)``) is refused. Cells may be quoted, every line
     may end with the separator, and between semicolons or whitespace a decimal comma
     (``0,25``) is read as a decimal point; a file of ``1,5`` lines (a decimal comma or integer
