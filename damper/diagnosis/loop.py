@@ -386,7 +386,8 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     for masks, label in ((data.heldout, "held-out"), (data.train, "fitted")):
         count = sum(int(k.sum()) for k in masks)
         if count < need:
-            raise InputError(f"diagnose: {count} usable {label} samples; the residual trace needs at "
+            names = ", ".join(m.name for m in data.motions)  # which tests: the user may have passed several
+            raise InputError(f"diagnose ({names}): {count} usable {label} samples; the residual trace needs at "
                              f"least {need} (longer tests, another --holdout, or --validate with "
                              "another recording)")
     if model == "auto":

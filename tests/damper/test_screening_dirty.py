@@ -127,8 +127,9 @@ def test_a_coil_input_in_milli_units_is_refused_and_a_real_one_is_not(shared_dir
 def test_too_short_to_trace_is_one_clear_error():
     from damper.diagnosis import diagnose
     test = periodic_test("virtual", 0.02, 2.0, 0.5, cycles=1.2, sample_rate=120.0, noise=0.01, seed=3)
-    with pytest.raises(InputError, match=r"usable held-out samples; the residual trace needs at least 80"):
+    with pytest.raises(InputError, match=r"usable held-out samples; the residual trace needs at least 80") as caught:
         diagnose([test])
+    assert test.name in str(caught.value)  # which test, when several were given
 
 
 def test_lag_estimate_of_a_signal_shorter_than_the_lag_window_warns_nothing():
