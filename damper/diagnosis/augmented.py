@@ -211,7 +211,8 @@ class BaseForceMemo:
         response = simulate(base, motion.t, motion.x, motion.xdot, u)
         force = response.force
         force.setflags(write=False)
-        self._entries[key] = (force, state_key, base, response, {})
+        # the state history is kept only where a later base may read its force off it
+        self._entries[key] = (force, state_key, base, response if state_key is not None else None, {})
         if state_key is not None:
             self._by_state[state_key] = key
         if len(self._entries) > self.size:

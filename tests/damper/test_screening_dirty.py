@@ -145,3 +145,29 @@ def test_lag_estimate_of_a_signal_shorter_than_the_lag_window_warns_nothing():
         warnings.simplefilter("error")
         lag, corr = _lag(np.roll(a, 2), a, max_lag=40)
     assert lag == 2 and np.isfinite(corr)
+
+
+def test_the_rigs_lurch_is_found_in_a_part_of_the_dyke_recording_with_a_rounded_time_grid(shared_dir, tmp_path):
+    """The recording's last half second is a rig out of control: a lurch at 19.51 s, then the
+    force clipped at 4545 N. Its second part on its own (t >= 11 s, as another recording of the
+    device would come) has only that fault near the lurch, and a rounded time grid, which is
+    reported only. That finding used to count as an input fault over the whole test, and the
+    flailing tail lifted the velocity envelope over the lurch: the lurch (|v| 0.9 m/s, a 14 mm
+    jump) was fitted and scored as data, and a model that predicts the rest at 0.09-0.13 scored
+    0.23 on it. Both parts must exclude the same span now."""
+    lines = [ln for ln in (shared_dir / DYKE).read_text().splitlines() if ln.strip()]
+    cut = 1 + int(0.55 * (len(lines) - 1))
+    rows = [ln.split(",") for ln in lines[cut:]]
+    for i, row in enumerate(rows):
+        row[4] = "3004.8" if i == 0 else ""  # the sample rate cell, on the first row as in the file
+    path = tmp_path / "second_part.csv"
+    path.write_text("\n".join([lines[0]] + [",".join(r) for r in rows]) + "\n")
+    part, whole = read_dyke(path), read_dyke(shared_dir / DYKE)
+    assert "rounded" in {f.kind for f in part.metadata["screening"].findings}
+    for test in (part, whole):
+        lurch = (test.time > 19.505) & (test.time < 19.59)
+        assert not test.mask[lurch & (np.abs(test.velocity) > 0.5)].any(), test.metadata["screening"].lines()
+        kinds = {f.kind for f in test.metadata["screening"].findings if f.t_start > 19.5}
+        assert "excursion" in kinds
+    clean = part.time < 19.4
+    assert part.mask[clean].all()  # nothing else in the second part is touched
