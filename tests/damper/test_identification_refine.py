@@ -151,3 +151,42 @@ def test_refine_shared_recovers_one_kappa_x_common_to_several_tests():
         refine_shared(tests, starts[:1])
     with pytest.raises(InputError, match="fixed"):
         refine(*tests[0], starts[0], model="normalized", fixed={"kappa_x": 1.0})
+
+
+@pytest.mark.parametrize("model", ["normalized", "extended"])
+def test_refine_reads_the_kappa_columns_off_the_held_w_history(model):
+    """A point that differs from the last simulated one only in κ_x, κ_ẋ, κ_w is read off its w
+    history (the Jacobian's κ columns): equal to a simulation to rounding; ρ, σ or n simulate."""
+    from damper.identification.refine import _Problem, free_parameters, make_model
+    t = np.linspace(0.0, 4.0, 1601)
+    x, xd = 0.02 * np.sin(2 * np.pi * t), 0.04 * np.pi * np.cos(2 * np.pi * t)
+    start = {"kappa_x": 2e4, "kappa_xdot": 3e4, "kappa_w": 8e4, "rho": 150.0, "sigma": 1.2, "n": 1.5}
+    force = simulate(make_model(model, start), t, x, xd, 0.0).force
+    problem = _Problem(model, t, x, xd, force, np.arange(400, 1601), start, substep_tolerance=0.25)
+    calls = {"n": 0}
+    import sys
+    refine_module = sys.modules["damper.identification.refine"]  # the package's `refine` is the function
+    plain = refine_module.simulate
+
+    def counted(*args, **kwargs):
+        calls["n"] += 1
+        return plain(*args, **kwargs)
+
+    patch = pytest.MonkeyPatch()
+    patch.setattr(refine_module, "simulate", counted)
+    try:
+        q = np.ones(len(problem.free))
+        problem.simulate(q)
+        for j, name in enumerate(problem.free):
+            step = q.copy()
+            step[j] *= 1.0 + 1e-5
+            got = problem.simulate(step)
+            want = plain(make_model(model, problem.parameters(step), substep_tolerance=0.25), t, x, xd, 0.0).force
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-12 * np.max(np.abs(want)), err_msg=name)
+            problem.simulate(q)
+    finally:
+        patch.undo()
+    kappas = sum(name.startswith("kappa") for name in free_parameters(model))
+    shapes = len(problem.free) - kappas
+    assert calls["n"] == 1 + 2 * shapes  # the centre, then each shape column and the centre again
+    assert problem.nsim == 1 + 2 * len(problem.free)  # every evaluation still counts as one
