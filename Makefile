@@ -21,6 +21,9 @@ $(VENV)/.installed: pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
+	@# byte-compile the project once: an editable install does not, and where PYTHONDONTWRITEBYTECODE
+	@# is set every `sbib` process would compile its ~380 modules again (0.2 s a start)
+	$(PY) -m compileall -q benchmark damper controllers records
 	@echo "compiling the numba kernels once (sbib warm-up, about 6 minutes on 2 cores; later runs load them from the cache)"
 	$(SBIB) warm-up
 	touch $@
