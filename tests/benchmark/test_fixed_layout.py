@@ -28,3 +28,31 @@ def test_margins_that_leave_no_room_are_refused():
     fig.subplots(2, 1)
     with pytest.raises(ValueError, match="no room"):
         fixed_layout(fig, left=1, right=1, top=1, bottom=1, hgap=1.5)
+
+
+def test_save_figure_after_tight_layout_writes_the_same_file_without_the_extra_draw(tmp_path):
+    """tight_layout leaves a placeholder layout engine, for which savefig draws the figure twice;
+    save_figure drops it, and the file is byte for byte the one savefig writes with it."""
+    import numpy as np
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from benchmark.foundation.figures import save_figure
+
+    def figure():
+        fig = Figure(figsize=(6, 4))
+        FigureCanvasAgg(fig)
+        ax = fig.subplots()
+        ax.plot(np.sin(np.linspace(0, 9, 400)))
+        ax.set_title("title")
+        fig.tight_layout()
+        return fig
+
+    draws = []
+    fig = figure()
+    original = fig.draw
+    fig.draw = lambda renderer: (draws.append(1), original(renderer))[1]
+    save_figure(fig, tmp_path / "a.png")
+    assert len(draws) == 1
+    reference = figure()
+    reference.savefig(tmp_path / "b.png", dpi=120, format="png")
+    assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()
