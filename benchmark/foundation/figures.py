@@ -62,8 +62,11 @@ def save_figure(fig, path: str | os.PathLike, dpi: int = 120) -> Path:
     engine = fig.get_layout_engine()
     if engine is not None and type(engine).__name__ == "PlaceHolderLayoutEngine":
         fig.set_layout_engine(None)
+    # zlib's fastest level: a PNG 7 % larger, encoded in two thirds of the time (42 -> 28 ms for a
+    # 1440 x 1200 history, measured 2026-11-26); the pixels are the same
+    extra = {"pil_kwargs": {"compress_level": 1}} if suffix == ".png" else {}
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format=suffix.lstrip("."))
+        fig.savefig(tmp, dpi=dpi, format=suffix.lstrip("."), **extra)
     pyplot = sys.modules.get("matplotlib.pyplot")
     if pyplot is not None:  # release a pyplot-managed figure (a no-op for the others)
         pyplot.close(fig)

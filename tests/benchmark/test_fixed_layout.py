@@ -54,5 +54,12 @@ def test_save_figure_after_tight_layout_writes_the_same_file_without_the_extra_d
     save_figure(fig, tmp_path / "a.png")
     assert len(draws) == 1
     reference = figure()
-    reference.savefig(tmp_path / "b.png", dpi=120, format="png")
+    reference.savefig(tmp_path / "b.png", dpi=120, format="png", pil_kwargs={"compress_level": 1})
     assert (tmp_path / "a.png").read_bytes() == (tmp_path / "b.png").read_bytes()
+    from matplotlib.image import imread
+    assert np.array_equal(imread(tmp_path / "a.png"), imread(_default_png(figure(), tmp_path / "c.png")))
+
+
+def _default_png(fig, path):
+    fig.savefig(path, dpi=120, format="png")  # zlib's default level: the same pixels
+    return path
