@@ -125,6 +125,9 @@ class Diagnosis:
     alignment : dict or None
         The measured force's time shift against the final model
         (:func:`damper.diagnosis.alignment.force_alignment`); None when it cannot be searched.
+    validation_histories : tuple of ValidationHistory
+        The ``cross_validate`` recordings with both models' forces, for the report's figure
+        (not in the JSON).
     """
 
     data: DiagnosisData = field(repr=False)
@@ -143,6 +146,7 @@ class Diagnosis:
     settings: dict = field(default_factory=dict)
     validation: dict | None = None
     alignment: dict | None = None
+    validation_histories: tuple = field(default=(), repr=False)
 
     @property
     def effects(self) -> list[str]:
@@ -215,10 +219,33 @@ def _errors(data: DiagnosisData, before: list, after: list) -> tuple[dict, dict]
     return by_test, by_input
 
 
+@dataclass(frozen=True)
+class ValidationHistory:
+    """One ``--validate`` recording with both models' forces (SI), for the report's figure.
+
+    Parameters
+    ----------
+    motion : Motion
+        The recording's motion and coil input (the input held at the fitted range's edge).
+    force : ndarray
+        Measured force [N].
+    scored : ndarray of bool
+        The samples its error counts.
+    before, after : ndarray
+        The base and the final model's forces [N].
+    """
+
+    motion: Motion
+    force: np.ndarray
+    scored: np.ndarray
+    before: np.ndarray
+    after: np.ndarray
+
+
 def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: AugmentedModel,
-                      after: AugmentedModel) -> dict:
+                      after: AugmentedModel) -> tuple[dict, tuple]:
     """Errors of the base and final models on other recordings (every sample after each test's
-    first reversal; nothing of them was fitted or used to choose)."""
+    first reversal; nothing of them was fitted or used to choose), and their histories."""
     tests = list(tests)
     prepared = DiagnosisData.from_tests(tests, validate=tests)
     if prepared.input_name != input_name and any(
@@ -230,6 +257,7 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
     sums = {"before": [0.0, 0.0], "after": [0.0, 0.0]}
     by_test = {}
     clipped = {}
+    histories: list = []
     lo, hi = before.base.voltage_range
     for m, f, k in zip(motions, forces, masks):
         # another recording's input may reach a little past the range the fitted tests spanned
@@ -241,16 +269,19 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
             m = Motion(m.t, m.x, m.xdot, m.xddot, np.clip(m.v, lo, hi), name=m.name)
         norm2 = float(np.sum(f[k] ** 2))
         errs = {}
+        predicted = {}
         for label, model in (("before", before), ("after", after)):
-            r = f[k] - model.force(m)[k]
+            predicted[label] = model.force(m)
+            r = f[k] - predicted[label][k]
             sums[label][0] += float(r @ r)
             sums[label][1] += norm2
             errs[label] = float(math.sqrt(float(r @ r) / norm2)) if norm2 > 0 else math.nan
         by_test[m.name] = errs
-    return {"tests": [m.name for m in motions],
-            "error_before": math.sqrt(sums["before"][0] / sums["before"][1]),
-            "error_after": math.sqrt(sums["after"][0] / sums["after"][1]),
-            "errors_by_test": by_test, "input_clipped": clipped}
+        histories.append(ValidationHistory(m, f, k, predicted["before"], predicted["after"]))
+    return ({"tests": [m.name for m in motions],
+             "error_before": math.sqrt(sums["before"][0] / sums["before"][1]),
+             "error_after": math.sqrt(sums["after"][0] / sums["after"][1]),
+             "errors_by_test": by_test, "input_clipped": clipped}, tuple(histories))
 
 
 def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolerance: float,
@@ -463,9 +494,9 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                 "tolerance": tolerance, "trace_share": trace_share, "joint_trials": joint_trials,
                 "time_budget": time_budget, "stopped_by_budget": selection.stopped_by_budget,
                 "seconds": round(say.elapsed, 3)}
-    validation = None
+    validation, validation_histories = None, ()
     if cross_validate:
-        validation = _cross_validation(cross_validate, data.input_name, base, final)
+        validation, validation_histories = _cross_validation(cross_validate, data.input_name, base, final)
         say(f"validation on {', '.join(validation['tests'])}: error "
             f"{validation['error_before']:.4f} -> {validation['error_after']:.4f}")
     return Diagnosis(data=data, model_kind=model, base_model=base, final_model=final,
@@ -473,5 +504,5 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                      trace_before=trace_before, trace_after=trace_after,
                      unexplained=bool(where), unexplained_in=where, errors_by_test=by_test,
                      errors_by_input=by_input, settings=settings, validation=validation,
-                     alignment=alignment)
+                     alignment=alignment, validation_histories=validation_histories)
 

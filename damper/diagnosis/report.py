@@ -34,7 +34,7 @@ from damper.io.screening import screening_lines, screening_summary
 from damper.lab.plots import draw_loops
 
 __all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
-           "plot_force_window", "force_window", "plot_heldout_loops"]
+           "plot_force_window", "plot_validation_window", "force_window", "plot_heldout_loops"]
 
 #: trace variable -> (axis text, quantity kind of benchmark.foundation.display_units); the coil input's
 #: kind ("voltage" or "current") is the tests' own
@@ -252,12 +252,52 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
     dpi : int, optional
         Resolution of the image [dots per inch].
     """
-    plt = _pyplot()
     data = diagnosis.data
     before, after = _forces(diagnosis)
-    idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
-    n_cols = 1 if len(idx) <= 1 else 2  # about 990 px wide at 90 dpi: legible on the report page
-    n_rows = max(1, -(-len(idx) // n_cols))
+    panels = []
+    for i in [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]:
+        m = data.motions[i]
+        eb, ea = diagnosis.errors_by_test[m.name]
+        panels.append((m, data.forces[i], data.heldout[i], before[i], after[i],
+                       f"{m.name}: held-out error {eb:.3f} → {ea:.3f}"))
+    return _window_figure(diagnosis, panels, path, reversals, dpi,
+                          "Held-out force (top) and residual F − F̂ (bottom) over a window of a few strokes")
+
+
+def plot_validation_window(diagnosis, path, max_tests: int = 4, reversals: int = 6, dpi: int = 90) -> Path:
+    """:func:`plot_force_window` for the other recordings of ``sbib diagnose --validate``: the
+    base and the final model, fitted on the tests, predicting a recording they never saw.
+
+    Parameters
+    ----------
+    diagnosis
+        Result of :func:`damper.diagnosis.loop.diagnose` with ``cross_validate`` recordings.
+    path
+        Image file to write (format from the suffix).
+    max_tests : int, optional
+        At most this many recordings are drawn (the first ones).
+    reversals : int, optional
+        Displacement reversals each window spans.
+    dpi : int, optional
+        Resolution of the image [dots per inch].
+    """
+    by_test = (diagnosis.validation or {}).get("errors_by_test", {})
+    panels = []
+    for h in diagnosis.validation_histories[:max_tests]:
+        errs = by_test.get(h.motion.name, {})
+        panels.append((h.motion, h.force, h.scored, h.before, h.after,
+                       f"{h.motion.name} (never fitted): error {errs.get('before', np.nan):.3f} → "
+                       f"{errs.get('after', np.nan):.3f}"))
+    return _window_figure(diagnosis, panels, path, reversals, dpi,
+                          "Another recording of the device: force (top) and residual F − F̂ (bottom) "
+                          "over a window of a few strokes")
+
+
+def _window_figure(diagnosis, panels, path, reversals: int, dpi: int, title: str) -> Path:
+    """Force and residual windows, one cell per ``(motion, force, scored, before, after, title)``."""
+    plt = _pyplot()
+    n_cols = 1 if len(panels) <= 1 else 2  # about 990 px wide at 90 dpi: legible on the report page
+    n_rows = max(1, -(-len(panels) // n_cols))
     # heights in inches: a header (title, legend) and a footer of fixed size, 4 in per row of tests
     header, footer, row = 0.85, 0.5, 4.0
     height = header + footer + row * n_rows
@@ -268,21 +308,20 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
     if diagnosis.effects:
         final_label += " (+ " + ", ".join(diagnosis.effects) + ")"
     handles, labels, shaded = [], [], False
-    for j, i in enumerate(idx):
-        m, k = data.motions[i], data.heldout[i]
-        start, stop = force_window(m.x, k, reversals) or (0, 0)  # idx: tests with held-out samples
+    for j, (m, force, k, before, after, panel_title) in enumerate(panels):
+        start, stop = force_window(m.x, k, reversals) or (0, 0)
         cell = outer[j // n_cols, j % n_cols].subgridspec(2, 1, height_ratios=(2.2, 1.2), hspace=0.08)
         ax_f = fig.add_subplot(cell[0])
         ax_r = fig.add_subplot(cell[1], sharex=ax_f)
         sl = slice(start, stop)
         t = m.t[sl]
         shown = k[sl]
-        measured = np.where(shown, data.forces[i][sl], np.nan)
+        measured = np.where(shown, force[sl], np.nan)
         f_m = to_display(measured, "force")
         ax_f.plot(t, f_m, color="k", lw=1.3, label="measured")
-        ax_f.plot(t, to_display(before[i][sl], "force"), color="0.5", lw=1.0, ls="--", label=base_label)
-        ax_f.plot(t, to_display(after[i][sl], "force"), color="tab:red", lw=1.0, label=final_label)
-        for model, color, ls in ((before[i], "0.5", "--"), (after[i], "tab:red", "-")):
+        ax_f.plot(t, to_display(before[sl], "force"), color="0.5", lw=1.0, ls="--", label=base_label)
+        ax_f.plot(t, to_display(after[sl], "force"), color="tab:red", lw=1.0, label=final_label)
+        for model, color, ls in ((before, "0.5", "--"), (after, "tab:red", "-")):
             ax_r.plot(t, to_display(measured - model[sl], "force"), color=color, lw=0.9, ls=ls)
         ax_r.axhline(0.0, color="k", lw=0.6)
         if not shown.all():  # where the error does not count: shaded
@@ -290,8 +329,7 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
             for a, b in _spans(~shown):
                 for ax in (ax_f, ax_r):
                     ax.axvspan(t[a], t[min(b, t.size - 1)], color="tab:orange", alpha=0.15, lw=0)
-        eb, ea = diagnosis.errors_by_test[m.name]
-        ax_f.set_title(f"{m.name}: held-out error {eb:.3f} → {ea:.3f}", fontsize=9.5)
+        ax_f.set_title(panel_title, fontsize=9.5)
         ax_f.set_ylabel(axis_label("force", "force"))
         ax_r.set_ylabel(axis_label("F − F̂", "force"))
         ax_r.set_xlabel(axis_label("time", "time"))
@@ -300,11 +338,10 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
             ax.grid(True, alpha=0.3)
         if j == 0:
             handles, labels = ax_f.get_legend_handles_labels()
-    if idx:
+    if panels:
         fig.legend(handles, labels, loc="upper center", ncol=3, fontsize=9, frameon=False,
                    bbox_to_anchor=(0.5, 1.0 - 0.3 / height))
-    fig.suptitle("Held-out force (top) and residual F − F̂ (bottom) over a window of a few strokes"
-                 + ("; shaded: samples the error does not count" if shaded else ""), fontsize=11,
+    fig.suptitle(title + ("; shaded: samples the error does not count" if shaded else ""), fontsize=11,
                  y=1.0 - 0.08 / height, va="top")
     return _save(fig, Path(path), dpi)
 
@@ -517,6 +554,8 @@ def write_report(diagnosis, out_dir, tests=None, keep_flagged: bool = False) -> 
              "force window": plot_force_window(diagnosis, out / "force_window.png"),
              "force histories": plot_force_histories(diagnosis, out / "force_histories.png"),
              "loops": plot_heldout_loops(diagnosis, out / "loops.png")}
+    if getattr(diagnosis, "validation_histories", ()):
+        plots["validation window"] = plot_validation_window(diagnosis, out / "validation_window.png")
     text = report_markdown(diagnosis, plots)
     doc = diagnosis.to_json()
     if tests is not None:

@@ -260,9 +260,13 @@ def test_cli_validate_scores_other_recordings_beside_the_holdout(tmp_path, capsy
     assert set(v["errors_by_test"]["6mm 2Hz 0V"]) == {"before", "after"}
     for key in ("error_before", "error_after", "effects", "unexplained"):
         assert key in doc
-    status = main(["diagnose", "--data", *files[:2], "--validate", files[2], "--quiet"])
+    status = main(["diagnose", "--data", *files[:2], "--validate", files[2], "--quiet",
+                   "--out", str(tmp_path / "report")])
     assert status == 0
     assert "validation on 6mm 2Hz 0V" in capsys.readouterr().out
+    # the report shows the other recording predicted by both models, not only its numbers
+    assert (tmp_path / "report" / "validation_window.png").stat().st_size > 10_000
+    assert "![validation window](validation_window.png)" in (tmp_path / "report" / "report.md").read_text()
 
 
 def test_validation_recording_past_the_fitted_input_range_is_held_at_its_edge():
