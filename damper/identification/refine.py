@@ -151,7 +151,7 @@ class _Problem:
         self.upper = np.array([_UPPER.get(k, math.inf) / p for k, p in zip(self.free, p0)])
         self.weights = np.ones(window.size)
         self.nsim = 0
-        self._held: tuple | None = None  # (state parameters, model, response, its force read off)
+        self._held: tuple | None = None  # (state parameters, response, its force read off)
 
     def parameters(self, q: np.ndarray) -> dict[str, float]:
         p = dict(zip(self.free, q * self.p0))
@@ -170,11 +170,10 @@ class _Problem:
         # its force off that w history, equal to a simulation to rounding
         key = m.state_parameters().tobytes()
         if self._held is not None and self._held[0] == key:
-            _, held, response, read = self._held
+            _, response, read = self._held
             return response.force + (m.force_history(self.x, self.xdot, response.voltage, response.states) - read)
         response = simulate(m, self.t, self.x, self.xdot, 0.0)
-        self._held = (key, m, response,
-                      m.force_history(self.x, self.xdot, response.voltage, response.states))
+        self._held = (key, response, m.force_history(self.x, self.xdot, response.voltage, response.states))
         return response.force
 
     def residuals(self, q: np.ndarray) -> np.ndarray:
