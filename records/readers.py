@@ -58,6 +58,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.file_units import si_factor
 from benchmark.foundation.textfile import decode_text, parse_float
 from records.record import STANDARD_GRAVITY, Record
 
@@ -80,13 +81,6 @@ FORMATS = ("auto", "benchmark", "at2", "single", "csv")
 #: The benchmark's sampling step [s] (Narasimhan et al. 2006; every FDZ file).
 BENCHMARK_DT = 0.005
 
-_UNIT_FACTORS = {
-    "g": STANDARD_GRAVITY,
-    "m/s2": 1.0, "m/s^2": 1.0, "m/s/s": 1.0, "m/s**2": 1.0, "m/sec^2": 1.0, "m/sec2": 1.0, "m/sec/sec": 1.0,
-    "cm/s2": 0.01, "cm/s^2": 0.01, "cm/s/s": 0.01, "cm/s**2": 0.01, "cm/sec^2": 0.01, "cm/sec2": 0.01,
-    "cm/sec/sec": 0.01, "gal": 0.01,
-    "mm/s2": 0.001, "mm/s^2": 0.001, "mm/s/s": 0.001, "mm/s**2": 0.001,
-}
 _CANONICAL_UNITS = {"g": "g", 1.0: "m/s2", 0.01: "cm/s2", 0.001: "mm/s2"}
 
 
@@ -105,12 +99,7 @@ def unit_factor(units: str, where: str = "units") -> float:
     InputError
         If the unit is not known.
     """
-    key = str(units).strip().lower().replace(" ", "").replace("²", "^2")
-    try:
-        return _UNIT_FACTORS[key]
-    except KeyError:
-        raise InputError(f"{where}: unknown acceleration unit {units!r}; expected one of "
-                         "g, m/s2, cm/s2 (gal), mm/s2") from None
+    return si_factor("acceleration", units, where)  # the project's one table of file units
 
 
 def _canonical(units: str) -> str:

@@ -21,11 +21,9 @@ from typing import Any
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.file_units import STANDARD_GRAVITY  # one value for every g <-> m/s² conversion
 
 __all__ = ["Record", "STANDARD_GRAVITY", "cumulative_trapezoid"]
-
-#: Standard gravity [m/s²] used for every conversion between g and m/s².
-STANDARD_GRAVITY = 9.80665
 
 
 def cumulative_trapezoid(values: np.ndarray, dt: float) -> np.ndarray:

@@ -95,7 +95,7 @@ def register(subparsers) -> None:
             "and the forces. Prints the held-out relative RMS force error before and after.\n\n"
             "Example:\n\tsbib diagnose --data tests/*Hz1A.txt --model normalized --out out/diagnose-1A"))
     p.add_argument("--data", nargs="+", required=True, metavar="FILE",
-                   help="test files: damper CSV (SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
+                   help="test files: damper CSV (units in the header, converted to SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
     p.add_argument("--model", choices=("normalized", "extended", "spencer", "auto"), default="normalized",
                    help="base model (default: normalized; auto = spencer when the coil input changes "
                         "within a test, as in a random-voltage recording, else normalized)")

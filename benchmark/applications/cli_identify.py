@@ -167,6 +167,9 @@ def _run_data(args: argparse.Namespace) -> int:
         print(json.dumps(result, indent=2, default=float))
         return 0 if result["tests"] else 2
     for name, scr in result.get("screening", {}).items():
+        if scr.get("file_units"):
+            print(f"screening {name}: read " + ", ".join(f"{k} in {u}" for k, u in scr["file_units"].items())
+                  + ", converted to SI")
         est = scr.get("estimates", {})
         if "force_velocity_lag_s" in est and scr["findings"]:
             print(f"screening {name}: estimated force lag behind the velocity "

@@ -1,7 +1,8 @@
 """Files of the hysteretic oscillator: force/displacement data (CSV, HDF5) and model JSON.
 
-CSV data (SI units; ``#`` lines are comments; a header line names the columns, optionally with
-their units in brackets)::
+CSV data (``#`` lines are comments; a header line names the columns, optionally with their
+units in brackets: SI where none is written, and a rig's units such as ``[ms]``, ``[mm]``,
+``[kN]`` or ``[lbf]`` are converted to SI on reading, :mod:`benchmark.foundation.file_units`)::
 
     time [s], force [N], displacement [m]
     0.0, -27.35, 7.7e-06
@@ -25,6 +26,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
+from benchmark.foundation.file_units import si_factor
 from damper.io.data import parse_row
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
@@ -35,7 +37,8 @@ __all__ = ["ForceData", "read_data", "read_force_csv", "read_hdf5", "write_displ
            "save_model", "load_model", "data_flaws", "MODEL_KIND"]
 
 MODEL_KIND = "hysteretic_oscillator"
-_UNITS = {"time": "s", "force": "N", "displacement": "m"}
+#: Each column's quantity (:mod:`benchmark.foundation.file_units`: a unit in brackets is converted to SI).
+_UNITS = {"time": "time", "force": "force", "displacement": "length"}
 
 
 @dataclass(frozen=True)
@@ -133,16 +136,15 @@ def read_data(path, need_displacement: bool = True, group: str | None = None) ->
     return read_force_csv(path, need_displacement)
 
 
-def _column(cell: str, path: Path, line: int) -> str:
+def _column(cell: str, path: Path, line: int) -> tuple[str, float]:
     m = re.fullmatch(r"\s*([A-Za-z_]+)\s*(?:\[\s*([^\]]*?)\s*\])?\s*", cell)
     if not m or m.group(1).lower() not in _UNITS:
         raise InputError(f"{path}:{line}: header: unknown column {cell.strip()!r}; expected "
                          "time, force[, displacement]")
     name, unit = m.group(1).lower(), m.group(2)
-    if unit is not None and unit != _UNITS[name]:
-        raise InputError(f"{path}:{line}: header: column {name!r} in {unit!r}; expected SI unit "
-                         f"[{_UNITS[name]}]")
-    return name
+    if unit is None or not unit.strip():
+        return name, 1.0
+    return name, si_factor(_UNITS[name], unit, f"{path}:{line}: header: column {name!r}")
 
 
 def read_force_csv(path, need_displacement: bool = True) -> ForceData:
@@ -177,7 +179,9 @@ def read_force_csv(path, need_displacement: bool = True) -> ForceData:
                 if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
                     continue
                 if header is None:
-                    header = [_column(c, path, line_no) for c in row]
+                    named = [_column(c, path, line_no) for c in row]
+                    header = [n for n, _ in named]
+                    factors = dict(named)
                     need = ["time", "force"] + (["displacement"] if need_displacement else [])
                     missing = [c for c in need if c not in header]
                     if missing:
@@ -198,7 +202,7 @@ def read_force_csv(path, need_displacement: bool = True) -> ForceData:
     if len(rows) < 2:
         raise InputError(f"{path}: expected at least 2 data lines, got {len(rows)}")
     data = np.array(rows)
-    col = {c: data[:, i] for i, c in enumerate(header)}
+    col = {c: data[:, i] * factors[c] for i, c in enumerate(header)}  # SI from here on
     fs, t0 = _uniform_rate(col["time"], path, lines)
     return ForceData(force=col["force"], displacement=col.get("displacement"), fs=fs, t0=t0,
                      source=str(path))

@@ -188,8 +188,10 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     # each file is read once, here (a DamperTest passes through as it is)
     loaded = _unique_names([(_label(item), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
                             for item in files])
-    screenings = {label: test.metadata["screening"].to_json() for label, test in loaded
-                  if "screening" in getattr(test, "metadata", {})}
+    screenings = {label: {**test.metadata["screening"].to_json(),
+                          # the columns read in a rig's units, converted to SI (damper.io.data)
+                          **({"file_units": test.metadata["file_units"]} if test.metadata.get("file_units") else {})}
+                  for label, test in loaded if "screening" in getattr(test, "metadata", {})}
     for label, test in loaded:
         for m in models:
             try:

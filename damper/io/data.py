@@ -11,8 +11,11 @@ CSV format (SI units, one header line, optional ``#`` comment lines before it)::
 Required columns ``time`` [s], ``displacement`` [m], ``force`` [N]; optional ``velocity``
 [m/s] (the central difference of the displacement when absent) and one of ``voltage`` [V]
 or ``current`` [A] (a constant value may instead be passed to :func:`read_csv`). A header
-name may carry its unit in brackets or parentheses (``force [N]``, ``force (N)``); only the
-SI unit is accepted. The columns may be separated by commas, semicolons, tabs or spaces (the
+name may carry its unit in brackets or parentheses (``force [N]``, ``force (kN)``): a column
+without one is SI; a rig's units (ms; mm, cm, in; mm/s, cm/s, in/s; kN, lbf, kip, kgf; mV; mA)
+are converted to SI on reading (:mod:`benchmark.foundation.file_units`) and listed in the test's
+``metadata["file_units"]``. Loggers' names are read too: ``t``; ``disp``, ``x``, ``position``,
+``stroke``; ``vel``, ``xdot``; ``f``, ``load``; ``i`` (any case). The columns may be separated by commas, semicolons, tabs or spaces (the
 header line says which); with any separator but the comma, decimal commas (``0,25``) are read
 as decimal points. Cells may be quoted and every line may end with the separator.
 
@@ -36,6 +39,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.file_units import STANDARD_GRAVITY, si_factor
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
 from damper.io.screening import repair_samples, screened
@@ -208,20 +212,32 @@ def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: b
     return arr
 
 
-def _header_name(cell: str, path: Path, line: int) -> str:
+#: The quantity (:mod:`benchmark.foundation.file_units`) of each column, for its unit.
+_QUANTITY = {"time": "time", "displacement": "length", "force": "force", "velocity": "velocity",
+             "voltage": "voltage", "current": "current"}
+
+#: Other names loggers give the columns (matched without regard to case).
+_ALIASES = {"t": "time", "disp": "displacement", "x": "displacement", "position": "displacement",
+            "stroke": "displacement", "vel": "velocity", "xdot": "velocity", "f": "force",
+            "load": "force", "i": "current"}
+
+
+def _header_name(cell: str, path: Path, line: int) -> tuple[str, float, str | None]:
+    """The column's name, the factor that takes its values to SI and the unit written, if any."""
     text = cell.strip().strip('"').strip("'").strip()
     m = re.fullmatch(r"([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\]|\(\s*([^)]*)\s*\))?", text)
     if not m:
         raise InputError(f"{path}:{line}: header: unreadable column name {cell!r}; expected "
                          "time, displacement, force[, velocity][, voltage|current]")
     name, unit = m.group(1).lower(), m.group(2) if m.group(2) is not None else m.group(3)
+    name = _ALIASES.get(name, name)
     if name not in _UNITS:
         raise InputError(f"{path}:{line}: header: unknown column {name!r}; expected "
                          "time, displacement, force[, velocity][, voltage|current]")
-    if unit is not None and unit.strip() != _UNITS[name]:
-        raise InputError(f"{path}:{line}: header: column {name!r} in {unit.strip()!r}; expected SI "
-                         f"unit [{_UNITS[name]}]")
-    return name
+    if unit is None or not unit.strip():
+        return name, 1.0, None
+    factor = si_factor(_QUANTITY[name], unit, f"{path}:{line}: header: column {name!r}")
+    return name, factor, unit.strip()
 
 
 def parse_row(path, line_no: int, header: list[str], row: list[str],
@@ -388,7 +404,10 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                                  "line time, displacement, force[, velocity][, voltage|current]"
                                  + (" (a UTFSM test is recognised by its file name, "
                                     "<amp>mm<freq>Hz<current>A.txt)" if path.suffix.lower() == ".txt" else ""))
-            header = [_header_name(c, path, line_no) for c in row]
+            named = [_header_name(c, path, line_no) for c in row]
+            header = [n for n, _, _ in named]
+            factors = {n: f for n, f, _ in named}
+            written = {n: u for n, f, u in named if u is not None and f != 1.0}
             header_line = line_no
             missing = [c for c in _REQUIRED if c not in header]
             if missing:
@@ -410,15 +429,18 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
         raise InputError(f"{path}: expected at least 2 data lines after the header "
                          f"(line {header_line}), got {len(rows)}")
     data = np.array(rows)
-    col = {c: data[:, i] for i, c in enumerate(header)}
+    # units converted at the edge: everything past here is SI (module docstring)
+    col = {c: data[:, i] * factors[c] if factors[c] != 1.0 else data[:, i] for i, c in enumerate(header)}
     if ("voltage" in col or "current" in col) and (voltage is not None or current is not None):
         raise InputError(f"{path}: the file has a {'voltage' if 'voltage' in col else 'current'} "
                          "column; do not also give a constant value")
     time, col, excluded, prior = repair_samples(
         col["time"], {c: col.get(c) for c in ("displacement", "force", "velocity", "voltage", "current")},
-        label=str(path), lines=row_lines)
+        label=str(path), lines=row_lines, keep_flagged=keep_flagged)
     velocity = col.get("velocity")
-    metadata = {"velocity_from_file": velocity is not None}
+    metadata: dict = {"velocity_from_file": velocity is not None}
+    if written:
+        metadata["file_units"] = written  # e.g. {"displacement": "mm"}: converted to SI on reading
     if velocity is None:
         velocity = _derivative(col["displacement"], time)
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
@@ -527,7 +549,7 @@ def read_utfsm(path, keep_flagged: bool = False) -> DamperTest:
     data = np.array(rows)
     time, col, excluded, prior = repair_samples(
         data[:, 0], {"displacement": data[:, 1] * 1e-3, "velocity": data[:, 2] * 1e-3,
-                     "force": data[:, 3]}, label=str(path), lines=lines)
+                     "force": data[:, 3]}, label=str(path), lines=lines, keep_flagged=keep_flagged)
     test = DamperTest(time=time, displacement=col["displacement"], velocity=col["velocity"],
                       force=col["force"], current=np.full(time.size, info["current"]),
                       name=path.stem, source=str(path),
@@ -539,7 +561,7 @@ def read_utfsm(path, keep_flagged: bool = False) -> DamperTest:
 #: Raw UTFSM logger exports: (CHANNEL0, CHANNEL1) by sampling rate [Hz] (the data notes of the
 #: shared folder: 200 Hz files hold force then displacement, 1 kHz files the other way round).
 UTFSM_RAW_CHANNELS = {200.0: ("force", "displacement"), 1000.0: ("displacement", "force")}
-_KGF = 9.80665   # the logger's force channel is in units of 100 kgf: x 980.665 -> N
+_KGF = STANDARD_GRAVITY   # the logger's force channel is in units of 100 kgf: x 980.665 -> N
 
 
 def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
@@ -597,7 +619,7 @@ def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
     time = (np.array(samples, dtype=float) - samples[0]) * interval
     time, col, excluded, prior = repair_samples(
         time, {"displacement": raw["displacement"] * 10.0 * 1e-3, "force": raw["force"] * 100.0 * _KGF},
-        label=str(path), lines=line_nos)
+        label=str(path), lines=line_nos, keep_flagged=keep_flagged)
     velocity = _derivative(col["displacement"], time)
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
                       force=col["force"], name=path.stem, source=str(path),

@@ -140,7 +140,7 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
     t, d, y, v, f = (data[:, i] for i in range(5))
     t, col, excluded, prior = repair_samples(
         t, {"displacement": d * _CM, "velocity": v * _CM, "force": f, "voltage": y},
-        label=str(path), lines=lines)
+        label=str(path), lines=lines, keep_flagged=keep_flagged)
     test = DamperTest(time=t, displacement=col["displacement"], velocity=col["velocity"],
                       force=col["force"], voltage=col["voltage"],
                       name=name or path.stem, source=str(path),

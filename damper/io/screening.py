@@ -27,6 +27,16 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     (a finding, no sample excluded): the model steps over the true intervals and the
     derivatives (acceleration, the velocity check) are not taken over ±15 % jitter. Stamps off
     the grid by more than their rounding are a real irregular sampling and are kept as read.
+``held``
+    One acquisition written into two or more consecutive time slots (a logger that missed a
+    sample period and repeated a reading): the displacement *and* the force repeat to within
+    :data:`HELD_TOLERANCE` of their ranges while the displacement moves on both sides, in one
+    direction, by at least :data:`HELD_STEPS` of its resolution per sample (the smallest gap
+    between two of its values: a quantised channel at a reversal or on a slow plateau repeats
+    too, but not in mid-stroke on both channels at once). Which slot the reading belongs to is unknown, so every slot of the
+    run is treated as missing (:func:`repair_samples`): the input channels are interpolated
+    through it and the samples excluded. A velocity the logger differentiates from such a
+    displacement jumps to twice its value and then to zero there: it is interpolated too.
 ``gap``
     A time step longer than :data:`GAP_FACTOR` times the median step: the motion inside it is
     unknown.
@@ -95,8 +105,14 @@ from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
            "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
-           "POLARITY_SHARE", "net_work"]
+           "POLARITY_SHARE", "net_work", "held_samples", "HELD_TOLERANCE", "HELD_STEPS"]
 
+#: ``held``: two samples are one reading when both the displacement and the force agree to this
+#: share of their ranges (a 30-bit converter's step; the loggers' own arithmetic leaves 1e-13).
+HELD_TOLERANCE = 1e-9
+#: ``held``: the displacement must move by this many of its resolution steps per sample on both
+#: sides of the repeat (a staircase of a slow, quantised stroke moves by one).
+HELD_STEPS = 3.0
 #: A time step this many times the median step is a gap.
 GAP_FACTOR = 2.5
 #: No motion: the displacement moves less than this fraction of the test's stroke.
@@ -130,7 +146,7 @@ class Finding:
     Attributes
     ----------
     kind : str
-        ``nan``, ``time``, ``rounded``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
+        ``nan``, ``time``, ``rounded``, ``held``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
         ``offset``, ``units`` or ``polarity``.
     channel : str
         The channel (``force``, ``displacement``, ``velocity``, ``voltage``, ``current``,
@@ -468,9 +484,49 @@ def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     return grid, q, float(off.max())
 
 
+def held_samples(displacement: np.ndarray, force: np.ndarray) -> np.ndarray:
+    """The samples of readings written into more than one time slot (``held`` in the module docstring).
+
+    Parameters
+    ----------
+    displacement, force : ndarray (n,)
+        The two measured channels as read (NaN where missing: never part of a held run).
+
+    Returns
+    -------
+    ndarray of bool (n,)
+        True at every slot of a held run (the reading and its repeats).
+    """
+    x = np.asarray(displacement, dtype=float)
+    f = np.asarray(force, dtype=float)
+    n = x.size
+    held = np.zeros(n, dtype=bool)
+    if n < 4 or not (np.isfinite(x).sum() > 3 and np.isfinite(f).sum() > 3):
+        return held
+    tol_x = HELD_TOLERANCE * float(np.nanmax(np.abs(x - np.nanmedian(x))))
+    tol_f = HELD_TOLERANCE * float(np.nanmax(np.abs(f - np.nanmedian(f))))
+    dx, df = np.diff(x), np.diff(f)
+    same = (np.abs(dx) <= tol_x) & (np.abs(df) <= tol_f)
+    if not same.any():
+        return held
+    # the displacement's resolution: the smallest gap between two of its distinct values (an
+    # encoder's count, the digits a file was written with), not its smallest step in time (a
+    # coarsely sampled sine's steps at its reversals are large)
+    gaps = np.diff(np.unique(x[np.isfinite(x)]))
+    gaps = gaps[gaps > tol_x]
+    quantum = float(gaps.min()) if gaps.size else 0.0
+    for a, b in _runs(same):  # x[a..b] (b - a + 1 slots) hold one reading
+        if a < 1 or b + 1 >= n:
+            continue
+        before, after = x[a] - x[a - 1], x[b + 1] - x[b]
+        if before * after > 0 and min(abs(before), abs(after)) >= HELD_STEPS * quantum:
+            held[a:b + 1] = True
+    return held
+
+
 def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
-                   lines: Sequence[int] | None = None, min_usable: int = 10
-                   ) -> tuple[np.ndarray, dict, np.ndarray, list]:
+                   lines: Sequence[int] | None = None, min_usable: int = 10,
+                   keep_flagged: bool = False) -> tuple[np.ndarray, dict, np.ndarray, list]:
     """Drop bad time stamps and fill missing values, so that a test can be built from raw columns.
 
     Parameters
@@ -485,6 +541,9 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
         The file line of each sample (for the messages).
     min_usable : int
         Fewer usable samples than this, or than a tenth of the samples, is an error.
+    keep_flagged : bool
+        Report held readings (:func:`held_samples`) but keep their values as read and their
+        samples in (``--keep-flagged``); missing values are filled and excluded either way.
 
     Returns
     -------
@@ -544,6 +603,19 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
     excluded = np.zeros(t.size, dtype=bool)
     out: dict = {}
     first_bad = None
+    # readings written into more than one time slot: missing values in every measured channel
+    held = np.zeros(t.size, dtype=bool)
+    if channels.get("displacement") is not None and channels.get("force") is not None:
+        held = held_samples(np.asarray(channels["displacement"], dtype=float)[keep],
+                            np.asarray(channels["force"], dtype=float)[keep])
+        for a, b in _runs(held):
+            findings.append(Finding("held", "displacement", float(t[a]), float(t[b - 1]), b - a,
+                                    f"one reading of the displacement and the force in {b - a} time slots "
+                                    "while the stroke moves (a logger's missed sample)"
+                                    + ("" if keep_flagged else ": interpolated to drive the model, not fitted")
+                                    + f" ({_where(lines, a, label)})", excluded=not keep_flagged))
+        if keep_flagged:
+            held[:] = False
     for name, values in channels.items():
         if values is None:
             out[name] = None
@@ -553,12 +625,15 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
             i = int(np.flatnonzero(np.isinf(v))[0])
             raise InputError(f"{_where(lines, i, label)}: column {name!r}: expected a finite number, "
                              f"got {v[i]}")
+        if name in _MEASURED and held.any():
+            v = np.where(held, np.nan, v)
         bad = np.isnan(v)
         if bad.any():
-            if first_bad is None or int(np.argmax(bad)) < first_bad[0]:
-                first_bad = (int(np.argmax(bad)), name)
+            missing = bad & ~held  # the file's own missing values (held slots have their finding)
+            if missing.any() and (first_bad is None or int(np.argmax(missing)) < first_bad[0]):
+                first_bad = (int(np.argmax(missing)), name)
             ok = ~bad
-            for a, b in _runs(bad):
+            for a, b in _runs(bad & ~held):
                 findings.append(Finding("nan", name, float(t[a]), float(t[b - 1]), b - a,
                                         "missing values (NaN): "
                                         + ("interpolated to drive the model" if name in _INPUTS
@@ -645,9 +720,14 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     findings: list[Finding] = list(prior)
     excluded = np.zeros(n, dtype=bool) if prior_excluded is None else np.asarray(prior_excluded, bool).copy()
     input_bad = np.zeros(n, dtype=bool)
+    held = np.zeros(n, dtype=bool)  # a logger's held readings: interpolated, no fault of the rig
     for fd in prior:
+        if fd.kind == "held" and fd.excluded:
+            held |= (t >= fd.t_start) & (t <= fd.t_end)
         # a finding reported only (a rounded time grid, restored) is no fault of the input
-        if (fd.channel in _INPUTS or fd.channel == "time") and fd.excluded:
+        # a held reading is interpolated over a slot or two in mid-stroke: the model's state
+        # after it is off by that interpolation only, so no settling follows it
+        if (fd.channel in _INPUTS or fd.channel == "time") and fd.excluded and fd.kind != "held":
             sel = (t >= fd.t_start) & (t <= fd.t_end)
             input_bad |= sel & excluded if fd.kind == "nan" else sel
     estimates: dict = {}
@@ -715,7 +795,7 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
             period = _dominant_period(t[a_ok:b_ok], x[a_ok:b_ok])
 
     # a fault's lurch: the velocity far beyond the test's own envelope next to a fault
-    fault = input_bad | excluded & ~idle
+    fault = input_bad | excluded & ~idle & ~held
     if fault.any():
         speed = np.abs(v if velocity_measured else _derivative(
             t, x, period, band_edge(t, np.gradient(x, t))))
@@ -886,7 +966,8 @@ def screened(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarra
 
 def keep_flagged(test: Any) -> Any:
     """``test`` with every screened sample back in (the report keeps the findings), except the
-    samples that carry no measurement (missing values filled when read).
+    samples that carry no measurement (missing values filled and held readings interpolated
+    when read).
 
     Parameters
     ----------
@@ -898,7 +979,7 @@ def keep_flagged(test: Any) -> Any:
     if result is not None:
         filled = np.zeros(test.n_samples, dtype=bool)
         for fd in result.findings:
-            if fd.kind == "nan":
+            if fd.kind == "nan" or (fd.kind == "held" and fd.excluded):  # held: interpolated when read
                 filled |= (test.time >= fd.t_start) & (test.time <= fd.t_end)
         mask = None if not filled.any() else ~filled
     return dataclasses.replace(test, mask=mask)
@@ -937,6 +1018,9 @@ def screening_summary(tests: Sequence[Any], keep_flagged: bool = False) -> dict:
         doc = screening_of(test).to_json()
         doc["kept_flagged"] = bool(keep_flagged)
         doc["n_excluded"] = int(test.n_samples - test.usable.sum())
+        units = (getattr(test, "metadata", None) or {}).get("file_units")
+        if units:
+            doc["file_units"] = dict(units)  # the columns read in a rig's units, converted to SI
         out[_label(test)] = doc
     return out
 
@@ -956,6 +1040,10 @@ def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[st
     for test in tests:
         scr = screening_of(test)
         label = _label(test)
+        units = (getattr(test, "metadata", None) or {}).get("file_units")
+        if units:
+            lines.append(f"screening {label}: read " + ", ".join(f"{k} in {u}" for k, u in units.items())
+                         + ", converted to SI")
         if scr.estimate_line():
             lines.append(f"screening {label}: estimated {scr.estimate_line()}")
         if not scr.findings:

@@ -42,7 +42,9 @@ def test_csv_without_velocity_and_with_constant_current(tmp_path):
     ("", "empty file"),
     ("time,displacement\n0,0\n1,1\n", r":1: header: missing column\(s\) force"),
     ("time,displacement,force,speed\n0,0,0,0\n", r":1: header: unknown column 'speed'"),
-    ("time,displacement [mm],force\n0,0,0\n1,1,1\n", r":1: header: column 'displacement' in 'mm'"),
+    ("time,displacement [furlong],force\n0,0,0\n1,1,1\n",
+     r":1: header: column 'displacement': unknown length unit 'furlong'; expected one of m, cm, mm, in"),
+    ("time,displacement,force [N/m]\n0,0,0\n1,1,1\n", r":1: header: column 'force': unknown force unit"),
     ("# name: x\ntime,displacement,force\n0,0,0\n1,abc,1\n", r":4: column 'displacement': expected a number, got 'abc'"),
     ("time,displacement,force\n0,0,0\n1,1\n", r":3: expected 3 values"),
     ("time,displacement,force\n0,0,0\n1,1,nan\n", r":3: column 'force': expected a finite"),
@@ -56,6 +58,33 @@ def test_malformed_csv_names_file_and_line(tmp_path, content, match):
     with pytest.raises(InputError, match=match) as info:
         read_csv(path)
     assert "bad.csv" in str(info.value)
+
+
+def test_a_rigs_units_are_converted_to_si_on_reading(tmp_path):
+    """A logger's mm, mm/s, kN, ms and mA (and its column names) read as the same test in SI."""
+    t = np.linspace(0, 1, 201)
+    x = 0.012 * np.sin(2 * np.pi * t)
+    v = 0.024 * np.pi * np.cos(2 * np.pi * t)
+    f = 1500.0 * np.tanh(v / 0.01) + 2e4 * x
+    si = tmp_path / "si.csv"
+    si.write_text("time [s],displacement [m],velocity [m/s],force [N],current [A]\n"
+                  + "".join(f"{float(a)!r},{float(b)!r},{float(c)!r},{float(d)!r},0.5\n" for a, b, c, d in zip(t, x, v, f)))
+    rig = tmp_path / "rig.csv"
+    rig.write_text("T (ms);Disp [mm];Vel [mm / s];Load [kN];I [mA]\n"
+                   + "".join(f"{float(a * 1e3)!r};{float(b * 1e3)!r};{float(c * 1e3)!r};{float(d / 1e3)!r};500\n"
+                             for a, b, c, d in zip(t, x, v, f)))
+    a, b = read_csv(si), read_csv(rig)
+    for name in ("time", "displacement", "velocity", "force", "current"):
+        # one multiplication by a power of ten each way: a few ulps
+        np.testing.assert_allclose(getattr(b, name), getattr(a, name), rtol=1e-13, atol=1e-15, err_msg=name)
+    assert b.metadata["file_units"] == {"time": "ms", "displacement": "mm", "velocity": "mm / s",
+                                        "force": "kN", "current": "mA"}
+    assert "file_units" not in a.metadata
+    inches = tmp_path / "in.csv"
+    inches.write_text("time,x [in],f [lbf]\n0,1,1\n1,2,-1\n2,3,1\n")
+    c = read_csv(inches, voltage=0.0)
+    np.testing.assert_allclose(c.displacement, [0.0254, 0.0508, 0.0762], rtol=1e-15)
+    np.testing.assert_allclose(c.force, [4.4482216152605, -4.4482216152605, 4.4482216152605], rtol=1e-15)
 
 
 def test_missing_file_and_bad_arrays(tmp_path):

@@ -85,9 +85,15 @@ def test_dyke_clipped_tail_is_found_and_excluded(shared_dir):
     tail = (test.time >= 19.59) & (np.abs(test.force - 4545.4545) < 1e-3)
     assert tail.sum() == 217
     assert test.mask is not None and not test.mask[tail].any()
-    # nothing flagged in the first 19.5 s (the recording is clean there)
-    assert all(f.t_end >= 19.5 for f in scr.findings), scr.lines()
-    assert test.mask[test.time < 19.5].all()
+    # nothing flagged in the first 19.5 s but one held reading: at 4.9724 and 4.9727 s the
+    # displacement D and the force F repeat exactly (-0.37044 in, -290.9618 N) in mid-stroke,
+    # steps of 77 and 47 quanta of D on either side, while the velocity and acceleration
+    # channels move on: two slots of one reading, interpolated and left out
+    early = [f for f in scr.findings if f.t_end < 19.5]
+    assert [(f.kind, f.n_samples) for f in early] == [("held", 2)], scr.lines()
+    assert early[0].t_start == pytest.approx(4.9724, abs=2e-4)
+    early_mask = test.mask[test.time < 19.5]
+    assert (~early_mask).sum() == 2
     # the displacement is frozen there too
     assert any(f.channel == "displacement" and f.kind in ("stuck", "frozen") for f in scr.findings)
     # and before it freezes the rig lurches (14 mm in 20 ms at 0.9 m/s, three times anything

@@ -56,8 +56,10 @@ def test_one_dropout_in_the_dyke_recording(shared_dir, tmp_path, cell):
     path.write_text("\n".join(lines) + "\n")
     test = read_dyke(path)
     scr = test.metadata["screening"]
-    assert int((~test.mask).sum()) == 1, scr.lines()
-    assert {f.kind for f in scr.findings} == {"nan", "rounded"}
+    # the dropout, and the recording's own held reading at 4.97 s (two slots; tests/damper/test_screening.py)
+    assert int((~test.mask).sum()) == 1 + 2, scr.lines()
+    assert {f.kind for f in scr.findings} == {"nan", "rounded", "held"}
+    assert sum(f.n_samples for f in scr.findings if f.kind == "nan") == 1
 
 
 def test_force_clipped_at_every_peak_excludes_the_clipped_samples_only():
@@ -171,3 +173,61 @@ def test_the_rigs_lurch_is_found_in_a_part_of_the_dyke_recording_with_a_rounded_
         assert "excursion" in kinds
     clean = part.time < 19.4
     assert part.mask[clean].all()  # nothing else in the second part is touched
+
+
+def _held_copy(test, slots, tmp_path, name="held.csv"):
+    """``test`` written as a logger that missed sample periods would write it: at each slot the
+    displacement and the force repeat the reading before, and the velocity, differentiated by
+    the logger, is zero there and doubled after."""
+    x, f = test.displacement.copy(), test.force.copy()
+    for i in slots:
+        x[i], f[i] = x[i - 1], f[i - 1]
+    v = np.gradient(x, test.time)
+    path = tmp_path / name
+    write_csv(dataclasses.replace(test, displacement=x, force=f, velocity=v, mask=None, metadata={}), path)
+    return path
+
+
+def test_a_loggers_held_readings_are_found_interpolated_and_left_out(tmp_path):
+    """A reading written into two slots in mid-stroke (the 50-Hz LabControl UTFPR rig's files
+    hold 7-13 per 15-s test, one before most reversals): found, the motion interpolated through
+    it, the samples left out; ``--keep-flagged`` reports it and keeps the file's values."""
+    from damper.io.data import read_csv
+    # 0.93 Hz: a rig never repeats its stroke to the digit from cycle to cycle (a sine whose period is
+    # a whole number of samples would, and would look quantised to its own sample values)
+    clean = periodic_test("virtual", 0.02, 0.93, 1.0, cycles=6, sample_rate=50.0, noise=0.005, seed=1)
+    slots = [67, 118, 171, 240]   # mid-stroke and near reversals, away from the start
+    path = _held_copy(clean, slots, tmp_path)
+    test = read_csv(path)
+    held = [fd for fd in test.metadata["screening"].findings if fd.kind == "held"]
+    assert sorted(round(fd.t_start * 50.0) for fd in held) == [s - 1 for s in slots], test.metadata["screening"].lines()
+    assert all(fd.n_samples == 2 for fd in held)
+    out = np.flatnonzero(~test.mask)
+    assert set(out) == {s - 1 for s in slots} | set(slots)  # no settling after a slot or two
+    # the motion through a held pair is the line from the reading before to the one after
+    for s in slots:
+        expected = np.interp(test.time[s - 1:s + 1], test.time[[s - 2, s + 1]], clean.displacement[[s - 2, s + 1]])
+        # the file keeps 10 significant digits of a 0.02-m stroke: 1e-12 m
+        np.testing.assert_allclose(test.displacement[s - 1:s + 1], expected, rtol=0, atol=1e-11)
+    # the file's velocity was 0 at the held slot: interpolated too, so within a step's change of the truth
+    assert np.max(np.abs(test.velocity[slots] - clean.velocity[slots])) < 0.5 * np.max(np.abs(clean.velocity))
+    kept = read_csv(path, keep_flagged=True)
+    assert kept.mask is None
+    assert all(not fd.excluded for fd in kept.metadata["screening"].findings if fd.kind == "held")
+    np.testing.assert_array_equal(kept.displacement[slots], kept.displacement[[s - 1 for s in slots]])
+
+
+def test_repeats_of_a_quantised_slow_stroke_are_not_held_readings():
+    """A slow stroke on a coarse encoder and a coarse load cell repeats both channels at once on
+    its plateaus and at its reversals (a staircase, one quantum per sample or less): data."""
+    from damper.io.screening import held_samples
+    t = np.arange(4000) / 200.0
+    x = np.round(0.01 * np.sin(2 * np.pi * 0.1 * t) / 1e-4) * 1e-4        # 0.1-mm encoder
+    f = np.round(800.0 * np.tanh(np.gradient(x, t) / 2e-3) / 20.0) * 20.0  # 20-N load cell
+    assert np.sum((np.diff(x) == 0) & (np.diff(f) == 0)) > 100  # plenty of joint repeats
+    assert not held_samples(x, f).any()
+    # the same stroke, fast enough to move many quanta per sample, with one reading held
+    x2 = np.round(0.01 * np.sin(2 * np.pi * 2.0 * t) / 1e-4) * 1e-4
+    f2 = 800.0 * np.tanh(np.gradient(x2, t) / 2e-3) + 5.0 * np.sin(7 * t)
+    x2[1013], f2[1013] = x2[1012], f2[1012]
+    assert np.flatnonzero(held_samples(x2, f2)).tolist() == [1012, 1013]

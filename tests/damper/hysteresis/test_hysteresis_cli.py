@@ -88,7 +88,7 @@ def test_fit_reads_the_benchmark_hdf5_layout(tmp_path, capsys):
     (b"\x00\x01\x02binary\xff\xfe", "text"),
     ("time,force,velocity\n0,1,2\n", "unknown column"),
     ("time,force\n0,1\n0.1,2\n", "missing column"),
-    ("time [s],force [kN],displacement [m]\n0,1,0\n", "SI unit"),
+    ("time [s],force [kN/m],displacement [m]\n0,1,0\n", "unknown force unit 'kN/m'"),
     ("time,force,displacement\n0,1,0\n0.1,nan,0\n", "finite"),
     ("time,force,displacement\n0,1,0\n0.1,x,0\n", "expected a number"),
     ("time,force,displacement\n0,1,0\n0.1,1,0\n0.3,1,0\n0.4,1,0\n", "uniform"),
@@ -228,3 +228,15 @@ def test_a_sine_sweep_sampled_at_its_amplitude_is_not_clipped():
     assert data_flaws(ForceData(u, y, hb.FS, 0.0, "sweep")) == []
     clipped = np.clip(u, -30.0, 30.0)
     assert any("force clipped" in f for f in data_flaws(ForceData(clipped, y, hb.FS, 0.0, "clipped")))
+
+
+def test_force_data_in_a_rigs_units_are_read_in_si(tmp_path):
+    """``[ms]``, ``[kN]`` and ``[mm]`` in the header give the same data as the SI file."""
+    from damper.hysteresis.files import read_data
+    si, rig = tmp_path / "si.csv", tmp_path / "rig.csv"
+    si.write_text("time [s],force [N],displacement [m]\n0,1500,0.002\n0.001,-250,0.0015\n0.002,30,-0.001\n")
+    rig.write_text("time [ms],force [kN],displacement [mm]\n0,1.5,2\n1,-0.25,1.5\n2,0.03,-1\n")
+    a, b = read_data(si), read_data(rig)
+    np.testing.assert_allclose(b.force, a.force, rtol=1e-14)
+    np.testing.assert_allclose(b.displacement, a.displacement, rtol=1e-14)
+    assert b.fs == pytest.approx(a.fs, rel=1e-12) == pytest.approx(1000.0)
