@@ -39,6 +39,7 @@ from damper.io.reader import read_test, require_samples
 from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
+from damper.diagnosis.loop import tare_matters
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import format_parameters, input_word, write_report
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
@@ -180,6 +181,10 @@ def run(args) -> int:
             v = result.validation
             print(f"validation on {', '.join(v['tests'])}: relative RMS error "
                   f"{v['error_before']:.4f} -> {v['error_after']:.4f}")
+            if tare_matters(v):
+                print(f"  with each recording's force zero re-estimated on it (a load cell's tare): "
+                      f"{v['error_before_force_zero']:.4f} -> {v['error_after_force_zero']:.4f} (zeros "
+                      + ", ".join(f"{n} {z['after']:+.4g} N" for n, z in v["force_zero"].items()) + ")")
             for name, c in (v.get("input_clipped") or {}).items():
                 print(f"  {name}: {c['samples']} samples of the coil input outside the fitted tests' range "
                       f"(by up to {c['largest_excess']:.3g}), held at its edge")

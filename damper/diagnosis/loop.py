@@ -41,7 +41,7 @@ from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, 
                                         DEFAULT_TRIALS, SelectionResult, Step, select_effects)
 from damper.diagnosis.trace import DEFAULT_BINS, TRACE_VARIABLES, ResidualTrace, trace_residual
 
-__all__ = ["Diagnosis", "diagnose", "unexplained_structure", "DEFAULT_STRUCTURE_SHARE",
+__all__ = ["Diagnosis", "diagnose", "unexplained_structure", "tare_matters", "TARE_SHARE", "DEFAULT_STRUCTURE_SHARE",
            "DEFAULT_STRUCTURE_LEVEL", "BASE_MODELS"]
 
 #: Base models of :func:`diagnose` (``"auto"``: chosen from the tests' coil input).
@@ -242,10 +242,34 @@ class ValidationHistory:
     after: np.ndarray
 
 
+#: The validation's error with each recording's force zero re-estimated is worth a line when it
+#: is below this share of the error as scored (a tare, not noise, is then part of the error).
+TARE_SHARE = 0.9
+
+
+def tare_matters(validation: dict) -> bool:
+    """Whether re-estimating each other recording's force zero lowers the final model's error
+    there below :data:`TARE_SHARE` of it (the report and the command line then say so).
+
+    Parameters
+    ----------
+    validation : dict
+        :attr:`Diagnosis.validation`.
+    """
+    after, zeroed = validation.get("error_after"), validation.get("error_after_force_zero")
+    return (after is not None and zeroed is not None and math.isfinite(after) and math.isfinite(zeroed)
+            and zeroed < TARE_SHARE * after)
+
+
 def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: AugmentedModel,
                       after: AugmentedModel) -> tuple[dict, tuple]:
     """Errors of the base and final models on other recordings (every sample after each test's
-    first reversal; nothing of them was fitted or used to choose), and their histories."""
+    first reversal; nothing of them was fitted or used to choose), and their histories.
+
+    Beside them, the errors with each recording's force zero re-estimated on it
+    (``error_*_force_zero``, the constants in ``force_zero`` [N]): a load cell zeroed anew for each
+    recording moves the whole force by a constant that no model of the device predicts (the
+    LabControl UTFPR files sit at -25 to +150 N at rest; docs/diagnosis.md)."""
     tests = list(tests)
     prepared = DiagnosisData.from_tests(tests, validate=tests)
     if prepared.input_name != input_name and any(
@@ -255,7 +279,9 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
     n = len(tests)
     motions, forces, masks = prepared.motions[n:], prepared.forces[n:], prepared.heldout[n:]
     sums = {"before": [0.0, 0.0], "after": [0.0, 0.0]}
+    zeroed = {"before": 0.0, "after": 0.0}  # residual sums of squares with each recording's force zero re-estimated
     by_test = {}
+    zeros = {}
     clipped = {}
     histories: list = []
     lo, hi = before.base.voltage_range
@@ -270,18 +296,31 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
         norm2 = float(np.sum(f[k] ** 2))
         errs = {}
         predicted = {}
+        zeros[m.name] = {}
         for label, model in (("before", before), ("after", after)):
             predicted[label] = model.force(m)
             r = f[k] - predicted[label][k]
             sums[label][0] += float(r @ r)
             sums[label][1] += norm2
             errs[label] = float(math.sqrt(float(r @ r) / norm2)) if norm2 > 0 else math.nan
+            # a load cell's zero (tare) is the recording's, not the device's: the constant that
+            # best explains this recording's residual, and the error left without it
+            c = float(np.mean(r)) if r.size else 0.0
+            zeros[m.name][label] = c
+            zeroed[label] += float((r - c) @ (r - c))
+            errs[f"{label}_force_zero"] = (float(math.sqrt(float((r - c) @ (r - c)) / norm2))
+                                           if norm2 > 0 else math.nan)
         by_test[m.name] = errs
         histories.append(ValidationHistory(m, f, k, predicted["before"], predicted["after"]))
     return ({"tests": [m.name for m in motions],
              "error_before": math.sqrt(sums["before"][0] / sums["before"][1]),
              "error_after": math.sqrt(sums["after"][0] / sums["after"][1]),
-             "errors_by_test": by_test, "input_clipped": clipped}, tuple(histories))
+             "errors_by_test": by_test, "input_clipped": clipped,
+             # the same errors with each recording's own force zero (a constant per recording,
+             # re-estimated on it): how much of the error is a load cell's tare, not the model
+             "error_before_force_zero": math.sqrt(zeroed["before"] / sums["before"][1]),
+             "error_after_force_zero": math.sqrt(zeroed["after"] / sums["after"][1]),
+             "force_zero": zeros}, tuple(histories))
 
 
 def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolerance: float,

@@ -30,6 +30,7 @@ from benchmark.foundation.figures import save_figure
 from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
 from damper.diagnosis.effects import EFFECTS
+from damper.diagnosis.loop import tare_matters
 from damper.io.screening import screening_lines, screening_summary
 from damper.lab.plots import draw_loops
 
@@ -289,8 +290,8 @@ def plot_validation_window(diagnosis, path, max_tests: int = 4, reversals: int =
                        f"{h.motion.name} (never fitted): error {errs.get('before', np.nan):.3f} → "
                        f"{errs.get('after', np.nan):.3f}"))
     return _window_figure(diagnosis, panels, path, reversals, dpi,
-                          "Another recording of the device: force (top) and residual F − F̂ (bottom) "
-                          "over a window of a few strokes")
+                          "Other recordings of the device: force (top) and residual F − F̂ (bottom) "
+                          "over a few strokes")
 
 
 def _window_figure(diagnosis, panels, path, reversals: int, dpi: int, title: str) -> Path:
@@ -341,7 +342,8 @@ def _window_figure(diagnosis, panels, path, reversals: int, dpi: int, title: str
     if panels:
         fig.legend(handles, labels, loc="upper center", ncol=3, fontsize=9, frameon=False,
                    bbox_to_anchor=(0.5, 1.0 - 0.3 / height))
-    fig.suptitle(title + ("; shaded: samples the error does not count" if shaded else ""), fontsize=11,
+    # short enough for the 11-in figure at 11 pt (about 125 characters)
+    fig.suptitle(title + ("; shaded: not scored" if shaded else ""), fontsize=11,
                  y=1.0 - 0.08 / height, va="top")
     return _save(fig, Path(path), dpi)
 
@@ -450,7 +452,11 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
     if getattr(d, "validation", None):
         v = d.validation
         lines[-1:-1] = [f"- Other recordings of the device ({', '.join(v['tests'])}, never fitted): "
-                        f"relative RMS force error **{v['error_before']:.4f} → {v['error_after']:.4f}**."]
+                        f"relative RMS force error **{v['error_before']:.4f} → {v['error_after']:.4f}**"
+                        + (f"; with each recording's force zero re-estimated on it (a load cell's tare, not the "
+                           f"device's: " + ", ".join(f"{n} {z['after']:+.4g} N" for n, z in v["force_zero"].items())
+                           + f") {v['error_before_force_zero']:.4f} → {v['error_after_force_zero']:.4f}"
+                           if tare_matters(v) else "") + "."]
         lines[-1:-1] = [f"- {name}: {c['samples']} samples of its {d.data.input_name} lie outside the fitted "
                         f"tests' range (by up to {c['largest_excess']:.3g}); the models saw them held at its edge."
                         for name, c in (v.get("input_clipped") or {}).items()]

@@ -7,6 +7,7 @@ the library must not be "explained" by a library term.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -18,6 +19,7 @@ from damper.diagnosis.augmented import AugmentedModel
 from damper.models.bouc_wen import NormalizedBoucWen
 from damper.io.data import DamperTest, write_csv
 from damper.diagnosis import DiagnosisData, diagnose
+from damper.diagnosis.loop import tare_matters
 from damper.diagnosis.synthetic import (HeatedDevice, PlayDevice, sinusoidal_tests,
                                         step_voltage_tests)
 from damper.diagnosis.effects import (Asymmetry, Fade, Inertia, Offset, QuadraticDamping, RollOff, Stiffness,
@@ -257,7 +259,7 @@ def test_cli_validate_scores_other_recordings_beside_the_holdout(tmp_path, capsy
     v = doc["validation"]
     assert v["tests"] == ["6mm 2Hz 0V"]
     assert v["error_after"] < 0.5 * v["error_before"]
-    assert set(v["errors_by_test"]["6mm 2Hz 0V"]) == {"before", "after"}
+    assert set(v["errors_by_test"]["6mm 2Hz 0V"]) == {"before", "after", "before_force_zero", "after_force_zero"}
     for key in ("error_before", "error_after", "effects", "unexplained"):
         assert key in doc
     status = main(["diagnose", "--data", *files[:2], "--validate", files[2], "--quiet",
@@ -284,6 +286,35 @@ def test_validation_recording_past_the_fitted_input_range_is_held_at_its_edge():
     c = d.validation["input_clipped"]["other"]
     assert c["samples"] == int(np.sum(v > 1.0)) > 0 and c["largest_excess"] == pytest.approx(0.05)
     assert np.isfinite(d.validation["error_before"]) and d.validation["error_before"] < 0.2
+
+
+def test_a_validation_recordings_own_force_zero_is_reported_beside_its_error(tmp_path, capsys):
+    """A load cell zeroed anew for another recording (the LabControl UTFPR files sit at -25 to
+    +150 N at rest) shifts its whole force: the error as scored keeps the shift, and beside it the
+    error with the recording's own zero re-estimated takes it out exactly (the least-squares
+    constant of a residual moves by the shift and leaves the rest unchanged)."""
+    tests = sinusoidal_tests(_device(Offset(150.0)), motions=((0.01, 1.0), (0.004, 3.0), (0.006, 2.0)),
+                             noise=0.01, seed=9)
+    other = tests[2]
+    shift = 0.4 * float(np.sqrt(np.mean(other.force ** 2)))
+    tared = dataclasses.replace(other, force=other.force - shift, name="tared")
+    d = diagnose(tests[:2], cross_validate=[other, tared], candidates=["offset"])
+    v = d.validation
+    same, moved = v["errors_by_test"]["6mm 2Hz 0V"], v["errors_by_test"]["tared"]
+    assert moved["after"] > 3 * same["after"]
+    assert v["force_zero"]["tared"]["after"] == pytest.approx(v["force_zero"]["6mm 2Hz 0V"]["after"] - shift,
+                                                             rel=1e-9)
+    # the same residual less its mean, over norms that differ by the shift
+    h = {x.motion.name: x for x in d.validation_histories}
+    norm = float(np.linalg.norm(h["6mm 2Hz 0V"].force[h["6mm 2Hz 0V"].scored])
+                 / np.linalg.norm(h["tared"].force[h["tared"].scored]))
+    assert moved["after_force_zero"] == pytest.approx(same["after_force_zero"] * norm, rel=1e-9)
+    assert tare_matters(v) and not tare_matters(diagnose(tests[:2], cross_validate=[other],
+                                                         candidates=["offset"]).validation)
+    files = [str(write_csv(t, tmp_path / f"t{i}.csv")) for i, t in enumerate((*tests[:2], tared))]
+    assert main(["diagnose", "--data", *files[:2], "--validate", files[2], "--quiet",
+                 "--effects", "offset"]) == 0
+    assert "force zero re-estimated on it (a load cell's tare)" in capsys.readouterr().out
 
 
 def test_time_budget_ends_the_selection_cleanly_and_says_so(tmp_path, capsys):
