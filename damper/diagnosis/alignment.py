@@ -32,7 +32,7 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["force_alignment", "MAX_SHIFT_SAMPLES", "MAX_SHIFT_S", "MIN_GAIN"]
+__all__ = ["force_alignment", "MAX_SHIFT_SAMPLES", "MAX_SHIFT_S", "MIN_GAIN", "MIN_FINDING_S"]
 
 #: Widest shift searched, in samples of the finest sampling step ...
 MAX_SHIFT_SAMPLES = 16
@@ -41,6 +41,8 @@ MAX_SHIFT_SAMPLES = 16
 MAX_SHIFT_S = 0.010
 #: Relative drop of the error a shift must bring to be reported as a finding.
 MIN_GAIN = 0.02
+#: Smallest shift reported where a sample is longer than this [s] (below 200 Hz).
+MIN_FINDING_S = 0.005
 
 
 def _error(times, forces, predicted, masks, tau: float) -> float:
@@ -74,9 +76,9 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
         ``shift_s`` (:math:`\\hat\\tau` [s], positive: the measured force is late),
         ``shift_samples`` (in samples of the finest step), ``step_s`` (that step [s]),
         ``error_unshifted`` and ``error_shifted`` (relative RMS force error over the counted
-        samples), ``finding`` (a shift of at least one sample that lowers the error by
-        :data:`MIN_GAIN` or more); None when fewer than three shifts can be searched or no sample
-        counts.
+        samples), ``finding`` (a shift of at least one sample, or of :data:`MIN_FINDING_S` where a
+        sample is longer, that lowers the error by :data:`MIN_GAIN` or more); None when no
+        sample counts.
     """
     masks = [np.asarray(m, dtype=bool) for m in masks]
     if not any(m.any() for m in masks):
@@ -86,9 +88,9 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
     if not steps:
         return None
     dt = min(steps)
-    j_max = int(min(MAX_SHIFT_SAMPLES, np.floor(MAX_SHIFT_S / dt + 1e-9)))
-    if j_max < 1:
-        return None
+    # at least a sample each way: a coarsely sampled test (50 Hz: 20 ms) is searched within one
+    # sample and the parabola places the shift inside it
+    j_max = max(1, int(min(MAX_SHIFT_SAMPLES, np.floor(MAX_SHIFT_S / dt + 1e-9))))
     shifts = np.arange(-j_max, j_max + 1)
     errors = np.array([_error(times, forces, predicted, masks, j * dt) for j in shifts])
     k = int(np.nanargmin(errors))
@@ -101,7 +103,10 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
     tau = best * dt
     error_shifted = _error(times, forces, predicted, masks, tau)
     error_unshifted = float(errors[j_max])
-    finding = bool(abs(best) >= 1.0 and error_shifted <= (1.0 - MIN_GAIN) * error_unshifted)
+    # a skew of a sample, or of MIN_FINDING_S where a sample is longer (a half sample at 50 Hz
+    # is 10 ms, a tenth of a 1-Hz stroke's quarter)
+    finding = bool(abs(tau) >= min(dt, MIN_FINDING_S) - 1e-12
+                   and error_shifted <= (1.0 - MIN_GAIN) * error_unshifted)
     return {"shift_s": tau, "shift_samples": best, "step_s": dt,
             "error_unshifted": error_unshifted, "error_shifted": error_shifted,
             "finding": finding, "searched_s": j_max * dt}

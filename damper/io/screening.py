@@ -49,6 +49,13 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
 ``idle``
     Spans with no motion (the displacement moves less than :data:`IDLE_FRACTION` of the
     test's stroke over a quarter of the dominant period): the rig waiting between runs.
+``difference``
+    A velocity column that is the logger's one-sided difference of the displacement column
+    (``(x[i] - x[i-1]) / dt`` or ``(x[i+1] - x[i]) / dt`` at every usable sample, to
+    :data:`DIFFERENCE_TOLERANCE` of the peak velocity): not a measurement but a derivative half a
+    step late (or early), which delays the model's velocity input against its displacement by
+    half a sample (10 ms at 50 Hz: enough for the residual loop to fit a phantom inertia).
+    Replaced by the central difference (:func:`repair_samples`; a finding, no sample excluded).
 ``velocity``
     A measured velocity that disagrees with the derivative of the displacement: a wrong gain
     (units), a time offset (estimated by cross-correlation), or spans where the two depart.
@@ -105,7 +112,8 @@ from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
            "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
-           "POLARITY_SHARE", "net_work", "held_samples", "HELD_TOLERANCE", "HELD_STEPS"]
+           "POLARITY_SHARE", "net_work", "held_samples", "HELD_TOLERANCE", "HELD_STEPS",
+           "one_sided_difference", "DIFFERENCE_TOLERANCE"]
 
 #: ``held``: two samples are one reading when both the displacement and the force agree to this
 #: share of their ranges (a 30-bit converter's step; the loggers' own arithmetic leaves 1e-13).
@@ -113,6 +121,10 @@ HELD_TOLERANCE = 1e-9
 #: ``held``: the displacement must move by this many of its resolution steps per sample on both
 #: sides of the repeat (a staircase of a slow, quantised stroke moves by one).
 HELD_STEPS = 3.0
+#: ``difference``: a velocity column within this share of its peak of a one-sided difference of
+#: the displacement at every usable sample is that difference (the UTFSM files, written to a few
+#: digits, leave up to 5e-6; a velocity sensor or a filtered derivative departs by 1e-3 and more).
+DIFFERENCE_TOLERANCE = 1e-4
 #: A time step this many times the median step is a gap.
 GAP_FACTOR = 2.5
 #: No motion: the displacement moves less than this fraction of the test's stroke.
@@ -146,7 +158,7 @@ class Finding:
     Attributes
     ----------
     kind : str
-        ``nan``, ``time``, ``rounded``, ``held``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
+        ``nan``, ``time``, ``rounded``, ``held``, ``difference``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
         ``offset``, ``units`` or ``polarity``.
     channel : str
         The channel (``force``, ``displacement``, ``velocity``, ``voltage``, ``current``,
@@ -524,6 +536,36 @@ def held_samples(displacement: np.ndarray, force: np.ndarray) -> np.ndarray:
     return held
 
 
+def one_sided_difference(t: np.ndarray, x: np.ndarray, v: np.ndarray,
+                         usable: np.ndarray | None = None) -> str | None:
+    """``"backward"`` or ``"forward"`` when the velocity column ``v`` is that difference of the
+    displacement ``x`` (``difference`` in the module docstring), else None.
+
+    Parameters
+    ----------
+    t, x, v : ndarray (n,)
+        Time [s], displacement [m] and the file's velocity [m/s], finite.
+    usable : ndarray of bool (n,), optional
+        Samples to judge by (a filled or interpolated sample is not the file's).
+    """
+    t, x, v = (np.asarray(a, dtype=float) for a in (t, x, v))
+    n = t.size
+    if n < 8:
+        return None
+    ok = np.ones(n, dtype=bool) if usable is None else np.asarray(usable, dtype=bool)
+    peak = float(np.max(np.abs(v[ok]))) if ok.any() else 0.0
+    if peak <= 0.0:
+        return None
+    slope = np.diff(x) / np.diff(t)
+    pair = ok[1:] & ok[:-1]
+    if pair.sum() < max(8, n // 2):
+        return None
+    for name, at in (("backward", v[1:]), ("forward", v[:-1])):
+        if np.all(np.abs(at[pair] - slope[pair]) <= DIFFERENCE_TOLERANCE * peak):
+            return name
+    return None
+
+
 def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                    lines: Sequence[int] | None = None, min_usable: int = 10,
                    keep_flagged: bool = False) -> tuple[np.ndarray, dict, np.ndarray, list]:
@@ -647,6 +689,17 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
         i, name = first_bad
         raise InputError(f"{_where(lines, i, label)}: column {name!r}: expected a finite number, got "
                          f"nan ({int((~excluded).sum())} usable samples left, at least {need} needed)")
+    # a velocity column that is the displacement's one-sided difference: half a step off its time
+    v_col, x_col = out.get("velocity"), out.get("displacement")
+    if v_col is not None and x_col is not None:
+        kind = one_sided_difference(t, x_col, v_col, ~excluded)
+        if kind is not None:
+            out["velocity"] = np.gradient(x_col, t, edge_order=2 if t.size > 2 else 1)
+            step = float(np.median(np.diff(t)))
+            findings.append(Finding("difference", "velocity", float(t[0]), float(t[-1]), 0,
+                                    f"the velocity column is the displacement's {kind} difference, half a "
+                                    f"step ({0.5e3 * step:.3g} ms) {'late' if kind == 'backward' else 'early'}: "
+                                    "replaced by the central difference", excluded=False))
     return t, out, excluded, findings
 
 

@@ -66,8 +66,21 @@ def test_masked_samples_do_not_count():
     assert out["shift_samples"] == pytest.approx(3.0, abs=0.1)
 
 
+def test_a_coarsely_sampled_test_is_searched_within_a_sample():
+    """At 50 Hz a sample (20 ms) is longer than the widest shift searched: the search keeps one
+    sample each way, and a force 8 ms late (0.4 sample, more than MIN_FINDING_S) is found."""
+    t, f = _history(n=3000, dt=1e-3, freq=1.0)
+    late = np.interp(t - 0.008, t, f)
+    coarse = slice(40, None, 20)
+    out = force_alignment([t[coarse]], [late[coarse]], [f[coarse]], [np.ones(t[coarse].size, bool)])
+    assert out["searched_s"] == pytest.approx(0.02)
+    # the parabola through three samples 20 ms apart places the shift to a few ms
+    assert out["shift_s"] == pytest.approx(0.008, abs=0.003)
+    assert out["finding"]
+    same = force_alignment([t[coarse]], [f[coarse]], [f[coarse]], [np.ones(t[coarse].size, bool)])
+    assert abs(same["shift_s"]) < 1e-9 and not same["finding"]
+
+
 def test_nothing_to_search():
-    t, f = _history(n=50, dt=0.02)        # a step longer than the widest shift searched
-    assert force_alignment([t], [f], [f], [np.ones(t.size, bool)]) is None
     t, f = _history()
     assert force_alignment([t], [f], [f], [np.zeros(t.size, bool)]) is None

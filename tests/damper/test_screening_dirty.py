@@ -231,3 +231,35 @@ def test_repeats_of_a_quantised_slow_stroke_are_not_held_readings():
     f2 = 800.0 * np.tanh(np.gradient(x2, t) / 2e-3) + 5.0 * np.sin(7 * t)
     x2[1013], f2[1013] = x2[1012], f2[1012]
     assert np.flatnonzero(held_samples(x2, f2)).tolist() == [1012, 1013]
+
+
+@pytest.mark.parametrize("kind", ["backward", "forward", "sensor"])
+def test_a_velocity_column_differenced_by_the_logger_is_replaced_by_the_central_difference(tmp_path, kind):
+    """A logger's ``(x[i] - x[i-1]) / dt`` is the velocity half a step before the sample (the
+    LabControl UTFPR files and all 30 UTFSM files): found and replaced by the central difference,
+    which the model's time base expects. A velocity sensor's channel (the true derivative and its
+    noise) is left as it is."""
+    from damper.io.data import read_csv
+    t = np.arange(1000) / 100.0
+    x = 0.01 * np.sin(2 * np.pi * 0.73 * t) + 0.002 * np.sin(2 * np.pi * 2.1 * t)
+    f = 900.0 * np.tanh(np.gradient(x, t) / 0.01)
+    if kind == "backward":
+        v = np.r_[0.0, np.diff(x) / np.diff(t)]
+    elif kind == "forward":
+        v = np.r_[np.diff(x) / np.diff(t), 0.0]
+    else:
+        exact = 2 * np.pi * (0.0073 * np.cos(2 * np.pi * 0.73 * t) + 0.0042 * np.cos(2 * np.pi * 2.1 * t))
+        v = exact + 1e-4 * np.random.default_rng(3).standard_normal(t.size)
+    path = tmp_path / "v.csv"
+    path.write_text("time,displacement,velocity,force\n"
+                    + "".join(f"{a!r},{b!r},{c!r},{d!r}\n" for a, b, c, d in
+                              zip(t.tolist(), x.tolist(), v.tolist(), f.tolist())))
+    test = read_csv(path, voltage=0.0)
+    found = [fd for fd in test.metadata["screening"].findings if fd.kind == "difference"]
+    if kind == "sensor":
+        assert not found
+        np.testing.assert_array_equal(test.velocity, v)
+        return
+    assert len(found) == 1 and f"{kind} difference" in found[0].message and not found[0].excluded
+    np.testing.assert_allclose(test.velocity, np.gradient(x, t, edge_order=2), rtol=1e-12, atol=1e-15)
+    assert test.mask is None
