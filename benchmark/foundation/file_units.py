@@ -70,7 +70,7 @@ def unit_key(unit: str) -> str:
     unit : str
         A unit as a file writes it (``"mm / s"``, ``"m/s²"``, ``"kN"``).
     """
-    return str(unit).strip().lower().replace(" ", "").replace("²", "^2")
+    return "".join(str(unit).split()).lower().replace("²", "^2")  # any whitespace, NBSP included
 
 
 def si_factor(quantity: str, unit: str, where: str = "units") -> float:

@@ -77,8 +77,10 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
         ``shift_samples`` (in samples of the finest step), ``step_s`` (that step [s]),
         ``error_unshifted`` and ``error_shifted`` (relative RMS force error over the counted
         samples), ``finding`` (a shift of at least one sample, or of :data:`MIN_FINDING_S` where a
-        sample is longer, that lowers the error by :data:`MIN_GAIN` or more); None when no
-        sample counts.
+        sample is longer, that lowers the error by :data:`MIN_GAIN` or more and lies inside the
+        search), ``searched_s`` (the widest shift searched: :data:`MAX_SHIFT_S`, or one sample
+        where a sample is longer), ``at_limit`` (the best shift is the widest searched: a bound,
+        never a finding); None when no sample counts or no force is there to compare.
     """
     masks = [np.asarray(m, dtype=bool) for m in masks]
     if not any(m.any() for m in masks):
@@ -93,6 +95,8 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
     j_max = max(1, int(min(MAX_SHIFT_SAMPLES, np.floor(MAX_SHIFT_S / dt + 1e-9))))
     shifts = np.arange(-j_max, j_max + 1)
     errors = np.array([_error(times, forces, predicted, masks, j * dt) for j in shifts])
+    if not np.isfinite(errors).any():
+        return None  # no force to compare (all zero where it counts)
     k = int(np.nanargmin(errors))
     best = float(shifts[k])
     if 0 < k < shifts.size - 1:
@@ -105,8 +109,11 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
     error_unshifted = float(errors[j_max])
     # a skew of a sample, or of MIN_FINDING_S where a sample is longer (a half sample at 50 Hz
     # is 10 ms, a tenth of a 1-Hz stroke's quarter)
-    finding = bool(abs(tau) >= min(dt, MIN_FINDING_S) - 1e-12
+    # at the edge of the search the shift is only a bound (the skew, or the model's phase error,
+    # may be larger): no finding, said by ``at_limit``
+    at_limit = k in (0, shifts.size - 1)
+    finding = bool(abs(tau) >= min(dt, MIN_FINDING_S) - 1e-12 and not at_limit
                    and error_shifted <= (1.0 - MIN_GAIN) * error_unshifted)
     return {"shift_s": tau, "shift_samples": best, "step_s": dt,
             "error_unshifted": error_unshifted, "error_shifted": error_shifted,
-            "finding": finding, "searched_s": j_max * dt}
+            "finding": finding, "searched_s": j_max * dt, "at_limit": bool(at_limit)}

@@ -15,7 +15,7 @@ name may carry its unit in brackets or parentheses (``force [N]``, ``force (kN)`
 without one is SI; a rig's units (ms; mm, cm, in; mm/s, cm/s, in/s; kN, lbf, kip, kgf; mV; mA)
 are converted to SI on reading (:mod:`benchmark.foundation.file_units`) and listed in the test's
 ``metadata["file_units"]``. Loggers' names are read too: ``t``; ``disp``, ``x``, ``position``,
-``stroke``; ``vel``, ``xdot``; ``f``, ``load``; ``i`` (any case). The columns may be separated by commas, semicolons, tabs or spaces (the
+``stroke``; ``vel``, ``xdot``; ``f``, ``load`` (any case). The columns may be separated by commas, semicolons, tabs or spaces (the
 header line says which); with any separator but the comma, decimal commas (``0,25``) are read
 as decimal points. Cells may be quoted and every line may end with the separator.
 
@@ -219,7 +219,7 @@ _QUANTITY = {"time": "time", "displacement": "length", "force": "force", "veloci
 #: Other names loggers give the columns (matched without regard to case).
 _ALIASES = {"t": "time", "disp": "displacement", "x": "displacement", "position": "displacement",
             "stroke": "displacement", "vel": "velocity", "xdot": "velocity", "f": "force",
-            "load": "force", "i": "current"}
+            "load": "force"}
 
 
 def _header_name(cell: str, path: Path, line: int) -> tuple[str, float, str | None]:
@@ -415,7 +415,10 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                                  f"{', '.join(missing)}; expected time, displacement, force"
                                  "[, velocity][, voltage|current]")
             if len(set(header)) != len(header):
-                raise InputError(f"{path}:{line_no}: header: repeated column name")
+                twice = next(n for n in header if header.count(n) > 1)
+                cells = [c.strip() for c, n in zip(row, header) if n == twice]
+                raise InputError(f"{path}:{line_no}: header: columns {' and '.join(repr(c) for c in cells)} "
+                                 f"both name the {twice}; expected one")
             if "voltage" in header and "current" in header:
                 raise InputError(f"{path}:{line_no}: header: expected a voltage or a current "
                                  "column, not both")

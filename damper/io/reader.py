@@ -92,8 +92,9 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
     units = screening.units_problem()
     if units is not None:
         # a time in ms or a stroke in mm read as SI: any fit would be of the wrong device
-        raise InputError(f"{path}: implausible units ({units}); convert the file to SI (time [s], "
-                         "displacement [m], velocity [m/s], force [N])")
+        raise InputError(f"{path}: implausible units ({units}); give each column's unit in the header "
+                         "(time [ms], disp [mm], vel [mm/s], force [kN]: converted on reading) or "
+                         "convert the file to SI")
     polarity = screening.polarity_problem()
     if polarity is not None:
         # every model of the library dissipates: a fit would only find the parameters' bounds

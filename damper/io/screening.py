@@ -51,11 +51,11 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     test's stroke over a quarter of the dominant period): the rig waiting between runs.
 ``difference``
     A velocity column that is the logger's one-sided difference of the displacement column
-    (``(x[i] - x[i-1]) / dt`` or ``(x[i+1] - x[i]) / dt`` at every usable sample, to
-    :data:`DIFFERENCE_TOLERANCE` of the peak velocity): not a measurement but a derivative half a
-    step late (or early), which delays the model's velocity input against its displacement by
-    half a sample (10 ms at 50 Hz: enough for the residual loop to fit a phantom inertia).
-    Replaced by the central difference (:func:`repair_samples`; a finding, no sample excluded).
+    (``(x[i] - x[i-1]) / dt`` or ``(x[i+1] - x[i]) / dt`` to :data:`DIFFERENCE_TOLERANCE` of the
+    peak velocity at all but :data:`DIFFERENCE_EXCEPTIONS` of the usable samples): not a
+    measurement but a derivative half a step late (or early), which delays the model's velocity
+    input against its displacement by half a sample (10 ms at 50 Hz). Replaced by the central
+    difference (:func:`repair_samples`; a finding, no sample excluded).
 ``velocity``
     A measured velocity that disagrees with the derivative of the displacement: a wrong gain
     (units), a time offset (estimated by cross-correlation), or spans where the two depart.
@@ -112,8 +112,8 @@ from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
            "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
-           "POLARITY_SHARE", "net_work", "held_samples", "HELD_TOLERANCE", "HELD_STEPS",
-           "one_sided_difference", "DIFFERENCE_TOLERANCE"]
+           "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
+           "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS"]
 
 #: ``held``: two samples are one reading when both the displacement and the force agree to this
 #: share of their ranges (a 30-bit converter's step; the loggers' own arithmetic leaves 1e-13).
@@ -121,10 +121,19 @@ HELD_TOLERANCE = 1e-9
 #: ``held``: the displacement must move by this many of its resolution steps per sample on both
 #: sides of the repeat (a staircase of a slow, quantised stroke moves by one).
 HELD_STEPS = 3.0
+#: ``held``: the longest run of one reading that counts as missed sample periods (the LabControl
+#: UTFPR files hold 2-4); a longer one is a pause of the rig.
+HELD_MAX_SLOTS = 4
+#: ``held``: held runs over more than this share of the samples are the file's make-up (every
+#: reading written twice: a file resampled by repetition, half the samples), reported once and
+#: left as read (the LabControl UTFPR files miss up to 5 % of their sample periods).
+HELD_MAX_SHARE = 0.2
 #: ``difference``: a velocity column within this share of its peak of a one-sided difference of
 #: the displacement at every usable sample is that difference (the UTFSM files, written to a few
 #: digits, leave up to 5e-6; a velocity sensor or a filtered derivative departs by 1e-3 and more).
 DIFFERENCE_TOLERANCE = 1e-4
+#: ``difference``: share of the sample pairs that may depart from it (a dropped row, a glitch).
+DIFFERENCE_EXCEPTIONS = 0.005
 #: A time step this many times the median step is a gap.
 GAP_FACTOR = 2.5
 #: No motion: the displacement moves less than this fraction of the test's stroke.
@@ -387,7 +396,8 @@ def _delay(a: np.ndarray, b: np.ndarray, max_lag: int) -> tuple[float, float, fl
     """
     lag, corr = _lag(a, b, max_lag)
     frac, gain = 0.0, 1.0
-    for _ in range(2 * max_lag + 1):  # Gauss-Newton on the delay, a sample at a time at most
+    tried = {lag}
+    while True:  # Gauss-Newton on the delay, a sample at a time at most
         shifted = np.roll(b, lag)
         lo, hi = abs(lag) + 1, a.size - abs(lag) - 1
         if hi - lo < 8:
@@ -396,9 +406,13 @@ def _delay(a: np.ndarray, b: np.ndarray, max_lag: int) -> tuple[float, float, fl
         coef, *_ = np.linalg.lstsq(np.column_stack([shifted[lo:hi], db]), a[lo:hi], rcond=None)
         gain = float(coef[0])
         frac = float(-coef[1] / coef[0]) if coef[0] != 0 else 0.0
-        if abs(frac) <= 0.5 or abs(lag + np.sign(frac)) > max_lag:
+        step = int(np.sign(frac))
+        # a delay of half a sample flips between two lags: stay with the lag the fraction was
+        # computed at (the fraction and its lag must belong together)
+        if abs(frac) <= 0.5 or abs(lag + step) > max_lag or lag + step in tried:
             break
-        lag += int(np.sign(frac))
+        lag += step
+        tried.add(lag)
     return lag + float(np.clip(frac, -1.0, 1.0)), gain, corr
 
 
@@ -496,6 +510,19 @@ def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     return grid, q, float(off.max())
 
 
+def _decimal_resolution(value: float) -> float:
+    """The last decimal place ``value`` is written to (``-7.275`` -> 0.001; a computed value
+    such as ``-7.2750000000027`` counts as ``-7.275``), at most 1e-12 of its size."""
+    v = abs(float(value))
+    if v == 0.0 or not math.isfinite(v):
+        return 0.0
+    for k in range(-int(math.floor(math.log10(v))) - 1, 16):
+        q = 10.0 ** -k
+        if abs(v / q - round(v / q)) <= 1e-6:
+            return q
+    return 0.0
+
+
 def held_samples(displacement: np.ndarray, force: np.ndarray) -> np.ndarray:
     """The samples of readings written into more than one time slot (``held`` in the module docstring).
 
@@ -507,33 +534,59 @@ def held_samples(displacement: np.ndarray, force: np.ndarray) -> np.ndarray:
     Returns
     -------
     ndarray of bool (n,)
-        True at every slot of a held run (the reading and its repeats).
+        True at every slot of a held run (the reading and its repeats). Empty (all False) when
+        held runs would cover more than :data:`HELD_MAX_SHARE` of the samples: readings repeated
+        throughout are the file's make-up (a file resampled by repeating readings), not missed
+        samples (:func:`repair_samples` reports them once and leaves them as read).
+    """
+    x = np.asarray(displacement, dtype=float)
+    f = np.asarray(force, dtype=float)
+    mask = np.zeros(x.size, dtype=bool)
+    for a, b in held_runs(x, f):
+        mask[a:b + 1] = True
+    if mask.sum() > HELD_MAX_SHARE * x.size:
+        mask[:] = False
+    return mask
+
+
+def held_runs(displacement: np.ndarray, force: np.ndarray) -> list[tuple[int, int]]:
+    """``(first, last)`` slot of each held run (:func:`held_samples`), every run kept.
+
+    Parameters
+    ----------
+    displacement, force : ndarray (n,)
+        The two measured channels as read.
     """
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(force, dtype=float)
     n = x.size
-    held = np.zeros(n, dtype=bool)
     if n < 4 or not (np.isfinite(x).sum() > 3 and np.isfinite(f).sum() > 3):
-        return held
+        return []
+    scale_f = float(np.nanmax(np.abs(f - np.nanmedian(f))))
+    if scale_f <= 0.0:
+        return []  # a force that never changes repeats everywhere: no evidence of a held reading
     tol_x = HELD_TOLERANCE * float(np.nanmax(np.abs(x - np.nanmedian(x))))
-    tol_f = HELD_TOLERANCE * float(np.nanmax(np.abs(f - np.nanmedian(f))))
+    tol_f = HELD_TOLERANCE * scale_f
     dx, df = np.diff(x), np.diff(f)
     same = (np.abs(dx) <= tol_x) & (np.abs(df) <= tol_f)
-    if not same.any():
-        return held
-    # the displacement's resolution: the smallest gap between two of its distinct values (an
-    # encoder's count, the digits a file was written with), not its smallest step in time (a
-    # coarsely sampled sine's steps at its reversals are large)
+    # the channel's own step: the smallest gap between two of its distinct values (an encoder's
+    # count, a converter's step), whatever digits the file shows
     gaps = np.diff(np.unique(x[np.isfinite(x)]))
     gaps = gaps[gaps > tol_x]
-    quantum = float(gaps.min()) if gaps.size else 0.0
+    converter = float(gaps.min()) if gaps.size else 0.0
+    out = []
     for a, b in _runs(same):  # x[a..b] (b - a + 1 slots) hold one reading
-        if a < 1 or b + 1 >= n:
-            continue
+        if a < 1 or b + 1 >= n or b - a + 1 > HELD_MAX_SLOTS:
+            continue  # at the file's ends, or a pause: not a missed sample period
         before, after = x[a] - x[a - 1], x[b + 1] - x[b]
+        # the displacement's resolution there: its converter's step, or the decimal places its
+        # neighbours are written to where coarser (a file of a few significant digits is coarser
+        # at the stroke's ends than near 0)
+        quantum = max(converter, _decimal_resolution(x[a - 1]), _decimal_resolution(x[a]),
+                      _decimal_resolution(x[b + 1]))
         if before * after > 0 and min(abs(before), abs(after)) >= HELD_STEPS * quantum:
-            held[a:b + 1] = True
-    return held
+            out.append((a, b))
+    return out
 
 
 def one_sided_difference(t: np.ndarray, x: np.ndarray, v: np.ndarray,
@@ -561,7 +614,9 @@ def one_sided_difference(t: np.ndarray, x: np.ndarray, v: np.ndarray,
     if pair.sum() < max(8, n // 2):
         return None
     for name, at in (("backward", v[1:]), ("forward", v[:-1])):
-        if np.all(np.abs(at[pair] - slope[pair]) <= DIFFERENCE_TOLERANCE * peak):
+        # a dropped row or a glitch leaves a pair or two off: the rest decides
+        off = np.abs(at[pair] - slope[pair]) > DIFFERENCE_TOLERANCE * peak
+        if off.sum() <= DIFFERENCE_EXCEPTIONS * pair.sum():
             return name
     return None
 
@@ -648,16 +703,25 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
     # readings written into more than one time slot: missing values in every measured channel
     held = np.zeros(t.size, dtype=bool)
     if channels.get("displacement") is not None and channels.get("force") is not None:
-        held = held_samples(np.asarray(channels["displacement"], dtype=float)[keep],
-                            np.asarray(channels["force"], dtype=float)[keep])
-        for a, b in _runs(held):
-            findings.append(Finding("held", "displacement", float(t[a]), float(t[b - 1]), b - a,
-                                    f"one reading of the displacement and the force in {b - a} time slots "
+        runs_held = held_runs(np.asarray(channels["displacement"], dtype=float)[keep],
+                              np.asarray(channels["force"], dtype=float)[keep])
+        slots = sum(b - a + 1 for a, b in runs_held)
+        if slots > HELD_MAX_SHARE * t.size:
+            # repeated throughout: the file's make-up, not missed samples; said once, left as read
+            findings.append(Finding("held", "displacement", float(t[0]), float(t[-1]), slots,
+                                    f"readings of the displacement and the force repeat in {slots} of "
+                                    f"{t.size} samples throughout the file (a file resampled by repeating "
+                                    "readings?): left as read; resample it at the rate it was measured at",
+                                    excluded=False))
+            runs_held = []
+        for a, b in runs_held:
+            findings.append(Finding("held", "displacement", float(t[a]), float(t[b]), b - a + 1,
+                                    f"one reading of the displacement and the force in {b - a + 1} time slots "
                                     "while the stroke moves (a logger's missed sample)"
                                     + ("" if keep_flagged else ": interpolated to drive the model, not fitted")
                                     + f" ({_where(lines, a, label)})", excluded=not keep_flagged))
-        if keep_flagged:
-            held[:] = False
+            if not keep_flagged:
+                held[a:b + 1] = True
     for name, values in channels.items():
         if values is None:
             out[name] = None

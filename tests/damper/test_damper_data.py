@@ -45,6 +45,7 @@ def test_csv_without_velocity_and_with_constant_current(tmp_path):
     ("time,displacement [furlong],force\n0,0,0\n1,1,1\n",
      r":1: header: column 'displacement': unknown length unit 'furlong'; expected one of m, cm, mm, in"),
     ("time,displacement,force [N/m]\n0,0,0\n1,1,1\n", r":1: header: column 'force': unknown force unit"),
+    ("t,x,displacement,force\n0,0,0,0\n1,1,1,1\n", r":1: header: columns 'x' and 'displacement' both name the displacement"),
     ("# name: x\ntime,displacement,force\n0,0,0\n1,abc,1\n", r":4: column 'displacement': expected a number, got 'abc'"),
     ("time,displacement,force\n0,0,0\n1,1\n", r":3: expected 3 values"),
     ("time,displacement,force\n0,0,0\n1,1,nan\n", r":3: column 'force': expected a finite"),
@@ -70,7 +71,7 @@ def test_a_rigs_units_are_converted_to_si_on_reading(tmp_path):
     si.write_text("time [s],displacement [m],velocity [m/s],force [N],current [A]\n"
                   + "".join(f"{float(a)!r},{float(b)!r},{float(c)!r},{float(d)!r},0.5\n" for a, b, c, d in zip(t, x, v, f)))
     rig = tmp_path / "rig.csv"
-    rig.write_text("T (ms);Disp [mm];Vel [mm / s];Load [kN];I [mA]\n"
+    rig.write_text("T (ms);Disp [mm];Vel [mm / s];Load [kN];Current [mA]\n"
                    + "".join(f"{float(a * 1e3)!r};{float(b * 1e3)!r};{float(c * 1e3)!r};{float(d / 1e3)!r};500\n"
                              for a, b, c, d in zip(t, x, v, f)))
     a, b = read_csv(si), read_csv(rig)

@@ -84,3 +84,12 @@ def test_a_coarsely_sampled_test_is_searched_within_a_sample():
 def test_nothing_to_search():
     t, f = _history()
     assert force_alignment([t], [f], [f], [np.zeros(t.size, bool)]) is None
+
+
+def test_a_shift_beyond_the_search_is_a_bound_not_a_finding():
+    t, f = _history(n=3000, dt=1e-3, freq=1.0)
+    late = np.interp(t - 0.06, t, f)          # 60 ms: beyond one 20-ms sample each way
+    coarse = slice(80, None, 20)
+    out = force_alignment([t[coarse]], [late[coarse]], [f[coarse]], [np.ones(t[coarse].size, bool)])
+    assert out["at_limit"] and not out["finding"]
+    assert force_alignment([t], [np.zeros(t.size)], [np.zeros(t.size)], [np.ones(t.size, bool)]) is None

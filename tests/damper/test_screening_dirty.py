@@ -106,7 +106,7 @@ def test_implausible_units_are_refused_by_the_command_line_readers(tmp_path):
     test = periodic_test("virtual", 0.02, 1.0, 0.5, cycles=6, sample_rate=500.0, noise=0.01, seed=3)
     in_ms = DamperTest(test.time * 1e3, test.displacement, test.velocity / 1e3, test.force,
                        voltage=test.voltage, name="ms")
-    with pytest.raises(InputError, match=r"implausible units \(time: sample rate 0\.5 Hz.*convert the file to SI"):
+    with pytest.raises(InputError, match=r"implausible units \(time: sample rate 0\.5 Hz.*unit in the header.*or convert the file to SI"):
         require_samples(screened(in_ms), "ms.csv")
 
 
@@ -263,3 +263,37 @@ def test_a_velocity_column_differenced_by_the_logger_is_replaced_by_the_central_
     assert len(found) == 1 and f"{kind} difference" in found[0].message and not found[0].excluded
     np.testing.assert_allclose(test.velocity, np.gradient(x, t, edge_order=2), rtol=1e-12, atol=1e-15)
     assert test.mask is None
+
+
+def test_repeats_that_are_no_missed_sample_are_left_as_read(tmp_path):
+    """A pause of the rig (a reading repeated over 20 slots), and a file where every reading is
+    written twice (resampled by repetition): neither is a missed sample period. The pause is no
+    finding; the resampled file is said once and left as read, not interpolated into triangles."""
+    from damper.io.data import read_csv
+    from damper.io.screening import held_samples
+    t = np.arange(2000) / 200.0
+    x = 0.01 * np.sin(2 * np.pi * 0.37 * t)
+    f = 500.0 * np.tanh(np.gradient(x, t) / 0.004) + 3.0 * np.sin(5.1 * t)
+    paused_x, paused_f = x.copy(), f.copy()
+    paused_x[700:720], paused_f[700:720] = x[700], f[700]
+    assert not held_samples(paused_x, paused_f).any()
+    twice_x, twice_f = np.repeat(x[::2], 2), np.repeat(f[::2], 2)
+    assert not held_samples(twice_x, twice_f).any()
+    path = tmp_path / "twice.csv"
+    write_csv(DamperTest(t, twice_x, np.gradient(twice_x, t), twice_f, voltage=np.zeros(t.size), name="twice"), path)
+    test = read_csv(path)
+    held = [fd for fd in test.metadata["screening"].findings if fd.kind == "held"]
+    assert len(held) == 1 and not held[0].excluded and "throughout the file" in held[0].message
+    np.testing.assert_allclose(test.displacement, twice_x, rtol=0, atol=1e-12)
+
+
+def test_half_a_sample_of_delay_is_placed_with_its_own_lag():
+    """The delay estimate of a velocity channel half a sample late: the fraction and the lag it
+    was computed at belong together (it used to come back a sample off, and the velocity check
+    then flagged the whole test)."""
+    from damper.io.screening import _delay
+    t = np.arange(3000) / 50.0
+    b = np.sin(2 * np.pi * 0.9 * t) + 0.3 * np.sin(2 * np.pi * 2.3 * t)
+    a = np.sin(2 * np.pi * 0.9 * (t - 0.01)) + 0.3 * np.sin(2 * np.pi * 2.3 * (t - 0.01))
+    lag, gain, _ = _delay(a, b, 5)
+    assert lag == pytest.approx(0.5, abs=0.05) and gain == pytest.approx(1.0, abs=0.01)
