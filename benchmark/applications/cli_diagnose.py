@@ -35,7 +35,7 @@ from pathlib import Path
 
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.atomic import output_dir
-from damper.io.reader import read_test, require_samples
+from damper.io.reader import read_test, require_samples, unique_names
 from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
@@ -148,6 +148,11 @@ def run(args) -> int:
     tests = [require_samples(read_test(f, keep_flagged=keep), f) for f in args.data]
     validate = ([require_samples(read_test(f, keep_flagged=keep), f) for f in args.validate]
                 if args.validate else None)
+    # one name per recording (two files with one stem would share an entry of the report)
+    named = unique_names([(str(f), t) for f, t in zip([*args.data, *(args.validate or [])],
+                                                      [*tests, *(validate or [])])])
+    tests = [t for _, t in named[:len(tests)]]
+    validate = [t for _, t in named[len(tests):]] if validate is not None else None
     screened_tests = tests + (validate or [])
     screening = screening_summary(screened_tests, keep)
     progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))

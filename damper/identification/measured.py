@@ -34,7 +34,7 @@ from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
 from damper.identification.refine import parameters_at_bounds, refine_common
 from damper.models.response import simulate
-from damper.io.reader import read_test
+from damper.io.reader import read_test, unique_names
 from damper.identification import plots
 
 __all__ = ["identify_files", "held_out_errors", "fit_levels"]
@@ -135,23 +135,6 @@ def _label(test) -> str:
     return Path(source).name if source and Path(source).is_file() else str(test.name)
 
 
-def _unique_names(loaded: list) -> list:
-    """``(label, test)`` pairs with every test's name unique: two files with one ``# name:`` line
-    would otherwise share a held-out entry and a figure; a later one gets its file's label."""
-    seen: set[str] = set()
-    out = []
-    for label, test in loaded:
-        name, k = test.name, 2
-        while name in seen:
-            name = f"{test.name} ({label})" if k == 2 else f"{test.name} ({label}, {k - 1})"
-            k += 1
-        if name != test.name:
-            test = dataclasses.replace(test, name=name)
-        seen.add(name)
-        out.append((label, test))
-    return out
-
-
 def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "extended"),
                    n_bootstrap: int = 10, out=None, progress: Callable[[str], None] | None = None,
                    strict: bool = False) -> dict:
@@ -186,7 +169,7 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     idents: list[Identification] = []
     failed: dict[str, str] = {}
     # each file is read once, here (a DamperTest passes through as it is)
-    loaded = _unique_names([(_label(item), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
+    loaded = unique_names([(_label(item), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
                             for item in files])
     screenings = {label: {**test.metadata["screening"].to_json(),
                           # the columns read in a rig's units, converted to SI (damper.io.data)

@@ -13,6 +13,7 @@ it, so every command accepts the same formats and screens them the same way
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from benchmark.foundation.errors import InputError
@@ -20,7 +21,7 @@ from damper.io.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm
 from damper.io.dyke import looks_like_dyke_file, read_dyke
 from damper.io.screening import screening_of
 
-__all__ = ["read_test", "require_samples", "MIN_SAMPLES"]
+__all__ = ["read_test", "require_samples", "unique_names", "MIN_SAMPLES"]
 
 #: Fewest samples, and fewest usable (unflagged) samples, of a test worth a fit (the
 #: screening's own floor; the diagnosis differentiates the velocity, which needs three).
@@ -100,3 +101,27 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
         # every model of the library dissipates: a fit would only find the parameters' bounds
         raise InputError(f"{path}: {polarity}")
     return test
+
+
+def unique_names(loaded: list) -> list:
+    """``(label, test)`` pairs with every test's name unique: two files with one ``# name:`` line
+    or one stem (``a/val.csv``, ``b/val.csv``) would otherwise share a held-out or validation
+    entry and a figure; a later one gets its label (its file) after its name.
+
+    Parameters
+    ----------
+    loaded : list of (str, DamperTest)
+        Each test with the label that tells it apart (its file as given).
+    """
+    seen: set[str] = set()
+    out = []
+    for label, test in loaded:
+        name, k = test.name, 2
+        while name in seen:
+            name = f"{test.name} ({label})" if k == 2 else f"{test.name} ({label}, {k - 1})"
+            k += 1
+        if name != test.name:
+            test = dataclasses.replace(test, name=name)
+        seen.add(name)
+        out.append((label, test))
+    return out

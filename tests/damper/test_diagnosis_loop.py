@@ -317,6 +317,24 @@ def test_a_validation_recordings_own_force_zero_is_reported_beside_its_error(tmp
     assert "force zero re-estimated on it (a load cell's tare)" in capsys.readouterr().out
 
 
+def test_two_recordings_with_one_file_name_keep_two_entries(tmp_path, capsys):
+    """``--validate a/val.csv b/val.csv``: each recording keeps its own error and force zero
+    (they shared one entry, the later one's, before)."""
+    tests = sinusoidal_tests(_device(Offset(150.0)), motions=((0.01, 1.0), (0.004, 3.0), (0.006, 2.0)),
+                             noise=0.01, seed=9)
+    fit = str(write_csv(tests[0], tmp_path / "fit.csv"))
+    paths = []
+    for sub, shift in (("a", 0.0), ("b", 200.0)):
+        (tmp_path / sub).mkdir()
+        other = dataclasses.replace(tests[2], force=tests[2].force - shift, name="val")
+        paths.append(str(write_csv(other, tmp_path / sub / "val.csv")))
+    assert main(["diagnose", "--data", fit, "--validate", *paths, "--json", "--quiet", "--effects", "offset"]) == 0
+    v = json.loads(capsys.readouterr().out)["validation"]
+    assert len(v["tests"]) == 2 and len(set(v["tests"])) == 2
+    zeros = [v["force_zero"][name]["after"] for name in v["tests"]]
+    assert zeros[0] - zeros[1] == pytest.approx(200.0, rel=1e-6)
+
+
 def test_time_budget_ends_the_selection_cleanly_and_says_so(tmp_path, capsys):
     tests = sinusoidal_tests(_device(Offset(150.0), Stiffness(3e4)), noise=0.01, seed=9)
     d = diagnose(tests, time_budget=1e-6)

@@ -28,6 +28,7 @@ def test_printed_values_are_the_final_ones(monkeypatch, capsys):
                              to_json=lambda: {})
     monkeypatch.setattr(cli_diagnose, "read_test", lambda f, **options: f)
     monkeypatch.setattr(cli_diagnose, "require_samples", lambda test, path: test)
+    monkeypatch.setattr(cli_diagnose, "unique_names", lambda pairs: pairs)
     monkeypatch.setattr(cli_diagnose, "screening_summary", lambda tests, keep=False: {})
     monkeypatch.setattr(cli_diagnose, "screening_lines", lambda tests, keep=False: [])
     monkeypatch.setattr(cli_diagnose, "diagnose", lambda *a, **k: result)
