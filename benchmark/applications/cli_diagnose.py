@@ -39,7 +39,7 @@ from damper.io.reader import read_test, require_samples, unique_names
 from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
-from damper.diagnosis.loop import tare_matters
+from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import format_parameters, input_word, write_report
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
@@ -189,7 +189,7 @@ def run(args) -> int:
             if tare_matters(v):
                 print(f"  with each recording's force zero re-estimated on it (a load cell's tare): "
                       f"{v['error_before_force_zero']:.4f} -> {v['error_after_force_zero']:.4f} (zeros "
-                      + ", ".join(f"{n} {z['after']:+.4g} N" for n, z in v["force_zero"].items()) + ")")
+                      + force_zero_text(v) + ")")
             for name, c in (v.get("input_clipped") or {}).items():
                 print(f"  {name}: {c['samples']} samples of the coil input outside the fitted tests' range "
                       f"(by up to {c['largest_excess']:.3g}), held at its edge")

@@ -27,6 +27,7 @@ from benchmark.foundation.progress import progress_bar
 from benchmark.foundation.atomic import output_dir
 from damper.identification.measured import identify_files
 from damper.io.reader import read_test, require_samples
+from damper.io.screening import units_line
 from benchmark.applications.model_files import write_identified_models
 
 __all__ = ["register"]
@@ -168,8 +169,7 @@ def _run_data(args: argparse.Namespace) -> int:
         return 0 if result["tests"] else 2
     for name, scr in result.get("screening", {}).items():
         if scr.get("file_units"):
-            print(f"screening {name}: read " + ", ".join(f"{k} in {u}" for k, u in scr["file_units"].items())
-                  + ", converted to SI")
+            print(f"screening {name}: {units_line(scr['file_units'])}")
         est = scr.get("estimates", {})
         if "force_velocity_lag_s" in est and scr["findings"]:
             print(f"screening {name}: estimated force lag behind the velocity "

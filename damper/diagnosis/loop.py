@@ -41,7 +41,7 @@ from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, 
                                         DEFAULT_TRIALS, SelectionResult, Step, select_effects)
 from damper.diagnosis.trace import DEFAULT_BINS, TRACE_VARIABLES, ResidualTrace, trace_residual
 
-__all__ = ["Diagnosis", "diagnose", "unexplained_structure", "tare_matters", "TARE_SHARE", "DEFAULT_STRUCTURE_SHARE",
+__all__ = ["Diagnosis", "diagnose", "unexplained_structure", "tare_matters", "force_zero_text", "TARE_SHARE", "DEFAULT_STRUCTURE_SHARE",
            "DEFAULT_STRUCTURE_LEVEL", "BASE_MODELS"]
 
 #: Base models of :func:`diagnose` (``"auto"``: chosen from the tests' coil input).
@@ -259,6 +259,17 @@ def tare_matters(validation: dict) -> bool:
     after, zeroed = validation.get("error_after"), validation.get("error_after_force_zero")
     return (after is not None and zeroed is not None and math.isfinite(after) and math.isfinite(zeroed)
             and zeroed < TARE_SHARE * after)
+
+
+def force_zero_text(validation: dict) -> str:
+    """Each other recording's force zero as the output and the report write it (``a -1.6 N, b -153 N``).
+
+    Parameters
+    ----------
+    validation : dict
+        :attr:`Diagnosis.validation`.
+    """
+    return ", ".join(f"{n} {z['after']:+.4g} N" for n, z in validation["force_zero"].items())
 
 
 def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: AugmentedModel,

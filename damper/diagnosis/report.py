@@ -30,7 +30,7 @@ from benchmark.foundation.figures import save_figure
 from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
 from damper.diagnosis.effects import EFFECTS
-from damper.diagnosis.loop import tare_matters
+from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.io.screening import screening_lines, screening_summary
 from damper.lab.plots import draw_loops
 
@@ -454,7 +454,7 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
         lines[-1:-1] = [f"- Other recordings of the device ({', '.join(v['tests'])}, never fitted): "
                         f"relative RMS force error **{v['error_before']:.4f} → {v['error_after']:.4f}**"
                         + (f"; with each recording's force zero re-estimated on it (a load cell's tare, not the "
-                           f"device's: " + ", ".join(f"{n} {z['after']:+.4g} N" for n, z in v["force_zero"].items())
+                           f"device's: " + force_zero_text(v)
                            + f") {v['error_before_force_zero']:.4f} → {v['error_after_force_zero']:.4f}"
                            if tare_matters(v) else "") + "."]
         lines[-1:-1] = [f"- {name}: {c['samples']} samples of its {d.data.input_name} lie outside the fitted "

@@ -15,8 +15,8 @@ name may carry its unit in brackets or parentheses (``force [N]``, ``force (kN)`
 without one is SI; a rig's units (ms; mm, cm, in; mm/s, cm/s, in/s; kN, lbf, kip, kgf; mV; mA)
 are converted to SI on reading (:mod:`benchmark.foundation.file_units`) and listed in the test's
 ``metadata["file_units"]``. Loggers' names are read too: ``t``; ``disp``, ``x``, ``position``,
-``stroke``; ``vel``, ``xdot``; ``f``, ``load`` (any case). The columns may be separated by commas, semicolons, tabs or spaces (the
-header line says which); with any separator but the comma, decimal commas (``0,25``) are read
+``stroke``; ``vel``, ``xdot``; ``f``, ``load`` (any case). The columns may be separated by
+commas, semicolons, tabs or spaces (the header line says which); with any separator but the comma, decimal commas (``0,25``) are read
 as decimal points. Cells may be quoted and every line may end with the separator.
 
 UTFSM files (``hysteresis_data/quiroz_utfsm_mr_damper_sinusoidal/Preprocesados``,
@@ -39,7 +39,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.foundation.file_units import STANDARD_GRAVITY, si_factor
+from benchmark.foundation.file_units import SI_UNIT, STANDARD_GRAVITY, si_factor
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
 from damper.io.screening import repair_samples, screened
@@ -49,8 +49,11 @@ __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm",
 
 _REQUIRED = ("time", "displacement", "force")
 _OPTIONAL = ("velocity", "voltage", "current")
-_UNITS = {"time": "s", "displacement": "m", "force": "N", "velocity": "m/s", "voltage": "V",
-          "current": "A"}
+#: The quantity (:mod:`benchmark.foundation.file_units`) of each column, for its unit ...
+_QUANTITY = {"time": "time", "displacement": "length", "force": "force", "velocity": "velocity",
+             "voltage": "voltage", "current": "current"}
+#: ... and the SI unit it is held and written in.
+_UNITS = {name: SI_UNIT[quantity] for name, quantity in _QUANTITY.items()}
 
 
 @dataclass(frozen=True)
@@ -212,9 +215,6 @@ def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: b
     return arr
 
 
-#: The quantity (:mod:`benchmark.foundation.file_units`) of each column, for its unit.
-_QUANTITY = {"time": "time", "displacement": "length", "force": "force", "velocity": "velocity",
-             "voltage": "voltage", "current": "current"}
 
 #: Other names loggers give the columns (matched without regard to case).
 _ALIASES = {"t": "time", "disp": "displacement", "x": "displacement", "position": "displacement",
@@ -433,7 +433,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                          f"(line {header_line}), got {len(rows)}")
     data = np.array(rows)
     # units converted at the edge: everything past here is SI (module docstring)
-    col = {c: data[:, i] * factors[c] if factors[c] != 1.0 else data[:, i] for i, c in enumerate(header)}
+    col = {c: data[:, i] * factors[c] for i, c in enumerate(header)}
     if ("voltage" in col or "current" in col) and (voltage is not None or current is not None):
         raise InputError(f"{path}: the file has a {'voltage' if 'voltage' in col else 'current'} "
                          "column; do not also give a constant value")

@@ -111,7 +111,7 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
-           "screening_of", "screening_summary", "screening_lines", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "screening_of", "screening_summary", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS"]
 
@@ -542,11 +542,16 @@ def held_samples(displacement: np.ndarray, force: np.ndarray) -> np.ndarray:
     x = np.asarray(displacement, dtype=float)
     f = np.asarray(force, dtype=float)
     mask = np.zeros(x.size, dtype=bool)
-    for a, b in held_runs(x, f):
-        mask[a:b + 1] = True
-    if mask.sum() > HELD_MAX_SHARE * x.size:
-        mask[:] = False
+    runs = held_runs(x, f)
+    if not _held_throughout(runs, x.size):
+        for a, b in runs:
+            mask[a:b + 1] = True
     return mask
+
+
+def _held_throughout(runs: list[tuple[int, int]], n: int) -> bool:
+    """Held runs over more than :data:`HELD_MAX_SHARE` of ``n`` samples: the file's make-up."""
+    return sum(b - a + 1 for a, b in runs) > HELD_MAX_SHARE * n
 
 
 def held_runs(displacement: np.ndarray, force: np.ndarray) -> list[tuple[int, int]]:
@@ -569,6 +574,8 @@ def held_runs(displacement: np.ndarray, force: np.ndarray) -> list[tuple[int, in
     tol_f = HELD_TOLERANCE * scale_f
     dx, df = np.diff(x), np.diff(f)
     same = (np.abs(dx) <= tol_x) & (np.abs(df) <= tol_f)
+    if not same.any():
+        return []  # most files: no repeat at all, nothing more to sort
     # the channel's own step: the smallest gap between two of its distinct values (an encoder's
     # count, a converter's step), whatever digits the file shows
     gaps = np.diff(np.unique(x[np.isfinite(x)]))
@@ -705,8 +712,8 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
     if channels.get("displacement") is not None and channels.get("force") is not None:
         runs_held = held_runs(np.asarray(channels["displacement"], dtype=float)[keep],
                               np.asarray(channels["force"], dtype=float)[keep])
-        slots = sum(b - a + 1 for a, b in runs_held)
-        if slots > HELD_MAX_SHARE * t.size:
+        if _held_throughout(runs_held, t.size):
+            slots = sum(b - a + 1 for a, b in runs_held)
             # repeated throughout: the file's make-up, not missed samples; said once, left as read
             findings.append(Finding("held", "displacement", float(t[0]), float(t[-1]), slots,
                                     f"readings of the displacement and the force repeat in {slots} of "
@@ -1142,6 +1149,18 @@ def screening_summary(tests: Sequence[Any], keep_flagged: bool = False) -> dict:
     return out
 
 
+def units_line(units: dict) -> str:
+    """The report's words for the columns a file gave in a rig's units (``metadata["file_units"]``
+    of :func:`damper.io.data.read_csv`): ``read displacement in mm, converted to SI``.
+
+    Parameters
+    ----------
+    units : dict of str to str
+        Column name to the unit the file wrote.
+    """
+    return "read " + ", ".join(f"{k} in {u}" for k, u in units.items()) + ", converted to SI"
+
+
 def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[str]:
     """The screening findings as report lines (the estimated lags, one line per finding, one
     summary per test).
@@ -1159,8 +1178,7 @@ def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[st
         label = _label(test)
         units = (getattr(test, "metadata", None) or {}).get("file_units")
         if units:
-            lines.append(f"screening {label}: read " + ", ".join(f"{k} in {u}" for k, u in units.items())
-                         + ", converted to SI")
+            lines.append(f"screening {label}: {units_line(units)}")
         if scr.estimate_line():
             lines.append(f"screening {label}: estimated {scr.estimate_line()}")
         if not scr.findings:
