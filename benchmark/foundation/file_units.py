@@ -13,9 +13,12 @@ pound times standard gravity), 1 kip = 1000 lbf, 1 kgf = 9.80665 N, 1 g = 9.8066
 
 from __future__ import annotations
 
+import re
+
 from benchmark.foundation.errors import InputError
 
-__all__ = ["QUANTITY_UNITS", "SI_UNIT", "STANDARD_GRAVITY", "si_factor", "unit_key"]
+__all__ = ["COLUMN_ALIASES", "QUANTITY_UNITS", "SI_UNIT", "STANDARD_GRAVITY", "column_name_unit", "si_factor",
+           "unit_key"]
 
 #: Standard gravity [m/s²] (CGPM 1901; NIST SP 811).
 STANDARD_GRAVITY = 9.80665
@@ -102,3 +105,39 @@ def si_factor(quantity: str, unit: str, where: str = "units") -> float:
     except KeyError:
         raise InputError(f"{where}: unknown {quantity} unit {unit!r}; expected one of "
                          f"{_EXPECTED[quantity]}") from None
+
+
+#: Other names loggers give the columns of a test (matched without regard to case).
+COLUMN_ALIASES = {"t": "time", "disp": "displacement", "x": "displacement", "position": "displacement",
+                  "stroke": "displacement", "vel": "velocity", "xdot": "velocity", "f": "force",
+                  "load": "force"}
+
+_COLUMN = re.compile(r"([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\]|\(\s*([^)]*)\s*\))?")
+
+
+def column_name_unit(cell: str) -> tuple[str, str | None] | None:
+    """Split a header cell into the column's name and the unit written with it.
+
+    ``"disp [mm]"``, ``"Disp (mm)"`` and ``'"load"'`` give ``("displacement", "mm")``,
+    ``("displacement", "mm")`` and ``("force", None)``: the name in lower case with a logger's
+    alias (:data:`COLUMN_ALIASES`) read as the quantity's name, the unit as written (brackets or
+    parentheses) or None where none is. The readers of damper tests and of force histories
+    share this rule.
+
+    Parameters
+    ----------
+    cell : str
+        One cell of a CSV header line (quotes and surrounding spaces are ignored).
+
+    Returns
+    -------
+    tuple or None
+        ``(name, unit)``, or None where the cell is not a name with an optional unit.
+    """
+    text = cell.strip().strip('"').strip("'").strip()
+    m = _COLUMN.fullmatch(text)
+    if not m:
+        return None
+    unit = m.group(2) if m.group(2) is not None else m.group(3)
+    name = m.group(1).lower()
+    return COLUMN_ALIASES.get(name, name), (unit.strip() or None) if unit is not None else None

@@ -1,8 +1,9 @@
 """Files of the hysteretic oscillator: force/displacement data (CSV, HDF5) and model JSON.
 
 CSV data (``#`` lines are comments; a header line names the columns, optionally with their
-units in brackets: SI where none is written, and a rig's units such as ``[ms]``, ``[mm]``,
-``[kN]`` or ``[lbf]`` are converted to SI on reading, :mod:`benchmark.foundation.file_units`)::
+units in brackets or parentheses: SI where none is written, and a rig's units such as ``[ms]``,
+``(mm)``, ``[kN]`` or ``[lbf]`` are converted to SI on reading, :mod:`benchmark.foundation.file_units`;
+loggers' names ``t``, ``f``, ``load``, ``disp``, ``x``, ``position``, ``stroke`` are read too)::
 
     time [s], force [N], displacement [m]
     0.0, -27.35, 7.7e-06
@@ -18,7 +19,6 @@ from __future__ import annotations
 
 import csv
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,7 +26,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
-from benchmark.foundation.file_units import si_factor
+from benchmark.foundation.file_units import column_name_unit, si_factor
 from damper.io.data import parse_row
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
@@ -137,12 +137,12 @@ def read_data(path, need_displacement: bool = True, group: str | None = None) ->
 
 
 def _column(cell: str, path: Path, line: int) -> tuple[str, float]:
-    m = re.fullmatch(r"\s*([A-Za-z_]+)\s*(?:\[\s*([^\]]*?)\s*\])?\s*", cell)
-    if not m or m.group(1).lower() not in _UNITS:
+    split = column_name_unit(cell)  # the damper tests' rule: brackets or parentheses, loggers' names
+    if split is None or split[0] not in _UNITS:
         raise InputError(f"{path}:{line}: header: unknown column {cell.strip()!r}; expected "
                          "time, force[, displacement]")
-    name, unit = m.group(1).lower(), m.group(2)
-    if unit is None or not unit.strip():
+    name, unit = split
+    if unit is None:
         return name, 1.0
     return name, si_factor(_UNITS[name], unit, f"{path}:{line}: header: column {name!r}")
 

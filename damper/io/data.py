@@ -39,7 +39,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.foundation.file_units import SI_UNIT, STANDARD_GRAVITY, si_factor
+from benchmark.foundation.file_units import SI_UNIT, STANDARD_GRAVITY, column_name_unit, si_factor
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
 from damper.io.screening import repair_samples, screened
@@ -216,28 +216,20 @@ def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: b
 
 
 
-#: Other names loggers give the columns (matched without regard to case).
-_ALIASES = {"t": "time", "disp": "displacement", "x": "displacement", "position": "displacement",
-            "stroke": "displacement", "vel": "velocity", "xdot": "velocity", "f": "force",
-            "load": "force"}
-
-
 def _header_name(cell: str, path: Path, line: int) -> tuple[str, float, str | None]:
     """The column's name, the factor that takes its values to SI and the unit written, if any."""
-    text = cell.strip().strip('"').strip("'").strip()
-    m = re.fullmatch(r"([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\]|\(\s*([^)]*)\s*\))?", text)
-    if not m:
+    split = column_name_unit(cell)
+    if split is None:
         raise InputError(f"{path}:{line}: header: unreadable column name {cell!r}; expected "
                          "time, displacement, force[, velocity][, voltage|current]")
-    name, unit = m.group(1).lower(), m.group(2) if m.group(2) is not None else m.group(3)
-    name = _ALIASES.get(name, name)
+    name, unit = split
     if name not in _UNITS:
         raise InputError(f"{path}:{line}: header: unknown column {name!r}; expected "
                          "time, displacement, force[, velocity][, voltage|current]")
-    if unit is None or not unit.strip():
+    if unit is None:
         return name, 1.0, None
     factor = si_factor(_QUANTITY[name], unit, f"{path}:{line}: header: column {name!r}")
-    return name, factor, unit.strip()
+    return name, factor, unit
 
 
 def parse_row(path, line_no: int, header: list[str], row: list[str],

@@ -240,3 +240,17 @@ def test_force_data_in_a_rigs_units_are_read_in_si(tmp_path):
     np.testing.assert_allclose(b.force, a.force, rtol=1e-14)
     np.testing.assert_allclose(b.displacement, a.displacement, rtol=1e-14)
     assert b.fs == pytest.approx(a.fs, rel=1e-12) == pytest.approx(1000.0)
+
+
+@pytest.mark.parametrize("header", ['"t (ms)","Load (kN)","disp (mm)"', "Time(ms),F [kN],stroke [mm]"])
+def test_force_data_header_in_parentheses_and_loggers_names(tmp_path, header):
+    """Units in parentheses and a logger's column names read as the damper tests' reader reads
+    them (``benchmark.foundation.file_units.column_name_unit``, one rule for both readers)."""
+    from damper.hysteresis.files import read_data
+    si, rig = tmp_path / "si.csv", tmp_path / "rig.csv"
+    si.write_text("time [s],force [N],displacement [m]\n0,1500,0.002\n0.001,-250,0.0015\n0.002,30,-0.001\n")
+    rig.write_text(header + "\n0,1.5,2\n1,-0.25,1.5\n2,0.03,-1\n")
+    a, b = read_data(si), read_data(rig)
+    np.testing.assert_allclose(b.force, a.force, rtol=1e-14)
+    np.testing.assert_allclose(b.displacement, a.displacement, rtol=1e-14)
+    assert b.fs == pytest.approx(1000.0)
