@@ -10,11 +10,15 @@ Formats
 ``benchmark``
     The smart base-isolated benchmark's two-column files (Narasimhan et al. 2006): header
     lines start with ``%``, two whitespace-separated columns (tabs or spaces, CRLF allowed),
-    acceleration in cm/s², dt = 0.005 s. A ``dt=...`` or a unit written in the header
-    (``cm/sec^2``) is read and must agree with an explicit argument.
+    acceleration in cm/s², dt = 0.005 s. A step (``dt=0.005 sec``, ``DT: 0.01 s``, ``time step =
+    20 ms``) or a unit written in the header, in ``%`` or ``#`` lines, is read and must agree with
+    an explicit argument: any spelling of the unit table (``cm/sec^2``, ``m/s**2``, ``m/s²``,
+    ``CM/SEC/SEC``, ``mm/s2``); a bare ``g`` or ``gal`` where the header states it as the unit
+    (``in g``, ``units: g``, ``[g]``), never a value's unit (``PGA 0.82 g``); two units stated as
+    the file's are refused (:func:`_header_units`).
 ``at2``
     PEER NGA ``.AT2``: four header lines (the third names the units, e.g. ``UNITS OF G``;
-    the fourth gives ``NPTS=..., DT=...`` or the older ``3908  .0100  NPTS, DT``), then the
+    the fourth gives ``NPTS=..., DT=...``, ``DT=..., NPTS=...`` or the older ``3908  .0100  NPTS, DT``), then the
     values, several per line; the number of values must equal NPTS.
 ``single``
     One value per line, no time column (e.g. the USGS SLAMMER library, in g). The time step
@@ -34,16 +38,22 @@ Formats
     velocity or displacement unit (``vel (cm/s)``) is refused. Cells may be quoted, every line
     may end with the separator, and between semicolons or whitespace a decimal comma
     (``0,25``) is read as a decimal point; a file of ``1,5`` lines (a decimal comma or integer
-    columns?) is refused. Time must increase with a uniform step (relative tolerance
-    ``1e-3``); the record's time origin is moved to zero and the first time kept in metadata.
+    columns?) is refused. Over whitespace-separated data, names with spaces are split at tabs or
+    at runs of spaces (``Time (s)<tab>Acc X (g)``). Time must increase with a uniform step
+    (relative tolerance ``1e-3``, or stamps within half their last printed digit of a uniform
+    grid: 1/300 s written as ``%.4f``, noted in ``metadata["time_rounded"]``); the record's time
+    origin is moved to zero and the first time kept in metadata. A step outside
+    :data:`DT_RANGE` (1e-5 to 1 s) is refused in every format. Components past the first two are
+    named in ``metadata["columns"]`` when the building takes its two (``records.resolve``); a
+    ``V`` beside ``H1, H2`` is the vertical.
 
 Values whose magnitude exceeds 1e8 m/s² after conversion (no unit mix-up gives that much) are
 refused as corrupt. PEER velocity (``.VT2``) and displacement (``.DT2``) files are refused, and
 Fortran fixed-width values written without a space between them (``1.2E-02-3.4E-02``) are split.
 
-Units accepted (case-insensitive): ``g``; ``m/s2``, ``m/s^2``, ``m/s/s``, ``m/s**2``;
-``cm/s2``, ``cm/s^2``, ``cm/s/s``, ``cm/sec^2``, ``gal``; ``mm/s2``, ``mm/s^2``. One g is
-9.80665 m/s².
+Units accepted (case-insensitive, :mod:`benchmark.foundation.file_units`): ``g``; ``m/s2``,
+``m/s^2``, ``m/s²``, ``m/s/s``, ``m/s**2``, ``m/sec/sec``; the same in ``cm`` (and ``gal``) and
+``mm``. One g is 9.80665 m/s².
 """
 
 from __future__ import annotations
@@ -58,7 +68,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.foundation.file_units import si_factor
+from benchmark.foundation.file_units import QUANTITY_UNITS, si_factor, unit_key
 from benchmark.foundation.textfile import decode_text, parse_float
 from records.record import STANDARD_GRAVITY, Record
 
@@ -80,6 +90,9 @@ FORMATS = ("auto", "benchmark", "at2", "single", "csv")
 
 #: The benchmark's sampling step [s] (Narasimhan et al. 2006; every FDZ file).
 BENCHMARK_DT = 0.005
+#: Time steps a record file may state [s]: strong-motion instruments sample at 50 Hz to 10 kHz
+#: (digitised analogue records at 0.01-0.02 s); a wider margin each way, no more.
+DT_RANGE = (1e-5, 1.0)
 
 _CANONICAL_UNITS = {"g": "g", 1.0: "m/s2", 0.01: "cm/s2", 0.001: "mm/s2"}
 
@@ -115,10 +128,10 @@ def _read_lines(path: str | os.PathLike) -> tuple[Path, list[str]]:
     if not path.is_file():
         raise InputError(f"{path}: not a regular file")
     raw = path.read_bytes()
-    if not raw.strip():
-        raise InputError(f"{path}: file is empty; expected acceleration values")
     # binary or not UTF-8: one line naming the file and the line (benchmark.foundation.textfile)
-    text = decode_text(raw, str(path))
+    text = decode_text(raw, str(path)) if raw.strip() else ""
+    if not text.replace("\ufeff", "").strip():  # a byte-order mark or a no-break space is no content
+        raise InputError(f"{path}: file is empty; expected acceleration values")
     return path, text.splitlines()
 
 
@@ -139,6 +152,10 @@ def _check_dt(dt: float | None, where: str) -> float:
         raise InputError(f"{where}: time step dt = {dt!r}; expected a positive number of seconds") from None
     if not math.isfinite(value) or value <= 0.0:
         raise InputError(f"{where}: time step dt = {dt!r} s; expected a positive finite number of seconds")
+    if not DT_RANGE[0] <= value <= DT_RANGE[1]:
+        # 500 s would ask the simulator for millions of steps; 1e-200 s is a misread header
+        raise InputError(f"{where}: time step dt = {value:g} s; a ground-motion record is sampled every "
+                         f"{DT_RANGE[0]:g}-{DT_RANGE[1]:g} s (a step in ms given as s?)")
     return value
 
 
@@ -198,16 +215,52 @@ def _record(path: Path, **fields) -> Record:
 
 
 # --------------------------------------------------------------------------- benchmark format
-_DT_IN_HEADER = re.compile(r"\bdt\s*=\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)", re.IGNORECASE)
-_UNITS_IN_HEADER = re.compile(r"\b(cm/sec\^?2|cm/s\^?2|cm/s/s|m/sec\^?2|m/s\^?2|m/s/s|gal)\b|"
-                              r"\bunits? of g\b|\bin g\b", re.IGNORECASE)
+#: A step stated in a header: ``dt=0.005 sec``, ``DT: 0.01 s``, ``time step = 5 ms``.
+_DT_IN_HEADER = re.compile(r"\b(?:dt|delta\s*t|time\s*step|sampling\s*(?:interval|step))\s*[:=]?\s*"
+                           r"([0-9]*\.?[0-9]+(?:[eEdD][-+]?[0-9]+)?)\s*(ms|msec|s|sec|seconds)?\b", re.IGNORECASE)
+#: A word that could be an acceleration unit (``cm/sec^2``, ``m/s**2``, ``m/s²``, ``CM/SEC/SEC``, ``g``).
+_UNIT_WORD = re.compile(r"(?<![\w/.^*])([A-Za-z][A-Za-z/^*²0-9]*)")
+#: What comes before a unit that a header states as the file's (``in``, ``of``, ``units:``, ``[``).
+_UNIT_CONTEXT = re.compile(r"(?:\b(?:in|of|units?|acc\w*)\s*[:=]?|[\[(:=])\s*$", re.IGNORECASE)
 
 
-def _header_units(header: str) -> str | None:
-    m = _UNITS_IN_HEADER.search(header)
+def _header_dt(header: str, where: str) -> float | None:
+    """The time step a header states [s], or None."""
+    m = _DT_IN_HEADER.search(header)
     if not m:
         return None
-    return m.group(1) if m.group(1) else "g"
+    scale = 1e-3 if (m.group(2) or "").lower() in ("ms", "msec") else 1.0
+    return _check_dt(parse_float(m.group(1)) * scale, f"{where}: header dt")
+
+
+def _header_units(header: str, where: str = "header") -> str | None:
+    """The acceleration unit a header names, looked up in the project's unit table.
+
+    Any spelling the table knows is found (``cm/sec^2``, ``m/s**2``, ``m/s²``, ``m/sec/sec``,
+    ``mm/s2``, ``gal``); a bare ``g`` or ``gal`` only where the header states it as a unit
+    (after ``in``, ``of``, ``units:``, ``acc``, ``=`` or inside brackets: ``PGA 0.8 g`` is a value, not the
+    file's unit). A number's unit (``0.35 g``) is never the file's. Two different units stated
+    as the file's are refused.
+    """
+    table = QUANTITY_UNITS["acceleration"]
+    stated: dict[float, str] = {}
+    for m in _UNIT_WORD.finditer(header):
+        word = m.group(1).rstrip("/.")
+        key = unit_key(word)
+        if key not in table:
+            continue
+        before = header[:m.start()]
+        if re.search(r"[0-9.]\s*$", before):
+            continue  # "0.35 g": a value's unit
+        bare = "/" not in key
+        after = header[m.end():m.end() + 2].lstrip()
+        if bare and not (_UNIT_CONTEXT.search(before) or after.startswith((")", "]"))):
+            continue
+        stated.setdefault(table[key], key if bare else word)
+    if len(stated) > 1:
+        raise InputError(f"{where}: the header names two acceleration units ({', '.join(stated.values())}); "
+                         "give the units (--units on the command line, units= in Python)")
+    return next(iter(stated.values()), None)
 
 
 def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str | None = None,
@@ -238,13 +291,11 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
         Malformed file, or an explicit ``dt``/``units`` that contradicts the header.
     """
     path, lines = _read_lines(path)
-    header = "\n".join(line for line in lines if line.lstrip().startswith("%"))
+    # '%' is the benchmark's comment mark; '#' lines state a step or units as often
+    header = "\n".join(line.lstrip()[1:] for line in lines if line.lstrip().startswith(("%", "#")))
     where = str(path)
 
-    header_dt = None
-    m = _DT_IN_HEADER.search(header)
-    if m:
-        header_dt = _check_dt(m.group(1), f"{where}: header dt")
+    header_dt = _header_dt(header, where)
     if dt is not None:
         dt = _check_dt(dt, f"{where}: dt argument")
         if header_dt is not None and not math.isclose(dt, header_dt, rel_tol=1e-9):
@@ -255,7 +306,7 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
     else:
         dt, dt_from = BENCHMARK_DT, "benchmark default 0.005 s (not in the header)"
 
-    found_units = _header_units(header)
+    found_units = _header_units(header, f"{where}: header")
     if units is not None:
         factor = unit_factor(units, f"{where}: units argument")
         if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
@@ -277,12 +328,13 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
         source=str(path),
         synthetic=False,
         metadata={"format": "benchmark", "units_in_file": _canonical(units), "units_from": units_from,
-                  "dt_from": dt_from, "header": header.replace("%", "").strip()},
+                  "dt_from": dt_from, "header": header.strip()},
     )
 
 
 # --------------------------------------------------------------------------- PEER NGA .AT2
 _NPTS_DT_NEW = re.compile(r"NPTS\s*=\s*([^\s,]+)\s*,?\s*DT\s*=\s*([^\s,]+)", re.IGNORECASE)
+_DT_NPTS = re.compile(r"DT\s*=\s*([^\s,]+)\s*(?:SEC\w*)?\s*,?\s*NPTS\s*=\s*([^\s,]+)", re.IGNORECASE)
 _NPTS_DT_OLD = re.compile(r"^\s*(\S+)\s+(\S+)\s+NPTS\s*,\s*DT", re.IGNORECASE)
 
 
@@ -338,15 +390,18 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
     if len(lines) < 5:
         raise InputError(f"{where}: {len(lines)} lines; a PEER .AT2 file has 4 header lines then values")
     m = _NPTS_DT_NEW.search(lines[3]) or _NPTS_DT_OLD.search(lines[3])
-    if not m:
+    npts_text, dt_text = (m.group(1), m.group(2)) if m else (None, None)
+    if not m and (m := _DT_NPTS.search(lines[3])):  # "DT= .005 SEC, NPTS= 4000"
+        npts_text, dt_text = m.group(2), m.group(1)
+    if npts_text is None or dt_text is None:
         raise InputError(f"{where}:4: expected 'NPTS= n, DT= dt SEC' (PEER .AT2 header), found {lines[3].strip()!r}")
-    npts_value = _number(m.group(1), path, 4, "NPTS (an integer)")
+    npts_value = _number(npts_text, path, 4, "NPTS (an integer)")
     if npts_value != int(npts_value) or npts_value < 2:
-        raise InputError(f"{where}:4: NPTS = {m.group(1)}; expected an integer >= 2")
+        raise InputError(f"{where}:4: NPTS = {npts_text}; expected an integer >= 2")
     npts = int(npts_value)
-    dt = _check_dt(_number(m.group(2), path, 4, "DT in seconds"), f"{where}:4")
+    dt = _check_dt(_number(dt_text, path, 4, "DT in seconds"), f"{where}:4")
 
-    found_units = _header_units(lines[2])
+    found_units = _header_units(lines[2], f"{where}:3")
     if found_units is None and re.search(r"\bG\s*$", lines[2].strip(), re.IGNORECASE):
         found_units = "g"
     if units is not None:
@@ -494,6 +549,36 @@ def _split_csv(line: str, delimiter: str | None) -> list[str]:
     return cells
 
 
+def _header_cells(header: str, delimiter: str | None, n_data: int) -> list[str]:
+    """The header's names, one per data column where a reading gives that many.
+
+    Over whitespace-separated data a name may hold spaces (``Time (s)<tab>Acc X (g)``): the
+    header is then split at tabs, else at runs of two or more spaces, else with each bracketed
+    unit joined to the name before it (``time [s] ax [g]``).
+    """
+    cells = _split_csv(header, delimiter)
+    if delimiter is not None or len(cells) == n_data:
+        return cells
+    for split in (header.split("\t"), re.split(r"\s{2,}", header.strip())):
+        split = [c.strip().strip('"').strip("'").strip() for c in split if c.strip()]
+        if len(split) == n_data:
+            return split
+    joined: list[str] = []
+    for c in cells:
+        if joined and re.fullmatch(r"[\[(][^\[\]()]*[\])]", c):
+            joined[-1] += " " + c
+        else:
+            joined.append(c)
+    return joined if len(joined) == n_data else cells
+
+
+def _decimals(token: str) -> int:
+    """Digits after the decimal point of a plain number (``0.0033`` → 4; 0 with an exponent)."""
+    if "." not in token or any(c in token for c in "eEdD"):
+        return 0
+    return len(token.split(".", 1)[1].strip())
+
+
 def _is_number(token: str, decimal_comma: bool = False) -> bool:
     try:
         parse_float(token.replace(",", ".") if decimal_comma else token)
@@ -570,9 +655,10 @@ def _numeric_row(line: str) -> tuple[str | None, bool] | None:
 #: A column name that gives its direction: an optional acceleration prefix, then the axis
 #: (``ax``, ``acc_y``, ``ag-x``, ``FN``, ``a_FP``, ``UP``, ``vertical``); spaces, ``_ - .`` ignored.
 _AXIS_NAME = re.compile(r"^(?:a|acc|accel|acceleration|ag|ug|ground|groundacc|groundacceleration)?"
-                        r"(x|y|z|fn|fp|up|ud|vert|vertical)$")
+                        r"(x|y|z|fn|fp|up|ud|v|vert|vertical)$")
 #: Which slot of the record (component 0, then 1) each horizontal direction takes; None: vertical.
-_AXIS_SLOT = {"x": 0, "fn": 0, "y": 1, "fp": 1, "z": None, "up": None, "ud": None, "vert": None, "vertical": None}
+_AXIS_SLOT = {"x": 0, "fn": 0, "y": 1, "fp": 1, "z": None, "up": None, "ud": None, "v": None, "vert": None,
+              "vertical": None}  # "V" beside "H1, H2": the vertical, as PEER names the components
 
 
 def _component_order(labels: Sequence[str], where: str) -> tuple[list[int], str | None]:
@@ -643,15 +729,20 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
         if not stripped:
             continue
         if stripped.startswith(("#", "%")):  # '%': the benchmark files' comment mark
-            m = _UNITS_COMMENT.match(stripped)
-            if m:
-                comment_units = m.group(1)
-            elif stripped.startswith("%") and _header_units(stripped):
-                comment_units = _header_units(stripped)  # "% Acc. in cm/sec^2", as the benchmark writes
             m = _WRITTEN_BY_SBIB.match(stripped)
             if m and not comment_keys:
                 comment_keys = {"synthetic": "true" if m.group(1) else "false", "name": m.group(2),
                                 "source": m.group(3)}
+                continue  # its source may be a path: not a statement of units
+            m = _UNITS_COMMENT.match(stripped)
+            # "# units: g", "% Acc. in cm/sec^2" (as the benchmark writes), "# acceleration [g]"
+            found = m.group(1) if m else _header_units(stripped[1:], f"{where}:{lineno}")
+            if found is not None:
+                if comment_units is not None and not math.isclose(unit_factor(found, f"{where}:{lineno}"),
+                                                                  unit_factor(comment_units, where)):
+                    raise InputError(f"{where}:{lineno}: comments name two units ({comment_units}, {found}); "
+                                     "expected one (or give --units)")
+                comment_units = found
             continue
         data_lines.append((lineno, stripped))
     if not data_lines:
@@ -689,7 +780,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
     if first_data == 1:
         header_line, header = data_lines[0]
         header_names, header_units = [], []
-        names = _split_csv(header, delimiter)
+        names = _header_cells(header, delimiter, len(_split_csv(data_lines[1][1], delimiter)))
         if unit_row is not None and len(unit_row) == len(names):
             names = [f"{n} [{u.strip('[]() ')}]" if u.strip("[]() ") else n for n, u in zip(names, unit_row)]
         for t in names:
@@ -709,6 +800,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
         raise InputError(f"{where}:{data_lines[0][0]}: {n_columns} column; expected time and at least one "
                          "acceleration column (time, ax[, ay])")
     rows = np.empty((len(data_lines), n_columns))
+    time_decimals = 0  # the time column's printed resolution (rounded stamps, below)
     for i, (lineno, line) in enumerate(data_lines):
         parts = _split_csv(line, delimiter)
         if len(parts) != n_columns:
@@ -718,6 +810,7 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
             if decimal_comma:
                 token = token.replace(",", ".")
             rows[i, j] = _number(token, path, lineno, "time" if j == 0 else "acceleration")
+        time_decimals = max(time_decimals, _decimals(parts[0].replace(",", ".")))
     linenos = [lineno for lineno, _ in data_lines]
     if delimiter == "," and header_names is None and n_columns == 2 and not any(
             c in line for _, line in data_lines for c in ".eE"):
@@ -728,9 +821,13 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
 
     # units: header brackets, then the '# units:' comment, then the argument, else m/s²
     acc_units = {u for u in header_units[1:] if u} if header_units else set()
-    if len(acc_units) > 1:
+    if len({unit_factor(u, where) for u in acc_units}) > 1:  # "g" and "G", "cm/s2" and "gal" agree
         raise InputError(f"{where}: acceleration columns have different units {sorted(acc_units)}")
     file_units = next(iter(acc_units)) if acc_units else comment_units
+    if acc_units and comment_units is not None and not math.isclose(unit_factor(file_units, where),
+                                                                    unit_factor(comment_units, where)):
+        raise InputError(f"{where}: the header says {file_units!r} but a comment says {comment_units!r}; "
+                         "expected one unit (or give --units)")
     if units is not None:
         factor = unit_factor(units, f"{where}: units argument")
         if file_units is not None and not math.isclose(factor, unit_factor(file_units, where)):
@@ -766,16 +863,27 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
                          "expected increasing time")
     step = float(np.median(steps))
     off = np.flatnonzero(np.abs(steps - step) > dt_tolerance * step)
+    rounded = False
     if off.size:
-        k = off[0] + 1
-        raise InputError(f"{where}:{linenos[k]}: time step {steps[k - 1]:g} s differs from the record's "
-                         f"step {step:g} s; expected uniform sampling (resample the record first)")
+        # Stamps written to fewer decimals than the step needs (1/300 s as %.4f, 128 Hz as %.3f)
+        # step unevenly but lie on a uniform grid to within half their last digit.
+        k_index = np.arange(len(time), dtype=float)
+        slope, intercept = np.polyfit(k_index, time, 1)  # the grid the stamps were rounded from
+        digit = 10.0 ** -time_decimals * time_scale
+        # each stamp within half a digit of the grid (0.6: the fitted grid's own error beside it)
+        if time_decimals > 0 and digit < 0.5 * slope and \
+                float(np.max(np.abs(time - (intercept + slope * k_index)))) <= 0.6 * digit + 1e-12 * np.max(np.abs(time)):
+            rounded = True
+        else:
+            k = off[0] + 1
+            raise InputError(f"{where}:{linenos[k]}: time step {steps[k - 1]:g} s differs from the record's "
+                             f"step {step:g} s; expected uniform sampling (resample the record first)")
+    # the mean step over the record is the best estimate when the times are rounded
+    step = float((time[-1] - time[0]) / (len(time) - 1))
     if dt is not None:
         dt = _check_dt(dt, f"{where}: dt argument")
         if abs(dt - step) > dt_tolerance * step:
             raise InputError(f"{where}: dt = {dt} s given but the time column has step {step:g} s")
-    # the mean step over the record is the best estimate when the times are rounded
-    step = float((time[-1] - time[0]) / (len(time) - 1))
 
     labels = tuple(header_names[1:]) if header_names else tuple(
         ("ax", "ay", "az")[i] if i < 3 else f"component {i + 1}" for i in range(n_columns - 1))
@@ -785,6 +893,9 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
     synthetic = comment_keys.get("synthetic") == "true"
     meta = {"format": "csv", "units_in_file": _canonical(units), "units_from": units_from,
             "time_start_s": float(time[0])}
+    if rounded:
+        meta["time_rounded"] = (f"time stamps written to {time_decimals} decimals: the step is the "
+                                f"mean, {step:.6g} s")
     if columns_note:
         meta["columns"] = columns_note
         meta["file_columns"] = [i + 1 for i in order]  # each component's acceleration column in the file
@@ -839,9 +950,10 @@ def write_csv(record: Record, path: str | os.PathLike, units: str = "m/s2", comm
 
 
 # --------------------------------------------------------------------------- dispatch
-def _first_column_is_time(rows: Sequence[str]) -> bool:
+def _first_column_is_time(rows: Sequence[str], stated_dt: float | None = None) -> bool:
     """Whether the first whitespace-separated column of ``rows`` (more than two) rises from the
-    first row to the last at nearly every row (95 %), as a time column does, also one with a
+    first row to the last at nearly every row (95 %), as a time column does (with ``stated_dt``,
+    a header's step: whether its median step is that one, to 1 %), also one with a
     repeated or backward stamp (the CSV reader then names that line) or two runs pasted end to
     end; an acceleration turns back at about every other row."""
     try:
@@ -850,6 +962,8 @@ def _first_column_is_time(rows: Sequence[str]) -> bool:
         return False
     if first.size <= 2 or not first[-1] > first[0]:
         return False
+    if stated_dt is not None:  # under a stated step, time steps by it
+        return bool(abs(float(np.median(np.diff(first))) - stated_dt) <= 0.01 * stated_dt)
     return bool(np.mean(np.diff(first) > 0) >= 0.95)
 
 
@@ -865,7 +979,8 @@ def detect_format(path: str | os.PathLike) -> str:
     -----
     Rules, in order: suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
     lines or a first line starting with ``PEER`` → at2; a first line starting with ``%`` →
-    benchmark, unless the ``%`` lines state no ``dt =`` and the first column is time (below); a comma or semicolon in the first
+    benchmark, unless the first column is time (below; where the ``%`` lines state a step, only
+    a first column that steps by it); a comma or semicolon in the first
     data line → csv; one value per line → single; a header row → csv; numeric columns whose
     first column rises at 95 % of the rows → csv (a time column: an acceleration turns back at
     about every other row; whether the step is uniform and always positive is the CSV reader's check);
@@ -885,9 +1000,11 @@ def detect_format(path: str | os.PathLike) -> str:
     data = rows[:50]
     # the benchmark's '%' header states the step ("dt=0.005 sec"): its two columns are accelerations
     # whatever they do; a '%' header without a step over a time column is a CSV with comments
-    percent = [line for line in nonblank if line.startswith("%")]
-    states_dt = any(re.search(r"\bdt\s*=", line, re.IGNORECASE) for line in percent)
-    if nonblank[0].startswith("%") and (states_dt or not _first_column_is_time(rows)):
+    # the benchmark's '%' header states the step ("dt=0.005 sec"): its two columns are accelerations
+    # whatever they do, unless the first steps by that dt (a time column under a stated step); a
+    # '%' header without a step over a time column is a CSV with comments
+    percent = "\n".join(line[1:] for line in nonblank if line.startswith("%"))
+    if nonblank[0].startswith("%") and not _first_column_is_time(rows, _header_dt(percent, str(path))):
         return "benchmark"
     if not data:
         raise InputError(f"{path}: no data rows; cannot tell the format")

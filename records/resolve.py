@@ -66,8 +66,13 @@ def _orient_file_record(record: Record, orientation: str) -> Record:
                     y_file_column=None if orientation == "FN-x" else column[0])
     else:
         order = [0, 1] if orientation == "FN-x" else [1, 0]
+        labels = tuple(record.labels)
         record = record.select(order)
         meta = dict(record.metadata, x_file_column=column[order[0]], y_file_column=column[order[1]])
+        if acc.shape[1] > 2:  # the building takes two horizontal components: say which were left
+            left = ", ".join(f"{labels[i]} (acceleration column {column[i]})" for i in range(2, acc.shape[1]))
+            note = f"components past the first two not used: {left}"
+            meta["columns"] = f"{meta['columns']}; {note}" if meta.get("columns") else note
     meta["orientation"] = orientation
     return record.replace(metadata=meta)
 
