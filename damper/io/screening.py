@@ -167,8 +167,8 @@ class Finding:
     Attributes
     ----------
     kind : str
-        ``nan``, ``time``, ``rounded``, ``held``, ``difference``, ``gap``, ``stuck``, ``clipped``, ``frozen``, ``idle``, ``velocity``,
-        ``offset``, ``units`` or ``polarity``.
+        ``nan``, ``time``, ``duplicate``, ``rounded``, ``held``, ``difference``, ``gap``, ``stuck``, ``clipped``,
+        ``frozen``, ``idle``, ``velocity``, ``offset``, ``units`` or ``polarity``.
     channel : str
         The channel (``force``, ``displacement``, ``velocity``, ``voltage``, ``current``,
         ``time``).
@@ -628,6 +628,27 @@ def one_sided_difference(t: np.ndarray, x: np.ndarray, v: np.ndarray,
     return None
 
 
+def _copies_of_kept_rows(t: np.ndarray, keep: np.ndarray, channels: dict) -> np.ndarray:
+    """Whether each dropped sample is an exact copy of a kept one: the same time stamp and the
+    same value in every channel (NaN equal to NaN). A row written twice, or a block a logger
+    wrote again after a restart, loses nothing when dropped."""
+    kept = np.flatnonzero(keep)
+    out = np.zeros(t.size, dtype=bool)
+    cand = np.flatnonzero(~keep & np.isfinite(t))
+    if cand.size == 0 or kept.size == 0:
+        return out
+    j = np.minimum(np.searchsorted(t[kept], t[cand]), kept.size - 1)
+    ref = kept[j]
+    same = t[ref] == t[cand]
+    for values in channels.values():
+        if values is None:
+            continue
+        v = np.asarray(values, dtype=float)
+        same &= (v[cand] == v[ref]) | (np.isnan(v[cand]) & np.isnan(v[ref]))
+    out[cand[same]] = True
+    return out
+
+
 def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                    lines: Sequence[int] | None = None, min_usable: int = 10,
                    keep_flagged: bool = False) -> tuple[np.ndarray, dict, np.ndarray, list]:
@@ -682,9 +703,18 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                              f"finite values, {what} ({int(keep.sum())} usable samples left, "
                              f"at least {need} needed)")
         kept_t = np.where(keep, t, np.nan)
+        exact = _copies_of_kept_rows(t, keep, channels)
+        if exact.any():
+            # a logger that wrote rows twice: nothing is lost by dropping the copies, and the
+            # samples around them are intact (no exclusion, no settling after them)
+            rows = np.flatnonzero(exact)
+            findings.append(Finding("duplicate", "time", float(t[rows[0]]), float(t[rows[-1]]), int(rows.size),
+                                    f"{rows.size} row(s) copy an earlier row exactly (time and every channel; "
+                                    f"first at {_where(lines, int(rows[0]), label)}): the copies dropped, "
+                                    "nothing lost", excluded=False))
         for kind, sel, text in (("time", ~finite_t, "time stamp missing: sample dropped"),
-                                ("time", finite_t & (tt == prev), "repeated time stamp: sample dropped"),
-                                ("time", finite_t & (tt < prev), "time goes backwards: sample dropped")):
+                                ("time", finite_t & (tt == prev) & ~exact, "repeated time stamp: sample dropped"),
+                                ("time", finite_t & (tt < prev) & ~exact, "time goes backwards: sample dropped")):
             for a, b in _runs(sel):
                 before = kept_t[:a][np.isfinite(kept_t[:a])]
                 t0 = float(before[-1]) if before.size else float(np.nanmin(kept_t))

@@ -231,8 +231,11 @@ def test_csv_reader_fills_and_flags_nan_and_drops_bad_time(tmp_path, clean_synth
     for k in range(n // 3, n // 3 + 5):
         rows[k][i_force] = "nan"
     rows[2 * n // 3][i_disp] = "nan"
-    rows.insert(n // 2, list(rows[n // 2 - 1]))          # a repeated time stamp
+    again = list(rows[n // 2 - 1])
+    again[i_force] = repr(float(again[i_force]) + 50.0)
+    rows.insert(n // 2, again)                            # a repeated time stamp, another reading
     back = list(rows[n // 4])
+    back[i_force] = repr(float(back[i_force]) - 50.0)
     rows.insert(n // 4 + 10, back)                        # a time going backwards
     path = tmp_path / "dirty.csv"
     path.write_text("\n".join(lines[:header + 1] + [",".join(r) for r in rows]) + "\n")
@@ -251,6 +254,30 @@ def test_csv_reader_fills_and_flags_nan_and_drops_bad_time(tmp_path, clean_synth
     assert test.displacement[k] == pytest.approx(0.5 * (test.displacement[k - 1] + test.displacement[k + 1]),
                                                  rel=0.05, abs=1e-5)
     assert not test.mask[k] and "settling" in _kinds(scr)
+
+
+def test_exact_copies_of_rows_are_dropped_and_nothing_is_excluded(tmp_path, clean_synthetic):
+    """A logger that writes a row twice, or a block again after a restart, loses nothing: the
+    copies are one finding, reported only; no sample is excluded and no settling follows (a
+    review found three copied rows made a clean file unusable)."""
+    lines = _csv_lines(clean_synthetic, tmp_path / "c.csv")
+    header = next(i for i, ln in enumerate(lines) if ln.startswith("time"))
+    rows = lines[header + 1:]
+    n = len(rows)
+    dirty = list(rows)
+    for k in (n - 5, n // 2, 0):                          # rows written twice (from the end: indices hold)
+        dirty.insert(k + 1, rows[k])
+    block = rows[n // 3 - 40:n // 3]                      # a block written again
+    dirty[n // 3 + 2:n // 3 + 2] = block
+    path = tmp_path / "copies.csv"
+    path.write_text("\n".join(lines[:header + 1] + dirty) + "\n")
+    test = read_csv(path)
+    scr = test.metadata["screening"]
+    dup = [f for f in scr.findings if f.kind == "duplicate"]
+    assert len(dup) == 1 and dup[0].n_samples == 43 and not dup[0].excluded
+    assert "time" not in _kinds(scr) and "settling" not in _kinds(scr)
+    assert test.n_samples == n and test.usable.all()
+    np.testing.assert_array_equal(test.force, read_csv(tmp_path / "c.csv").force)
 
 
 def test_too_little_left_is_a_one_line_error(tmp_path):
