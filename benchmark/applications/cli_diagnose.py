@@ -173,6 +173,8 @@ def run(args) -> int:
     else:
         for line in screening_lines(screened_tests, keep):
             print(line)
+        if not getattr(result.data, "input_recorded", True):
+            print("coil input: no voltage or current column in the files: taken as 0 V")
         print(f"model: {result.model_kind}")
         print(f"held-out relative RMS error: {result.error_before:.4f} -> {result.error_after:.4f}")
         # the final model's values, as in the JSON (a step's own values precede the final joint refit)

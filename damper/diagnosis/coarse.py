@@ -143,7 +143,7 @@ def decimate(data: DiagnosisData, q: int) -> DiagnosisData:
         held.append(_take(ho, idx))
     return DiagnosisData(tuple(motions), tuple(forces), tuple(train), tuple(held),
                          data.input_name, data.holdout, source_levels=data.levels(),
-                         _source_nodes=data.nodes())
+                         _source_nodes=data.nodes(), input_recorded=data.input_recorded)
 
 
 class Progress:

@@ -200,7 +200,8 @@ class DiagnosisData:
     train, heldout : tuple of bool ndarray
         Samples used for fitting, and for the held-out errors and traces.
     input_name : str
-        ``"voltage"`` [V] or ``"current"`` [A] (``"voltage"`` at 0 V when the tests give neither).
+        ``"voltage"`` [V] or ``"current"`` [A] (``"voltage"`` at 0 V when the tests give neither:
+        ``input_recorded`` is then False).
     holdout : float or None
         Held-out fraction of each test, or ``None`` when validation tests were given.
     """
@@ -215,6 +216,9 @@ class DiagnosisData:
     #: so that a coarse copy keeps the nodes and input range of the full tests.
     source_levels: np.ndarray | None = None
     _source_nodes: np.ndarray | None = None
+    #: Whether the files recorded the coil input; False: none did, and 0 V is assumed (a
+    #: passive test, or a column left out), which the report says.
+    input_recorded: bool = True
 
     @classmethod
     def from_tests(cls, tests: Sequence[DamperTest], holdout: float | None = DEFAULT_HOLDOUT,
@@ -243,9 +247,16 @@ class DiagnosisData:
         for test in tests + validate:
             if not isinstance(test, DamperTest):
                 raise InputError(f"diagnose: expected DamperTest objects, got {type(test).__name__}")
-        kinds = {_input_of(t)[0] for t in tests + validate} - {"none"}
+        of_each = [(t, _input_of(t)[0]) for t in tests + validate]
+        kinds = {k for _, k in of_each} - {"none"}
         if len(kinds) > 1:
             raise InputError("diagnose: the tests mix voltage and current inputs; expected one kind")
+        missing = [t.name or t.source or "a test" for t, k in of_each if k == "none"]
+        if kinds and missing:
+            # 0 V put beside recorded levels would be a level nobody measured
+            raise InputError(f"diagnose: {', '.join(missing)}: no voltage or current column, while the "
+                             f"other tests give the {next(iter(kinds))}; expected the coil input in every "
+                             "file (a column of 0 for a passive test)")
         input_name = kinds.pop() if kinds else "voltage"
         if not validate:
             if holdout is None or not (isinstance(holdout, (int, float)) and 0.0 < holdout < 1.0):
@@ -295,7 +306,7 @@ class DiagnosisData:
             train.append(tr)
             held.append(ho)
         return cls(tuple(motions), tuple(forces), tuple(train), tuple(held), input_name,
-                   None if validate else float(holdout))
+                   None if validate else float(holdout), input_recorded=not missing)
 
     # -- derived quantities --------------------------------------------------------------------
     @property

@@ -186,6 +186,7 @@ class Diagnosis:
             "errors_by_input": {f"{k:g}": {"before": b, "after": a}
                                 for k, (b, a) in self.errors_by_input.items()},
             "input": self.data.input_name,
+            **({} if self.data.input_recorded else {"input_recorded": False}),
             "base_model": self.base_model.to_dict(),
             "final_model": self.final_model.to_dict(),
             "settings": dict(self.settings),

@@ -442,7 +442,9 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
              else "separate validation tests held out")
     lines += [f"- Tests: {', '.join(data.names)} ({split}; the samples before each test's first "
               "reversal are not scored).",
-              f"- Coil input: {data.input_name} [{unit}].",
+              (f"- Coil input: {data.input_name} [{unit}]." if data.input_recorded else
+               "- Coil input: **none in the files**, taken as 0 V (a passive test, or a column left "
+               "out: the model's voltage laws hold for 0 V only)."),
               f"- Base model: **{d.model_kind}**" + (" (Spencer et al. 1997, field lag inside)"
                                                      if d.model_kind == "spencer" else " Bouc-Wen")
               + ("" if d.settings.get("nodes") is None else

@@ -171,6 +171,12 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     # each file is read once, here (a DamperTest passes through as it is)
     loaded = unique_names([(_label(item), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
                             for item in files])
+    no_coil = [label for label, test in loaded
+               if getattr(test, "voltage", None) is None and getattr(test, "current", None) is None]
+    if no_coil and len(no_coil) < len(loaded):
+        # 0 V beside recorded levels would be a level nobody measured
+        raise InputError(f"--data: {', '.join(no_coil)}: no voltage or current column, while the other files "
+                         "give the coil input; expected it in every file (a column of 0 for a passive test)")
     screenings = {label: {**test.metadata["screening"].to_json(),
                           # the columns read in a rig's units, converted to SI (damper.io.data)
                           **({"file_units": test.metadata["file_units"]} if test.metadata.get("file_units") else {})}

@@ -224,8 +224,10 @@ def _header_name(cell: str, path: Path, line: int) -> tuple[str, float, str | No
                          "time, displacement, force[, velocity][, voltage|current]")
     name, unit = split
     if name not in _UNITS:
+        hint = (" (D, V, F, Y are the Dyke records' names, read in their units only beside their A and "
+                "fs columns)") if name in ("d", "v", "y") else ""
         raise InputError(f"{path}:{line}: header: unknown column {name!r}; expected "
-                         "time, displacement, force[, velocity][, voltage|current]")
+                         f"time, displacement, force[, velocity][, voltage|current]{hint}")
     if unit is None:
         return name, 1.0, None
     factor = si_factor(_QUANTITY[name], unit, f"{path}:{line}: header: column {name!r}")

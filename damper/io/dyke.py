@@ -70,8 +70,10 @@ def is_dyke_file(path) -> bool:
 
 
 def looks_like_dyke_file(path) -> bool:
-    """Whether ``path``'s header is Dyke's (``t`` and at least three of D, Y, V, F), complete or not:
-    such a file is read as a Dyke record, so that a missing column is named as one.
+    """Whether ``path``'s header is Dyke's (``t``, at least three of D, Y, V, F, and ``A`` or
+    ``fs``), complete or not: such a file is read as a Dyke record (D in cm, V in cm/s), so that a
+    missing column is named as one. A ``t, D, V, F, Y`` file without Dyke's ``A`` and ``fs`` is a
+    user's own, and is not read in Dyke's units.
 
     Parameters
     ----------
@@ -79,8 +81,9 @@ def looks_like_dyke_file(path) -> bool:
         File to look at.
     """
     header = _header(Path(path))
+    # D, V, F, Y alone are letters anyone may use (in SI); Dyke's files also carry A and fs
     return (header is not None and "t" in header and "time" not in header
-            and sum(c in header for c in DYKE_COLUMNS[1:]) >= 3)
+            and sum(c in header for c in DYKE_COLUMNS[1:]) >= 3 and ("fs" in header or "A" in header))
 
 
 def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> DamperTest:
