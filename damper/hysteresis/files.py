@@ -17,7 +17,6 @@ Every malformed file raises :class:`~benchmark.foundation.errors.InputError` nam
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,7 +26,8 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
 from benchmark.foundation.file_units import column_name_unit, si_factor
-from damper.io.data import parse_row
+from benchmark.foundation.textfile import read_text
+from damper.io.data import decimal_points, parse_row, sniff_delimiter, split_rows
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
 from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
@@ -171,32 +171,29 @@ def read_force_csv(path, need_displacement: bool = True) -> ForceData:
     header: list[str] | None = None
     rows: list[list[float]] = []
     lines: list[int] = []
-    try:
-        with open(path, newline="", encoding="utf-8") as fh:
-            for line_no, row in enumerate(csv.reader(fh), start=1):
-                if any("\x00" in c for c in row):
-                    raise InputError(f"{path}: binary content; expected a CSV text file")
-                if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
-                    continue
-                if header is None:
-                    named = [_column(c, path, line_no) for c in row]
-                    header = [n for n, _ in named]
-                    factors = dict(named)
-                    need = ["time", "force"] + (["displacement"] if need_displacement else [])
-                    missing = [c for c in need if c not in header]
-                    if missing:
-                        raise InputError(f"{path}:{line_no}: header: missing column(s) "
-                                         f"{', '.join(missing)}; expected {', '.join(need)}")
-                    if len(set(header)) != len(header):
-                        raise InputError(f"{path}:{line_no}: header: repeated column name")
-                    continue
-                rows.append(parse_row(path, line_no, header, row))
-                lines.append(line_no)
-    except UnicodeDecodeError:
-        raise InputError(f"{path}: not a UTF-8 text file; expected a CSV with columns "
-                         "time, force[, displacement] (or the benchmark's HDF5)") from None
-    except csv.Error as exc:
-        raise InputError(f"{path}: unreadable CSV ({exc})") from None
+    # the damper tests' reading (damper.io.data): a BOM, ',' ';' tab or spaces, decimal commas
+    text = read_text(path, "data file")  # binary or not UTF-8: one-line InputError
+    delimiter = sniff_delimiter(text)
+    for line_no, row in split_rows(text, delimiter):
+        if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
+            continue
+        row = decimal_points(row, delimiter)
+        if len(row) > 1 and not row[-1].strip():
+            row = row[:-1]  # a separator ending the line
+        if header is None:
+            named = [_column(c, path, line_no) for c in row]
+            header = [n for n, _ in named]
+            factors = dict(named)
+            need = ["time", "force"] + (["displacement"] if need_displacement else [])
+            missing = [c for c in need if c not in header]
+            if missing:
+                raise InputError(f"{path}:{line_no}: header: missing column(s) "
+                                 f"{', '.join(missing)}; expected {', '.join(need)}")
+            if len(set(header)) != len(header):
+                raise InputError(f"{path}:{line_no}: header: repeated column name")
+            continue
+        rows.append(parse_row(path, line_no, header, row))
+        lines.append(line_no)
     if header is None:
         raise InputError(f"{path}: empty file; expected a header line time, force[, displacement]")
     if len(rows) < 2:

@@ -13,6 +13,8 @@ it, so every command accepts the same formats and screens them the same way
 
 from __future__ import annotations
 
+import numpy as np
+
 import dataclasses
 from pathlib import Path
 
@@ -61,6 +63,31 @@ def read_test(path, keep_flagged: bool = False) -> DamperTest:
     return read_csv(p, keep_flagged=keep_flagged)
 
 
+def _reversals(x: np.ndarray, share: float = 0.05) -> int:
+    """Reversals of ``x``: turns by more than ``share`` of its range (noise turns less)."""
+    span = float(np.ptp(x)) if x.size else 0.0
+    if span <= 0.0:
+        return 0
+    tol = share * span
+    turns, direction = 0, 0
+    hi = lo = ext = float(x[0])
+    for v in x.tolist():
+        if direction == 0:  # until the first departure of tol from the start's extremes
+            hi, lo = max(hi, v), min(lo, v)
+            if v < hi - tol or v > lo + tol:
+                direction, ext = (-1 if v < hi - tol else 1), v
+        elif direction > 0:
+            if v > ext:
+                ext = v
+            elif v < ext - tol:
+                turns, direction, ext = turns + 1, -1, v
+        elif v < ext:
+            ext = v
+        elif v > ext + tol:
+            turns, direction, ext = turns + 1, 1, v
+    return int(turns)
+
+
 def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> DamperTest:
     """Return ``test``, or refuse it in one line when it is too short to fit or the screening
     leaves too few usable samples (before a fit meets the gap deeper down).
@@ -91,6 +118,11 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
         raise InputError(f"{path}: the screening leaves {usable} of {test.n_samples} samples usable, fewer "
                          f"than {minimum} ({screening.brief()}; --keep-flagged fits the flagged samples too)")
     units = screening.units_problem()
+    if units is not None and (turns := _reversals(np.asarray(test.displacement, dtype=float))) < 2:
+        # less than a cycle: its amplitude and rate say nothing of the units
+        duration = float(test.time[-1] - test.time[0])
+        raise InputError(f"{path}: the displacement reverses {turns} time(s) in {duration:.3g} s of "
+                         f"{test.n_samples} samples; expected a test of at least one cycle of motion")
     if units is not None:
         # a time in ms or a stroke in mm read as SI: any fit would be of the wrong device
         raise InputError(f"{path}: implausible units ({units}); give each column's unit in the header "

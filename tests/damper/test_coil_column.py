@@ -58,3 +58,12 @@ def test_a_users_file_with_dykes_letters_is_not_read_in_dykes_units(tmp_path):
                                             for a, b in zip(t, x)))
     with pytest.raises(InputError, match="unknown column 'd'.*Dyke records' names"):
         read_test(path)
+
+
+def test_a_file_shorter_than_a_cycle_is_named_as_short_not_as_in_other_units(tmp_path):
+    from damper.io.reader import require_samples
+    path = _sine(tmp_path / "short.csv", "current", amp=0.0002, rate=1000.0, cycles=1)
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join(lines[:12]) + "\n")  # 11 samples: 10 ms of a 1-Hz test
+    with pytest.raises(InputError, match="reverses 0 time.*expected a test of at least one cycle"):
+        require_samples(read_test(path), path)

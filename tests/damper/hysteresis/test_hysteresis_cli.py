@@ -254,3 +254,19 @@ def test_force_data_header_in_parentheses_and_loggers_names(tmp_path, header):
     np.testing.assert_allclose(b.force, a.force, rtol=1e-14)
     np.testing.assert_allclose(b.displacement, a.displacement, rtol=1e-14)
     assert b.fs == pytest.approx(1000.0)
+
+
+@pytest.mark.parametrize("sep, bom, decimal", [(";", "", ","), ("\t", "", "."), (",", "\ufeff", "."), (" ", "", ".")])
+def test_force_data_read_as_the_damper_tests_are(tmp_path, sep, bom, decimal):
+    """A byte-order mark, ';' with decimal commas, tabs and spaces: the damper tests' reading
+    (``damper.io.data``), which the force-data reader now shares (a review found a BOM named as
+    part of the first column and ';' files refused)."""
+    from damper.hysteresis.files import read_data
+    rows = [(0.0, 1500.0, 0.002), (0.001, -250.5, 0.0015), (0.002, 30.25, -0.001)]
+    body = "".join(sep.join(f"{v:g}".replace(".", decimal) for v in r) + "\n" for r in rows)
+    path = tmp_path / "d.csv"
+    path.write_text(bom + sep.join(["time [s]", "force [N]", "displacement [m]"]).replace(" [", "[") + "\n" + body,
+                    encoding="utf-8")
+    data = read_data(path)
+    np.testing.assert_allclose(data.force, [r[1] for r in rows], rtol=1e-14)
+    assert data.fs == pytest.approx(1000.0)
