@@ -190,6 +190,8 @@ class DiagnosisData:
         (:func:`damper.diagnosis.coarse.decimate`); None: from ``motions``.
     _source_nodes : np.ndarray | None, optional
         Law nodes of the full tests, kept by a decimated copy; None: from ``motions``.
+    input_recorded : bool, optional
+        Whether the files recorded the coil input (False: none did; 0 V assumed, and said).
 
     Attributes
     ----------
