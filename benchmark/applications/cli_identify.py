@@ -170,6 +170,8 @@ def _run_data(args: argparse.Namespace) -> int:
     for name, scr in result.get("screening", {}).items():
         if scr.get("file_units"):
             print(f"screening {name}: {units_line(scr['file_units'])}")
+        if scr.get("units_unstated"):
+            print(f"screening {name}: {scr['units_unstated']}")
         est = scr.get("estimates", {})
         if "force_velocity_lag_s" in est and scr["findings"]:
             print(f"screening {name}: estimated force lag behind the velocity "

@@ -35,6 +35,7 @@ from damper.identification.metrics import force_errors
 from damper.identification.refine import parameters_at_bounds, refine_common
 from damper.models.response import simulate
 from damper.io.reader import read_test, unique_names
+from damper.io.screening import unstated_line
 from damper.identification import plots
 
 __all__ = ["identify_files", "held_out_errors", "fit_levels"]
@@ -179,7 +180,10 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
                          "give the coil input; expected it in every file (a column of 0 for a passive test)")
     screenings = {label: {**test.metadata["screening"].to_json(),
                           # the columns read in a rig's units, converted to SI (damper.io.data)
-                          **({"file_units": test.metadata["file_units"]} if test.metadata.get("file_units") else {})}
+                          **({"file_units": test.metadata["file_units"]} if test.metadata.get("file_units") else {}),
+                          # columns read as SI for want of a unit, with the amplitudes read
+                          **({"units_unstated": unstated_line(test, test.metadata["units_unstated"])}
+                             if test.metadata.get("units_unstated") else {})}
                   for label, test in loaded if "screening" in getattr(test, "metadata", {})}
     for label, test in loaded:
         for m in models:

@@ -402,6 +402,8 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
             header = [n for n, _, _ in named]
             factors = {n: f for n, f, _ in named}
             written = {n: u for n, f, u in named if u is not None and f != 1.0}
+            # read as SI because the header names no unit: said with the amplitudes as read
+            unstated = [n for n, _, u in named if u is None and n in ("displacement", "force")]
             header_line = line_no
             missing = [c for c in _REQUIRED if c not in header]
             if missing:
@@ -438,6 +440,8 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     metadata: dict = {"velocity_from_file": velocity is not None}
     if written:
         metadata["file_units"] = written  # e.g. {"displacement": "mm"}: converted to SI on reading
+    if unstated:
+        metadata["units_unstated"] = unstated
     if velocity is None:
         velocity = _derivative(col["displacement"], time)
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,

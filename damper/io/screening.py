@@ -1191,6 +1191,21 @@ def units_line(units: dict) -> str:
     return "read " + ", ".join(f"{k} in {u}" for k, u in units.items()) + ", converted to SI"
 
 
+def unstated_line(test: Any, columns: Sequence[str]) -> str:
+    """What a file whose header names no unit for ``columns`` was read as: their amplitudes in
+    SI, so that a stroke in mm or a force in kN read as metres or newtons shows at a glance
+    (amplitudes a real device may have pass the plausibility check)."""
+    parts = []
+    if "displacement" in columns:
+        x = np.asarray(test.displacement, dtype=float)
+        parts.append(f"stroke ±{0.5e3 * float(np.ptp(x)):.4g} mm")
+        parts.append(f"peak velocity {1e3 * float(np.max(np.abs(test.velocity))):.4g} mm/s")
+    if "force" in columns:
+        parts.append(f"peak force {1e-3 * float(np.max(np.abs(test.force))):.4g} kN")
+    return (f"no unit in the header for {', '.join(columns)}: read as SI ({', '.join(parts)}); "
+            "if that is not the device, give the units in the header ([mm], [kN], ...)")
+
+
 def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[str]:
     """The screening findings as report lines (the estimated lags, one line per finding, one
     summary per test).
@@ -1209,6 +1224,9 @@ def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[st
         units = (getattr(test, "metadata", None) or {}).get("file_units")
         if units:
             lines.append(f"screening {label}: {units_line(units)}")
+        unstated = (getattr(test, "metadata", None) or {}).get("units_unstated")
+        if unstated:
+            lines.append(f"screening {label}: {unstated_line(test, unstated)}")
         if scr.estimate_line():
             lines.append(f"screening {label}: estimated {scr.estimate_line()}")
         if not scr.findings:

@@ -67,3 +67,20 @@ def test_a_file_shorter_than_a_cycle_is_named_as_short_not_as_in_other_units(tmp
     path.write_text("\n".join(lines[:12]) + "\n")  # 11 samples: 10 ms of a 1-Hz test
     with pytest.raises(InputError, match="reverses 0 time.*expected a test of at least one cycle"):
         require_samples(read_test(path), path)
+
+
+def test_columns_read_as_si_for_want_of_a_unit_are_said_with_their_amplitudes(tmp_path, capsys):
+    """A force in kN with no unit in the header reads as a 1-N device: plausible, so not
+    refused, but the line with the amplitudes as read shows it (a review, 2026-11-26)."""
+    from damper.io.screening import screening_lines
+    path = tmp_path / "kn.csv"
+    _sine(path, "current")
+    lines = path.read_text().splitlines()
+    rows = [r.split(",") for r in lines[1:]]
+    path.write_text("time,displacement [m],velocity,force,current\n"
+                    + "".join(",".join(r[:3] + [f"{float(r[3]) / 1e3:.6g}", r[4]]) + "\n" for r in rows))
+    test = read_test(path)
+    assert test.metadata["units_unstated"] == ["force"]
+    line = next(ln for ln in screening_lines([test]) if "no unit in the header" in ln)
+    assert "for force: read as SI" in line and "peak force 0.00" in line and "stroke" not in line
+
