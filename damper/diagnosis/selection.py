@@ -508,11 +508,10 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
     steps, rounds = [], []
     current = model
     stopped = False
-    # effects whose joint refit raised the held-out error in an earlier round: the model's own
-    # parameters had their chance to absorb them, so the best-score exception below no longer
-    # applies to them (their effect-only refit must now show the gain); on the UTFSM tests a
-    # fade term refitted jointly again in the last round cost a third of the loop for nothing
-    worsened: set[str] = set()
+    # No memory of an earlier round's failed joint refits: a term may pay only once another is in
+    # (shear thinning beside quadratic damping: its joint refit went to k = 0 in round 1 and
+    # recovered the truth in round 2), and since trials stop when they stall, trying again costs
+    # nothing measurable (UTFSM 0 A and 1 A, the Dyke recording: the same effects and time).
     while True:
         remaining = [n for n in names if n not in current.effect_names]
         if not remaining or (max_effects is not None and len(steps) >= max_effects):
@@ -574,7 +573,7 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                      if math.sqrt(item[0]) / norm_h <= (1.0 - 0.5 * min_gain) * err_old]
         # ... except the best screening score, whose first-order estimate already allows for
         # the model's own parameters moving (a term the model partly absorbs shows only jointly)
-        by_score = [item for item in quick if item[1].score >= MIN_SCORE and item[1].name not in worsened]
+        by_score = [item for item in quick if item[1].score >= MIN_SCORE]
         if by_score:
             top = max(by_score, key=lambda item: item[1].score)
             promising = [top] + [item for item in promising if item is not top]
@@ -616,8 +615,6 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                 round_trials.append(Trial(s.name, s.score, math.nan, math.inf, {}, note=str(exc)))
                 continue
             err_new = math.sqrt(rss_new) / norm_h
-            if err_new > err_old:
-                worsened.add(s.name)
             delta = bic_delta(rss_old, rss_new, n_eff, 1)
             effect = fit.model.effect(s.name)
             trial = Trial(s.name, s.score, err_new, delta, effect.parameters)
