@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from benchmark.foundation.errors import InputError, SbibError, UserCodeError
-from controllers.base import ControlContext, Controller
+from controllers.base import CompiledController, ControlContext, Controller
 
 __all__ = ["is_user_controller_spec", "load_user_controller", "GuardedController", "VOLTAGE_TOLERANCE"]
 
@@ -202,12 +202,23 @@ class GuardedController(Controller):
                 reset(context)
             except SbibError:
                 raise
-            except Exception as exc:
+            except (Exception, SystemExit) as exc:  # sys.exit() in user code ends the run, not sbib
                 raise self._fail("reset(context)", exc) from None
 
-    def compiled(self):
+    def compiled(self) -> CompiledController | None:
         compiled = getattr(self.inner, "compiled", None)
-        return compiled() if callable(compiled) else None
+        if not callable(compiled):
+            return None
+        try:
+            out = compiled()
+        except SbibError:
+            raise
+        except (Exception, SystemExit) as exc:
+            raise self._fail("compiled()", exc) from None
+        if out is not None and not isinstance(out, CompiledController):
+            raise UserCodeError(f"controller {self.spec!r}: compiled() returned {type(out).__name__}; expected "
+                                "None or a controllers.base.CompiledController")
+        return out
 
     def step(self, measurements: np.ndarray) -> np.ndarray:
         assert self.context is not None
@@ -215,7 +226,7 @@ class GuardedController(Controller):
             raw = self.inner.step(measurements)
         except SbibError:
             raise
-        except Exception as exc:
+        except (Exception, SystemExit) as exc:
             raise self._fail("step(measurements)", exc) from None
         t = self._k * self.context.control_step
         self._k += 1

@@ -236,19 +236,25 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
                 f"{spec_in.range[1]:g} {spec_in.unit})")
         notes.append(f"warning: {line}: its results are not the fitted device's" if share >= DROPPED_WARNING
                      else line)
-    if how is None and source.path:
-        # a laboratory device (kN) among 16 building dampers of ~1 MN: almost surely a missing scale
-        cap, ref = capacity_force(model), _benchmark_capacity()
-        if cap < UNSCALED_WARNING * ref:
-            notes.append(f"warning: {label}: capacity {cap / 1e3:.4g} kN, {100 * cap / ref:.2g} % of the benchmark "
-                         f"damper's {ref / 1e3:.4g} kN, run as fitted: give --damper-scale (e.g. 1000kN) to "
-                         "size the device for the building")
-    # a target capacity is the scaled device's capacity; a factor needs the scaled model's
-    cap = None if how is None else how[1] if how[0] == "capacity" else capacity_force(model)
-    if cap is not None and cap > OVERSIZE_WARNING * _benchmark_capacity():
-        notes.append(f"warning: {label}: capacity {cap / 1e6:.4g} MN after --damper-scale, "
-                     f"{cap / _benchmark_capacity():.3g} times the benchmark damper's "
-                     f"{_benchmark_capacity() / 1e3:.4g} kN: a device that size is not in the building's range "
+    # the device's size against the benchmark damper's: a file run as fitted, or after a scale
+    cap = None
+    if how is not None:
+        cap = how[1] if how[0] == "capacity" else capacity_force(model)
+    elif source.path:
+        cap = capacity_force(model)
+    ref = _benchmark_capacity()
+    after = " after --damper-scale" if how is not None else ", run as fitted"
+    if cap is not None and cap < UNSCALED_WARNING * ref:
+        # a laboratory device (kN) among 16 building dampers of ~1 MN: almost surely a missing
+        # scale; after a scale, a factor that leaves the devices doing nothing
+        notes.append(f"warning: {label}: capacity {cap / 1e3:.4g} kN{after}, {100 * cap / ref:.2g} % of the "
+                     f"benchmark damper's {ref / 1e3:.4g} kN: "
+                     + ("give --damper-scale (e.g. 1000kN) to size the device for the building" if how is None
+                        else "the devices will barely act (a scale meant as a capacity, or kN for MN?)"))
+    if cap is not None and cap > OVERSIZE_WARNING * ref:
+        notes.append(f"warning: {label}: capacity {cap / 1e6:.4g} MN{after}, "
+                     f"{cap / ref:.3g} times the benchmark damper's "
+                     f"{ref / 1e3:.4g} kN: a device that size is not in the building's range "
                      "(a unit slip, kN for MN?), and a run may fail numerically")
     if spec_in.single_level:
         notes.append(f"{label}: fitted at one {spec_in.quantity} level ({spec_in.levels[0]:g} {spec_in.unit}); its "

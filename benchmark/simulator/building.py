@@ -54,6 +54,23 @@ class Building:
         if n_iso != self.superstructure.n_bearings:
             raise InputError(f"building: the isolation layer {getattr(self.isolation, 'name', '?')!r} has "
                              f"{n_iso} bearings, the superstructure's plan has {self.superstructure.n_bearings}")
+        if self.devices is not None:
+            self._check_device_positions()
+
+    def _check_device_positions(self) -> None:
+        """Every device on the base: within the bearings' plan (its bounding box, widened by 5 %
+        of the plan's size and 1 m, as a device may sit beside an edge bearing). A position off
+        the base (a typo, or the default layout on a structure variant of another plan) would
+        act through a lever arm the building does not have."""
+        xy = np.asarray(self.superstructure.bearing_xy, dtype=float)
+        lo, hi = xy.min(axis=0), xy.max(axis=0)
+        margin = 0.05 * float(np.max(hi - lo)) + 1.0
+        for slot in self.devices.slots:  # type: ignore[union-attr]
+            p = np.array([slot.x, slot.y], dtype=float)
+            if np.any(p < lo - margin) or np.any(p > hi + margin):
+                raise InputError(f"devices: {slot.label or 'a device'} at ({slot.x:g}, {slot.y:g}) m lies off the "
+                                 f"base (its bearings span x {lo[0]:g}..{hi[0]:g} m, y {lo[1]:g}..{hi[1]:g} m); "
+                                 "expected positions on the base (--devices LAYOUT.json)")
 
     @classmethod
     def default(cls, isolation: str | os.PathLike | IsolationLayer | None = None,

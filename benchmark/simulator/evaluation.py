@@ -144,7 +144,11 @@ def plan_corners(plan_xy: np.ndarray) -> np.ndarray:
     plan_xy = np.asarray(plan_xy, dtype=float)
     if plan_xy.ndim != 2 or plan_xy.shape[1] != 2 or plan_xy.shape[0] < 3:
         raise InputError(f"plan_corners: expected an (n >= 3, 2) array of plan positions, got shape {plan_xy.shape}")
-    return plan_xy[ConvexHull(plan_xy).vertices]
+    try:
+        return plan_xy[ConvexHull(plan_xy).vertices]
+    except Exception as exc:  # scipy's QhullError: coincident or collinear points
+        raise InputError(f"plan_corners: the plan positions span no area ({type(exc).__name__}); "
+                         "expected points of a plan, not all on one line") from None
 
 
 def corner_responses(result: Any, corners: np.ndarray | None = None,

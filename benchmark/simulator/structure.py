@@ -322,6 +322,9 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
         data = json.loads(read_text(path, "benchmark structure file"))
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}: not valid JSON (line {exc.lineno}: {exc.msg})") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: a JSON {type(data).__name__}; expected an object of named fields "
+                         "(the benchmark's structure.json is one)")
     n = 3 * N_FLOORS
     floors = data.get("n_floors", N_FLOORS)
     if floors != N_FLOORS:
@@ -341,6 +344,12 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
     bearing_xy = _field(data, "bearing_xy", path)
     if bearing_xy.ndim != 2 or bearing_xy.shape[1] != 2:
         raise InputError(f"{path}: field 'bearing_xy' has shape {bearing_xy.shape}, expected (n, 2)")
+    centred = bearing_xy - bearing_xy.mean(axis=0) if bearing_xy.shape[0] else bearing_xy
+    span = float(np.abs(centred).max()) if centred.size else 0.0
+    if bearing_xy.shape[0] < 3 or np.linalg.matrix_rank(centred, tol=1e-6 * max(span, 1e-300)) < 2:
+        # the base's plan (its corners' responses, J-criteria at the corners) needs an area
+        raise InputError(f"{path}: field 'bearing_xy': {bearing_xy.shape[0]} bearing position(s) that span no "
+                         "area (fewer than 3, or all on one line); expected the bearings of a plan")
     if np.any(np.diff(heights) <= 0):
         raise InputError(f"{path}: field 'floor_height_above_base' must increase")
     for name, values in (("floor_mass", floor_mass), ("floor_rot_inertia", floor_inertia),

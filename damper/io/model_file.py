@@ -56,7 +56,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
-from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
 from benchmark.foundation.provenance import provenance as base_provenance
 from benchmark.foundation.textfile import read_text
 from damper.diagnosis.augmented import BASE_MODELS, AugmentedModel
@@ -267,7 +267,10 @@ class ModelFile:
                 model = dataclasses.replace(model, kappa_x=_add(model.kappa_x, kx))
         if "roll_off" in effects and isinstance(model, (NormalizedBoucWen, ExtendedBoucWen)):
             lag = effects.pop("voltage_lag").value if "voltage_lag" in effects else 0.0
-            model = SeriesDashpotBoucWen.from_bouc_wen(model, effects.pop("roll_off").value, field_lag=lag)
+            try:
+                model = SeriesDashpotBoucWen.from_bouc_wen(model, effects.pop("roll_off").value, field_lag=lag)
+            except (InputError, ParameterError) as exc:  # name the file: the building's model is built from it
+                raise InputError(f"{where}: roll_off in the building (a series dashpot): {exc}") from None
         for e in effects.values():
             dropped.append(f"{e.name} ({e.parameter_name} = {e.value:.4g} {e.unit}): no kernel in the building, not run")
         return model, dropped

@@ -89,6 +89,13 @@ BAD_CONTROLLERS = {
     "missing_class": ("class D:\n    pass\n", "has no C"),
     "reset_raises": ("class C:\n    def reset(self, context):\n        raise KeyError('gain')\n"
                      "    def step(self, y):\n        return y\n", "reset(context) raised KeyError"),
+    # a review (2026-11-26): sys.exit() in user code ended sbib with status 0 and no output, and
+    # compiled() was called unguarded (a traceback)
+    "exits": ("import sys\nclass C:\n    def step(self, y):\n        sys.exit(0)\n", "raised SystemExit"),
+    "compiled_raises": ("class C:\n    def compiled(self):\n        raise RuntimeError('no')\n"
+                        "    def step(self, y):\n        return y\n", "compiled() raised RuntimeError"),
+    "compiled_junk": ("class C:\n    def compiled(self):\n        return 42\n"
+                      "    def step(self, y):\n        return y\n", "compiled() returned int"),
 }
 
 
@@ -361,3 +368,10 @@ def test_an_oversized_scale_is_said(capsys, short_record):
     notes = [n for n in resolve_damper(None, "1000MN").notes if "capacity" in n]
     assert len(notes) == 1 and "1000 MN after --damper-scale" in notes[0] and "kN for MN" in notes[0]
     assert [n for n in resolve_damper(None, 50).notes if "times the benchmark damper's" in n]
+
+
+def test_a_scale_that_leaves_the_devices_doing_nothing_is_said():
+    """A review (2026-11-26): ``--damper-scale 1e-9`` ran silently with devices that did nothing."""
+    from benchmark.applications.damper_choice import resolve_damper
+    notes = [n for n in resolve_damper(None, 1e-9).notes if "capacity" in n]
+    assert len(notes) == 1 and "after --damper-scale" in notes[0] and "barely act" in notes[0]

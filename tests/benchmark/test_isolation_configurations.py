@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -116,3 +117,14 @@ def test_json_file_configuration(tmp_path):
         load_isolation(path)
     with pytest.raises(DataNotFoundError):
         load_isolation(tmp_path / "missing.json")
+
+
+@pytest.mark.parametrize("params, words", [(5, "parameters = 5; expected an object"),
+                                           ({"k": True, "c": 0.0}, "parameters.k = True; expected a number"),
+                                           ({"k": "1e7", "c": 0.0}, "parameters.k = '1e7'; expected a number")])
+def test_bearing_parameters_must_be_numbers(params, words):
+    """A review (2026-11-26): a string weight passed the checks and failed in the bearing's
+    stiffness with a traceback; ``true`` ran as k = 1 N/m."""
+    data = {"name": "x", "n_bearings": 2, "groups": [{"type": "linear", "bearings": [1, 2], "parameters": params}]}
+    with pytest.raises(InputError, match=re.escape(words)):
+        isolation_from_dict(data)

@@ -127,3 +127,35 @@ def test_run_and_compare_take_structure(variant, shared_dir, tmp_path):
     failed = _sbib("run", "--record", "kobe", "--structure", str(bad))
     assert failed.returncode == 2
     assert failed.stderr.strip().count("\n") == 0 and "floor_mass" in failed.stderr
+
+
+def _edited(shared_dir, tmp_path, **fields):
+    data = json.loads((shared_dir / "benchmark" / "structure.json").read_text())
+    data.update(fields)
+    path = tmp_path / "edited.json"
+    path.write_text(json.dumps(data))
+    return path
+
+
+@pytest.mark.parametrize("plan", [[[0.0, 0.0]] * 92, [[float(i), 2.0 * i] for i in range(92)]])
+def test_a_plan_that_spans_no_area_is_refused_on_reading(shared_dir, tmp_path, plan):
+    """A review (2026-11-26): coincident or collinear bearings ran the whole record, then raised
+    scipy's QhullError when the corners were sought."""
+    with pytest.raises(InputError, match="span no area"):
+        load_superstructure(_edited(shared_dir, tmp_path, bearing_xy=plan))
+
+
+def test_a_structure_file_that_is_not_an_object(tmp_path):
+    path = tmp_path / "list.json"
+    path.write_text("[1, 2, 3]")
+    with pytest.raises(InputError, match="a JSON list; expected an object"):
+        load_superstructure(path)
+
+
+def test_devices_off_the_base_are_refused(shared_dir, tmp_path):
+    """The default layout on a plan a tenth the size: its devices lie 40 m off the base."""
+    data = json.loads((shared_dir / "benchmark" / "structure.json").read_text())
+    small = _edited(shared_dir, tmp_path, bearing_xy=(0.1 * np.asarray(data["bearing_xy"])).tolist())
+    Building.default(structure_path=small, devices=None)  # no devices: nothing to place
+    with pytest.raises(InputError, match=r"devices: x1 at \(-7.32, 30.69\) m lies off the base"):
+        Building.default(structure_path=small)

@@ -363,6 +363,13 @@ def isolation_from_dict(data: dict, where: str = "isolation") -> IsolationLayer:
             raise InputError(f"{loc}: expected an object with 'type', 'bearings' and 'parameters'")
         cls = bearing_type(g["type"])
         params = g.get("parameters", {})
+        if not isinstance(params, dict):
+            raise InputError(f"{loc}.parameters = {params!r}; expected an object of named values")
+        for key, value in params.items():
+            # every bearing parameter is a number: "2.2e6" or true would pass float() and then
+            # be used as a string, or as 1
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise InputError(f"{loc}.parameters.{key} = {value!r}; expected a number (SI)")
         names = {f.name for f in dataclasses.fields(cls)}
         unknown = set(params) - names
         if unknown:
