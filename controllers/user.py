@@ -85,7 +85,9 @@ def _import(spec: str, target: str):
     try:
         return importlib.import_module(target)
     except ModuleNotFoundError as exc:
-        raise InputError(f"controller {spec!r}: module {target!r} not found ({_one_line(exc)})") from None
+        hint = ("; a package of the current directory: run with PYTHONPATH=. or give path/to/file.py:Class"
+                if Path(target.split(".")[0]).is_dir() or Path(target.split(".")[0] + ".py").is_file() else "")
+        raise InputError(f"controller {spec!r}: module {target!r} not found ({_one_line(exc)}){hint}") from None
     except Exception as exc:
         raise InputError(f"controller {spec!r}: importing {target} failed: {type(exc).__name__}: "
                          f"{_one_line(exc)}") from None
