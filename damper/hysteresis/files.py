@@ -1,6 +1,6 @@
 """Files of the hysteretic oscillator: force/displacement data (CSV, HDF5) and model JSON.
 
-CSV data (``#`` lines are comments; a header line names the columns, optionally with their
+CSV data (``#`` and ``%`` lines are comments; a header line names the columns, optionally with their
 units in brackets or parentheses: SI where none is written, and a rig's units such as ``[ms]``,
 ``(mm)``, ``[kN]`` or ``[lbf]`` are converted to SI on reading, :mod:`benchmark.foundation.file_units`;
 loggers' names ``t``, ``f``, ``load``, ``disp``, ``x``, ``position``, ``stroke`` are read too)::
@@ -27,7 +27,7 @@ from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
 from benchmark.foundation.file_units import column_name_unit, si_factor
 from benchmark.foundation.textfile import read_text
-from damper.io.data import decimal_points, parse_row, sniff_delimiter, split_rows
+from damper.io.data import COMMENT_MARKS, decimal_points, parse_row, sniff_delimiter, split_rows
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
 from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
@@ -175,7 +175,7 @@ def read_force_csv(path, need_displacement: bool = True) -> ForceData:
     text = read_text(path, "data file")  # binary or not UTF-8: one-line InputError
     delimiter = sniff_delimiter(text)
     for line_no, row in split_rows(text, delimiter):
-        if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith("#"):
+        if not row or all(not c.strip() for c in row) or row[0].lstrip().startswith(COMMENT_MARKS):
             continue
         row = decimal_points(row, delimiter)
         if len(row) > 1 and not row[-1].strip():

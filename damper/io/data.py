@@ -1,6 +1,6 @@
 """Damper test records: the :class:`DamperTest` type, CSV files and the UTFSM data adapter.
 
-CSV format (SI units, one header line, optional ``#`` comment lines before it)::
+CSV format (SI units, one header line, optional ``#`` (or ``%``, as MATLAB writes) comment lines before it)::
 
     # name: virtual 0.4 m 0.8 Hz 0 V
     # source: damper.lab.laboratory.periodic_test(...)
@@ -270,6 +270,10 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
     return values
 
 
+#: Lines starting with these are comments: ``#``, and ``%`` as MATLAB writes its headers.
+COMMENT_MARKS = ("#", "%")
+
+
 def sniff_delimiter(text: str) -> str | None:
     """The column separator of a damper CSV, from its first line that is not a comment:
     ``,``, else ``;``, else a tab, else ``None`` (runs of spaces).
@@ -281,7 +285,7 @@ def sniff_delimiter(text: str) -> str | None:
     """
     for line in text.splitlines():
         stripped = line.strip()
-        if stripped and not stripped.startswith("#"):
+        if stripped and not stripped.startswith(COMMENT_MARKS):
             return next((d for d in (",", ";", "\t") if d in stripped), None)
     return ","
 
@@ -381,7 +385,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     for line_no, row in split_rows(text, delimiter):
         if not row or all(not c.strip() for c in row):
             continue
-        if row[0].lstrip().startswith("#"):
+        if row[0].lstrip().startswith(COMMENT_MARKS):
             comment = (delimiter or " ").join(row).lstrip()[1:]
             if ":" in comment:
                 key, value = comment.split(":", 1)

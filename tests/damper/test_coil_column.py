@@ -84,3 +84,14 @@ def test_columns_read_as_si_for_want_of_a_unit_are_said_with_their_amplitudes(tm
     line = next(ln for ln in screening_lines([test]) if "no unit in the header" in ln)
     assert "for force: read as SI" in line and "peak force 0.00" in line and "stroke" not in line
 
+
+
+def test_percent_comment_lines_as_matlab_writes_them(tmp_path):
+    """``%`` lines before the header are comments, as ``#`` lines are (their commas do not set
+    the separator of a tab-separated file)."""
+    path = _sine(tmp_path / "m.csv", "current")
+    lines = path.read_text().splitlines()
+    tabbed = [ln.replace(",", "\t") for ln in lines]
+    path.write_text("% exported by the rig, 2024\n% operator: A\n" + "\n".join(tabbed) + "\n")
+    test = read_test(path)
+    assert test.n_samples == len(lines) - 1 and test.metadata.get("operator") == "A"
