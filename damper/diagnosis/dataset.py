@@ -25,6 +25,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest
+from damper.io.reader import check_coil_inputs
 from damper.io.screening import band_edge, screening_of
 from damper.diagnosis.effects import Motion
 
@@ -249,16 +250,10 @@ class DiagnosisData:
         for test in tests + validate:
             if not isinstance(test, DamperTest):
                 raise InputError(f"diagnose: expected DamperTest objects, got {type(test).__name__}")
-        of_each = [(t, _input_of(t)[0]) for t in tests + validate]
-        kinds = {k for _, k in of_each} - {"none"}
+        kinds = {_input_of(t)[0] for t in tests + validate} - {"none"}
         if len(kinds) > 1:
             raise InputError("diagnose: the tests mix voltage and current inputs; expected one kind")
-        missing = [t.name or t.source or "a test" for t, k in of_each if k == "none"]
-        if kinds and missing:
-            # 0 V put beside recorded levels would be a level nobody measured
-            raise InputError(f"diagnose: {', '.join(missing)}: no voltage or current column, while the "
-                             f"other tests give the {next(iter(kinds))}; expected the coil input in every "
-                             "file (a column of 0 for a passive test)")
+        recorded = check_coil_inputs([(t.name or t.source or "a test", t) for t in tests + validate], "diagnose")
         input_name = kinds.pop() if kinds else "voltage"
         if not validate:
             if holdout is None or not (isinstance(holdout, (int, float)) and 0.0 < holdout < 1.0):
@@ -308,7 +303,7 @@ class DiagnosisData:
             train.append(tr)
             held.append(ho)
         return cls(tuple(motions), tuple(forces), tuple(train), tuple(held), input_name,
-                   None if validate else float(holdout), input_recorded=not missing)
+                   None if validate else float(holdout), input_recorded=recorded)
 
     # -- derived quantities --------------------------------------------------------------------
     @property

@@ -34,7 +34,7 @@ from damper.identification.identify import Identification, identify
 from damper.identification.metrics import force_errors
 from damper.identification.refine import parameters_at_bounds, refine_common
 from damper.models.response import simulate
-from damper.io.reader import read_test, unique_names
+from damper.io.reader import check_coil_inputs, read_test, unique_names
 from damper.io.screening import unstated_line
 from damper.identification import plots
 
@@ -172,12 +172,7 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
     # each file is read once, here (a DamperTest passes through as it is)
     loaded = unique_names([(_label(item), item) if hasattr(item, "force") else (Path(item).name, read_test(item))
                             for item in files])
-    no_coil = [label for label, test in loaded
-               if getattr(test, "voltage", None) is None and getattr(test, "current", None) is None]
-    if no_coil and len(no_coil) < len(loaded):
-        # 0 V beside recorded levels would be a level nobody measured
-        raise InputError(f"--data: {', '.join(no_coil)}: no voltage or current column, while the other files "
-                         "give the coil input; expected it in every file (a column of 0 for a passive test)")
+    check_coil_inputs(loaded, "--data")
     screenings = {label: {**test.metadata["screening"].to_json(),
                           # the columns read in a rig's units, converted to SI (damper.io.data)
                           **({"file_units": test.metadata["file_units"]} if test.metadata.get("file_units") else {}),

@@ -13,17 +13,17 @@ it, so every command accepts the same formats and screens them the same way
 
 from __future__ import annotations
 
-import numpy as np
-
 import dataclasses
 from pathlib import Path
+
+import numpy as np
 
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm
 from damper.io.dyke import looks_like_dyke_file, read_dyke
-from damper.io.screening import screening_of
+from damper.io.screening import next_reversal, screening_of
 
-__all__ = ["read_test", "require_samples", "unique_names", "MIN_SAMPLES"]
+__all__ = ["read_test", "require_samples", "unique_names", "check_coil_inputs", "MIN_SAMPLES"]
 
 #: Fewest samples, and fewest usable (unflagged) samples, of a test worth a fit (the
 #: screening's own floor; the diagnosis differentiates the velocity, which needs three).
@@ -63,29 +63,44 @@ def read_test(path, keep_flagged: bool = False) -> DamperTest:
     return read_csv(p, keep_flagged=keep_flagged)
 
 
-def _reversals(x: np.ndarray, share: float = 0.05) -> int:
-    """Reversals of ``x``: turns by more than ``share`` of its range (noise turns less)."""
-    span = float(np.ptp(x)) if x.size else 0.0
-    if span <= 0.0:
-        return 0
-    tol = share * span
-    turns, direction = 0, 0
-    hi = lo = ext = float(x[0])
-    for v in x.tolist():
-        if direction == 0:  # until the first departure of tol from the start's extremes
-            hi, lo = max(hi, v), min(lo, v)
-            if v < hi - tol or v > lo + tol:
-                direction, ext = (-1 if v < hi - tol else 1), v
-        elif direction > 0:
-            if v > ext:
-                ext = v
-            elif v < ext - tol:
-                turns, direction, ext = turns + 1, -1, v
-        elif v < ext:
-            ext = v
-        elif v > ext + tol:
-            turns, direction, ext = turns + 1, 1, v
-    return int(turns)
+def _reversals(x: np.ndarray, most: int = 2, hysteresis: float = 0.05) -> int:
+    """Displacement reversals of ``x``, counted up to ``most`` (the screening's trigger,
+    :func:`damper.io.screening.next_reversal`: a return by ``hysteresis`` of the stroke)."""
+    turns, at = 0, 0
+    while turns < most and (at := next_reversal(x, at, hysteresis)) < x.size:
+        turns, at = turns + 1, at + 1
+    return turns
+
+
+def check_coil_inputs(labelled: list, what: str) -> bool:
+    """Whether the tests record their coil input; refuse a mix of tests with and without it.
+
+    Parameters
+    ----------
+    labelled : list of (str, DamperTest)
+        Each test with the name a message gives it.
+    what : str
+        The message's prefix (``"diagnose"``, ``"--data"``).
+
+    Returns
+    -------
+    bool
+        False when no test has a voltage or current column (a passive test at 0 V, said by the
+        caller).
+
+    Raises
+    ------
+    InputError
+        Some tests have the column and others not: 0 V beside recorded levels would be a level
+        nobody measured.
+    """
+    missing = [label for label, test in labelled
+               if getattr(test, "voltage", None) is None and getattr(test, "current", None) is None]
+    if missing and len(missing) < len(labelled):
+        kind = "voltage" if any(getattr(t, "voltage", None) is not None for _, t in labelled) else "current"
+        raise InputError(f"{what}: {', '.join(missing)}: no voltage or current column, while the other tests "
+                         f"give the {kind}; expected the coil input in every file (a column of 0 for a passive test)")
+    return not missing
 
 
 def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> DamperTest:

@@ -110,7 +110,7 @@ from numpy.lib.stride_tricks import sliding_window_view
 from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
-__all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged",
+__all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
            "screening_of", "screening_summary", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS"]
@@ -365,7 +365,7 @@ def _derivative(t: np.ndarray, x: np.ndarray, period: float, edge: float = 0.0) 
     return savgol_filter(x, window, 2, deriv=1, delta=dt, mode="interp")
 
 
-def _settling_end(x: np.ndarray, start: int, hysteresis: float = 0.25) -> int:
+def next_reversal(x: np.ndarray, start: int, hysteresis: float = 0.25) -> int:
     """Index of the first displacement reversal at or after ``start`` (``x.size`` if none).
 
     A reversal counts once the displacement has come back by ``hysteresis`` of the stroke of
@@ -1062,7 +1062,7 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     # settling after unusable input spans: up to the next displacement reversal
     motion_fault = input_bad.copy()
     for a, b in _runs(input_bad):
-        end = _settling_end(x, b) if b < n else n
+        end = next_reversal(x, b) if b < n else n
         if end > b:
             motion_fault[b:end] = True
             added = int((~excluded[b:end]).sum())
