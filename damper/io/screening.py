@@ -370,6 +370,15 @@ def next_reversal(x: np.ndarray, start: int, hysteresis: float = 0.25) -> int:
 
     A reversal counts once the displacement has come back by ``hysteresis`` of the stroke of
     the rest of the test from its running extreme (a Schmitt trigger, insensitive to noise).
+
+    Parameters
+    ----------
+    x : np.ndarray
+        Displacement [m].
+    start : int
+        First sample looked at.
+    hysteresis : float, optional
+        Return, as a fraction of the rest's stroke, that makes a reversal.
     """
     rest = x[start:]
     if rest.size < 3:
