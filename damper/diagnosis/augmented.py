@@ -672,8 +672,8 @@ def _until_last_fitted(motions, forces, masks):
         idx = np.flatnonzero(k)
         end = max(int(idx[-1]) + 1, 2) if idx.size else 2
         if end < m.n_samples:
-            m = Motion(m.t[:end], m.x[:end], m.xdot[:end], m.xddot[:end], m.v[:end], name=m.name,
-                       substep_scale=m.substep_scale)
+            m = replace(m, t=m.t[:end], x=m.x[:end], xdot=m.xdot[:end], xddot=m.xddot[:end],
+                        v=m.v[:end])
             f, k = f[:end], k[:end]
         out_m.append(m)
         out_f.append(f)

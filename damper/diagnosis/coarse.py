@@ -23,6 +23,23 @@ therefore also simulated at :data:`COARSE_SUBSTEP_SCALE` times the model's sub-s
 the model's own tolerance where the residual the loop works on is 0.1. Every error the loop
 reports is computed on every sample at the model's own tolerance.
 
+Nor does decimation make a *long* test cheap, for the same reason: the kernels' cost follows the
+seconds of motion simulated, not the samples kept. And it cannot go below the motion's own
+bandwidth: between samples the motion is interpolated (cubic Hermite in ``x`` and ``xdot``), so
+every test also keeps at least :data:`MIN_SAMPLES_PER_BAND` samples per period of the frequency
+below which :data:`BAND_POWER` of its velocity's power lies. On the Dyke damper's random
+recording (`ranran_50`, content up to about 80 Hz), one sample in 16 instead of 9 raised the
+Spencer base's training error from 0.16 to 0.21, and its refinement took five times as long.
+Where that bound is what stops the decimation and the tests, so decimated, still hold more than
+:data:`WINDOW_TRIGGER` times ``max_samples`` fitted samples (a random-input recording of a minute
+at 3 kHz), the coarse pass fits
+**windows** of them (:func:`windows`): stretches spread evenly over each test's usable span,
+each a separate motion that starts :data:`LEAD_IN` before its first scored sample, where the
+displacement passes through its value at the test's start (so that the models' rest state is as
+close to the test's own start as the data allow), with the time since the test began kept
+(``Motion.origin``). Their fitted samples come to about ``max_samples``; the seconds simulated,
+hence the cost, shrink with them.
+
 The loop screens, refits and chooses on the decimated tests, then evaluates (and polishes) the
 chosen models on every sample (:func:`damper.diagnosis.loop.diagnose`).
 
@@ -44,8 +61,9 @@ from benchmark.foundation.errors import InputError
 from damper.diagnosis.dataset import DiagnosisData, _dominant_frequency
 from damper.diagnosis.effects import Motion
 
-__all__ = ["decimation_factor", "decimate", "coarse_pass", "Progress", "DEFAULT_COARSE_SAMPLES",
-           "MIN_SAMPLES_PER_PERIOD", "COARSE_SUBSTEP_SCALE"]
+__all__ = ["decimation_factor", "decimate", "windows", "coarse_pass", "velocity_bandwidth", "Progress",
+           "DEFAULT_COARSE_SAMPLES", "MIN_SAMPLES_PER_PERIOD", "MIN_SAMPLES_PER_BAND", "BAND_POWER",
+           "WINDOW_TRIGGER", "LEAD_IN", "COARSE_SUBSTEP_SCALE"]
 
 #: Factor on the models' sub-step tolerance while the coarse pass simulates (module docstring).
 COARSE_SUBSTEP_SCALE = 4.0
@@ -57,6 +75,43 @@ MIN_SAMPLES_PER_PERIOD = 100
 FASTEST_LAG = 0.02
 #: ... with at least this many samples.
 MIN_SAMPLES_PER_LAG = 2
+#: Samples per period of the velocity's bandwidth a decimated test keeps at least (twice
+#: Nyquist's two: the motion is interpolated between samples, not reconstructed) ...
+MIN_SAMPLES_PER_BAND = 4
+#: ... the bandwidth being the frequency below which this share of the velocity's power lies.
+BAND_POWER = 0.99
+#: The coarse pass fits windows of the tests once, decimated, they still hold more than this
+#: many times the fitted samples asked for (:func:`windows`).
+WINDOW_TRIGGER = 1.5
+#: Seconds simulated before a window's first scored sample, so that the models' internal states
+#: (hysteresis, field, series dashpot) forget their rest start: 25 field time constants of 10 ms.
+LEAD_IN = 0.25
+#: A window is at least this long [s] and holds at least this many periods of the test's
+#: dominant frequency, so that each window shows whole strokes.
+MIN_WINDOW = 2.0
+MIN_WINDOW_PERIODS = 4
+
+
+def velocity_bandwidth(t: np.ndarray, xdot: np.ndarray, power: float = BAND_POWER) -> float:
+    """Frequency [Hz] below which ``power`` (a share) of the velocity's spectral power lies.
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Uniform sample times [s].
+    xdot : np.ndarray
+        Velocity [m/s].
+    power : float
+        Share of the power (0-1).
+    """
+    n = t.size
+    dt = float(t[-1] - t[0]) / (n - 1)
+    spectrum = np.abs(np.fft.rfft(xdot - xdot.mean())) ** 2
+    total = float(spectrum.sum())
+    if n < 4 or not total > 0:
+        return 0.0
+    share = np.cumsum(spectrum) / total
+    return float(np.fft.rfftfreq(n, dt)[min(int(np.searchsorted(share, power)), spectrum.size - 1)])
 
 
 def decimation_factor(data: DiagnosisData, max_samples: int | None) -> int:
@@ -73,31 +128,42 @@ def decimation_factor(data: DiagnosisData, max_samples: int | None) -> int:
     InputError
         ``max_samples`` is not a positive integer.
     """
+    return _decimation(data, max_samples)[0]
+
+
+def _decimation(data: DiagnosisData, max_samples: int | None) -> tuple[int, bool]:
+    """:func:`decimation_factor`'s ``q``, and whether a test's velocity bandwidth is what bounds it
+    below the ``q`` the sample cap asks for (then the coarse pass may fit windows)."""
     if max_samples is None:
-        return 1
+        return 1, False
     if isinstance(max_samples, bool) or not isinstance(max_samples, (int, np.integer)) or max_samples < 100:
         raise InputError(f"coarse_samples: expected None or an integer >= 100, got {max_samples!r}")
     fitted = sum(int(k.sum()) for k in data.train)
     q = int(math.ceil(fitted / int(max_samples)))
     if q <= 1:
-        return 1
-    limit = q
+        return 1, False
+    limit, band_limit = q, q
     for m in data.motions:
         dt = float(m.t[-1] - m.t[0]) / (m.n_samples - 1)
         f = _dominant_frequency(m.t, m.x)
         per_period = (1.0 / f) / (MIN_SAMPLES_PER_PERIOD * dt) if f > 0 else limit
         per_lag = FASTEST_LAG / (MIN_SAMPLES_PER_LAG * dt)
+        band = velocity_bandwidth(m.t, m.xdot)
+        per_band = (1.0 / band) / (MIN_SAMPLES_PER_BAND * dt) if band > 0 else limit
         limit = min(limit, int(per_period), int(per_lag))
-    return max(1, limit)
+        band_limit = min(band_limit, int(per_band))
+    return max(1, min(limit, band_limit)), band_limit < limit
 
 
 def _take(a: np.ndarray, idx: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(np.asarray(a)[idx])
 
 
-def coarse_pass(data: DiagnosisData, q: int) -> DiagnosisData:
+def coarse_pass(data: DiagnosisData, q: int, max_samples: int | None = None) -> DiagnosisData:
     """The tests the loop's coarse pass fits: one sample in ``q`` (:func:`decimate`) and, even when
-    ``q = 1``, simulated at :data:`COARSE_SUBSTEP_SCALE` times the models' sub-step tolerance.
+    ``q = 1``, simulated at :data:`COARSE_SUBSTEP_SCALE` times the models' sub-step tolerance;
+    windows of them (:func:`windows`) where a test's velocity bandwidth stops the decimation and
+    they still hold more than :data:`WINDOW_TRIGGER` times ``max_samples`` fitted samples.
 
     Parameters
     ----------
@@ -105,11 +171,18 @@ def coarse_pass(data: DiagnosisData, q: int) -> DiagnosisData:
         The prepared tests (:class:`damper.diagnosis.dataset.DiagnosisData`).
     q : int
         Keep one sample in ``q`` (≥ 1, :func:`decimation_factor`).
+    max_samples : int or None
+        The fitted samples asked for (``None``: no windows).
     """
     if q > 1:
-        return decimate(data, q)
-    motions = tuple(dataclasses.replace(m, substep_scale=COARSE_SUBSTEP_SCALE) for m in data.motions)
-    return dataclasses.replace(data, motions=motions)
+        coarse = decimate(data, q)
+    else:
+        motions = tuple(dataclasses.replace(m, substep_scale=COARSE_SUBSTEP_SCALE) for m in data.motions)
+        coarse = dataclasses.replace(data, motions=motions)
+    if (max_samples is not None and _decimation(data, max_samples)[1]
+            and sum(int(k.sum()) for k in coarse.train) > WINDOW_TRIGGER * max_samples):
+        return windows(coarse, max_samples)
+    return coarse
 
 
 def decimate(data: DiagnosisData, q: int) -> DiagnosisData:
@@ -137,10 +210,85 @@ def decimate(data: DiagnosisData, q: int) -> DiagnosisData:
             idx = np.append(idx, m.n_samples - 1)
         motions.append(Motion(_take(m.t, idx), _take(m.x, idx), _take(m.xdot, idx),
                               _take(m.xddot, idx), _take(m.v, idx), name=m.name,
-                              substep_scale=COARSE_SUBSTEP_SCALE))
+                              substep_scale=COARSE_SUBSTEP_SCALE, origin=m.origin))
         forces.append(_take(f, idx))
         train.append(_take(tr, idx))
         held.append(_take(ho, idx))
+    return DiagnosisData(tuple(motions), tuple(forces), tuple(train), tuple(held),
+                         data.input_name, data.holdout, source_levels=data.levels(),
+                         _source_nodes=data.nodes(), input_recorded=data.input_recorded)
+
+
+def windows(data: DiagnosisData, max_samples: int) -> DiagnosisData:
+    """Windows of the tests of ``data`` holding about ``max_samples`` fitted samples in all.
+
+    The training span and the held-out span of each test (first to last sample of each) are
+    each cut into ``k`` windows spread evenly over the span, each at least :data:`MIN_WINDOW`
+    seconds and :data:`MIN_WINDOW_PERIODS` periods of the test's dominant frequency long, together
+    about the share ``max_samples / fitted`` of the span (so the loop's held-out choices still
+    see held-out samples in proportion); a span whose windows would cover most of it is one
+    window, and a test both of whose spans are is kept whole. A window is a motion of its own: it
+    is simulated from :data:`LEAD_IN` seconds before its first scored sample (moved back to the
+    last sample where the displacement passes through its value at the test's start, when that
+    is within as much again), the samples before are scored neither in the fit nor in the error,
+    and its ``origin`` is the test's start. Windows with fewer than 5 scored samples are dropped.
+    The coil-input levels stay those of ``data``.
+
+    Parameters
+    ----------
+    data : DiagnosisData
+        The (decimated) tests.
+    max_samples : int
+        The fitted samples asked for, all tests together.
+    """
+    fitted = sum(int(k.sum()) for k in data.train)
+    share = min(1.0, max_samples / max(fitted, 1))
+    motions, forces, train, held = [], [], [], []
+    for m, f, tr, ho in zip(data.motions, data.forces, data.train, data.heldout):
+        origin = float(m.t[0] if m.origin is None else m.origin)
+        freq = _dominant_frequency(m.t, m.x)
+        length = max(MIN_WINDOW, MIN_WINDOW_PERIODS / freq if freq > 0 else MIN_WINDOW)
+        crossing = np.flatnonzero(np.diff(np.signbit(m.x - m.x[0])))  # x passes its start value
+        cuts = []  # (scored from, scored to) [s]
+        windowed = False
+        for part in (tr, ho):
+            scored = np.flatnonzero(part)
+            if scored.size == 0:
+                continue
+            t_a, t_b = float(m.t[scored[0]]), float(m.t[scored[-1]])
+            count = int(math.ceil(share * (t_b - t_a) / length))
+            if count * (length + LEAD_IN) >= 0.8 * (t_b - t_a):
+                cuts.append((t_a, t_b))
+                continue
+            cuts += [(w0, w0 + length) for w0 in np.linspace(t_a, t_b - length, count)]
+            windowed = True
+        if not windowed:
+            motions.append(m)
+            forces.append(f)
+            train.append(tr)
+            held.append(ho)
+            continue
+        for w0, w1 in cuts:
+            first = int(np.searchsorted(m.t, w0))
+            stop = min(int(np.searchsorted(m.t, w1, side="right")), m.n_samples)
+            lead = max(int(np.searchsorted(m.t, w0 - LEAD_IN, side="right")) - 1, 0)
+            before = crossing[(crossing <= lead) & (m.t[crossing] >= w0 - 2.0 * LEAD_IN)]
+            if before.size:
+                lead = int(before[-1])
+            keep = slice(lead, stop)
+            tr_w = tr[keep].copy()
+            ho_w = ho[keep].copy()
+            tr_w[:first - lead] = False
+            ho_w[:first - lead] = False
+            if tr_w.sum() + ho_w.sum() < 5 or stop - lead < 2:
+                continue
+            motions.append(Motion(_take(m.t, keep), _take(m.x, keep), _take(m.xdot, keep),
+                                  _take(m.xddot, keep), _take(m.v, keep),
+                                  name=f"{m.name} [{w0 - origin:.1f}-{w1 - origin:.1f} s]",
+                                  substep_scale=m.substep_scale, origin=origin))
+            forces.append(np.ascontiguousarray(f[keep]))
+            train.append(tr_w)
+            held.append(ho_w)
     return DiagnosisData(tuple(motions), tuple(forces), tuple(train), tuple(held),
                          data.input_name, data.holdout, source_levels=data.levels(),
                          _source_nodes=data.nodes(), input_recorded=data.input_recorded)

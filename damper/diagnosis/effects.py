@@ -134,6 +134,10 @@ class Motion:
         Factor on the base model's sub-step tolerance when this motion is simulated (>= 1; 1: the
         model's own). The residual loop's coarse pass sets it (:mod:`damper.diagnosis.coarse`,
         :func:`damper.models.base.with_coarser_substeps`).
+    origin : float or None
+        Time [s] at which the test began, when this motion is a window cut from a longer test
+        (the coarse pass's windows, :mod:`damper.diagnosis.coarse`); ``None``: ``t[0]``. The time
+        since the test began (:attr:`elapsed`, the ``fade`` effect's variable) counts from it.
     """
 
     t: np.ndarray
@@ -143,6 +147,7 @@ class Motion:
     v: np.ndarray
     name: str = ""
     substep_scale: float = 1.0
+    origin: float | None = None
 
     def __post_init__(self) -> None:
         t = np.ascontiguousarray(np.asarray(self.t, dtype=np.float64))
@@ -156,6 +161,12 @@ class Motion:
         if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not (1.0 <= scale < math.inf):
             raise InputError(f"Motion {self.name!r}: substep_scale: expected a number >= 1, got {scale!r}")
         object.__setattr__(self, "substep_scale", float(scale))
+        if self.origin is not None:
+            origin = self.origin
+            if isinstance(origin, bool) or not isinstance(origin, (int, float)) or not origin <= t[0]:
+                raise InputError(f"Motion {self.name!r}: origin: expected a time <= t[0] = {t[0]:g} s, "
+                                 f"got {origin!r}")
+            object.__setattr__(self, "origin", float(origin))
         for field in ("x", "xdot", "xddot", "v"):
             arr = np.asarray(getattr(self, field), dtype=np.float64)
             if arr.ndim == 0:
@@ -171,8 +182,9 @@ class Motion:
 
     @property
     def elapsed(self) -> np.ndarray:
-        """Time since the start of the test, :math:`t - t_0` [s]."""
-        return self.t - self.t[0]
+        """Time since the start of the test, :math:`t - t_0` [s] (:math:`t_0` the ``origin``, if
+        given, else the first sample's time)."""
+        return self.t - (self.t[0] if self.origin is None else self.origin)
 
     @property
     def n_samples(self) -> int:
@@ -670,7 +682,7 @@ class Fade(Effect):
 
     @classmethod
     def scale(cls, motions, force_rms):
-        longest = max(float(m.t[-1] - m.t[0]) for m in motions)
+        longest = max(float(m.elapsed[-1]) for m in motions)
         return 0.1 / max(longest, 1e-9)
 
     def factor(self, motion, base_force):

@@ -13,8 +13,9 @@
    structured without mattering). Where it lives is reported (``unexplained_in``), no term is
    forced.
 
-Steps 1 and 3 run on the tests decimated to about ``coarse_samples`` fitted samples and
-simulated at a coarser sub-step tolerance (:func:`~damper.diagnosis.coarse.coarse_pass`); every
+Steps 1 and 3 run on the tests decimated to about ``coarse_samples`` fitted samples (on windows of
+them where the motion's bandwidth bounds the decimation) and simulated at a coarser sub-step
+tolerance (:func:`~damper.diagnosis.coarse.coarse_pass`); every
 held-out error, trace and the verdict are computed on all samples at the model's own tolerance.
 
 Errors are relative RMS force errors :math:`\\|F - \\hat F\\|_2/\\|F\\|_2` on the held-out samples.
@@ -304,7 +305,7 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
         if outside.any():
             excess = float(np.max(np.maximum(lo - m.v, m.v - hi)))
             clipped[m.name] = {"samples": int(outside.sum()), "largest_excess": excess}
-            m = Motion(m.t, m.x, m.xdot, m.xddot, np.clip(m.v, lo, hi), name=m.name)
+            m = replace(m, v=np.clip(m.v, lo, hi))
         norm2 = float(np.sum(f[k] ** 2))
         errs = {}
         predicted = {}
@@ -421,7 +422,8 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         Receives one-line progress messages (each prefixed with the elapsed time).
     coarse_samples : int or None
         The base fit and the selection run on the tests decimated to about this many fitted
-        samples, simulated at a coarser sub-step tolerance (:mod:`~damper.diagnosis.coarse`);
+        samples (on windows of them where the motion's bandwidth bounds the decimation),
+        simulated at a coarser sub-step tolerance (:mod:`~damper.diagnosis.coarse`);
         ``None`` fits every sample at the model's own tolerance.
     polish_nfev : int
         After a coarse pass, the base and the final models are refitted on every sample with at
@@ -484,9 +486,13 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
             "Spencer et al.'s model with its field lag")
     nodes = data.nodes()
     q = decimation_factor(data, coarse_samples)
-    work = data if coarse_samples is None else coarse_pass(data, q)
-    if q > 1:
-        say(f"coarse pass: one sample in {q} ({sum(int(k.sum()) for k in work.train)} of "
+    work = data if coarse_samples is None else coarse_pass(data, q, coarse_samples)
+    if q > 1 or len(work.motions) != len(data.motions):
+        windowed = ("" if len(work.motions) == len(data.motions) else
+                    f" in {len(work.motions)} windows of {len(data.motions)} test(s), "
+                    f"{sum(float(m.t[-1] - m.t[0]) for m in work.motions):.1f} of "
+                    f"{sum(float(m.t[-1] - m.t[0]) for m in data.motions):.1f} s simulated")
+        say(f"coarse pass: one sample in {q}{windowed} ({sum(int(k.sum()) for k in work.train)} of "
             f"{sum(int(k.sum()) for k in data.train)} fitted samples)")
     if model == "spencer":
         say(f"fitting the Spencer-type base model to {len(data.motions)} test(s)")

@@ -1,0 +1,133 @@
+"""The coarse pass on long, broadband tests: the velocity's bandwidth bounds the decimation, and
+windows of the tests bound the seconds simulated (:mod:`damper.diagnosis.coarse`)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from benchmark.foundation.errors import InputError
+from damper.diagnosis import DiagnosisData, diagnose
+from damper.diagnosis.augmented import AugmentedModel
+from damper.diagnosis.coarse import (LEAD_IN, MIN_SAMPLES_PER_BAND, coarse_pass, decimate, decimation_factor,
+                                     velocity_bandwidth, windows)
+from damper.diagnosis.effects import Fade, Motion
+from damper.io.data import DamperTest
+from damper.lab.protocols import random_motion, random_voltage
+from damper.models.series_dashpot import SpencerBoucWen
+
+#: A Spencer-type device with a field lag and no series spring (``k0`` ~ 0: its force forgets
+#: where the motion started, as the fitted Dyke models do).
+DEVICE = SpencerBoucWen(2000.0, 1e-6, 800.0, 600.0, 2.0e4, 1.0e4, 0.7, 1.1, field_lag=0.007,
+                        voltage_range=(0.0, 1.0))
+
+
+def _long_test(duration=60.0, rate=1000.0, band=(0.5, 40.0), fade=0.0, seed=0, noise=0.01) -> DamperTest:
+    """A random-motion, random-voltage test of ``DEVICE`` (with a ``fade`` of the force level)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, duration, 1.0 / rate)
+    x, xd = random_motion(t, 0.005, band, rng, components=24, ramp=1.0)
+    v = random_voltage(t, (0.0, 1.0), 0.3, rng)
+    model = AugmentedModel(DEVICE, (Fade(fade),) if fade else ())
+    f = model.simulate(t, x, xd, v=v).force
+    f = f + noise * float(np.sqrt(np.mean(f ** 2))) * rng.standard_normal(f.size)
+    return DamperTest(time=t, displacement=x, velocity=xd, force=f, voltage=v, name="long")
+
+
+def test_velocity_bandwidth_is_where_the_power_ends():
+    """Two tones: the weak fast one sets the bandwidth only when it holds more than 1 % of the power."""
+    t = np.arange(0.0, 20.0, 1e-3)
+    strong = np.sin(2 * np.pi * 2.0 * t)
+    assert velocity_bandwidth(t, strong + 0.3 * np.sin(2 * np.pi * 30.0 * t)) == pytest.approx(30.0, abs=0.1)
+    assert velocity_bandwidth(t, strong + 0.05 * np.sin(2 * np.pi * 30.0 * t)) == pytest.approx(2.0, abs=0.1)
+    assert velocity_bandwidth(t, np.zeros_like(t)) == 0.0
+
+
+def test_decimation_keeps_samples_per_period_of_the_bandwidth():
+    data = DiagnosisData.from_tests([_long_test(duration=30.0, band=(0.5, 40.0))], holdout=0.3)
+    m = data.motions[0]
+    band = velocity_bandwidth(m.t, m.xdot)
+    assert 30.0 < band < 45.0
+    # the cap alone would ask for one sample in 40, a 10-ms field lag for one in 10
+    q = decimation_factor(data, 500)
+    assert q == math.floor(1000.0 / (MIN_SAMPLES_PER_BAND * band))
+
+
+def test_windows_hold_about_the_samples_asked_for_and_both_parts():
+    data = DiagnosisData.from_tests([_long_test()], holdout=0.3)
+    q = decimation_factor(data, 3000)
+    coarse = coarse_pass(data, q, 3000)
+    assert len(coarse.motions) >= 3  # windows, not one test
+    fitted = sum(int(k.sum()) for k in coarse.train)
+    held = sum(int(k.sum()) for k in coarse.heldout)
+    assert 0.6 * 3000 <= fitted <= 1.6 * 3000
+    # the held-out part is sampled at least in proportion: the loop chooses effects on it
+    source = decimate(data, q)
+    share = fitted / sum(int(k.sum()) for k in source.train)
+    assert share < 0.6
+    assert held >= 0.8 * share * sum(int(k.sum()) for k in source.heldout)
+    full = source.motions[0]
+    # the fits simulate each motion up to its last fitted sample: fewer seconds than the test's
+    fitted_span = float(full.t[np.flatnonzero(source.train[0])[-1]])
+    simulated = sum(float(w.t[np.flatnonzero(tr)[-1]] - w.t[0]) for w, tr in zip(coarse.motions, coarse.train)
+                    if tr.any())
+    assert simulated < 0.75 * fitted_span
+    for w, tr, ho in zip(coarse.motions, coarse.train, coarse.heldout):
+        scored = np.flatnonzero(tr | ho)
+        # the lead-in is simulated, not scored (a window at the test's start starts as the test does)
+        assert w.t[scored[0]] - w.t[0] >= LEAD_IN or w.t[0] == full.t[0]
+        assert w.origin == full.t[0]
+        np.testing.assert_array_equal(w.elapsed, w.t - full.t[0])  # time since the test began
+        i = int(np.searchsorted(full.t, w.t[0]))
+        np.testing.assert_array_equal(w.x, full.x[i:i + w.n_samples])  # a stretch of the test itself
+        assert not (tr & ho).any()
+    # a short test is kept whole
+    short = DiagnosisData.from_tests([_long_test(duration=8.0)], holdout=0.3)
+    assert len(windows(short, 3000).motions) == 1
+
+
+def test_coarse_pass_without_bandwidth_bound_keeps_tests_whole():
+    """A slow motion sampled densely decimates to the cap: no windows."""
+    data = DiagnosisData.from_tests([_long_test(duration=60.0, band=(0.2, 1.0))], holdout=0.3)
+    q = decimation_factor(data, 3000)
+    assert len(coarse_pass(data, q, 3000).motions) == 1
+
+
+def test_a_window_forces_as_the_whole_test_after_its_lead_in():
+    """The models start each window at rest; after the lead-in their force is the whole test's.
+
+    ``DEVICE`` has a field lag of 7 ms (36 of them in the lead-in) and no series spring, so what is
+    left is the hysteresis state's memory, a small fraction of a stroke: 1e-3 of the force RMS
+    bounds it (a window scored from its first sample is off by about 0.05 here).
+    """
+    data = DiagnosisData.from_tests([_long_test(noise=0.0)], holdout=0.3)
+    coarse = windows(data, 3000)
+    model = AugmentedModel(DEVICE)
+    whole = model.force(data.motions[0])
+    rms = float(np.sqrt(np.mean(whole ** 2)))
+    t_full = data.motions[0].t
+    for w, tr, ho in zip(coarse.motions, coarse.train, coarse.heldout):
+        f = model.force(w)
+        i = int(np.searchsorted(t_full, w.t[0]))
+        scored = tr | ho
+        assert np.sqrt(np.mean((f[scored] - whole[i:i + w.n_samples][scored]) ** 2)) <= 1e-3 * rms
+
+
+def test_motion_origin_after_its_first_sample_is_refused():
+    t = np.linspace(1.0, 2.0, 11)
+    with pytest.raises(InputError, match="origin"):
+        Motion(t, t, t, t, 0.0, name="w", origin=1.5)
+    assert Motion(t, t, t, t, 0.0, origin=0.5).elapsed[0] == pytest.approx(0.5)
+
+
+def test_the_loop_on_windows_finds_a_fade_over_a_long_test():
+    """A minute of broadband motion whose force fades by 12 % over the test: the coarse pass
+    fits windows, the fade's time counts from the test's start, and the loop names it (with
+    each window's time counted from its own start, it named nothing: 0.062 -> 0.062)."""
+    test = _long_test(duration=60.0, fade=-0.002)
+    result = diagnose([test], model="spencer", holdout=0.3, coarse_samples=3000)
+    assert result.settings["decimation"] > 1
+    assert "fade" in [s.name for s in result.selection.steps]
+    assert result.error_after < 0.5 * result.error_before
