@@ -411,8 +411,10 @@ def _diagnosis_section(root: Path) -> str:
             out.append(f'<p class="note">The time budget ({_num(settings.get("time_budget"), 0)} s) ended '
                        "the effect selection: the model found so far is shown.</p>")
         if settings.get("decimation", 1) and settings.get("decimation", 1) > 1:
-            out.append(f'<p class="note">Fitted on one sample in {_e(settings.get("decimation"))} '
-                       "(errors, figures and verdict on every sample).</p>")
+            windows = settings.get("coarse_windows") or 0
+            out.append(f'<p class="note">Fitted on one sample in {_e(settings.get("decimation"))}'
+                       + (f" over {_e(windows)} windows of the tests" if windows else "")
+                       + " (errors, figures and verdict on every sample).</p>")
         screening = d.get("screening")
         if isinstance(screening, dict) and screening:
             out.append("<p>Screening of the measured data:</p>" + _screening_table(screening))

@@ -548,6 +548,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                 "nodes": None if nodes is None else [float(x) for x in nodes],
                 "candidates": list(candidates) if candidates is not None else None,
                 "decimation": q, "coarse_samples": coarse_samples, "polish_nfev": polish_nfev,
+                "coarse_windows": 0 if len(work.motions) == len(data.motions) else len(work.motions),
                 "tolerance": tolerance, "trace_share": trace_share, "joint_trials": joint_trials,
                 "time_budget": time_budget, "stopped_by_budget": selection.stopped_by_budget,
                 "seconds": round(say.elapsed, 3)}

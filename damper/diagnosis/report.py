@@ -474,6 +474,11 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
             lines[-1:-1] = [f"- Force channel against the final model: best alignment at {1e3 * al['shift_s']:+.3g} ms "
                             f"({al['shift_samples']:+.2f} samples, searched ±{1e3 * al['searched_s']:.3g} ms): "
                             "no skew between force and motion channels."]
+    if d.settings.get("coarse_windows"):
+        lines[-1:-1] = [f"- The base fit and the effect selection ran on {d.settings['coarse_windows']} windows of "
+                        f"the tests (one sample in {d.settings.get('decimation')}, each window simulated from "
+                        "rest a quarter second before its first scored sample): the tests are long and their "
+                        "motion broadband. Every error here is over every sample of the whole tests."]
     if d.settings.get("stopped_by_budget"):
         lines[-1:-1] = [f"- The time budget ({d.settings['time_budget']:g} s) ended the effect "
                         "selection: the model so far is reported."]

@@ -14,6 +14,7 @@ from damper.diagnosis.augmented import AugmentedModel
 from damper.diagnosis.coarse import (LEAD_IN, MIN_SAMPLES_PER_BAND, coarse_pass, decimate, decimation_factor,
                                      velocity_bandwidth, windows)
 from damper.diagnosis.effects import Fade, Motion
+from damper.diagnosis.report import write_report
 from damper.io.data import DamperTest
 from damper.lab.protocols import random_motion, random_voltage
 from damper.models.series_dashpot import SpencerBoucWen
@@ -122,12 +123,14 @@ def test_motion_origin_after_its_first_sample_is_refused():
     assert Motion(t, t, t, t, 0.0, origin=0.5).elapsed[0] == pytest.approx(0.5)
 
 
-def test_the_loop_on_windows_finds_a_fade_over_a_long_test():
+def test_the_loop_on_windows_finds_a_fade_over_a_long_test(tmp_path):
     """A minute of broadband motion whose force fades by 12 % over the test: the coarse pass
     fits windows, the fade's time counts from the test's start, and the loop names it (with
     each window's time counted from its own start, it named nothing: 0.062 -> 0.062)."""
     test = _long_test(duration=60.0, fade=-0.002)
     result = diagnose([test], model="spencer", holdout=0.3, coarse_samples=3000)
-    assert result.settings["decimation"] > 1
+    assert result.settings["decimation"] > 1 and result.settings["coarse_windows"] >= 3
     assert "fade" in [s.name for s in result.selection.steps]
     assert result.error_after < 0.5 * result.error_before
+    paths = write_report(result, tmp_path)
+    assert f"on {result.settings['coarse_windows']} windows of the tests" in paths["report"].read_text()
