@@ -27,7 +27,8 @@ Nor does decimation make a *long* test cheap, for the same reason: the kernels' 
 seconds of motion simulated, not the samples kept. And it cannot go below the motion's own
 bandwidth: between samples the motion is interpolated (cubic Hermite in ``x`` and ``xdot``), so
 every test also keeps at least :data:`MIN_SAMPLES_PER_BAND` samples per period of the frequency
-below which :data:`BAND_POWER` of its velocity's power lies. On the Dyke damper's random
+below which :data:`BAND_POWER` of its velocity's power lies (between its first and last scored
+samples, :func:`damper.io.screening.band_edge`). On the Dyke damper's random
 recording (`ranran_50`, content up to about 80 Hz), one sample in 16 instead of 9 raised the
 Spencer base's training error from 0.16 to 0.21, and its refinement took five times as long.
 Where that bound is what stops the decimation and the tests, so decimated, still hold more than
@@ -60,8 +61,9 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from damper.diagnosis.dataset import DiagnosisData, _dominant_frequency
 from damper.diagnosis.effects import Motion
+from damper.io.screening import band_edge
 
-__all__ = ["decimation_factor", "decimate", "windows", "coarse_pass", "velocity_bandwidth", "Progress",
+__all__ = ["decimation_factor", "decimate", "windows", "coarse_pass", "Progress",
            "DEFAULT_COARSE_SAMPLES", "MIN_SAMPLES_PER_PERIOD", "MIN_SAMPLES_PER_BAND", "BAND_POWER",
            "WINDOW_TRIGGER", "LEAD_IN", "COARSE_SUBSTEP_SCALE"]
 
@@ -90,28 +92,6 @@ LEAD_IN = 0.25
 #: dominant frequency, so that each window shows whole strokes.
 MIN_WINDOW = 2.0
 MIN_WINDOW_PERIODS = 4
-
-
-def velocity_bandwidth(t: np.ndarray, xdot: np.ndarray, power: float = BAND_POWER) -> float:
-    """Frequency [Hz] below which ``power`` (a share) of the velocity's spectral power lies.
-
-    Parameters
-    ----------
-    t : np.ndarray
-        Uniform sample times [s].
-    xdot : np.ndarray
-        Velocity [m/s].
-    power : float
-        Share of the power (0-1).
-    """
-    n = t.size
-    dt = float(t[-1] - t[0]) / (n - 1)
-    spectrum = np.abs(np.fft.rfft(xdot - xdot.mean())) ** 2
-    total = float(spectrum.sum())
-    if n < 4 or not total > 0:
-        return 0.0
-    share = np.cumsum(spectrum) / total
-    return float(np.fft.rfftfreq(n, dt)[min(int(np.searchsorted(share, power)), spectrum.size - 1)])
 
 
 def decimation_factor(data: DiagnosisData, max_samples: int | None) -> int:
@@ -143,16 +123,27 @@ def _decimation(data: DiagnosisData, max_samples: int | None) -> tuple[int, bool
     if q <= 1:
         return 1, False
     limit, band_limit = q, q
-    for m in data.motions:
+    for m, tr, ho in zip(data.motions, data.train, data.heldout):
         dt = float(m.t[-1] - m.t[0]) / (m.n_samples - 1)
         f = _dominant_frequency(m.t, m.x)
         per_period = (1.0 / f) / (MIN_SAMPLES_PER_PERIOD * dt) if f > 0 else limit
         per_lag = FASTEST_LAG / (MIN_SAMPLES_PER_LAG * dt)
-        band = velocity_bandwidth(m.t, m.xdot)
+        band = _velocity_band(m, tr | ho)
         per_band = (1.0 / band) / (MIN_SAMPLES_PER_BAND * dt) if band > 0 else limit
         limit = min(limit, int(per_period), int(per_lag))
         band_limit = min(band_limit, int(per_band))
     return max(1, min(limit, band_limit)), band_limit < limit
+
+
+def _velocity_band(m: Motion, scored: np.ndarray) -> float:
+    """The velocity's band edge [Hz] (:data:`BAND_POWER` of its power below,
+    :func:`damper.io.screening.band_edge`) between the first and last scored samples: a flagged
+    fault outside them (the Dyke recording's lurch at its end) is no content of the test."""
+    idx = np.flatnonzero(scored)
+    if idx.size < 4:
+        return 0.0
+    span = slice(int(idx[0]), int(idx[-1]) + 1)
+    return band_edge(m.t[span], m.xdot[span], BAND_POWER)
 
 
 def _take(a: np.ndarray, idx: np.ndarray) -> np.ndarray:

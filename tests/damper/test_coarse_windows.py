@@ -11,11 +11,12 @@ import pytest
 from benchmark.foundation.errors import InputError
 from damper.diagnosis import DiagnosisData, diagnose
 from damper.diagnosis.augmented import AugmentedModel
-from damper.diagnosis.coarse import (LEAD_IN, MIN_SAMPLES_PER_BAND, coarse_pass, decimate, decimation_factor,
-                                     velocity_bandwidth, windows)
+from damper.diagnosis.coarse import (BAND_POWER, LEAD_IN, MIN_SAMPLES_PER_BAND, coarse_pass, decimate,
+                                     decimation_factor, windows)
 from damper.diagnosis.effects import Fade, Motion
 from damper.diagnosis.report import write_report
 from damper.io.data import DamperTest
+from damper.io.screening import band_edge
 from damper.lab.protocols import random_motion, random_voltage
 from damper.models.series_dashpot import SpencerBoucWen
 
@@ -37,19 +38,20 @@ def _long_test(duration=60.0, rate=1000.0, band=(0.5, 40.0), fade=0.0, seed=0, n
     return DamperTest(time=t, displacement=x, velocity=xd, force=f, voltage=v, name="long")
 
 
-def test_velocity_bandwidth_is_where_the_power_ends():
-    """Two tones: the weak fast one sets the bandwidth only when it holds more than 1 % of the power."""
+def test_band_edge_is_where_the_power_ends():
+    """Two tones: the weak fast one sets the band edge only when it holds more than 1 % of the power."""
     t = np.arange(0.0, 20.0, 1e-3)
     strong = np.sin(2 * np.pi * 2.0 * t)
-    assert velocity_bandwidth(t, strong + 0.3 * np.sin(2 * np.pi * 30.0 * t)) == pytest.approx(30.0, abs=0.1)
-    assert velocity_bandwidth(t, strong + 0.05 * np.sin(2 * np.pi * 30.0 * t)) == pytest.approx(2.0, abs=0.1)
-    assert velocity_bandwidth(t, np.zeros_like(t)) == 0.0
+    assert band_edge(t, strong + 0.3 * np.sin(2 * np.pi * 30.0 * t), BAND_POWER) == pytest.approx(30.0, abs=0.2)
+    assert band_edge(t, strong + 0.05 * np.sin(2 * np.pi * 30.0 * t), BAND_POWER) == pytest.approx(2.0, abs=0.2)
+    assert band_edge(t, np.zeros_like(t), BAND_POWER) == 0.0
 
 
 def test_decimation_keeps_samples_per_period_of_the_bandwidth():
     data = DiagnosisData.from_tests([_long_test(duration=30.0, band=(0.5, 40.0))], holdout=0.3)
     m = data.motions[0]
-    band = velocity_bandwidth(m.t, m.xdot)
+    scored = np.flatnonzero(data.train[0] | data.heldout[0])
+    band = band_edge(m.t[scored[0]:scored[-1] + 1], m.xdot[scored[0]:scored[-1] + 1], BAND_POWER)
     assert 30.0 < band < 45.0
     # the cap alone would ask for one sample in 40, a 10-ms field lag for one in 10
     q = decimation_factor(data, 500)
