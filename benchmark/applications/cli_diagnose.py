@@ -175,7 +175,10 @@ def run(args) -> int:
             print(line)
         if not getattr(result.data, "input_recorded", True):
             print("coil input: no voltage or current column in the files: taken as 0 V")
-        print(f"model: {result.model_kind}")
+        print(f"model: {result.model_kind}"
+              + (f" (the {result.data.input_name} changes within the tests: --model spencer, or auto, starts "
+                 "from Spencer et al.'s model with its field lag, the standard model of such data)"
+                 if result.model_kind != "spencer" and result.data.input_varies_within_tests else ""))
         print(f"held-out relative RMS error: {result.error_before:.4f} -> {result.error_after:.4f}")
         # the final model's values, as in the JSON (a step's own values precede the final joint refit)
         final = {e.name: e.parameters for e in result.final_model.effects}

@@ -224,3 +224,20 @@ def test_auto_base_model_follows_the_coil_input(monkeypatch, varying, expected):
         diagnose([test], model="auto")
     with pytest.raises(InputError, match="model: expected one of"):
         diagnose([test], model="bouc")
+
+
+def test_cli_says_which_base_a_changing_command_calls_for(tmp_path, capsys):
+    """With the normalized base on a random-voltage test, stdout itself (not only the progress
+    lines, which --quiet silences) names the Spencer-type base; a constant command does not."""
+    from damper.io.data import write_csv
+    from damper.lab.laboratory import periodic_test
+
+    changing = random_voltage_test("virtual", duration=4.0, sample_rate=500.0, seed=1)
+    constant = periodic_test("virtual", amplitude=0.02, frequency=1.0, voltage=0.5, cycles=5, sample_rate=200.0)
+    for test, hinted in ((changing, True), (constant, False)):
+        path = tmp_path / f"{hinted}.csv"
+        write_csv(test, path)
+        assert main(["diagnose", "--data", str(path), "--model", "normalized", "--effects", "offset",
+                     "--quiet"]) == 0
+        model_line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("model:")][0]
+        assert ("--model spencer" in model_line) is hinted
