@@ -35,7 +35,7 @@ from pathlib import Path
 
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.atomic import output_dir
-from damper.io.reader import read_test, require_samples, unique_names
+from damper.io.reader import read_tests, require_samples, unique_names
 from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
@@ -96,7 +96,8 @@ def register(subparsers) -> None:
             "and the forces. Prints the held-out relative RMS force error before and after.\n\n"
             "Example:\n\tsbib diagnose --data tests/*Hz1A.txt --model normalized --out out/diagnose-1A"))
     p.add_argument("--data", nargs="+", required=True, metavar="FILE",
-                   help="test files: damper CSV (units in the header, converted to SI) or UTFSM <amp>mm<freq>Hz<current>A.txt")
+                   help="test files: damper CSV (units in the header, converted to SI), UTFSM <amp>mm<freq>Hz<current>A.txt, "
+                        "a Dyke record, or a raw UTFSM logger export ME*.txt (one test per coil current)")
     p.add_argument("--model", choices=("normalized", "extended", "spencer", "auto"), default="normalized",
                    help="base model (default: normalized; auto = spencer when the coil input changes "
                         "within a test, as in a random-voltage recording, else normalized)")
@@ -145,14 +146,14 @@ def run(args) -> int:
     if budget is not None and not budget > 0:
         raise InputError(f"--time-budget: expected a number of seconds > 0, got {budget:g}")
     # a file too short to fit, or one the screening empties, stops here in one line naming it
-    tests = [require_samples(read_test(f, keep_flagged=keep), f) for f in args.data]
-    validate = ([require_samples(read_test(f, keep_flagged=keep), f) for f in args.validate]
+    # a raw UTFSM logger export is one test per coil current (damper.io.reader.read_tests)
+    tests = [(str(f), require_samples(t, f)) for f in args.data for t in read_tests(f, keep_flagged=keep)]
+    validate = ([(str(f), require_samples(t, f)) for f in args.validate for t in read_tests(f, keep_flagged=keep)]
                 if args.validate else None)
     # one name per recording (two files with one stem would share an entry of the report)
-    named = unique_names([(str(f), t) for f, t in zip([*args.data, *(args.validate or [])],
-                                                      [*tests, *(validate or [])])])
-    tests = [t for _, t in named[:len(tests)]]
+    named = unique_names([*tests, *(validate or [])])
     validate = [t for _, t in named[len(tests):]] if validate is not None else None
+    tests = [t for _, t in named[:len(tests)]]
     screened_tests = tests + (validate or [])
     screening = screening_summary(screened_tests, keep)
     progress = None if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))

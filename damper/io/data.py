@@ -42,10 +42,11 @@ from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.file_units import SI_UNIT, STANDARD_GRAVITY, column_name_unit, si_factor
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
-from damper.io.screening import repair_samples, screened
+from damper.io.screening import repair_samples, screened, screening_of
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
-           "utfsm_files", "read_utfsm_raw", "UTFSM_RAW_CHANNELS"]
+           "utfsm_files", "read_utfsm_raw", "UTFSM_RAW_CHANNELS", "UTFSM_RAW_CURRENTS", "is_utfsm_raw_file",
+           "split_utfsm_raw"]
 
 _REQUIRED = ("time", "displacement", "force")
 _OPTIONAL = ("velocity", "voltage", "current")
@@ -633,6 +634,90 @@ def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
                                                  "displacement x 10 -> mm",
                                 "provider": "M. Quiroz, UTFSM (MIT licence)"})
     return screened(test, prior, excluded, keep_flagged=keep_flagged)
+
+
+#: The coil currents [A] of a raw UTFSM logger export, in the order its spans of motion follow one
+#: another (``../shared/SOURCES.md``: each file holds the five currents 0...1 A back to back,
+#: separated by idle periods; the preprocessed files give the same five levels).
+UTFSM_RAW_CURRENTS = (0.0, 0.25, 0.5, 0.75, 1.0)
+
+
+def is_utfsm_raw_file(path) -> bool:
+    """Whether ``path`` begins as a raw UTFSM logger export does (a ``Header Size:`` line).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    """
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(64)
+    except OSError:
+        return False
+    return head.lstrip(b"\xef\xbb\xbf").lower().startswith(b"header size:")
+
+
+def split_utfsm_raw(test: DamperTest, currents=UTFSM_RAW_CURRENTS, keep_flagged: bool = False) -> list[DamperTest]:
+    """The coil-current levels of a raw UTFSM logger export, one test each.
+
+    :func:`read_utfsm_raw` reads the whole file, whose coil current is not recorded; its screening
+    finds the rig's idle spans between the levels. The spans of motion between them (those
+    longer than a fifth of the median one: a few samples of motion between two idle spans are no
+    level) are the levels, given ``currents`` in order, which their force must follow (an MR
+    damper's force rises with its current). Each is a test of its own, named
+    ``"<file> <current> A"``, with the time of the file kept, and screened anew.
+
+    Parameters
+    ----------
+    test : DamperTest
+        A raw export as :func:`read_utfsm_raw` returns it.
+    currents : sequence of float
+        The coil currents [A] of the levels, in order (default :data:`UTFSM_RAW_CURRENTS`).
+    keep_flagged : bool
+        Keep the samples each level's screening flags in fits and errors.
+
+    Raises
+    ------
+    InputError
+        The spans of motion are not as many as ``currents``, or their force does not rise with
+        them: which current each one had would be a guess.
+    """
+
+    t = np.asarray(test.time, dtype=float)
+    idle = np.zeros(t.size, dtype=bool)
+    for f in screening_of(test).findings:
+        if f.kind == "idle":
+            idle |= (t >= f.t_start) & (t <= f.t_end)
+    edges = np.flatnonzero(np.diff(np.r_[0, (~idle).astype(np.int8), 0]))
+    runs = list(zip(edges[::2], edges[1::2]))
+    if runs:
+        longest = float(np.median([t[b - 1] - t[a] for a, b in runs]))
+        runs = [(a, b) for a, b in runs if t[b - 1] - t[a] > 0.2 * longest]
+    if len(runs) != len(currents):
+        raise InputError(f"{test.source or test.name}: {len(runs)} span(s) of motion between the idle spans; "
+                         f"expected {len(currents)}, one per coil current {', '.join(f'{c:g}' for c in currents)} A "
+                         "in order (which current each span had would be a guess)")
+    # an MR damper's force rises with its coil current: levels out of that order are not the
+    # order assumed (a level repeated, one left out), and a fit on them would be of the wrong device
+    force = np.abs(np.asarray(test.force, dtype=float))
+    level = [float(np.percentile(force[a:b], 95)) for a, b in runs]
+    if any(hi <= lo for lo, hi in zip(level, level[1:])):
+        raise InputError(f"{test.source or test.name}: the force of the spans of motion "
+                         f"({', '.join(f'{v:.4g}' for v in level)} N, 95th percentiles) does not rise with "
+                         f"the coil currents {', '.join(f'{c:g}' for c in currents)} A assumed in order")
+    metadata = {k: v for k, v in test.metadata.items() if k != "screening"}
+    out = []
+    for (a, b), current in zip(runs, currents):
+        level = DamperTest(time=t[a:b], displacement=np.asarray(test.displacement)[a:b],
+                           velocity=np.asarray(test.velocity)[a:b], force=np.asarray(test.force)[a:b],
+                           current=np.full(b - a, float(current)), name=f"{test.name} {current:g} A",
+                           source=test.source,
+                           metadata={**metadata, "current_from": "the order of the levels in the file "
+                                                                 "(UTFSM_RAW_CURRENTS)",
+                                     "span_s": (float(t[a]), float(t[b - 1]))})
+        out.append(screened(level, keep_flagged=keep_flagged))
+    return out
 
 
 def utfsm_files(shared_dir=None) -> list[Path]:

@@ -8,6 +8,9 @@ it, so every command accepts the same formats and screens them the same way
   (:func:`damper.io.data.read_utfsm`);
 * a Dyke random-voltage record, recognised by its header (``t`` and at least three of
   ``D, Y, V, F``; :mod:`damper.io.dyke`);
+* a raw UTFSM logger export (``Datos_crudos/ME*.txt``), recognised by its ``Header Size:`` line
+  (:func:`damper.io.data.read_utfsm_raw`): :func:`read_tests` gives one test per coil current
+  (:func:`damper.io.data.split_utfsm_raw`), :func:`read_test` the whole file without its current;
 * otherwise a damper CSV with units in its header (:func:`damper.io.data.read_csv`).
 """
 
@@ -19,11 +22,12 @@ from pathlib import Path
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.io.data import DamperTest, parse_utfsm_name, read_csv, read_utfsm
+from damper.io.data import (DamperTest, is_utfsm_raw_file, parse_utfsm_name, read_csv, read_utfsm, read_utfsm_raw,
+                           split_utfsm_raw)
 from damper.io.dyke import looks_like_dyke_file, read_dyke
 from damper.io.screening import next_reversal, screening_of
 
-__all__ = ["read_test", "require_samples", "unique_names", "check_coil_inputs", "MIN_SAMPLES"]
+__all__ = ["read_test", "read_tests", "require_samples", "unique_names", "check_coil_inputs", "MIN_SAMPLES"]
 
 #: Fewest samples, and fewest usable (unflagged) samples, of a test worth a fit (the
 #: screening's own floor; the diagnosis differentiates the velocity, which needs three).
@@ -60,7 +64,31 @@ def read_test(path, keep_flagged: bool = False) -> DamperTest:
             return read_utfsm(p, keep_flagged=keep_flagged)
     if p.is_file() and looks_like_dyke_file(p):  # a Dyke header, complete or not (read_dyke names what is missing)
         return read_dyke(p, keep_flagged=keep_flagged)
+    if p.is_file() and is_utfsm_raw_file(p):
+        return read_utfsm_raw(p, keep_flagged=keep_flagged)
     return read_csv(p, keep_flagged=keep_flagged)
+
+
+def read_tests(path, keep_flagged: bool = False) -> list[DamperTest]:
+    """The tests of one file: a raw UTFSM logger export gives one per coil current
+    (:func:`damper.io.data.split_utfsm_raw`), any other file its one test (:func:`read_test`).
+
+    Parameters
+    ----------
+    path : str or Path
+        A damper-test file of any supported format.
+    keep_flagged : bool
+        Keep the samples the screening flags in fits and errors (the findings are still reported).
+
+    Raises
+    ------
+    InputError
+        As :func:`read_test`; a raw export whose spans of motion are not one per current.
+    """
+    p = Path(path)
+    if p.is_file() and is_utfsm_raw_file(p):
+        return split_utfsm_raw(read_utfsm_raw(p, keep_flagged=keep_flagged), keep_flagged=keep_flagged)
+    return [read_test(p, keep_flagged=keep_flagged)]
 
 
 def _reversals(x: np.ndarray, most: int = 2, hysteresis: float = 0.05) -> int:

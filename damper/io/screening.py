@@ -1161,8 +1161,14 @@ def screening_of(test: Any) -> Screening:
 
 
 def _label(test: Any) -> str:
-    """The file a test was read from (its name when it was not read from a file)."""
-    return Path(test.source).name if getattr(test, "source", None) else (getattr(test, "name", None) or "test")
+    """The file a test was read from (its name when it was not read from a file), with the test's
+    name when it is one span of that file (a coil-current level of a raw logger export,
+    :func:`damper.io.data.split_utfsm_raw`)."""
+    name = getattr(test, "name", None) or "test"
+    if not getattr(test, "source", None):
+        return name
+    span = (getattr(test, "metadata", None) or {}).get("span_s")
+    return f"{Path(test.source).name} ({name})" if span else Path(test.source).name
 
 
 def screening_summary(tests: Sequence[Any], keep_flagged: bool = False) -> dict:

@@ -24,9 +24,9 @@ def test_printed_values_are_the_final_ones(monkeypatch, capsys):
     result = SimpleNamespace(model_kind="normalized", error_before=0.2, error_after=0.1,
                              selection=SimpleNamespace(steps=[step]), final_model=final, unexplained=True,
                              unexplained_in=[("voltage_rate", 0.4, 0.02)],
-                             data=SimpleNamespace(input_name="current"), validation=None, settings={},
+                             data=SimpleNamespace(input_name="current", input_varies_within_tests=False), validation=None, settings={},
                              to_json=lambda: {})
-    monkeypatch.setattr(cli_diagnose, "read_test", lambda f, **options: f)
+    monkeypatch.setattr(cli_diagnose, "read_tests", lambda f, **options: [f])
     monkeypatch.setattr(cli_diagnose, "require_samples", lambda test, path: test)
     monkeypatch.setattr(cli_diagnose, "unique_names", lambda pairs: pairs)
     monkeypatch.setattr(cli_diagnose, "screening_summary", lambda tests, keep=False: {})
