@@ -26,7 +26,7 @@ from benchmark.foundation.display_units import format_si
 from benchmark.foundation.progress import progress_bar
 from benchmark.foundation.atomic import output_dir
 from damper.identification.measured import identify_files
-from damper.io.reader import read_test, require_samples
+from damper.io.reader import read_tests, require_samples
 from damper.io.screening import units_line
 from benchmark.applications.model_files import write_identified_models
 
@@ -133,12 +133,14 @@ def _run_data(args: argparse.Namespace) -> int:
     # read (and screen) every file once, before any fit: a bad one stops the command with its
     # one-line error before any progress line is written
     # the fit needs usable samples: a file too short, or one the screening empties, stops here in one line
-    tests = [require_samples(read_test(path, keep_flagged=args.keep_flagged), path) for path in args.data]
+    # (a raw UTFSM logger export is one test per coil current: damper.io.reader.read_tests)
+    tests = [require_samples(test, path) for path in args.data
+             for test in read_tests(path, keep_flagged=args.keep_flagged)]
     existed = Path(out).exists()
     # on stderr (tqdm's own write() would go to stdout, where --json puts the JSON)
-    print(f"identify: {len(args.data)} file(s) x {len(models)} model(s), {args.bootstrap} bootstrap "
+    print(f"identify: {len(tests)} test(s) x {len(models)} model(s), {args.bootstrap} bootstrap "
           "refits each", file=sys.stderr, flush=True)
-    bar = progress_bar(len(args.data) * len(models), desc="identify", unit="fit")
+    bar = progress_bar(len(tests) * len(models), desc="identify", unit="fit")
 
     def tick(label: str) -> None:
         bar.set_postfix_str(label)

@@ -371,6 +371,21 @@ def _jsonable(x):
     raise TypeError(f"not JSON serializable: {type(x).__name__}")
 
 
+def _no_nan(x):
+    """``x`` with every non-finite number in it as ``None`` (JSON's null): a statistic that could
+    not be estimated (a standard error from one bootstrap refit, a held-out error with no other
+    test at the level) is unknown, not a number."""
+    if isinstance(x, dict):
+        return {k: _no_nan(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_no_nan(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return _no_nan(x.tolist())
+    if isinstance(x, (float, np.floating)) and not math.isfinite(float(x)):
+        return None
+    return x
+
+
 def sha256_of(path) -> str:
     """SHA-256 of a file's bytes (hex)."""
     h = hashlib.sha256()
@@ -459,6 +474,7 @@ def write_model_file(path, model, *, input: InputSpec | None = None, effects: Se
            "notes": list(notes)}
     if extra:
         doc["quality"].update(extra)
+    doc["quality"] = _no_nan(doc["quality"])
     path = Path(path)
     return atomic_write_text(path, json.dumps(doc, indent=2, default=_jsonable, allow_nan=False) + "\n")
 

@@ -199,3 +199,17 @@ def test_oscillator_file_is_not_a_building_device(tmp_path):
     with pytest.raises(InputError) as info:
         mf.building_model()
     assert "\n" not in str(info.value) and "force-driven oscillator" in str(info.value)
+
+
+def test_a_statistic_that_could_not_be_estimated_is_written_as_null(tmp_path):
+    """``sbib identify --data A B --bootstrap 1``: standard errors from one refit are NaN, which
+    strict JSON cannot hold (it raised ValueError after the fits); they are unknown: null."""
+    spec = InputSpec("current", "A", (0.0, 1.0), (0.0, 0.5, 1.0))
+    path = write_model_file(tmp_path / "m.json", _augmented(), input=spec,
+                            quality={"standard_errors": {"rho": float("nan"), "n": np.float64(0.1)},
+                                     "held_out": [0.08, float("inf")]},
+                            provenance={"inputs": [], "command": "test"})
+    doc = json.loads(path.read_text())
+    assert doc["quality"]["standard_errors"] == {"rho": None, "n": 0.1}
+    assert doc["quality"]["held_out"] == [0.08, None]
+    assert read_model_file(path).quality["standard_errors"]["rho"] is None

@@ -87,3 +87,14 @@ def test_sbib_diagnose_reads_a_raw_export_as_five_currents(shared_dir, capsys):
     assert len(doc["screening"]) == 5  # one entry per level, not one overwritten five times
     assert sorted(float(k) for k in doc["errors_by_input"]) == list(UTFSM_RAW_CURRENTS)
     assert doc["error_after"] < 0.2
+
+
+def test_sbib_identify_data_fits_each_current_of_a_raw_export(shared_dir, tmp_path, capsys):
+    path = shared_dir / RAW / "ME2mm5Hz.txt"
+    assert main(["identify", "--data", str(path), "--model", "normalized", "--bootstrap", "1", "--no-plots",
+                 "--json", "--out", str(tmp_path / "id")]) == 0
+    import json
+
+    doc = json.loads(capsys.readouterr().out)
+    assert len(doc["tests"]) == 5 and len(doc["screening"]) == 5
+    assert sorted(t["file"] for t in doc["tests"]) == sorted(f"ME2mm5Hz {c:g} A" for c in UTFSM_RAW_CURRENTS)
