@@ -61,6 +61,7 @@ import scipy.linalg
 
 from benchmark.foundation.cache import FunctionCache
 from benchmark.foundation.errors import DataNotFoundError, InputError
+from benchmark.foundation.fields import check_field_names
 from benchmark.foundation.paths import structure_file
 from benchmark.foundation.textfile import read_text
 
@@ -315,6 +316,13 @@ def _field(data: dict, name: str, path: Path, shape: tuple | None = None) -> np.
     return arr
 
 
+#: The fields of a structure file: those read, and the benchmark file's own notes and linear
+#: bearing (read by :mod:`benchmark.simulator.isolation.linear`).
+_STRUCTURE_FIELDS = ("n_floors", "omega_squared", "mode_shapes_floor8_to_floor1", "floor_mass", "floor_rot_inertia",
+                     "modal_damping_ratio", "floor_height_above_base", "base_mass", "base_rot_inertia",
+                     "bearing_xy", "mode_shapes_note", "bearing_note", "fdz_linear_bearing")
+
+
 @lru_cache(maxsize=4)
 def _load_cached(path_str: str, mtime: float) -> Superstructure:
     path = Path(path_str)
@@ -325,6 +333,7 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
     if not isinstance(data, dict):
         raise InputError(f"{path}: a JSON {type(data).__name__}; expected an object of named fields "
                          "(the benchmark's structure.json is one)")
+    check_field_names(data, _STRUCTURE_FIELDS, str(path))
     n = 3 * N_FLOORS
     floors = data.get("n_floors", N_FLOORS)
     if floors != N_FLOORS:

@@ -128,3 +128,22 @@ def test_bearing_parameters_must_be_numbers(params, words):
     data = {"name": "x", "n_bearings": 2, "groups": [{"type": "linear", "bearings": [1, 2], "parameters": params}]}
     with pytest.raises(InputError, match=re.escape(words)):
         isolation_from_dict(data)
+
+
+def test_a_misspelt_field_is_refused_not_defaulted(tmp_path):
+    """``"paramters"`` would have left every parameter of the group at its default, and
+    ``"n_bearing"`` the count at 92, without a word."""
+    group = {"type": "linear", "bearings": "1-92", "parameters": {"k": 9e5, "c": 2e4}}
+    path = tmp_path / "layer.json"
+    for cfg, message in (({"groups": [{**{k: v for k, v in group.items() if k != "parameters"},
+                                       "paramters": group["parameters"]}]}, "did you mean 'parameters'"),
+                         ({"groups": [{**group, "params": {}}]}, "did you mean 'parameters'"),
+                         ({"groups": [{**group, "stiffness": 1.0}]}, "expected bearings, label, parameters, type"),
+                         ({"n_bearing": 92, "groups": [group]}, "did you mean 'n_bearings'")):
+        path.write_text(json.dumps(cfg))
+        with pytest.raises(InputError, match=message) as info:
+            load_isolation(path)
+        assert str(path) in str(info.value) and "\n" not in str(info.value)
+    # free-form notes are read past, at the top and in a group
+    path.write_text(json.dumps({"name": "ok", "comment": "a test rig", "groups": [{**group, "note": "all linear"}]}))
+    assert load_isolation(path).name == "ok"

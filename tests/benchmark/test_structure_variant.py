@@ -159,3 +159,15 @@ def test_devices_off_the_base_are_refused(shared_dir, tmp_path):
     Building.default(structure_path=small, devices=None)  # no devices: nothing to place
     with pytest.raises(InputError, match=r"devices: x1 at \(-7.32, 30.69\) m lies off the base"):
         Building.default(structure_path=small)
+
+
+def test_a_misspelt_structure_field_is_refused(variant, tmp_path):
+    """A field close to one sbib reads is a misspelling (``n_floor`` would leave the floor count
+    unchecked); fields that resemble none are the file's own notes and are read past."""
+    _, data = variant
+    path = tmp_path / "typo.json"
+    path.write_text(json.dumps({**data, "n_floor": 10}))
+    with pytest.raises(InputError, match="did you mean 'n_floors'"):
+        load_superstructure(path)
+    path.write_text(json.dumps({**data, "retrofit_year": 2024}))
+    assert load_superstructure(path).base_mass > 0

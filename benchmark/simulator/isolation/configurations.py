@@ -61,6 +61,7 @@ from typing import Any, Iterable, NamedTuple
 import numpy as np
 
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
+from benchmark.foundation.fields import check_field_names
 from benchmark.simulator.isolation.base import BearingParameters
 from benchmark.simulator.isolation.friction_pendulum import FrictionPendulumBearing
 from benchmark.simulator.isolation.lead_rubber import LeadRubberBearing
@@ -351,6 +352,7 @@ def isolation_from_dict(data: dict, where: str = "isolation") -> IsolationLayer:
     """
     if not isinstance(data, dict) or "groups" not in data:
         raise InputError(f"{where}: expected an object with a 'groups' list")
+    check_field_names(data, ("name", "description", "n_bearings", "groups"), where)
     n = data.get("n_bearings", N_BEARINGS)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise InputError(f"{where}: field 'n_bearings' = {n!r}; expected a positive integer")
@@ -361,6 +363,8 @@ def isolation_from_dict(data: dict, where: str = "isolation") -> IsolationLayer:
         loc = f"{where}: groups[{j}]"
         if not isinstance(g, dict) or "type" not in g or "bearings" not in g:
             raise InputError(f"{loc}: expected an object with 'type', 'bearings' and 'parameters'")
+        # a group holds nothing free-form: "paramters" would leave every parameter at its default
+        check_field_names(g, ("type", "bearings", "parameters", "label"), loc, strict=True)
         cls = bearing_type(g["type"])
         params = g.get("parameters", {})
         if not isinstance(params, dict):
