@@ -683,7 +683,6 @@ def split_utfsm_raw(test: DamperTest, currents=UTFSM_RAW_CURRENTS, keep_flagged:
         The spans of motion are not as many as ``currents``, or their force does not rise with
         them: which current each one had would be a guess.
     """
-
     t = np.asarray(test.time, dtype=float)
     idle = np.zeros(t.size, dtype=bool)
     for f in screening_of(test).findings:
@@ -692,8 +691,8 @@ def split_utfsm_raw(test: DamperTest, currents=UTFSM_RAW_CURRENTS, keep_flagged:
     edges = np.flatnonzero(np.diff(np.r_[0, (~idle).astype(np.int8), 0]))
     runs = list(zip(edges[::2], edges[1::2]))
     if runs:
-        longest = float(np.median([t[b - 1] - t[a] for a, b in runs]))
-        runs = [(a, b) for a, b in runs if t[b - 1] - t[a] > 0.2 * longest]
+        typical = float(np.median([t[b - 1] - t[a] for a, b in runs]))
+        runs = [(a, b) for a, b in runs if t[b - 1] - t[a] > 0.2 * typical]
     if len(runs) != len(currents):
         raise InputError(f"{test.source or test.name}: {len(runs)} span(s) of motion between the idle spans; "
                          f"expected {len(currents)}, one per coil current {', '.join(f'{c:g}' for c in currents)} A "
@@ -701,10 +700,10 @@ def split_utfsm_raw(test: DamperTest, currents=UTFSM_RAW_CURRENTS, keep_flagged:
     # an MR damper's force rises with its coil current: levels out of that order are not the
     # order assumed (a level repeated, one left out), and a fit on them would be of the wrong device
     force = np.abs(np.asarray(test.force, dtype=float))
-    level = [float(np.percentile(force[a:b], 95)) for a, b in runs]
-    if any(hi <= lo for lo, hi in zip(level, level[1:])):
+    peaks = [float(np.percentile(force[a:b], 95)) for a, b in runs]
+    if any(hi <= lo for lo, hi in zip(peaks, peaks[1:])):
         raise InputError(f"{test.source or test.name}: the force of the spans of motion "
-                         f"({', '.join(f'{v:.4g}' for v in level)} N, 95th percentiles) does not rise with "
+                         f"({', '.join(f'{v:.4g}' for v in peaks)} N, 95th percentiles) does not rise with "
                          f"the coil currents {', '.join(f'{c:g}' for c in currents)} A assumed in order")
     metadata = {k: v for k, v in test.metadata.items() if k != "screening"}
     out = []
