@@ -487,9 +487,11 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     nodes = data.nodes()
     q = decimation_factor(data, coarse_samples)
     work = data if coarse_samples is None else coarse_pass(data, q, coarse_samples)
-    if q > 1 or len(work.motions) != len(data.motions):
-        windowed = ("" if len(work.motions) == len(data.motions) else
-                    f" in {len(work.motions)} windows of {len(data.motions)} test(s), "
+    # a window carries the time its test began (Motion.origin); the tests themselves do not
+    n_windows = sum(m.origin is not None for m in work.motions)
+    if q > 1 or n_windows:
+        windowed = ("" if not n_windows else
+                    f" in {n_windows} windows of {len(data.motions)} test(s), "
                     f"{sum(float(m.t[-1] - m.t[0]) for m in work.motions):.1f} of "
                     f"{sum(float(m.t[-1] - m.t[0]) for m in data.motions):.1f} s simulated")
         say(f"coarse pass: one sample in {q}{windowed} ({sum(int(k.sum()) for k in work.train)} of "
@@ -548,7 +550,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                 "nodes": None if nodes is None else [float(x) for x in nodes],
                 "candidates": list(candidates) if candidates is not None else None,
                 "decimation": q, "coarse_samples": coarse_samples, "polish_nfev": polish_nfev,
-                "coarse_windows": 0 if len(work.motions) == len(data.motions) else len(work.motions),
+                "coarse_windows": n_windows,
                 "tolerance": tolerance, "trace_share": trace_share, "joint_trials": joint_trials,
                 "time_budget": time_budget, "stopped_by_budget": selection.stopped_by_budget,
                 "seconds": round(say.elapsed, 3)}

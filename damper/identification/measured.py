@@ -35,7 +35,7 @@ from damper.identification.metrics import force_errors
 from damper.identification.refine import parameters_at_bounds, refine_common
 from damper.models.response import simulate
 from damper.io.reader import check_coil_inputs, read_test, unique_names
-from damper.io.screening import test_label, unstated_line
+from damper.io.screening import screening_key, unstated_line
 from damper.identification import plots
 
 __all__ = ["identify_files", "held_out_errors", "fit_levels"]
@@ -132,10 +132,10 @@ def fit_levels(identifications: Sequence[Identification], max_nfev: int = 100) -
 
 def _label(test) -> str:
     """A test's label in messages: its file's name when it was read from one (with the test's
-    name for one level of a raw logger export, :func:`damper.io.screening.test_label`), else its
+    name for one level of a raw logger export, :func:`damper.io.screening.screening_key`), else its
     name."""
     source = getattr(test, "source", "")
-    return test_label(test) if source and Path(source).is_file() else str(test.name)
+    return screening_key(test) if source and Path(source).is_file() else str(test.name)
 
 
 def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "extended"),

@@ -111,7 +111,7 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
-           "screening_of", "screening_summary", "test_label", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS"]
 
@@ -1160,7 +1160,7 @@ def screening_of(test: Any) -> Screening:
     return result if isinstance(result, Screening) else screen(test)
 
 
-def test_label(test: Any) -> str:
+def screening_key(test: Any) -> str:
     """The file a test was read from (its name when it was not read from a file), with the test's
     name when it is one span of that file (a coil-current level of a raw logger export,
     :func:`damper.io.data.split_utfsm_raw`): the key of its screening in reports and JSON.
@@ -1196,7 +1196,7 @@ def screening_summary(tests: Sequence[Any], keep_flagged: bool = False) -> dict:
         units = (getattr(test, "metadata", None) or {}).get("file_units")
         if units:
             doc["file_units"] = dict(units)  # the columns read in a rig's units, converted to SI
-        out[test_label(test)] = doc
+        out[screening_key(test)] = doc
     return out
 
 
@@ -1241,7 +1241,7 @@ def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[st
     lines = []
     for test in tests:
         scr = screening_of(test)
-        label = test_label(test)
+        label = screening_key(test)
         units = (getattr(test, "metadata", None) or {}).get("file_units")
         if units:
             lines.append(f"screening {label}: {units_line(units)}")
