@@ -59,9 +59,9 @@ from typing import Callable, TextIO
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.diagnosis.dataset import DiagnosisData, _dominant_frequency
+from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.effects import Motion
-from damper.io.screening import band_edge
+from damper.io.screening import band_edge, dominant_frequency
 
 __all__ = ["decimation_factor", "decimate", "windows", "coarse_pass", "Progress",
            "DEFAULT_COARSE_SAMPLES", "MIN_SAMPLES_PER_PERIOD", "MIN_SAMPLES_PER_BAND", "BAND_POWER",
@@ -125,7 +125,7 @@ def _decimation(data: DiagnosisData, max_samples: int | None) -> tuple[int, bool
     limit, band_limit = q, q
     for m, tr, ho in zip(data.motions, data.train, data.heldout):
         dt = float(m.t[-1] - m.t[0]) / (m.n_samples - 1)
-        f = _dominant_frequency(m.t, m.x)
+        f = dominant_frequency(m.t, m.x)
         per_period = (1.0 / f) / (MIN_SAMPLES_PER_PERIOD * dt) if f > 0 else limit
         per_lag = FASTEST_LAG / (MIN_SAMPLES_PER_LAG * dt)
         band = _velocity_band(m, tr | ho)
@@ -237,7 +237,7 @@ def windows(data: DiagnosisData, max_samples: int) -> DiagnosisData:
     motions, forces, train, held = [], [], [], []
     for m, f, tr, ho in zip(data.motions, data.forces, data.train, data.heldout):
         origin = float(m.t[0] if m.origin is None else m.origin)
-        freq = _dominant_frequency(m.t, m.x)
+        freq = dominant_frequency(m.t, m.x)
         length = max(MIN_WINDOW, MIN_WINDOW_PERIODS / freq if freq > 0 else MIN_WINDOW)
         crossing = np.flatnonzero(np.diff(np.signbit(m.x - m.x[0])))  # x passes its start value
         cuts = []  # (scored from, scored to) [s]

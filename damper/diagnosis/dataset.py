@@ -26,7 +26,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest
 from damper.io.reader import check_coil_inputs
-from damper.io.screening import band_edge, screening_of
+from damper.io.screening import band_edge, dominant_frequency, screening_of
 from damper.diagnosis.effects import Motion
 
 __all__ = ["DiagnosisData", "acceleration_from_velocity", "acceleration_window", "first_reversal",
@@ -39,17 +39,6 @@ _MAX_LEVEL_NODES = 6
 _GRID_NODES = 4
 #: The grid of nodes spans these percentiles of the input (each end).
 _NODE_PERCENTILE = 2.5
-
-
-def _dominant_frequency(t: np.ndarray, x: np.ndarray) -> float:
-    """Frequency [Hz] of the largest spectral peak of the displacement (excluding the mean)."""
-    n = t.size
-    dt = (t[-1] - t[0]) / (n - 1)
-    spectrum = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(n)))
-    freqs = np.fft.rfftfreq(n, dt)
-    if spectrum.size < 2 or not np.any(spectrum[1:] > 0):
-        return 1.0 / max(t[-1] - t[0], dt)
-    return float(freqs[1 + int(np.argmax(spectrum[1:]))])
 
 
 def acceleration_window(t: np.ndarray, velocity: np.ndarray,
@@ -71,7 +60,7 @@ def acceleration_window(t: np.ndarray, velocity: np.ndarray,
         return 0
     dt = float(np.mean(steps))
     x = velocity if displacement is None else np.asarray(displacement, dtype=float)
-    f = max(_dominant_frequency(t, x), 0.5 * band_edge(t, velocity))
+    f = max(dominant_frequency(t, x), 0.5 * band_edge(t, velocity))
     window = int(round(1.0 / (20.0 * f * dt))) if f > 0 else 5
     window = max(5, min(window, (t.size // 4) | 1))
     if window % 2 == 0:
@@ -403,7 +392,7 @@ class DiagnosisData:
         rate = [np.gradient(m.v, m.t, edge_order=2) for m in self.motions]
         cycles = []
         for i, m in enumerate(self.motions):
-            period = 1.0 / max(_dominant_frequency(m.t, m.x), 1e-12)
+            period = 1.0 / max(dominant_frequency(m.t, m.x), 1e-12)
             cycles.append(np.floor(m.elapsed / period) + 1e6 * i)
         return {
             "displacement": self.concat([m.x for m in self.motions], which),

@@ -111,7 +111,7 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
-           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS"]
 
@@ -305,16 +305,26 @@ class Screening:
 # ---------------------------------------------------------------------------------------------
 # helpers
 # ---------------------------------------------------------------------------------------------
-def _dominant_period(t: np.ndarray, x: np.ndarray) -> float:
+def dominant_frequency(t: np.ndarray, x: np.ndarray) -> float:
+    """Frequency [Hz] of the largest spectral peak of ``x`` (Hann window, the mean excluded).
+
+    A signal too short (fewer than 8 samples) or flat to have a peak gets one cycle over its span.
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Uniform sample times [s].
+    x : np.ndarray
+        The signal at ``t`` (a displacement, here).
+    """
     n = t.size
     span = float(t[-1] - t[0])
     dt = span / max(n - 1, 1)
     if n < 8 or not np.ptp(x) > 0:
-        return span
+        return 1.0 / max(span, dt, 1e-300)
     spectrum = np.abs(np.fft.rfft((x - x.mean()) * np.hanning(n)))
     freqs = np.fft.rfftfreq(n, dt)
-    k = 1 + int(np.argmax(spectrum[1:]))
-    return float(1.0 / freqs[k]) if freqs[k] > 0 else span
+    return float(freqs[1 + int(np.argmax(spectrum[1:]))])
 
 
 #: Share of a signal's variance below its band edge (:func:`band_edge`).
@@ -898,7 +908,7 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
         return Screening(tuple(findings), ~excluded, estimates, name)
     steps = np.diff(t)
     dt = float(np.median(steps))
-    period = _dominant_period(t, x)
+    period = 1.0 / dominant_frequency(t, x)
     lo_x, hi_x = np.percentile(x, [0.5, 99.5])
     stroke = float(hi_x - lo_x)
 
@@ -955,7 +965,7 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     if excluded.any() and (~excluded).sum() > 8:
         a_ok, b_ok = max(_runs(~excluded), key=lambda r: r[1] - r[0])
         if b_ok - a_ok > 8:
-            period = _dominant_period(t[a_ok:b_ok], x[a_ok:b_ok])
+            period = 1.0 / dominant_frequency(t[a_ok:b_ok], x[a_ok:b_ok])
 
     # a fault's lurch: the velocity far beyond the test's own envelope next to a fault
     fault = input_bad | excluded & ~idle & ~held
