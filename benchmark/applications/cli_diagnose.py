@@ -97,7 +97,8 @@ def register(subparsers) -> None:
             "Example:\n\tsbib diagnose --data tests/*Hz1A.txt --model normalized --out out/diagnose-1A"))
     p.add_argument("--data", nargs="+", required=True, metavar="FILE",
                    help="test files: damper CSV (units in the header, converted to SI), UTFSM <amp>mm<freq>Hz<current>A.txt, "
-                        "a Dyke record, or a raw UTFSM logger export ME*.txt (one test per coil current)")
+                        "a Dyke record, or a raw UTFSM logger export: ME*.txt (one test per coil current) or one "
+                        "current named at the end of its name (15Hz1A.txt)")
     p.add_argument("--model", choices=("normalized", "extended", "spencer", "auto"), default="normalized",
                    help="base model (default: normalized; auto = spencer when the coil input changes "
                         "within a test, as in a random-voltage recording, else normalized)")

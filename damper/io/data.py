@@ -45,7 +45,7 @@ from benchmark.foundation.textfile import parse_float, read_text
 from damper.io.screening import repair_samples, screened, screening_of
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
-           "utfsm_files", "read_utfsm_raw", "UTFSM_RAW_CHANNELS", "UTFSM_RAW_CURRENTS", "is_utfsm_raw_file",
+           "utfsm_files", "read_utfsm_raw", "raw_current_from_name", "UTFSM_RAW_CHANNELS", "UTFSM_RAW_CURRENTS", "is_utfsm_raw_file",
            "split_utfsm_raw"]
 
 _REQUIRED = ("time", "displacement", "force")
@@ -568,22 +568,45 @@ def read_utfsm(path, keep_flagged: bool = False) -> DamperTest:
 #: shared folder: 200 Hz files hold force then displacement, 1 kHz files the other way round).
 UTFSM_RAW_CHANNELS = {200.0: ("force", "displacement"), 1000.0: ("displacement", "force")}
 _KGF = STANDARD_GRAVITY   # the logger's force channel is in units of 100 kgf: x 980.665 -> N
+_RAW_CURRENT_NAME = re.compile(r"(?<![\dx])(?P<cur>\d+(?:x\d+)?)A(?:_\d+)?$")
 
 
-def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
-    """Read one raw UTFSM logger export (``Datos_crudos/ME*.txt``) into SI units, screened.
+def raw_current_from_name(path) -> float | None:
+    """The coil current [A] a raw UTFSM export of one current carries at the end of its name.
 
-    Seven header lines (``Sampling Interval:`` [s] among them), then ``Sample Number,
-    Date/Time, CHANNEL0, CHANNEL1[, Events]``. The channels are assigned by the sampling rate
-    (:data:`UTFSM_RAW_CHANNELS`); force x 980.665 -> N, displacement x 10 -> mm -> m. Each file
-    holds the five coil currents back to back with idle spans between them, and the current is
-    not recorded: the test has no coil input, and the screening reports the idle spans. The
-    velocity is the derivative of the displacement.
+    ``15Hz1A.txt`` -> 1.0, ``15Hz0x5A.txt`` -> 0.5, ``15Hz1A_2.txt`` (a repeat) -> 1.0 (``x`` is
+    the decimal point, as in the preprocessed files' names); ``ME10mm2Hz.txt`` -> None (an export of
+    the five currents, :func:`split_utfsm_raw`).
 
     Parameters
     ----------
     path : str or Path
-        A raw logger export ``ME*.txt``.
+        The file.
+    """
+    m = _RAW_CURRENT_NAME.search(Path(path).stem)
+    return None if m is None else float(m.group("cur").replace("x", "."))
+
+
+def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
+    """Read one raw UTFSM logger export (``Datos_crudos/ME*.txt``, ``Validacion/MRDAMPER/15Hz1A.txt``)
+    into SI units, screened.
+
+    Seven header lines (``Sampling Interval:`` [s] among them), then ``Sample Number,
+    Date/Time, CHANNEL0, CHANNEL1[, CHANNEL2][, Events]``. Force x 980.665 -> N, displacement
+    x 10 -> mm -> m; which of CHANNEL0 and CHANNEL1 is the force follows from the sampling rate
+    (:data:`UTFSM_RAW_CHANNELS`). A CHANNEL2 is the actuator's commanded displacement (the
+    campaign's own preprocessing, ``Cap6_ModeloActuador/Preprocesamiento/sincronize.m`` of the
+    source repository, ``../shared/SOURCES.md``), not used: the model is driven by the measured
+    one. The coil current is not recorded: an export of one current names
+    it at the end of its file name (:func:`raw_current_from_name`) and is read at it; an export of
+    the five currents back to back, with idle spans between them, has no coil input here
+    (:func:`split_utfsm_raw` cuts it into its levels). The velocity is the derivative of the
+    displacement.
+
+    Parameters
+    ----------
+    path : str or Path
+        A raw logger export.
     keep_flagged : bool
         Keep the samples the screening flags (the idle spans among them) in fits and errors.
     """
@@ -607,6 +630,7 @@ def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
                          f"{sorted(UTFSM_RAW_CHANNELS)} Hz (the channel order is known for these)")
     names = UTFSM_RAW_CHANNELS[float(rate)]
     samples, ch0, ch1, line_nos = [], [], [], []
+    command = False
     for line_no, line in enumerate(lines, start=1):
         cells = [c.strip() for c in line.split(",")]
         if len(cells) < 4 or not cells[0].isdigit():
@@ -618,6 +642,11 @@ def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
         except ValueError:
             raise InputError(f"{path}:{line_no}: expected numbers in CHANNEL0, CHANNEL1, got "
                              f"{line.strip()!r}") from None
+        if len(cells) > 4 and not command:  # CHANNEL2, where the export has one (else the Events column)
+            try:
+                command = math.isfinite(parse_float(cells[4]))
+            except ValueError:
+                pass
         line_nos.append(line_no)
     if len(samples) < 2:
         raise InputError(f"{path}: expected at least 2 data lines, got {len(samples)}")
@@ -627,12 +656,17 @@ def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
         time, {"displacement": raw["displacement"] * 10.0 * 1e-3, "force": raw["force"] * 100.0 * _KGF},
         label=str(path), lines=line_nos, keep_flagged=keep_flagged)
     velocity = _derivative(col["displacement"], time)
-    test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
-                      force=col["force"], name=path.stem, source=str(path),
-                      metadata={"velocity_from_file": False, "sample_rate": float(rate),
-                                "units_in_file": f"{names[0]}, {names[1]}: force x 980.665 -> N, "
-                                                 "displacement x 10 -> mm",
-                                "provider": "M. Quiroz, UTFSM (MIT licence)"})
+    current = raw_current_from_name(path)
+    units = f"CHANNEL0 {names[0]}, CHANNEL1 {names[1]}: force x 980.665 -> N, displacement x 10 -> mm"
+    if command:
+        units += "; CHANNEL2 the commanded displacement (not used)"
+    metadata = {"velocity_from_file": False, "sample_rate": float(rate), "units_in_file": units,
+                "provider": "M. Quiroz, UTFSM (MIT licence)"}
+    if current is not None:
+        metadata["current_from"] = "the file name"
+    test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity, force=col["force"],
+                      current=None if current is None else np.full(time.size, current),
+                      name=path.stem, source=str(path), metadata=metadata)
     return screened(test, prior, excluded, keep_flagged=keep_flagged)
 
 
@@ -696,7 +730,8 @@ def split_utfsm_raw(test: DamperTest, currents=UTFSM_RAW_CURRENTS, keep_flagged:
     if len(runs) != len(currents):
         raise InputError(f"{test.source or test.name}: {len(runs)} span(s) of motion between the idle spans; "
                          f"expected {len(currents)}, one per coil current {', '.join(f'{c:g}' for c in currents)} A "
-                         "in order (which current each span had would be a guess)")
+                         "in order (which current each span had would be a guess; an export of one current "
+                         "names it at the end of the file name, e.g. 15Hz1A.txt or 15Hz0x5A.txt)")
     # an MR damper's force rises with its coil current: levels out of that order are not the
     # order assumed (a level repeated, one left out), and a fit on them would be of the wrong device
     force = np.abs(np.asarray(test.force, dtype=float))

@@ -8,8 +8,10 @@ it, so every command accepts the same formats and screens them the same way
   (:func:`damper.io.data.read_utfsm`);
 * a Dyke random-voltage record, recognised by its header (``t`` and at least three of
   ``D, Y, V, F``; :mod:`damper.io.dyke`);
-* a raw UTFSM logger export (``Datos_crudos/ME*.txt``), recognised by its ``Header Size:`` line
-  (:func:`damper.io.data.read_utfsm_raw`): :func:`read_tests` gives one test per coil current
+* a raw UTFSM logger export, recognised by its ``Header Size:`` line
+  (:func:`damper.io.data.read_utfsm_raw`): an export of one coil current, named for it
+  (``15Hz1A.txt``), is that current's test; of an export of the five currents back to back
+  (``Datos_crudos/ME*.txt``) :func:`read_tests` gives one test per current
   (:func:`damper.io.data.split_utfsm_raw`), :func:`read_test` the whole file without its current;
 * otherwise a damper CSV with units in its header (:func:`damper.io.data.read_csv`).
 """
@@ -70,8 +72,9 @@ def read_test(path, keep_flagged: bool = False) -> DamperTest:
 
 
 def read_tests(path, keep_flagged: bool = False) -> list[DamperTest]:
-    """The tests of one file: a raw UTFSM logger export gives one per coil current
-    (:func:`damper.io.data.split_utfsm_raw`), any other file its one test (:func:`read_test`).
+    """The tests of one file: a raw UTFSM logger export of the five coil currents gives one per
+    current (:func:`damper.io.data.split_utfsm_raw`), any other file (a raw export named for its one
+    current among them) its one test (:func:`read_test`).
 
     Parameters
     ----------
@@ -87,7 +90,8 @@ def read_tests(path, keep_flagged: bool = False) -> list[DamperTest]:
     """
     p = Path(path)
     if p.is_file() and is_utfsm_raw_file(p):
-        return split_utfsm_raw(read_utfsm_raw(p, keep_flagged=keep_flagged), keep_flagged=keep_flagged)
+        test = read_utfsm_raw(p, keep_flagged=keep_flagged)
+        return [test] if test.current is not None else split_utfsm_raw(test, keep_flagged=keep_flagged)
     return [read_test(p, keep_flagged=keep_flagged)]
 
 
