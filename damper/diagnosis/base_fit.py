@@ -29,6 +29,7 @@ from scipy.optimize import lsq_linear
 
 from benchmark.foundation.errors import InputError, NumericalError
 from damper.diagnosis.augmented import AugmentedModel, RefitResult, make_base, refit
+from damper.fitting import DEFAULT_STALL
 from damper.models.base import with_coarser_substeps
 from damper.models.bouc_wen import NormalizedBoucWen
 from damper.diagnosis.dataset import DiagnosisData
@@ -216,7 +217,7 @@ def fit_base(data: DiagnosisData, kind: str = "normalized", n_starts: int = 3,
     if best is not None and budget < max_nfev and not best.success:
         try:
             more = refit(best.model, data.motions, data.forces, data.train, nodes=nodes,
-                         max_nfev=max_nfev, tolerance=tolerance)
+                         max_nfev=max_nfev, tolerance=tolerance, stall=DEFAULT_STALL)
         except NumericalError:
             more = None
         if more is not None and more.relative_rms_error <= best.relative_rms_error:
@@ -426,8 +427,9 @@ def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200
         raise NumericalError("diagnose: the Spencer-type base could not be refined from any start",
                              hint="check the data (units, force sign) or try another --model")
     try:
+        # a refinement that crawls along a flat optimum stops (on ranran_50 it had crawled 200 s)
         more = refit(best.model, data.motions, data.forces, data.train, nodes=lin_nodes,
-                     scales=scales, max_nfev=max_nfev, tolerance=tolerance)
+                     scales=scales, max_nfev=max_nfev, tolerance=tolerance, stall=DEFAULT_STALL)
         if more.relative_rms_error <= best.relative_rms_error:
             best = more
     except NumericalError:
@@ -450,7 +452,7 @@ def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200
             start = AugmentedModel(_spencer_on_nodes(best.model.base, nodes, vr), best.model.effects,
                                    best.model.held)
             alt = refit(start, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
-                        max_nfev=max_nfev, tolerance=tolerance)
+                        max_nfev=max_nfev, tolerance=tolerance, stall=DEFAULT_STALL)
         except NumericalError:
             continue
         rss_alt, _ = _training_rss(alt, data)

@@ -54,6 +54,7 @@ from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size, trace_residual
 from damper.diagnosis.effects import Effect, effect_names, get_effect
 # the package's one relative RMS error (mask and weights), re-exported here for the loop
+from damper.fitting import DEFAULT_STALL
 from damper.identification.metrics import relative_rms_error
 
 __all__ = [
@@ -89,12 +90,6 @@ DEFAULT_TRACE_SHARE = 0.1
 DEFAULT_JOINT_TRIALS = 2
 #: Stopping tolerance of the loop's refits (see :func:`damper.diagnosis.augmented.refit`).
 DEFAULT_TOLERANCE = 1e-6
-#: A trial's refit stops once 5 iterations in a row lowered its training cost by less than 0.1 %
-#: in all (a relative RMS change of 0.05 %, 40 times below :data:`DEFAULT_MIN_GAIN`): at that
-#: pace it would need hundreds of iterations to pay. On the UTFSM 1 A tests a joint refit with an
-#: inertial term crawled like that for 55 iterations (8 s, a third of the loop) and lowered the
-#: cost by 0.6 %.
-DEFAULT_STALL = (5, 1e-3)
 
 
 def effects_for_trace(shares: dict, mean_share: float, names, min_share: float = DEFAULT_TRACE_SHARE
