@@ -193,6 +193,9 @@ def run(args) -> int:
             v = result.validation
             print(f"validation on {', '.join(v['tests'])}: relative RMS error "
                   f"{v['error_before']:.4f} -> {v['error_after']:.4f}")
+            if len(v["tests"]) > 1:  # a pooled figure hides which recording the model misses
+                for name, e in v["errors_by_test"].items():
+                    print(f"  {name}: {e['before']:.4f} -> {e['after']:.4f}")
             if tare_matters(v):
                 print(f"  with each recording's force zero re-estimated on it (a load cell's tare): "
                       f"{v['error_before_force_zero']:.4f} -> {v['error_after_force_zero']:.4f} (zeros "

@@ -459,6 +459,9 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
                            f"device's: " + force_zero_text(v)
                            + f") {v['error_before_force_zero']:.4f} → {v['error_after_force_zero']:.4f}"
                            if tare_matters(v) else "") + "."]
+        if len(v["tests"]) > 1:  # a pooled figure hides which recording the model misses
+            lines[-1:-1] = ["  - " + ", ".join(f"{name} {e['before']:.4f} → {e['after']:.4f}"
+                                                for name, e in v["errors_by_test"].items()) + "."]
         lines[-1:-1] = [f"- {name}: {c['samples']} samples of its {d.data.input_name} lie outside the fitted "
                         f"tests' range (by up to {c['largest_excess']:.3g}); the models saw them held at its edge."
                         for name, c in (v.get("input_clipped") or {}).items()]

@@ -271,6 +271,23 @@ def test_cli_validate_scores_other_recordings_beside_the_holdout(tmp_path, capsy
     assert "![validation window](validation_window.png)" in (tmp_path / "report" / "report.md").read_text()
 
 
+def test_cli_validate_on_several_recordings_gives_each_ones_error(tmp_path, capsys):
+    # the pooled error hides which recording the model misses: each one's is printed and reported
+    tests = sinusoidal_tests(_device(Offset(150.0)),
+                             motions=((0.01, 1.0), (0.004, 3.0), (0.006, 2.0), (0.008, 1.5)), noise=0.01, seed=9)
+    files = [str(write_csv(t, tmp_path / f"t{i}.csv")) for i, t in enumerate(tests)]
+    status = main(["diagnose", "--data", *files[:2], "--validate", *files[2:], "--quiet",
+                   "--out", str(tmp_path / "report")])
+    assert status == 0
+    out = capsys.readouterr().out
+    assert "validation on 6mm 2Hz 0V, 8mm 1.5Hz 0V" in out
+    doc = json.loads((tmp_path / "report" / "diagnosis.json").read_text())
+    report = (tmp_path / "report" / "report.md").read_text()
+    for name, e in doc["validation"]["errors_by_test"].items():
+        assert f"  {name}: {e['before']:.4f} -> {e['after']:.4f}" in out
+        assert f"{name} {e['before']:.4f} → {e['after']:.4f}" in report
+
+
 def test_validation_recording_past_the_fitted_input_range_is_held_at_its_edge():
     """Another recording's command may overshoot the fitted tests' range a little (the two halves
     of the Dyke recording differ by 0.3 mV at -0.44 V): it is scored with its input held at the
