@@ -35,7 +35,7 @@ from pathlib import Path
 
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.atomic import output_dir
-from damper.io.reader import read_tests, require_samples, unique_names
+from damper.io.reader import read_usable, unique_names
 from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
@@ -148,9 +148,8 @@ def run(args) -> int:
         raise InputError(f"--time-budget: expected a number of seconds > 0, got {budget:g}")
     # a file too short to fit, or one the screening empties, stops here in one line naming it
     # a raw UTFSM logger export is one test per coil current (damper.io.reader.read_tests)
-    tests = [(str(f), require_samples(t, f)) for f in args.data for t in read_tests(f, keep_flagged=keep)]
-    validate = ([(str(f), require_samples(t, f)) for f in args.validate for t in read_tests(f, keep_flagged=keep)]
-                if args.validate else None)
+    tests = read_usable(args.data, keep)
+    validate = read_usable(args.validate, keep) if args.validate else None
     # one name per recording (two files with one stem would share an entry of the report)
     named = unique_names([*tests, *(validate or [])])
     validate = [t for _, t in named[len(tests):]] if validate is not None else None

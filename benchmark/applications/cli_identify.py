@@ -26,7 +26,7 @@ from benchmark.foundation.display_units import format_si
 from benchmark.foundation.progress import progress_bar
 from benchmark.foundation.atomic import output_dir
 from damper.identification.measured import identify_files
-from damper.io.reader import read_tests, require_samples
+from damper.io.reader import read_usable
 from damper.io.screening import units_line
 from benchmark.applications.model_files import write_identified_models
 
@@ -134,8 +134,7 @@ def _run_data(args: argparse.Namespace) -> int:
     # one-line error before any progress line is written
     # the fit needs usable samples: a file too short, or one the screening empties, stops here in one line
     # (a raw UTFSM logger export is one test per coil current: damper.io.reader.read_tests)
-    tests = [require_samples(test, path) for path in args.data
-             for test in read_tests(path, keep_flagged=args.keep_flagged)]
+    tests = [test for _, test in read_usable(args.data, args.keep_flagged)]
     existed = Path(out).exists()
     # on stderr (tqdm's own write() would go to stdout, where --json puts the JSON)
     print(f"identify: {len(tests)} test(s) x {len(models)} model(s), {args.bootstrap} bootstrap "

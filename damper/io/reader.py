@@ -29,7 +29,7 @@ from damper.io.data import (DamperTest, is_utfsm_raw_file, parse_utfsm_name, rea
 from damper.io.dyke import looks_like_dyke_file, read_dyke
 from damper.io.screening import next_reversal, screening_of
 
-__all__ = ["read_test", "read_tests", "require_samples", "unique_names", "check_coil_inputs", "MIN_SAMPLES"]
+__all__ = ["read_test", "read_tests", "read_usable", "require_samples", "unique_names", "check_coil_inputs", "MIN_SAMPLES"]
 
 #: Fewest samples, and fewest usable (unflagged) samples, of a test worth a fit (the
 #: screening's own floor; the diagnosis differentiates the velocity, which needs three).
@@ -180,6 +180,21 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
         # every model of the library dissipates: a fit would only find the parameters' bounds
         raise InputError(f"{path}: {polarity}")
     return test
+
+
+def read_usable(paths, keep_flagged: bool = False) -> list[tuple[str, DamperTest]]:
+    """Every test of ``paths`` (:func:`read_tests`: a raw UTFSM export of the five currents gives
+    one per current), each checked by :func:`require_samples`, with its file as given: what the
+    commands fit and score, read before any fit so that a bad file stops them in one line.
+
+    Parameters
+    ----------
+    paths : sequence of str or Path
+        Damper-test files of any supported format.
+    keep_flagged : bool
+        Keep the samples the screening flags in fits and errors.
+    """
+    return [(str(p), require_samples(t, p)) for p in paths for t in read_tests(p, keep_flagged=keep_flagged)]
 
 
 def unique_names(loaded: list) -> list:

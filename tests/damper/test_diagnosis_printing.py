@@ -26,8 +26,7 @@ def test_printed_values_are_the_final_ones(monkeypatch, capsys):
                              unexplained_in=[("voltage_rate", 0.4, 0.02)],
                              data=SimpleNamespace(input_name="current", input_varies_within_tests=False), validation=None, settings={},
                              to_json=lambda: {})
-    monkeypatch.setattr(cli_diagnose, "read_tests", lambda f, **options: [f])
-    monkeypatch.setattr(cli_diagnose, "require_samples", lambda test, path: test)
+    monkeypatch.setattr(cli_diagnose, "read_usable", lambda paths, keep=False: [(str(f), f) for f in paths])
     monkeypatch.setattr(cli_diagnose, "unique_names", lambda pairs: pairs)
     monkeypatch.setattr(cli_diagnose, "screening_summary", lambda tests, keep=False: {})
     monkeypatch.setattr(cli_diagnose, "screening_lines", lambda tests, keep=False: [])
