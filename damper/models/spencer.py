@@ -701,7 +701,7 @@ def _integrate_local(params, field_settled, y, w, x0, x1, xd0, xd1, dt, v, du, a
     halved until none does, or down to that branch's bound with ``|w|`` taken at least 1. The
     uniform count of :func:`_integrate` pays the worst rate over the whole step: at sigma = 50 and
     n = 6.7 the residual loop on a Dyke recording took 321 s with it and 64 s with this
-    (docs/diagnosis.md, "The Spencer base's cost on another recording")."""
+    (docs/diagnosis.md, "The unloading branch sub-stepped where it is stiff")."""
     k0 = params[1]
     eta = params[4]
     rho = params[5]
