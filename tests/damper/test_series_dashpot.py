@@ -184,6 +184,29 @@ def test_steep_unloading_on_a_random_path(sigma, n):
     assert np.max(np.abs(got - ref)) < 2e-2 * rms
 
 
+def test_a_saturated_step_leaves_the_closed_form_where_the_motion_dips_between_nodes():
+    """A step that starts on the saturated loading branch (|w| = 1) is advanced in closed form
+    only while r stays > 0 over the whole step. Here (a step of ranran_50 at sigma = 50) the path's
+    velocity dips below the branch's threshold alpha_w / c1 between s = 0.5 and 0.7 but not at RK4's
+    nodes s = 0, 0.5, 1: a check at the nodes alone kept w at 1 where it falls to 0.985, and the
+    force was 7 N (1.3 %) off at that sample. The step must match the RK4 path's (started 2e-9
+    below saturation, where the closed form is not taken)."""
+    from damper.models.series_dashpot import SpencerBoucWen
+    from damper.models.spencer import spencer_type_step
+    m = SpencerBoucWen(kappa_x=0.0, k0=0.0, kappa_xdot=2770.0, kappa_w=511.0, c1=1.02e5,
+                       rho=1.8e4, sigma=50.0, n=6.7)
+    p = m.to_array()
+    dt = 1.0 / 3004.8
+    step = (0.00097813, 0.0009826, 0.03663, 0.02387, 0.0, dt)
+    on = np.array([0.0017, 1.0, 0.0])
+    below = np.array([0.0017, 1.0 - 2e-9, 0.0])
+    f_on = spencer_type_step(p, on, *step)
+    f_below = spencer_type_step(p, below, *step)
+    assert below[1] < 0.995  # the motion does unload w within the step
+    assert on[1] == pytest.approx(below[1], abs=1e-6)
+    assert f_on == pytest.approx(f_below, rel=1e-8)
+
+
 def test_the_loading_tolerance_is_unused_below_sigma_one():
     """sigma <= 1: one bound serves both branches, and the packed loading tolerance changes nothing."""
     from damper.models.spencer import spencer_type_step
