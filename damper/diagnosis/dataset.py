@@ -8,8 +8,10 @@ From a list of :class:`~damper.io.data.DamperTest` records this module builds
 * the *warm-up* of each test (the samples before the first displacement reversal, where a model
   started from rest cannot match a device that was already moving) -- excluded everywhere;
 * the split into training and held-out samples: either the last ``holdout`` fraction of each
-  test (the model is still simulated over the whole test, so the held-out samples are a true
-  prediction from the fitted parameters), or separate validation tests.
+  test, taken up to its last sample the screening did not flag (a rig at rest after the test or a
+  corrupted end is not held-out data; the model is still simulated over the whole test, so the
+  held-out samples are a true prediction from the fitted parameters), or separate validation
+  tests.
 
 The coil input is the voltage [V] when the tests give voltages, the current [A] when they give
 currents (the fitted model then reads the current as its input); mixing both is an error.
@@ -259,6 +261,11 @@ class DiagnosisData:
             start = first_reversal(x)
             usable = np.zeros(t.size, dtype=bool)
             usable[start:] = True
+            if test.mask is not None and test.mask.any():
+                # a flagged tail (a rig at rest after the test, a corrupted end) is not data: the
+                # held-out fraction is taken of the test up to its last unflagged sample, so
+                # that such a tail does not take the place of held-out data
+                usable[int(np.flatnonzero(test.mask)[-1]) + 1:] = False
             if usable.sum() < 10:
                 raise InputError(f"{motion.name}: fewer than 10 samples after the first reversal")
             if validate:
@@ -278,7 +285,8 @@ class DiagnosisData:
                 # nor in the errors; the model is still simulated over all of them, and the
                 # held-out split stays where it was in time. The acceleration of a sample within
                 # half a derivative window of a flagged one is computed from flagged samples, so
-                # it is left out too (numpy.gradient's fallback reaches one sample)
+                # it is left out too (numpy.gradient's fallback reaches one sample). A flagged
+                # tail is already outside the split (above)
                 usable_mask = reach_of_flagged(test.mask, window // 2 if window else 1)
                 tr = tr & usable_mask
                 ho = ho & usable_mask

@@ -323,6 +323,23 @@ def test_diagnosis_data_leaves_flagged_samples_out(clean_synthetic):
     assert np.flatnonzero(data.heldout[0])[0] >= np.flatnonzero(plain.heldout[0])[0]
 
 
+def test_a_flagged_tail_does_not_take_the_place_of_held_out_data(clean_synthetic):
+    """A test whose last fifth is flagged (a rig at rest after the test, a corrupted end: the
+    Dyke recordings have both) holds out the last quarter of the data before that tail, not the
+    last quarter of the file, which would leave only a twentieth of the test held out."""
+    n = clean_synthetic.time.size
+    mask = np.ones(n, dtype=bool)
+    mask[int(0.8 * n):] = False
+    test = dataclasses.replace(clean_synthetic, mask=mask)
+    data = DiagnosisData.from_tests([test], holdout=0.25)
+    used = data.train[0] | data.heldout[0]
+    assert not used[int(0.8 * n):].any()
+    share = data.heldout[0].sum() / used.sum()
+    assert share == pytest.approx(0.25, abs=0.01)
+    first_held = np.flatnonzero(data.heldout[0])[0]
+    assert np.flatnonzero(data.train[0])[-1] == first_held - 1  # one cut, in time
+
+
 def test_acceleration_window_does_not_reach_into_flagged_samples(clean_synthetic):
     """A velocity spike over a flagged span (a dropout the screening found) enters the
     Savitzky-Golay acceleration of its neighbours: samples within half a window of it count
