@@ -594,6 +594,25 @@ def _step_advance(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo, u1, du
 
 
 @numba.njit(cache=True, inline="always")
+def _rk4_rest(y, w, h, ky1, kw1, xm, vm, am, dm0, dm1, xb, vb, ab, db0, db1, k0, rho, sigma, n):
+    """RK4's second to fourth stages of a sub-step of length ``h`` from its first, ``(ky1, kw1)``,
+    with the path and the laws at its midpoint and end; returns ``(y, w, unloads)``, the state at
+    the sub-step's end and whether one of those three nodes found ``r w < 0``."""
+    y2 = y + 0.5 * h * ky1
+    w2 = w + 0.5 * h * kw1
+    ky2, kw2, r2 = _rates(y2, w2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
+    y3 = y + 0.5 * h * ky2
+    w3 = w + 0.5 * h * kw2
+    ky3, kw3, r3 = _rates(y3, w3, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
+    y4 = y + h * ky3
+    w4 = w + h * kw3
+    ky4, kw4, r4 = _rates(y4, w4, xb, vb, ab, db0, db1, k0, rho, sigma, n)
+    unloads = r2 * w2 < 0.0 or r3 * w3 < 0.0 or r4 * w4 < 0.0
+    return (y + h * (ky1 + 2.0 * ky2 + 2.0 * ky3 + ky4) / 6.0,
+            w + h * (kw1 + 2.0 * kw2 + 2.0 * kw3 + kw4) / 6.0, unloads)
+
+
+@numba.njit(cache=True, inline="always")
 def _integrate(params, memo, use_memo, same_field, field_settled, n_sub, loading_only,
                y, w, x0, x1, xd0, xd1, dt, v, du, a, d0, d1, a_1, d0_1, d1_1):
     """RK4 in ``n_sub`` sub-steps along the step's Hermite path; returns ``(y, w, completed)``.
@@ -641,21 +660,14 @@ def _integrate(params, memo, use_memo, same_field, field_settled, n_sub, loading
             else:
                 ab, db0, db1 = _memo_laws(params, memo, 13 + 6 * k, v + du * decay, nodes_valid, nodes_fit)
         ky1, kw1, r1 = _rates(y, w, xa, va, aa, da0, da1, k0, rho, sigma, n)
-        y2 = y + 0.5 * h * ky1
-        w2 = w + 0.5 * h * kw1
-        ky2, kw2, r2 = _rates(y2, w2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
-        y3 = y + 0.5 * h * ky2
-        w3 = w + 0.5 * h * kw2
-        ky3, kw3, r3 = _rates(y3, w3, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
-        y4 = y + h * ky3
-        w4 = w + h * kw3
-        ky4, kw4, r4 = _rates(y4, w4, xb, vb, ab, db0, db1, k0, rho, sigma, n)
-        if loading_only and (r1 * w < 0.0 or r2 * w2 < 0.0 or r3 * w3 < 0.0 or r4 * w4 < 0.0):
+        y_b, w_b, unloads = _rk4_rest(y, w, h, ky1, kw1, xm, vm, am, dm0, dm1, xb, vb, ab, db0, db1,
+                                      k0, rho, sigma, n)
+        if loading_only and (r1 * w < 0.0 or unloads):
             if use_memo:
                 memo[3] = -1.0  # the nodes past this sub-step were not stored
             return y, w, False
-        y += h * (ky1 + 2.0 * ky2 + 2.0 * ky3 + ky4) / 6.0
-        w += h * (kw1 + 2.0 * kw2 + 2.0 * kw3 + kw4) / 6.0
+        y = y_b
+        w = w_b
         xa = xb
         va = vb
         aa, da0, da1 = ab, db0, db1
@@ -833,21 +845,14 @@ def _integrate_local(params, field_settled, y, w, x0, x1, xd0, xd1, dt, v, du, a
             vb = _hermite_velocity(x0, x1, xd0, xd1, dt, s_b)
             am, dm0, dm1 = _node_laws(params, field_settled, v, du, eta, dt, s_m, a, d0, d1, a_1, d0_1, d1_1)
             ab, db0, db1 = _node_laws(params, field_settled, v, du, eta, dt, s_b, a, d0, d1, a_1, d0_1, d1_1)
-            y2 = y + 0.5 * h * ky1
-            w2 = w + 0.5 * h * kw1
-            ky2, kw2, r2 = _rates(y2, w2, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
-            y3 = y + 0.5 * h * ky2
-            w3 = w + 0.5 * h * kw2
-            ky3, kw3, r3 = _rates(y3, w3, xm, vm, am, dm0, dm1, k0, rho, sigma, n)
-            y4 = y + h * ky3
-            w4 = w + h * kw3
-            ky4, kw4, r4 = _rates(y4, w4, xb, vb, ab, db0, db1, k0, rho, sigma, n)
-            if unloading or hs <= hs_min or not (r2 * w2 < 0.0 or r3 * w3 < 0.0 or r4 * w4 < 0.0):
+            y_b, w_b, unloads = _rk4_rest(y, w, h, ky1, kw1, xm, vm, am, dm0, dm1, xb, vb, ab, db0,
+                                          db1, k0, rho, sigma, n)
+            if unloading or hs <= hs_min or not unloads:
                 break
             hs = max(0.5 * hs, hs_min)
             count += 1
-        y += h * (ky1 + 2.0 * ky2 + 2.0 * ky3 + ky4) / 6.0
-        w += h * (kw1 + 2.0 * kw2 + 2.0 * kw3 + kw4) / 6.0
+        y = y_b
+        w = w_b
         s_a = s_b
         xa = xb
         va = vb
