@@ -181,6 +181,10 @@ def run(args) -> int:
                  "from Spencer et al.'s model with its field lag, the standard model of such data)"
                  if result.model_kind != "spencer" and result.data.input_varies_within_tests else ""))
         print(f"held-out relative RMS error: {result.error_before:.4f} -> {result.error_after:.4f}")
+        for name, where in result.base_at_bounds.items():
+            side, bound = where.split()
+            print(f"base {name} = {getattr(result.final_model.base, name):.4g}: at the search's {side} bound "
+                  f"{bound}, not identified by the data")
         # the final model's values, as in the JSON (a step's own values precede the final joint refit)
         final = {e.name: e.parameters for e in result.final_model.effects}
         for step in result.selection.steps:

@@ -55,6 +55,7 @@ __all__ = [
     "Parametrization",
     "RefitResult",
     "refit",
+    "base_at_bounds",
     "BASE_MODELS",
     "make_base",
     "BASE_DECLARES",
@@ -607,6 +608,45 @@ class Parametrization:
                                        self.lower[:k], self.upper[:k])
         effects = tuple(cls(float(vector[k + j])) for j, cls in enumerate(self.effect_classes))
         return AugmentedModel(base, effects, self.template.held)
+
+
+#: Relative distance to a bound of the search below which a shape parameter counts as at it.
+AT_BOUND_TOLERANCE = 1e-3
+
+
+def base_at_bounds(model: AugmentedModel) -> dict[str, str]:
+    """The base model's shape parameters that sit at a bound of the loop's search.
+
+    σ and n are searched in [0.5, 50] and [1, 10], the field lag below 1 s (the bounds of
+    :class:`Parametrization`). A value at one of them was not identified by the data: the fit
+    would have moved it further (σ at 50: the force turns at a reversal more sharply than the
+    search lets the model; n at 1: the transition is smoother than a Bouc-Wen element with n >= 1).
+    The springs' lower bound, zero, is a value of the model, not a limit of the search, and is
+    not reported. Cf. :func:`damper.identification.refine.parameters_at_bounds` for
+    ``sbib identify --data``.
+
+    Parameters
+    ----------
+    model : AugmentedModel
+        A fitted model; its ``held`` parameters were not fitted and are never reported.
+
+    Returns
+    -------
+    dict
+        ``{name: "upper 50" | "lower 1" ...}``.
+    """
+    out = {}
+    for name in ("sigma", "n", "field_lag"):
+        if name in model.held or name not in model.base.parameter_names:
+            continue
+        value = getattr(model.base, name)
+        if not isinstance(value, (int, float)):
+            continue
+        lo, hi = _BASE_BOUNDS.get(name, (None, _BASE_UPPER.get(name, math.inf)))
+        for side, bound in (("lower", lo), ("upper", hi)):
+            if bound is not None and math.isfinite(bound) and abs(value - bound) <= AT_BOUND_TOLERANCE * abs(bound):
+                out[name] = f"{side} {bound:g}"
+    return out
 
 
 def _unchecked_base(kind, params, voltage_range, tolerance, values, lower, upper):

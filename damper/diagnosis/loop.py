@@ -31,7 +31,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.diagnosis.alignment import force_alignment
-from damper.diagnosis.augmented import AugmentedModel, refit
+from damper.diagnosis.augmented import AugmentedModel, base_at_bounds, refit
 from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base, fit_spencer_base
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, coarse_pass, decimation_factor
@@ -154,6 +154,12 @@ class Diagnosis:
         """Names of the effects added, in order."""
         return [s.name for s in self.selection.steps]
 
+    @property
+    def base_at_bounds(self) -> dict[str, str]:
+        """The final model's base shape parameters at a bound of the search (not identified by
+        the data; :func:`damper.diagnosis.augmented.base_at_bounds`)."""
+        return base_at_bounds(self.final_model)
+
     def to_json(self) -> dict:
         """The ``sbib diagnose --json`` document.
 
@@ -161,7 +167,9 @@ class Diagnosis:
         ``error_after_adding``), ``unexplained``, ``residual_trace`` (variable -> share of the
         final held-out residual's variance), plus ``unexplained_in``, ``residual_trace_before``,
         ``whiteness``, ``errors_by_test``, ``errors_by_input``, ``input``, ``final_model``,
-        ``validation`` (errors on the ``cross_validate`` recordings) when there are some, and
+        ``base_at_bounds`` (the final base's shape parameters at a bound of the search,
+        :func:`damper.diagnosis.augmented.base_at_bounds`), ``validation`` (errors on the
+        ``cross_validate`` recordings) when there are some, and
         ``force_alignment`` (the measured force's time shift against the final model,
         :func:`damper.diagnosis.alignment.force_alignment`).
         """
@@ -189,6 +197,7 @@ class Diagnosis:
             "input": self.data.input_name,
             **({} if self.data.input_recorded else {"input_recorded": False}),
             "base_model": self.base_model.to_dict(),
+            "base_at_bounds": self.base_at_bounds,
             "final_model": self.final_model.to_dict(),
             "settings": dict(self.settings),
             **({} if self.validation is None else {"validation": self.validation}),

@@ -451,6 +451,11 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
                  f", parameters as PCHIP laws on {data.input_name} nodes {d.settings['nodes']}") + ".",
               f"- Held-out relative RMS force error: **{d.error_before:.4f} → {d.error_after:.4f}**"
               f" ({d.final_model.name}).", ""]
+    if d.base_at_bounds:
+        lines[-1:-1] = ["- **Base shape at a bound of the search**: "
+                        + ", ".join(f"{name} = {getattr(d.final_model.base, name):.4g} ({where})"
+                                    for name, where in d.base_at_bounds.items())
+                        + ". The data did not identify it: the fit would have moved it further."]
     if getattr(d, "validation", None):
         v = d.validation
         lines[-1:-1] = [f"- Other recordings of the device ({', '.join(v['tests'])}, never fitted): "

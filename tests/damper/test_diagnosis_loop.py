@@ -136,10 +136,28 @@ def test_cli_diagnose_json_and_report(tmp_path, capsys):
                  "loops.png"):
         assert (out / name).stat().st_size > 0
     assert "asymmetry" in (out / "report.md").read_text()
+    # the device's shape (sigma 1, n 1.5) is inside the search: no base parameter at a bound
+    assert doc["base_at_bounds"] == {}
     # synthetic data have no skew between their channels: the alignment check says so
     assert doc["force_alignment"]["finding"] is False
     assert abs(doc["force_alignment"]["shift_samples"]) < 0.5
     assert "Force channel against the final model" in (out / "report.md").read_text()
+
+
+def test_base_shape_at_a_bound_of_the_search_is_named():
+    """sigma at 50 and n at 1 are the search's bounds (ranran_50's base lands at sigma = 50): a
+    value there was not identified by the data and is named; a spring at zero is a value of the
+    model, not a limit of the search, and a held parameter was not fitted."""
+    from damper.diagnosis.augmented import base_at_bounds
+    from damper.models.series_dashpot import SpencerBoucWen
+    kw = dict(kappa_x=0.0, k0=0.0, kappa_xdot=2.5e3, kappa_w=600.0, c1=9e4, rho=1.8e4, field_lag=0.004)
+    assert base_at_bounds(AugmentedModel(SpencerBoucWen(**kw, sigma=50.0, n=1.0), ())) == {
+        "sigma": "upper 50", "n": "lower 1"}
+    assert base_at_bounds(AugmentedModel(SpencerBoucWen(**kw, sigma=49.99, n=6.7), ())) == {"sigma": "upper 50"}
+    assert base_at_bounds(AugmentedModel(SpencerBoucWen(**kw, sigma=3.1, n=1.6), ())) == {}
+    assert base_at_bounds(AugmentedModel(SpencerBoucWen(**kw, sigma=50.0, n=2.0), (), held=("sigma",))) == {}
+    assert base_at_bounds(AugmentedModel(NormalizedBoucWen(2000.0, 800.0, 400.0, 0.5, 10.0), ())) == {
+        "sigma": "lower 0.5", "n": "upper 10"}
 
 
 def test_a_late_force_channel_is_reported_not_shifted(tmp_path, capsys):
