@@ -36,8 +36,12 @@ stiffer than the loading one and met only briefly after each reversal: a step is
 with the loading rate (the factor 1 instead) at the packed ``loading_tol``; if any RK4 node finds
 :math:`\\dot r\\,w < 0` it is redone in sub-steps sized by the rate where each starts, at the
 same tolerance (the unloading branch's rate falls with :math:`|w|^{n-1}`, so a whole return
-costs about :math:`n\\ln(2\\sigma)/\\mathrm{tol}` sub-steps instead of growing with σ). The laws are evaluated once per RK4 node: the end of one sub-step
-is the start of the next, and the last node's values give the force at the end of the step.
+costs about :math:`n\\ln(2\\sigma)/\\mathrm{tol}` sub-steps instead of growing with σ); and a step
+that starts within 1e-9 of :math:`|w| = 1` and keeps loading advances :math:`w` in closed form
+(:math:`1 - |w|` decays as :math:`e^{-\\rho n\\int|\\dot r|}`) and :math:`y` alone (σ > 1
+only: the σ ≤ 1 devices of the building's lock-step keep the uniform count, bit for bit). The
+laws are evaluated once per RK4 node: the end of one sub-step is the start of the next, and the
+last node's values give the force at the end of the step.
 
 Parameters of the 1.5 kN prototype (:meth:`Spencer.prototype_1997`, Spencer et al. 1997, as
 as quoted by Bahar et al. 2009, **unverified against the paper's table**): c0a 21.0 N·s/cm,
@@ -569,7 +573,11 @@ def _spencer_step(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo):
 @numba.njit(cache=True, inline="always")
 def _step_advance(params, state, x0, x1, xd0, xd1, v, dt, memo, use_memo, u1, du, field_settled,
                   same_field, a, d0, d1, a_1, d0_1, d1_1, n_sub, n_loading):
-    """The step's sub-steps (the loading branch's count first where it is smaller) and its end."""
+    """The step's sub-steps and its end. For sigma > 1 (``n_loading < n_sub``), in order: the
+    saturated loading branch in closed form (:func:`_integrate_saturated`), the loading branch's
+    uniform count (:func:`_integrate`), then, where a node meets the unloading branch, sub-steps
+    sized where each starts (:func:`_integrate_local`); otherwise the uniform count of the bound
+    that covers both branches."""
     y = state[0]
     w = state[1]
     done = False
