@@ -43,7 +43,7 @@ only: the σ ≤ 1 devices of the building's lock-step keep the uniform count, b
 laws are evaluated once per RK4 node: the end of one sub-step is the start of the next, and the
 last node's values give the force at the end of the step.
 
-Parameters of the 1.5 kN prototype (:meth:`Spencer.prototype_1997`, Spencer et al. 1997, as
+Parameters of the 1.5 kN prototype (:meth:`Spencer.prototype_1997`, Spencer et al. 1997,
 as quoted by Bahar et al. 2009, **unverified against the paper's table**): c0a 21.0 N·s/cm,
 c0b 3.50 N·s/(cm·V), k0 46.9 N/cm, c1a 283 N·s/cm, c1b 2.95 N·s/(cm·V), k1 5.00 N/cm,
 x0 14.3 cm, αa 140 N/cm, αb 695 N/(cm·V), γ = β = 363 cm⁻², A = 301, n = 2, η = 190 s⁻¹,
