@@ -20,8 +20,10 @@ def test_parameters_carry_their_units():
 def test_printed_values_are_the_final_ones(monkeypatch, capsys):
     step = SimpleNamespace(name="roll_off", parameters={"velocity": 0.011744}, error_before=0.2,
                            error_after=0.1)
-    final = SimpleNamespace(effects=[SimpleNamespace(name="roll_off", parameters={"velocity": 0.011827})])
+    final = SimpleNamespace(effects=[SimpleNamespace(name="roll_off", parameters={"velocity": 0.011827})],
+                            base=SimpleNamespace(sigma=50.0))
     result = SimpleNamespace(model_kind="normalized", error_before=0.2, error_after=0.1,
+                             base_at_bounds={"sigma": "upper 50"},
                              selection=SimpleNamespace(steps=[step]), final_model=final, unexplained=True,
                              unexplained_in=[("voltage_rate", 0.4, 0.02)],
                              data=SimpleNamespace(input_name="current", input_varies_within_tests=False), validation=None, settings={},
@@ -38,6 +40,7 @@ def test_printed_values_are_the_final_ones(monkeypatch, capsys):
     out = capsys.readouterr().out
     assert "velocity = 0.01183 m/s" in out and "0.01174" not in out
     assert "current_rate" in out and "voltage" not in out
+    assert "base sigma = 50: at the search's upper bound 50, not identified by the data" in out
 
 
 def test_loop_figure_fits_the_report_page(tmp_path):
