@@ -267,7 +267,9 @@ class DiagnosisData:
                 # that such a tail does not take the place of held-out data
                 usable[int(np.flatnonzero(test.mask)[-1]) + 1:] = False
             if usable.sum() < 10:
-                raise InputError(f"{motion.name}: fewer than 10 samples after the first reversal")
+                raise InputError(f"{motion.name}: fewer than 10 samples after the first reversal"
+                                 + ("" if test.mask is None else " and before the flagged tail "
+                                    f"({screening_of(test).brief()}; --keep-flagged keeps it)"))
             if validate:
                 tr = usable if not is_validation else np.zeros(t.size, dtype=bool)
                 ho = usable if is_validation else np.zeros(t.size, dtype=bool)

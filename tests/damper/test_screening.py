@@ -338,6 +338,10 @@ def test_a_flagged_tail_does_not_take_the_place_of_held_out_data(clean_synthetic
     assert share == pytest.approx(0.25, abs=0.01)
     first_held = np.flatnonzero(data.heldout[0])[0]
     assert np.flatnonzero(data.train[0])[-1] == first_held - 1  # one cut, in time
+    # a tail that leaves nothing to fit says so in one line
+    mask[5:] = False
+    with pytest.raises(InputError, match="before the flagged tail"):
+        DiagnosisData.from_tests([dataclasses.replace(clean_synthetic, mask=mask)], holdout=0.25)
 
 
 def test_acceleration_window_does_not_reach_into_flagged_samples(clean_synthetic):
