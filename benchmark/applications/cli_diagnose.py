@@ -206,6 +206,10 @@ def run(args) -> int:
             for name, c in (v.get("input_clipped") or {}).items():
                 print(f"  {name}: {c['samples']} samples of the coil input outside the fitted tests' range "
                       f"(by up to {c['largest_excess']:.3g}), held at its edge")
+            for name, c in (v.get("input_beyond_levels") or {}).items():
+                print(f"  {name}: {c['samples']} scored samples ({100 * c['share']:.0f} %) of the "
+                      f"{result.data.input_name} outside the fitted levels ({c['levels'][0]:.4g}-"
+                      f"{c['levels'][1]:.4g} {result.data.input_unit}): the laws extrapolate there")
         al = getattr(result, "alignment", None)
         if al is not None and al["finding"]:
             print(f"the measured force is {1e3 * al['shift_s']:+.3g} ms ({al['shift_samples']:+.1f} samples) off "

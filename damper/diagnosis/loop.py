@@ -36,6 +36,7 @@ from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base, fit_spencer_base
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, coarse_pass, decimation_factor
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT, DiagnosisData
+from damper.io.reader import check_coil_inputs, count_reversals
 from damper.diagnosis.effects import Motion
 from damper.diagnosis.selection import (DEFAULT_MIN_GAIN, DEFAULT_JOINT_TRIALS, DEFAULT_TOLERANCE,
                                         DEFAULT_TRACE_SHARE,
@@ -283,8 +284,65 @@ def force_zero_text(validation: dict) -> str:
     return ", ".join(f"{n} {z['after']:+.4g} N" for n, z in validation["force_zero"].items())
 
 
+def _fingerprint(test: DamperTest) -> bytes:
+    """The samples of a test (time, displacement, force), to tell a fitted recording given again."""
+    return b"".join(np.ascontiguousarray(a, dtype=float).tobytes()
+                    for a in (test.time, test.displacement, test.force))
+
+
+def check_recordings(tests: Sequence[DamperTest], data: DiagnosisData,
+                     recordings: Sequence[DamperTest]) -> None:
+    """Refuse, before any fit, other recordings (``--validate``) that cannot score the model.
+
+    Parameters
+    ----------
+    tests : sequence of DamperTest
+        The fitted tests.
+    data : DiagnosisData
+        ``tests`` prepared (their coil-input levels).
+    recordings : sequence of DamperTest
+        The other recordings.
+
+    Raises
+    ------
+    InputError
+        A recording without the coil-input column the fitted tests have (or the reverse: its
+        force would be predicted at an input nobody measured); one that is a fitted test again
+        (its score would be a training score); one shorter than a cycle of motion or with fewer
+        scored samples than a held-out part needs; one at another level of the input when the
+        fitted tests are all at one level (that model has no law of the input).
+    """
+    recordings = list(recordings)
+    label = [(t.name or t.source or "a recording", t) for t in recordings]
+    check_coil_inputs([(t.name or t.source or "a test", t) for t in tests] + label, "--validate")
+    fitted = {_fingerprint(t) for t in tests}
+    for name, t in label:
+        if _fingerprint(t) in fitted:
+            raise InputError(f"--validate: {name} is also a fitted test (--data): its score would be "
+                             "a training score; expected another recording of the device")
+    prepared = DiagnosisData.from_tests(recordings, validate=recordings)
+    n = len(recordings)
+    need = 4 * DEFAULT_BINS  # as for the held-out part of the fitted tests (diagnose)
+    levels = data.levels()
+    for m, k in zip(prepared.motions[n:], prepared.heldout[n:]):
+        scored = int(k.sum())
+        turns = count_reversals(m.x)
+        if scored < need or turns < 2:
+            raise InputError(f"--validate: {m.name}: {scored} scored samples, {turns} reversal(s) of the "
+                             f"displacement; expected at least {need} samples and a cycle of motion")
+        if data.input_recorded and levels.size == 1:
+            off = np.abs(m.v - levels[0]) > 1e-3 * max(1.0, abs(float(levels[0])))
+            if np.mean(off[k]) > 0.05:
+                unit = data.input_unit
+                raise InputError(
+                    f"--validate: {m.name} is at {float(np.median(m.v[k])):.4g} {unit} where the fitted tests "
+                    f"are all at {float(levels[0]):.4g} {unit}: a model fitted at one {data.input_name} "
+                    f"has no law of the {data.input_name} (fit tests at several levels, or validate at "
+                    f"{float(levels[0]):.4g} {unit})")
+
+
 def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: AugmentedModel,
-                      after: AugmentedModel) -> tuple[dict, tuple]:
+                      after: AugmentedModel, levels: np.ndarray | None = None) -> tuple[dict, tuple]:
     """Errors of the base and final models on other recordings (every sample after each test's
     first reversal; nothing of them was fitted or used to choose), and their histories.
 
@@ -305,9 +363,17 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
     by_test = {}
     zeros = {}
     clipped = {}
+    beyond = {}
     histories: list = []
     lo, hi = before.base.voltage_range
     for m, f, k in zip(motions, forces, masks):
+        if levels is not None and levels.size > 1:
+            # between the fitted levels the laws interpolate; past them they extrapolate
+            tol = 1e-3 * max(1.0, float(np.max(np.abs(levels))))
+            out = k & ((m.v < levels[0] - tol) | (m.v > levels[-1] + tol))
+            if out.any():
+                beyond[m.name] = {"samples": int(out.sum()), "share": float(out.sum() / max(1, k.sum())),
+                                  "levels": [float(levels[0]), float(levels[-1])]}
         # another recording's input may reach a little past the range the fitted tests spanned
         # (the model's laws are checked only over that range): held at its edge, and said so
         outside = (m.v < lo) | (m.v > hi)
@@ -337,7 +403,7 @@ def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: Augm
     return ({"tests": [m.name for m in motions],
              "error_before": math.sqrt(sums["before"][0] / sums["before"][1]),
              "error_after": math.sqrt(sums["after"][0] / sums["after"][1]),
-             "errors_by_test": by_test, "input_clipped": clipped,
+             "errors_by_test": by_test, "input_clipped": clipped, "input_beyond_levels": beyond,
              # the same errors with each recording's own force zero (a constant per recording,
              # re-estimated on it): how much of the error is a load cell's tare, not the model
              "error_before_force_zero": math.sqrt(zeroed["before"] / sums["before"][1]),
@@ -475,6 +541,8 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     if model not in BASE_MODELS:
         raise InputError(f"model: expected one of {', '.join(BASE_MODELS)}, got {model!r}")
     data = DiagnosisData.from_tests(tests, holdout=holdout, validate=validate)
+    if cross_validate:
+        check_recordings(tests, data, cross_validate)
     need = 4 * DEFAULT_BINS  # the residual trace's equal-count bins (damper.diagnosis.trace)
     for masks, label in ((data.heldout, "held-out"), (data.train, "fitted")):
         count = sum(int(k.sum()) for k in masks)
@@ -565,7 +633,8 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                 "seconds": round(say.elapsed, 3)}
     validation, validation_histories = None, ()
     if cross_validate:
-        validation, validation_histories = _cross_validation(cross_validate, data.input_name, base, final)
+        validation, validation_histories = _cross_validation(cross_validate, data.input_name, base, final,
+                                                             data.levels() if data.input_recorded else None)
         say(f"validation on {', '.join(validation['tests'])}: error "
             f"{validation['error_before']:.4f} -> {validation['error_after']:.4f}")
     return Diagnosis(data=data, model_kind=model, base_model=base, final_model=final,

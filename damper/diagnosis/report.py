@@ -470,6 +470,11 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
         lines[-1:-1] = [f"- {name}: {c['samples']} samples of its {d.data.input_name} lie outside the fitted "
                         f"tests' range (by up to {c['largest_excess']:.3g}); the models saw them held at its edge."
                         for name, c in (v.get("input_clipped") or {}).items()]
+        unit = d.data.input_unit
+        lines[-1:-1] = [f"- {name}: {c['samples']} scored samples ({100 * c['share']:.0f} %) of its {d.data.input_name} "
+                        f"lie outside the fitted levels ({c['levels'][0]:.4g}–{c['levels'][1]:.4g} {unit}): "
+                        "there the voltage laws extrapolate."
+                        for name, c in (v.get("input_beyond_levels") or {}).items()]
     al = getattr(d, "alignment", None)
     if al is not None:
         if al["finding"]:

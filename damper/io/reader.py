@@ -29,7 +29,7 @@ from damper.io.data import (DamperTest, is_utfsm_raw_file, parse_utfsm_name, rea
 from damper.io.dyke import looks_like_dyke_file, read_dyke
 from damper.io.screening import next_reversal, screening_of
 
-__all__ = ["read_test", "read_tests", "read_usable", "require_samples", "unique_names", "check_coil_inputs", "MIN_SAMPLES"]
+__all__ = ["read_test", "read_tests", "read_usable", "require_samples", "unique_names", "check_coil_inputs", "count_reversals", "MIN_SAMPLES"]
 
 #: Fewest samples, and fewest usable (unflagged) samples, of a test worth a fit (the
 #: screening's own floor; the diagnosis differentiates the velocity, which needs three).
@@ -95,9 +95,19 @@ def read_tests(path, keep_flagged: bool = False) -> list[DamperTest]:
     return [read_test(p, keep_flagged=keep_flagged)]
 
 
-def _reversals(x: np.ndarray, most: int = 2, hysteresis: float = 0.05) -> int:
+def count_reversals(x: np.ndarray, most: int = 2, hysteresis: float = 0.05) -> int:
     """Displacement reversals of ``x``, counted up to ``most`` (the screening's trigger,
-    :func:`damper.io.screening.next_reversal`: a return by ``hysteresis`` of the stroke)."""
+    :func:`damper.io.screening.next_reversal`: a return by ``hysteresis`` of the stroke).
+
+    Parameters
+    ----------
+    x : np.ndarray
+        Displacement history [m].
+    most : int
+        Stop counting here (2: whether the test holds a cycle of motion).
+    hysteresis : float
+        Return, as a fraction of the stroke, that counts as a reversal.
+    """
     turns, at = 0, 0
     while turns < most and (at := next_reversal(x, at, hysteresis)) < x.size:
         turns, at = turns + 1, at + 1
@@ -165,7 +175,7 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
         raise InputError(f"{path}: the screening leaves {usable} of {test.n_samples} samples usable, fewer "
                          f"than {minimum} ({screening.brief()}; --keep-flagged fits the flagged samples too)")
     units = screening.units_problem()
-    if units is not None and (turns := _reversals(np.asarray(test.displacement, dtype=float))) < 2:
+    if units is not None and (turns := count_reversals(np.asarray(test.displacement, dtype=float))) < 2:
         # less than a cycle: its amplitude and rate say nothing of the units
         duration = float(test.time[-1] - test.time[0])
         raise InputError(f"{path}: the displacement reverses {turns} time(s) in {duration:.3g} s of "
