@@ -113,7 +113,8 @@ from benchmark.foundation.errors import InputError
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
            "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
-           "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS"]
+           "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
+           "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE"]
 
 #: ``held``: two samples are one reading when both the displacement and the force agree to this
 #: share of their ranges (a 30-bit converter's step; the loggers' own arithmetic leaves 1e-13).
@@ -157,6 +158,13 @@ EXCURSION_FACTOR = 2.0
 POLARITY_SHARE = 0.2
 #: Channels screened for stuck values (the coil input is a command: constant runs are normal).
 _MEASURED = ("force", "displacement", "velocity")
+#: A velocity column missing in more than this share of its samples is dropped (a dead channel;
+#: the displacement's derivative drives the model, as for a file without one).
+DEAD_VELOCITY_SHARE = 0.5
+#: A velocity column whose scale against the displacement's derivative is off 1 by more than this
+#: (or negative) is replaced by the central difference: a unit, gain or sign error. The measured
+#: files sit within 1.1 % (UTFSM 1.0006-1.0105, docs/diagnosis.md)
+VELOCITY_GAIN_TOLERANCE = 0.1
 _INPUTS = ("displacement", "velocity", "voltage", "current")
 
 
@@ -526,7 +534,7 @@ def _last_digit(t: np.ndarray) -> np.ndarray:
     return q
 
 
-def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
+def rounded_time_grid(t: np.ndarray, x: np.ndarray | None = None) -> tuple[np.ndarray, float, float] | None:
     """The uniform grid behind rounded time stamps, or ``None``.
 
     The stamps are taken as a uniform grid rounded to their last written digit when their steps
@@ -536,10 +544,18 @@ def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     sampling fails that test and is left alone; so does a grid with a gap or a lost sample (its
     stamps are then kept as read).
 
+    A stamp resolution as coarse as the step itself leaves one ambiguity: a grid whose step is
+    a little longer than ``q`` gives a rare step of ``2q``, and so does a lost sample on a grid of
+    step ``q``. A signal ``x`` sampled at the stamps tells them apart: across a lost sample it moves
+    twice as far as across its neighbouring steps (a probe's file with one row deleted had been
+    re-timed by up to half a step).
+
     Parameters
     ----------
     t : ndarray (n,)
         Strictly increasing, finite time stamps [s].
+    x : ndarray (n,), optional
+        A smooth channel at the stamps (the displacement), to tell lost samples from rounding.
 
     Returns
     -------
@@ -563,7 +579,25 @@ def rounded_time_grid(t: np.ndarray) -> tuple[np.ndarray, float, float] | None:
     q = float(np.median(digit))
     if not q > 0.01 * dt or np.any(off > 0.5 * np.minimum(digit, q) + 0.05 * q):
         return None
+    if x is not None and _lost_samples(d, np.asarray(x, dtype=float), median):
+        return None
     return grid, q, float(off.max())
+
+
+def _lost_samples(d: np.ndarray, x: np.ndarray, median: float) -> bool:
+    """Whether the long steps of ``d`` (at least 1.5 median steps) are lost samples: a smooth
+    signal ``x`` moves across them 1.5 times or more as far as across the steps beside them
+    (rounded stamps of a uniform grid: about as far)."""
+    dx = np.abs(np.diff(x))
+    long = np.flatnonzero(d >= 1.5 * median)
+    long = long[(long > 0) & (long < d.size - 1)]
+    if long.size == 0 or long.size > 0.05 * d.size or not np.all(np.isfinite(dx)):
+        return False
+    beside = 0.5 * (dx[long - 1] + dx[long + 1])
+    moving = beside > 1e-6 * (float(np.ptp(x[np.isfinite(x)])) if np.isfinite(x).any() else 0.0)
+    if not moving.any():
+        return False
+    return float(np.median(dx[long][moving] / beside[moving])) >= 1.5
 
 
 def _decimal_resolution(value: float) -> float:
@@ -778,7 +812,8 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                                         f"{text} ({_where(lines, a, label)})"))
     t = t[keep]
     lines = None if lines is None else [ln for ln, k in zip(lines, keep) if k]
-    rounded = rounded_time_grid(t)
+    x_stamps = channels.get("displacement")
+    rounded = rounded_time_grid(t, None if x_stamps is None else np.asarray(x_stamps, dtype=float)[keep])
     if rounded is not None:
         grid, q, largest = rounded
         d = np.diff(t)
@@ -820,6 +855,16 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
             out[name] = None
             continue
         v = np.asarray(values, dtype=float)[keep]
+        if name == "velocity" and np.mean(np.isnan(v) & ~held) > DEAD_VELOCITY_SHARE:
+            # a dead optional channel: the displacement's derivative drives the model instead,
+            # as for a file without the column (excluding its samples would empty the test)
+            lost = int(np.count_nonzero(np.isnan(v)))
+            findings.append(Finding("velocity", "velocity", float(t[0]), float(t[-1]), 0,
+                                    f"the velocity column is missing in {lost} of {v.size} samples: the "
+                                    "column is dropped and the central difference of the displacement "
+                                    "drives the model", excluded=False))
+            out[name] = None
+            continue
         if np.any(np.isinf(v)):
             i = int(np.flatnonzero(np.isinf(v))[0])
             raise InputError(f"{_where(lines, i, label)}: column {name!r}: expected a finite number, "
@@ -857,7 +902,55 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                                     f"the velocity column is the displacement's {kind} difference, half a "
                                     f"step ({0.5e3 * step:.3g} ms) {'late' if kind == 'backward' else 'early'}: "
                                     "replaced by the central difference", excluded=False))
+        else:
+            scale = velocity_scale(t, x_col, v_col, ~excluded)
+            if scale is not None and not (1.0 - VELOCITY_GAIN_TOLERANCE <= scale
+                                          <= 1.0 + VELOCITY_GAIN_TOLERANCE):
+                # a unit, gain or sign error of the channel: the model would be driven by a motion
+                # the damper never had, and the screening would flag every reversal
+                out["velocity"] = np.gradient(x_col, t, edge_order=2 if t.size > 2 else 1)
+                what = "its sign inverted" if scale < 0 else "a unit or gain error"
+                findings.append(Finding("velocity", "velocity", float(t[0]), float(t[-1]), 0,
+                                        f"the velocity column is {scale:.4g} times the derivative of the "
+                                        f"displacement ({what}): replaced by the central difference",
+                                        excluded=False))
     return t, out, excluded, findings
+
+
+def velocity_scale(t: np.ndarray, x: np.ndarray, v: np.ndarray, usable: np.ndarray | None = None) -> float | None:
+    """The velocity column's scale against the displacement's derivative: its RMS over the
+    derivative's, signed by their correlation (a lag between them changes neither); ``None``
+    where it cannot be judged (a short, flat or non-uniformly sampled test, or a correlation
+    below 0.8 in magnitude: the channels disagree by more than a scale, the screening's matter).
+
+    Parameters
+    ----------
+    t, x, v : ndarray (n,)
+        Time [s], displacement [m] and the file's velocity [m/s], finite.
+    usable : ndarray of bool (n,), optional
+        Samples to judge by.
+    """
+    t, x, v = (np.asarray(a, dtype=float) for a in (t, x, v))
+    if t.size < 32:
+        return None
+    steps = np.diff(t)
+    dt = float(np.median(steps))
+    if not dt > 0.0 or np.ptp(steps) > 0.5 * dt or np.ptp(x) <= 0.0:
+        return None
+    ok = np.ones(t.size, dtype=bool) if usable is None else np.asarray(usable, dtype=bool)
+    if ok.sum() < 32:
+        return None
+    # the derivative smoothed over the motion's band (differentiation amplifies the displacement's
+    # noise); the velocity's own noise adds to its RMS in quadrature, far below the tolerance
+    deriv = _derivative(t, x, 1.0 / dominant_frequency(t, x), band_edge(t, v))
+    d, w = deriv[ok] - np.mean(deriv[ok]), v[ok] - np.mean(v[ok])
+    rms_d, rms_w = float(np.sqrt(np.mean(d * d))), float(np.sqrt(np.mean(w * w)))
+    if not (rms_d > 0.0 and rms_w > 0.0):
+        return None
+    corr = float(np.mean(d * w) / (rms_d * rms_w))
+    if abs(corr) < 0.8:
+        return None
+    return math.copysign(rms_w / rms_d, corr)
 
 
 # ---------------------------------------------------------------------------------------------

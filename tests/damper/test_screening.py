@@ -510,6 +510,24 @@ def test_stamps_that_are_not_a_rounded_grid_are_left_alone(stamps):
     np.testing.assert_array_equal(t, stamps)
 
 
+def test_a_lost_sample_on_a_grid_as_coarse_as_its_stamps_is_not_rounding():
+    # 1 kHz stamps written in ms, one row deleted mid-test: the least-squares line is off by half
+    # a step on both sides, like a 999.8-Hz grid rounded to ms; the displacement moves twice as
+    # far across the long step, so the stamps are kept (they had been re-timed by 0.52 ms)
+    from damper.io.screening import rounded_time_grid
+    t = np.round(np.arange(4308) / 1e3, 3)
+    x = 0.005 * np.sin(2 * np.pi * 3.0 * t)
+    t, x = np.delete(t, 2000), np.delete(x, 2000)
+    assert rounded_time_grid(t) is not None  # the stamps alone cannot tell
+    assert rounded_time_grid(t, x) is None
+    kept, _, _, findings = repair_samples(t, {"displacement": x, "force": np.ones(t.size)})
+    assert not [f for f in findings if f.kind == "rounded"]
+    np.testing.assert_array_equal(kept, t)
+    # a grid that is rounded indeed (steps of 1 and 2 ms on 1.5 ms) keeps its finding with x
+    true = np.arange(3000) * 1.5e-3
+    assert rounded_time_grid(np.round(true, 3), 0.005 * np.sin(2 * np.pi * 3.0 * true)) is not None
+
+
 def test_dyke_time_stamps_are_rounded_and_restored(shared_dir):
     test = read_dyke(shared_dir / DYKE)
     rounded = [f for f in test.metadata["screening"].findings if f.kind == "rounded"]
