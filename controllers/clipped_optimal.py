@@ -214,7 +214,8 @@ class LQGDesign:
 
     def report(self) -> str:
         """A text report: reduced model, closed-loop and estimator poles, residuals, estimator fit."""
-        lines = [f"H2/LQG design: {self.reduced.plant.n_states} states ({self.weights.n_modes} modes), "
+        modes = self.reduced.eigenvalues.size or self.weights.n_modes
+        lines = [f"H2/LQG design: {self.reduced.plant.n_states} states ({modes} modes), "
                  f"control step {self.control_step:g} s",
                  "weights: " + ", ".join(f"{k}={v}" for k, v in asdict(self.weights).items()),
                  f"force scale per device: {np.unique(np.round(self.force_scale)).tolist()} N",
@@ -282,7 +283,8 @@ def design_lqg(plant: LinearPlant, n_devices: int, control_step: float, weights:
     f0 = np.broadcast_to(np.asarray(force_scale, dtype=float), (n_devices,)).copy()
     if np.any(~np.isfinite(f0)) or np.any(f0 <= 0):
         raise ParameterError(f"design_lqg: force_scale must be positive, got {force_scale!r}")
-    reduced = modal_reduction(plant, int(weights.n_modes))
+    # a building reduced by --n-modes below the design's order: its modes are all the design has
+    reduced = modal_reduction(plant, int(weights.n_modes), at_most=True)
     p = reduced.plant
     Cz, Dz, Wz = regulated_outputs(p, n_devices, weights)
     Wf = np.diag(weights.r_force / f0 ** 2)

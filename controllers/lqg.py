@@ -158,7 +158,8 @@ class ReducedPlant:
     eigenvalues: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
-def modal_reduction(plant: LinearPlant, n_modes: int, static_correction: bool = True) -> ReducedPlant:
+def modal_reduction(plant: LinearPlant, n_modes: int, static_correction: bool = True,
+                    at_most: bool = False) -> ReducedPlant:
     """Keep the ``n_modes`` slowest modes (complex pairs count once) of ``plant``.
 
     The state is transformed to real modal coordinates (a complex pair ``v, v̄`` becomes the
@@ -174,6 +175,9 @@ def modal_reduction(plant: LinearPlant, n_modes: int, static_correction: bool = 
         Number of modes kept (1 to the number of modes of ``plant``).
     static_correction : bool, optional
         Add the truncated modes' static contribution to ``D``.
+    at_most : bool, optional
+        Keep every mode when ``plant`` has fewer than ``n_modes`` (a controller's design order on
+        a building already reduced by ``--n-modes``) instead of refusing.
 
     Raises
     ------
@@ -202,6 +206,8 @@ def modal_reduction(plant: LinearPlant, n_modes: int, static_correction: bool = 
             columns.append(V[:, i].real)
             kept_lambdas.append(lam[i].real)
     n_total = len(groups)
+    if at_most:
+        n_modes = min(n_modes, n_total)
     if not 1 <= n_modes <= n_total:
         raise ParameterError(f"modal_reduction: n_modes must lie in [1, {n_total}], got {n_modes}")
     T = np.column_stack(columns)

@@ -880,6 +880,8 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
                              f"step {step:g} s; expected uniform sampling (resample the record first)")
     # the mean step over the record is the best estimate when the times are rounded
     step = float((time[-1] - time[0]) / (len(time) - 1))
+    # a time column in ms read as s (a 5-s step) would ask the simulator for 10⁵ times the steps
+    _check_dt(step, f"{where}: the time column")
     if dt is not None:
         dt = _check_dt(dt, f"{where}: dt argument")
         if abs(dt - step) > dt_tolerance * step:

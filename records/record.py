@@ -251,4 +251,8 @@ def units_assumed(record: Record) -> str:
     origin = meta.get("units_from")
     if origin is None:
         origin = {"at2": "file header", "single": "--units / default g"}.get(meta.get("format"), "file")
-    return f"{units} ({origin})"
+    text = f"{units} ({origin})"
+    if str(meta.get("dt_from", "")).startswith("benchmark default"):
+        # a headerless two-column file: its step is as much an assumption as its units
+        text += f", at a step of {record.dt:g} s (the benchmark's; not in the file: give --dt)"
+    return text

@@ -43,6 +43,10 @@ def check_output(path: str | os.PathLike, directory: bool = False, option: str =
         directory that cannot be written.
     """
     p = Path(path)
+    if not directory and p.exists() and not p.is_dir() and not p.is_file():
+        # a device or a pipe (/dev/null): the atomic rename would replace the node with a file
+        raise InputError(f"{option} {path}: exists and is not a regular file (a device or a pipe); "
+                         "expected a file name")
     if directory and p.exists() and not p.is_dir():
         raise InputError(f"{option} {path}: exists and is not a directory; expected a directory")
     if not directory and p.is_dir():
@@ -147,6 +151,12 @@ def atomic_path(destination: str | os.PathLike, suffix: str | None = None) -> It
     ...     with h5py.File(tmp, "w") as f: ...
     """
     destination = Path(destination)
+    if destination.is_symlink():
+        # write through the link to its target (the rename would replace the link by a file)
+        destination = destination.resolve()
+    if destination.exists() and not destination.is_file() and not destination.is_dir():
+        raise InputError(f"{destination}: exists and is not a regular file (a device or a pipe); "
+                         "expected a file name")
     try:
         destination.parent.mkdir(parents=True, exist_ok=True)
         fd, name = tempfile.mkstemp(prefix=f".{destination.name}.partial-",

@@ -42,7 +42,7 @@ from benchmark.simulator.authority import controller_authority_warnings
 from records.resample import interpolate_onto
 
 __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES", "choose_integration_step",
-           "check_control_step",
+           "check_control_step", "CONTROL_STEP_RANGE", "MAX_INTEGRATION_STEPS",
            "DEFAULT_INTEGRATION_STEP", "DEFAULT_MAX_HALVINGS"]
 
 #: The building's integration step [s]: the benchmark's 0.005 s (Narasimhan et al. 2006). A
@@ -77,6 +77,14 @@ def _ground_acceleration(record: Any) -> np.ndarray:
     return np.ascontiguousarray(ag)
 
 
+#: Control steps accepted [s]: a controller updated slower than 1 s does not control an
+#: earthquake response; one faster than 0.1 ms asks for more steps than any sensor chain gives.
+CONTROL_STEP_RANGE = (1e-4, 1.0)
+#: Most integration steps of one run: the histories cost about 6 kB per step (a 30-s record at
+#: 1e-4 s: 0.3 million steps, 1.9 GB), so a million is about 6 GB.
+MAX_INTEGRATION_STEPS = 1_000_000
+
+
 def check_control_step(control_step: Any) -> float:
     """``control_step`` [s] as a float, checked once for every API that takes one
     (:func:`simulate`, :func:`benchmark.simulator.case.run_case`, ``compare``).
@@ -95,6 +103,12 @@ def check_control_step(control_step: Any) -> float:
     if isinstance(control_step, bool) or not (isinstance(control_step, (int, float, np.floating))
                                               and np.isfinite(control_step) and control_step > 0):
         raise InputError(f"--control-step {control_step!r} (control_step): expected a positive time in seconds")
+    lo, hi = CONTROL_STEP_RANGE
+    if not lo <= control_step <= hi:
+        # 1e-5 s asks for millions of steps and gigabytes of histories; 5 s updates a building's
+        # dampers six times in a 30-s record
+        raise InputError(f"--control-step {control_step:g} s (control_step): a semi-active controller of a "
+                         f"building updates every {lo:g}-{hi:g} s (the benchmark's: 0.005 s)")
     return float(control_step)
 
 
@@ -310,6 +324,12 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     if int(max_halvings) != max_halvings or max_halvings < 0:
         raise InputError(f"max_halvings: expected a whole number >= 0, got {max_halvings!r}")
     dt, ratio = choose_integration_step(control_step, record_dt, float(max_step))
+    steps = (ag_record.shape[0] - 1) * record_dt / dt
+    if steps > MAX_INTEGRATION_STEPS:
+        raise InputError(f"record {name!r}: {(ag_record.shape[0] - 1) * record_dt:g} s at an integration step of "
+                         f"{dt:g} s is {steps:.3g} steps, more than the {MAX_INTEGRATION_STEPS:.0e} a run holds in "
+                         "memory (about 6 kB each): a longer --integration-step or --control-step, or a shorter "
+                         "record")
     if (ag_record.shape[0] - 1) * record_dt < ratio * dt * (1 - 1e-9):
         raise InputError(f"record {name!r}: {ag_record.shape[0]} samples ({(ag_record.shape[0] - 1) * record_dt:g} s) "
                          f"is shorter than one control step ({ratio * dt:g} s)")

@@ -99,3 +99,23 @@ def test_a_writer_that_cannot_create_its_file_names_that_file(tmp_path):
         atomic_write_text(a_file / "sub" / "out.json", "{}")
     assert ".partial" not in str(caught.value)
 
+
+
+def test_a_device_is_refused_and_a_link_written_through(tmp_path):
+    # '--out /dev/full' had replaced the device node by an HDF5 file (the atomic rename), and an
+    # output that is a symbolic link had become a file beside its untouched target
+    import os
+    from benchmark.foundation.atomic import atomic_write_text
+    fifo = tmp_path / "pipe.h5"
+    os.mkfifo(fifo)
+    with pytest.raises(InputError, match="not a regular file"):
+        check_output(fifo)
+    with pytest.raises(InputError, match="not a regular file"):
+        atomic_write_text(fifo, "x")
+    assert not fifo.is_file()
+    target = tmp_path / "target.txt"
+    target.write_text("old")
+    link = tmp_path / "link.txt"
+    link.symlink_to(target)
+    atomic_write_text(link, "new")
+    assert link.is_symlink() and target.read_text() == "new"

@@ -181,3 +181,22 @@ def test_a_corrupt_at2_value_is_not_split_into_two(tmp_path):
     path = _write(tmp_path, "dots.AT2", AT2_HEADER.format(kind="ACCELERATION", units="G")
                   + "  1.2.3 0.4 0.5\n 0.1 0.2 0.3\n")
     _refused(path, "'1.2.3' is not a number")
+
+
+def test_a_time_column_in_ms_read_as_s_is_refused(tmp_path):
+    # times 0, 5, 10 ... under a header without a unit: a 5-s step, 10⁵ times the benchmark's
+    # steps once interpolated (the run grew to 24 GB and was killed without a word)
+    rows = "".join(f"{5 * k},{0.1 * np.sin(0.05 * k):.4f}\n" for k in range(400))
+    path = _write(tmp_path, "time_ms.csv", "time,acc [m/s2]\n" + rows)
+    _refused(path, "a step in ms given as s?")
+
+
+def test_a_headerless_two_column_file_says_its_step_was_assumed(tmp_path):
+    # read as the benchmark's format (cm/s², 0.005 s): both assumptions are said wherever the
+    # units are (a file at 0.01 s had run as half its length, its step said nowhere)
+    from records.record import units_assumed
+    path = _write(tmp_path, "two.txt", "".join(f"{np.sin(0.1 * k):.4f} {np.cos(0.1 * k):.4f}\n" for k in range(200)))
+    rec = load_record(path)
+    assert rec.dt == 0.005
+    assert "at a step of 0.005 s" in units_assumed(rec) and "give --dt" in units_assumed(rec)
+    assert "at a step of" not in units_assumed(load_record(path, dt=0.01))

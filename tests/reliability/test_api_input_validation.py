@@ -292,6 +292,10 @@ SIM_CASES = {
     "control step NaN": (dict(control_step=math.nan), "control_step"),
     "control step negative": (dict(control_step=-0.005), "control_step"),
     "record shorter than one control step": (dict(control_step=0.5), "shorter than one control step"),
+    # the bounds of a semi-active control step (a 1e-5 s step ran out of memory, 5 s was taken)
+    "control step too short": (dict(control_step=1e-5), "updates every 0.0001-1 s"),
+    "control step too long": (dict(control_step=5.0), "updates every 0.0001-1 s"),
+    "too many integration steps": (dict(integration_step=1e-7), "more than the 1e+06 a run holds"),
     "fixed-point tolerance": (dict(fixed_point_tolerance=0.0), "fixed_point_tolerance"),
     "max iterations": (dict(max_iterations=0), "max_iterations"),
     "substep tolerance": (dict(substep_tolerance=-1.0), "substep_tolerance"),
