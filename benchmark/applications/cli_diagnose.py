@@ -41,7 +41,7 @@ from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
 from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
-from damper.diagnosis.report import format_parameters, input_word, write_report
+from damper.diagnosis.report import format_parameters, input_word, residual_not_white, write_report
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 from benchmark.applications.model_files import write_diagnosis_models
 
@@ -223,5 +223,5 @@ def run(args) -> int:
                 f"{input_word(v, result.data.input_name)} (share {s:.2f}, {100 * lv:.1f} % of force RMS)"
                 for v, s, lv in result.unexplained_in))
         else:
-            print("no unexplained structure left")
+            print("no structure left that the trace's variables explain" + residual_not_white(result))
     return 0

@@ -34,7 +34,7 @@ from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.io.screening import screening_lines, screening_summary
 from damper.lab.plots import draw_loops
 
-__all__ = ["write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
+__all__ = ["residual_not_white", "write_report", "report_markdown", "plot_residual_trace", "plot_force_histories",
            "plot_force_window", "plot_validation_window", "force_window", "plot_heldout_loops"]
 
 #: trace variable -> (axis text, quantity kind of benchmark.foundation.display_units); the coil input's
@@ -542,7 +542,8 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
                                  for v, s, lv in d.unexplained_in) + ".")
     else:
         lines.append(f"No residual structure above {100 * d.settings.get('structure_level', 0):g} % of "
-                     f"the force RMS is left (threshold share {d.settings.get('structure_share')}).")
+                     f"the force RMS is left (threshold share {d.settings.get('structure_share')})"
+                     + (f"{residual_not_white(d)}." if residual_not_white(d) else "."))
     lines += ["", "## Errors per test (held-out)", "", "| test | before | after |", "|---|---|---|"]
     for name, (b, a) in d.errors_by_test.items():
         lines.append(f"| {name} | {b:.4f} | {a:.4f} |")
@@ -556,6 +557,19 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
             lines.append(f"![{title}]({Path(p).name})")
     lines.append("")
     return "\n".join(lines)
+
+
+def residual_not_white(d) -> str:
+    """``", but the residual is not white (...)"`` when the held-out residual is mostly structured
+    (white-noise share below a half) while no trace variable explains it, else ``""``: a verdict
+    of nothing left must not hide a residual the trace cannot see (a channel skew, a lag, a
+    change of the device between tests)."""
+    ta = getattr(d, "trace_after", None)
+    if ta is None or d.unexplained or not ta.noise_fraction < 0.5:
+        return ""
+    return (f", but the residual is not white (white-noise share {ta.noise_fraction:.3f}, lag-1 autocorrelation "
+            f"{ta.lag1:.3f}): what is left is structured in a way none of the trace's variables shows "
+            "(a channel skew, a lag, a change of the device between tests)")
 
 
 def write_report(diagnosis, out_dir, tests=None, keep_flagged: bool = False) -> dict[str, Path]:

@@ -172,6 +172,15 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
     screening = screening_of(test)
     usable = int(test.usable.sum())
     if usable < minimum:
+        steps = np.diff(np.asarray(test.time, dtype=float))
+        median = float(np.median(steps))
+        irregular = float(np.mean(np.abs(steps - median) > 0.5 * median))
+        if irregular > 0.1:
+            # the gap and settling findings of a file sampled at random instants say less than this
+            raise InputError(f"{path}: the sampling is not uniform: {100 * irregular:.0f} % of the steps differ "
+                             f"from the median {1e3 * median:.3g} ms by more than half of it (steps "
+                             f"{1e3 * float(steps.min()):.3g}-{1e3 * float(steps.max()):.3g} ms); resample the test "
+                             "onto a uniform grid")
         raise InputError(f"{path}: the screening leaves {usable} of {test.n_samples} samples usable, fewer "
                          f"than {minimum} ({screening.brief()}; --keep-flagged fits the flagged samples too)")
     units = screening.units_problem()

@@ -1063,6 +1063,16 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
                      & ((fw.max(axis=1) - fw.min(axis=1)) < 0.1 * f_range))
             for a, b in _runs(quiet):
                 idle[a:b + w - 1] = True
+            # the rig stopping at a reversal: the stroke is still from there on, and the force
+            # relaxes to rest (a decay, not a cycle) before the window above calls it idle; that
+            # stretch is the idle span's, not a frozen sensor's (a probe's 1-s rest was reported
+            # as both)
+            for kind, a, b, _ in stuck_spans(x):
+                if kind != "stuck" or not idle[a:b].any() or idle[a:b].all():
+                    continue
+                runs = [(a + c, a + e) for c, e in _runs(~idle[a:b])]
+                if all(abs(f[e - 1] - f[c]) >= 0.8 * np.ptp(f[c:e]) for c, e in runs):
+                    idle[a:b] = True
             for a, b in _runs(idle):
                 findings.append(Finding("idle", "displacement", float(t[a]), float(t[b - 1]), b - a,
                                         f"no motion (less than {100 * IDLE_FRACTION:g} % of the "
@@ -1081,7 +1091,9 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
                 kind, text = "frozen", (f"displacement frozen at {level:.6g} m while the force changes "
                                         f"by {np.ptp(span):.4g} N")
             elif kind == "clipped":
-                text = f"{ch} at its clipping level {level:.6g}"
+                text = f"{ch} at its clipping level {level:.6g}" + (
+                    ": no fit sees a force beyond it, so a model's force there is an extrapolation"
+                    if ch == "force" else "")
             else:
                 text = f"{ch} stuck at {level:.6g} ({b - a} equal values)"
             findings.append(Finding(kind, ch, float(t[a]), float(t[b - 1]), b - a, text))

@@ -68,3 +68,16 @@ def test_identify_on_a_changing_command_says_once_where_to_go(tmp_path, capsys):
     assert status == 2 and len(err) == 1, err
     assert err[0].count("varies over the test") == 1 and "[normalized, extended]" in err[0], err
     assert "sbib diagnose" in err[0]
+
+
+def test_a_test_sampled_at_random_instants_is_refused_as_such(tmp_path, capsys):
+    # stamps drawn at random (mean step 1 ms): refused before as '0 of 4000 samples usable
+    # (settling: ... gap: 758 spans ...)', which did not say what was wrong
+    rng = np.random.default_rng(4)
+    t = np.sort(rng.uniform(0.0, 4.0, 4000))
+    data = tmp_path / "random_times.csv"
+    data.write_text("time,displacement,force\n" + "".join(
+        f"{a:.6f},{0.005 * np.sin(2 * np.pi * 2 * a):.6g},{500 * np.cos(2 * np.pi * 2 * a):.5g}\n" for a in t))
+    assert main(["diagnose", "--quiet", "--data", str(data)]) == 2
+    err = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
+    assert len(err) == 1 and "the sampling is not uniform" in err[0] and "resample" in err[0], err

@@ -192,6 +192,32 @@ def test_idle_span_is_found(clean_synthetic):
     assert "frozen" not in _kinds(scr)
 
 
+def test_a_rest_at_a_reversal_with_the_sensor_exactly_still_is_idle_not_frozen():
+    # the stroke held exactly (a digital sensor at rest) from a reversal on, for 1 s: the force
+    # relaxes to rest first; that stretch was reported as a frozen displacement as well as idle
+    # (larger strokes before and after, so that the rest is not at the stroke's end, a clipping
+    # level; stamps half a step off the sine's peaks)
+    t = np.arange(0.001, 6.0, 1e-3)
+    t_rest = 6.25 / 3.0  # a crest of the 3-Hz stroke
+    x = np.where(t < 1.0, 0.03 * np.sin(6 * np.pi * t), 0.02 * np.sin(6 * np.pi * t))
+    x = np.where((t >= t_rest) & (t < t_rest + 1.0), 0.02, x)
+    x = np.where(t >= t_rest + 1.0, 0.02 * np.sin(6 * np.pi * (t - 1.0)), x)
+    x = np.where(t >= 4.0, 0.03 * np.sin(6 * np.pi * (t - 1.0)), x)
+    test = general_test("virtual", t, x, 0.0, noise=0.02, seed=2)
+    rest = (t >= t_rest) & (t < t_rest + 1.0)
+    k = np.searchsorted(t, t_rest)
+    x_read = test.displacement.copy()
+    x_read[rest] = x_read[k]
+    # a device whose force relaxes within 10 ms once the stroke stops (a probe's UTFSM copy)
+    f = test.force.copy()
+    f[rest] = f[k - 1] * np.exp(-(t[rest] - t[k - 1]) / 0.01) + np.random.default_rng(5).normal(
+        0.0, 0.002 * np.ptp(f), rest.sum())
+    scr = screen(_with(test, displacement=x_read, force=f))
+    idle = _flagged_span(scr, "idle", "displacement")
+    assert any(f.t_start <= t_rest + 0.002 and f.t_end >= t_rest + 0.99 for f in idle), scr.lines()
+    assert "frozen" not in _kinds(scr), scr.lines()
+
+
 def test_velocity_gain_and_offset_are_found(base_test):
     scr = screen(_with(base_test, velocity=base_test.velocity * 1000.0))
     assert "velocity" in _kinds(scr, "velocity")
