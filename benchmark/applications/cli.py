@@ -27,6 +27,7 @@ from typing import Sequence
 from benchmark import __version__
 from benchmark.foundation.errors import InputError, NumericalError, SbibError
 from benchmark.foundation.kernel_cache import ensure_fresh_once, stepping_kernel_cached
+from benchmark.foundation.provenance import record_command
 from benchmark.foundation.paths import structure_file
 from benchmark.foundation.pools import stop_children
 from benchmark.simulator.structure import load_superstructure
@@ -152,6 +153,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         ensure_fresh_once()  # before any kernel is loaded from numba's cache (kernel_cache)
         parser = build_parser()
         args = parser.parse_args(argv)
+        record_command(["sbib", *(sys.argv[1:] if argv is None else argv)])  # the result files' provenance
         if not getattr(args, "func", None):
             parser.print_help()
             return EXIT_INPUT_ERROR

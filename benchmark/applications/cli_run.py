@@ -72,6 +72,7 @@ from benchmark.simulator.isolation.configurations import check_substep_tolerance
 from benchmark.applications.damper_choice import add_damper_options, resolve_damper, resolve_layout
 from controllers.registry import controller_names
 from benchmark.foundation.atomic import output_dir, output_file_of
+from benchmark.foundation.provenance import file_identity
 
 __all__ = ["register", "run_command", "main_run"]
 
@@ -94,6 +95,17 @@ def _clean(d: dict[str, Any]) -> dict[str, Any]:
         else:
             out[k] = v
     return out
+
+
+def _input_files(record_source: str, controller: str, structure_source: str, damper: dict) -> dict:
+    """Each input file of a run by absolute path and SHA-256 (:func:`file_identity`): the record,
+    a user's controller file (``file.py:Class``), the structure file and the damper model files;
+    a name that is not a file (a benchmark record, a registered controller) by its name."""
+    head = controller.rsplit(":", 1)[0] if ":" in controller else ""
+    return {"record": file_identity(record_source) if record_source else {},
+            "controller": file_identity(head) if head.endswith(".py") else {"path": controller},
+            "structure": file_identity(structure_source) if structure_source else {},
+            "dampers": [file_identity(d["path"]) for d in damper.get("dampers", []) if d.get("path")]}
 
 
 def run_command(record: str, orientation: str = "FN-x", isolation: str | None = None,
@@ -237,8 +249,10 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
             lean = {"bearing_force": None, "bearing_state": None, "state": None, "measurements": None}
             stored = dataclasses.replace(result, **lean)
             stored_ref = stored if reference is result else dataclasses.replace(reference, **lean)
+        inputs = _input_files(getattr(rec, "source", ""), controller, sup.source, summary["damper"])
         write_result(stored, out, reference=None if stored is stored_ref else stored_ref, evaluation=J,
-                     isolation=layer, record_source=getattr(rec, "source", ""),
+                     isolation=layer, record_source=inputs["record"].get("path", ""),
+                     record_units=summary["units_assumed"], inputs=json.dumps(inputs),
                      record_synthetic=getattr(rec, "synthetic", False), control_step=control_step,
                      n_modes="all" if n_modes is None else n_modes, building=json.dumps(building.describe(),
                                                                                          default=str),

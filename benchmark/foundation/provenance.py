@@ -10,7 +10,7 @@ from functools import lru_cache
 from pathlib import Path
 from benchmark import __version__
 
-__all__ = ["provenance"]
+__all__ = ["provenance", "file_identity", "record_command"]
 
 
 @lru_cache(maxsize=1)
@@ -27,7 +27,8 @@ def _git_commit() -> str:
 def provenance(**extra: object) -> dict[str, str]:
     """Return a flat dict of provenance attributes (strings), merged with ``extra``.
 
-    Keys: ``package``, ``package_version``, ``git_commit``, ``created_utc``, ``python``,
+    Keys: ``command`` (the command line, ``sbib ...`` when run from the CLI), ``package``,
+    ``package_version``, ``git_commit``, ``created_utc``, ``python``,
     ``numpy``, ``scipy``, ``numba``, ``platform``, plus ``extra`` converted to ``str``.
 
     Parameters
@@ -41,6 +42,7 @@ def provenance(**extra: object) -> dict[str, str]:
 
 
     attrs = {
+        "command": _command_line(),
         "package": "sbib",
         "package_version": __version__,
         "git_commit": _git_commit(),
@@ -53,3 +55,45 @@ def provenance(**extra: object) -> dict[str, str]:
     }
     attrs.update({k: str(v) for k, v in extra.items()})
     return attrs
+
+
+_COMMAND: list[str] = []
+
+
+def record_command(argv: list[str]) -> None:
+    """Set the command line the result files record (``sbib`` and its arguments, set by the
+    CLI's entry point; a script's own ``sys.argv`` otherwise).
+
+    Parameters
+    ----------
+    argv : list of str
+        The program's name and its arguments.
+    """
+    _COMMAND[:] = [str(a) for a in argv]
+
+
+def _command_line() -> str:
+    """The command line, quoted as a shell would take it (the program by its name)."""
+    import shlex
+    argv = _COMMAND or list(sys.argv) or [""]
+    return " ".join([Path(argv[0]).name] + [shlex.quote(a) for a in argv[1:]])
+
+
+def file_identity(path: str | Path) -> dict[str, str]:
+    """Where an input file was read and what it held: its absolute path and SHA-256.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file; a name that is not a file (a benchmark record's name, a registered model)
+        gives only ``{"path": name}``.
+    """
+    import hashlib
+    p = Path(path).expanduser()
+    if not p.is_file():
+        return {"path": str(path)}
+    digest = hashlib.sha256()
+    with open(p, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    return {"path": str(p.resolve()), "sha256": digest.hexdigest()}

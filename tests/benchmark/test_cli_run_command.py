@@ -69,6 +69,13 @@ def test_record_file_orientation_output_and_plots(capsys, tmp_path, short_record
             a["peaks"]["peak_base_displacement"])
         assert "lead-rubber" in f.attrs["isolation_json"]
         assert f["evaluation"].attrs["J3"] == pytest.approx(1.0)
+        # provenance: the command, and each input file by absolute path and content (a probe found
+        # relative paths and no digest; the record's units were not stored)
+        import hashlib
+        inputs = json.loads(f.attrs["inputs"])
+        assert inputs["record"]["path"] == str(two.resolve()) == f.attrs["record_source"]
+        assert inputs["record"]["sha256"] == hashlib.sha256(two.read_bytes()).hexdigest()
+        assert inputs["structure"]["sha256"] and f.attrs["record_units"] and "--record" in f.attrs["command"]
     assert sorted(p.split("_")[-1] for p in a["plots"]) == ["bearings.png", "envelopes.png", "orbit.png"]
 
 
