@@ -154,6 +154,20 @@ def test_effects_without_a_building_kernel_warn_with_their_share(capsys, tmp_pat
     assert f"warning: thinning.json: the building runs it without shear_thinning, {100 * share:.0f} % of its force" in err
 
 
+def test_a_dropped_field_lag_is_judged_under_a_switching_command(tmp_path):
+    # a lag carries nothing at a constant input: it had read '0 %' of the force (a note, not a
+    # warning), while under clipped-optimal control it moved J6 by a fifth in a probe's run
+    from damper.diagnosis.effects import VoltageLag
+    from damper.io.model_file import dropped_share
+    levels = (0.0, 0.5, 1.0)
+    base = NormalizedBoucWen(kappa_xdot=Tabulated(levels, (10.0, 20.0, 30.0)),
+                             kappa_w=Tabulated(levels, (130.0, 700.0, 1130.0)), rho=3000.0, sigma=1.1, n=2.5)
+    spec = InputSpec("current", "A", (0.0, 1.0), levels)
+    path = write_model_file(tmp_path / "lag.json", AugmentedModel(base, (VoltageLag(0.03),)), input=spec)
+    source = read_model_file(path)
+    assert dropped_share(source.augmented(), source.building_model()[0]) > 0.1
+
+
 def test_input_range_beyond_the_fitted_levels_is_said(capsys, tmp_path, short_record, model_files):
     doc = json.loads(Path(model_files["final"]).read_text())
     doc["input"]["range"] = [0.0, 2.0]
