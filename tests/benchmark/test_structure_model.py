@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -111,3 +112,21 @@ def test_negative_masses_and_damping_are_named(tmp_path, shared_dir):
     (tmp_path / "zeta.json").write_text(json.dumps(dict(data, modal_damping_ratio=5.0)))
     with pytest.raises(InputError, match=r"'modal_damping_ratio' must lie in \[0, 1\), got 5"):
         load_superstructure(tmp_path / "zeta.json")
+
+
+def test_implausible_units_and_a_repeated_bearing_are_refused(tmp_path, shared_dir):
+    # each was run without a word by a probe: heights in mm (drift ratios 1000x too small),
+    # frequencies in Hz in place of omega² (a 5.9-s fixed-base period), a bearing given twice
+    data = json.loads((shared_dir / "benchmark" / "structure.json").read_text())
+    cases = {
+        "mm.json": (dict(data, floor_height_above_base=[1e3 * h for h in data["floor_height_above_base"]]),
+                    r"storey 1 is [\d.]+ m high; a storey is 1-20 m \(heights in mm or cm\?\)"),
+        "hz.json": (dict(data, omega_squared=[w ** 0.5 / (2 * math.pi) for w in data["omega_squared"]]),
+                    r"fundamental period is 5.9\d* s; an 8-storey superstructure's is 0.1-3 s"),
+        "twice.json": (dict(data, bearing_xy=[data["bearing_xy"][0]] + data["bearing_xy"][:-1]),
+                       "bearings 1 and 2 are 0 m apart"),
+    }
+    for name, (doc, words) in cases.items():
+        (tmp_path / name).write_text(json.dumps(doc))
+        with pytest.raises(InputError, match=words):
+            load_superstructure(tmp_path / name)
