@@ -232,6 +232,13 @@ class GuardedController(Controller):
             raise self._fail("step(measurements)", exc) from None
         t = self._k * self.context.control_step
         self._k += 1
+        if raw is None:
+            raise UserCodeError(f"controller {self.spec!r}: step(measurements) returned None at t = {t:.6g} s; "
+                                f"expected {self.context.voltage_max.size} commands (a missing return?)")
+        if np.iscomplexobj(raw):
+            # numpy would drop the imaginary part with a ComplexWarning
+            raise UserCodeError(f"controller {self.spec!r}: step(measurements) returned complex commands at "
+                                f"t = {t:.6g} s; expected real numbers")
         try:
             v = np.asarray(raw, dtype=np.float64)
         except (TypeError, ValueError):

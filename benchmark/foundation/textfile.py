@@ -18,6 +18,10 @@ from benchmark.foundation.errors import DataNotFoundError, InputError
 
 __all__ = ["read_text", "decode_text", "parse_float"]
 
+#: Leading bytes of the compressed archives a record or test may come in.
+_ARCHIVES = ((b"PK\x03\x04", "zip archive"), (b"\x1f\x8b", "gzip-compressed file"),
+             (b"7z\xbc\xaf\x27\x1c", "7z archive"))
+
 #: Bytes looked at for NUL characters, which never occur in a text file.
 _SNIFF = 8192
 
@@ -40,6 +44,9 @@ def decode_text(raw: bytes, where: str) -> str:
     """
     if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):  # a UTF-16 byte-order mark (a spreadsheet's "Unicode text")
         raise InputError(f"{where}: UTF-16 text; expected UTF-8 (save it as UTF-8 or plain CSV)")
+    for magic, kind in _ARCHIVES:
+        if raw.startswith(magic):
+            raise InputError(f"{where}: a {kind}; expected a text file (extract it first)")
     if b"\x00" in raw[:_SNIFF] or (len(raw) > _SNIFF and b"\x00" in raw):
         raise InputError(f"{where}: looks like a binary file (it holds NUL bytes); expected a UTF-8 text file")
     try:

@@ -96,6 +96,11 @@ BAD_CONTROLLERS = {
                         "    def step(self, y):\n        return y\n", "compiled() raised RuntimeError"),
     "compiled_junk": ("class C:\n    def compiled(self):\n        return 42\n"
                       "    def step(self, y):\n        return y\n", "compiled() returned int"),
+    # a probe (2026-11-27): None read as 'voltages of shape ()', complex commands ran with a
+    # ComplexWarning on stderr and the imaginary part dropped
+    "returns_none": ("class C:\n    def step(self, y):\n        pass\n", "returned None"),
+    "complex": ("import numpy as np\nclass C:\n    def reset(self, context):\n        self.n = context.n_devices\n"
+                "    def step(self, y):\n        return np.full(self.n, 0.5 + 0.1j)\n", "returned complex commands"),
 }
 
 

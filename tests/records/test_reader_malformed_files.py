@@ -200,3 +200,18 @@ def test_a_headerless_two_column_file_says_its_step_was_assumed(tmp_path):
     assert rec.dt == 0.005
     assert "at a step of 0.005 s" in units_assumed(rec) and "give --dt" in units_assumed(rec)
     assert "at a step of" not in units_assumed(load_record(path, dt=0.01))
+
+
+@pytest.mark.parametrize("opener", ["zip", "gzip"])
+def test_a_compressed_record_is_named_as_such(tmp_path, opener):
+    # it had read as 'looks like a binary file (it holds NUL bytes)'
+    import gzip
+    import zipfile
+    text = "".join(f"{0.005 * k:.3f},{np.sin(0.1 * k):.4f}\n" for k in range(100))
+    path = tmp_path / f"rec.{opener}"
+    if opener == "zip":
+        with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as z:
+            z.writestr("rec.csv", text)
+    else:
+        path.write_bytes(gzip.compress(text.encode()))
+    _refused(path, f"a {opener}")
