@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmark.foundation.errors import InputError
+from benchmark.foundation.errors import InputError, SbibError
 from benchmark.simulator.devices import (DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout, DeviceSlot,
                                          default_damper_model)
 from damper.models.base import DamperModel
@@ -144,6 +144,15 @@ def parse_scale(text: Any) -> tuple[str, float] | None:
     return ("capacity", value * _FORCE_UNITS[unit]) if unit else ("factor", value)
 
 
+def _has_defaults(name: str) -> bool:
+    """Whether the registered damper model ``name`` can be built without parameters."""
+    try:
+        get_model_class(name)()
+    except (TypeError, SbibError):
+        return False
+    return True
+
+
 def _source(spec: str | None, base_dir: Path | None = None) -> ModelFile:
     if spec is None or spec == "":
         model = default_damper_model()
@@ -159,9 +168,11 @@ def _source(spec: str | None, base_dir: Path | None = None) -> ModelFile:
                          f"one of {', '.join(sorted(MODELS))}")
     try:
         model = get_model_class(spec)()
-    except TypeError:
+    except (TypeError, SbibError):
+        runnable = [name for name in sorted(MODELS) if _has_defaults(name)]
         raise InputError(f"--damper {spec!r}: the registered model {spec} has no default parameters; give a model "
-                         "file (*.json)") from None
+                         "file (*.json: sbib identify and sbib diagnose write one) or one of the models that run by "
+                         f"name: {', '.join(runnable)}") from None
     return ModelFile(model=model, input=InputSpec("voltage", "V", as_range(model.voltage_range), ()))
 
 

@@ -394,3 +394,10 @@ def test_a_scale_that_leaves_the_devices_doing_nothing_is_said():
     from benchmark.applications.damper_choice import resolve_damper
     notes = [n for n in resolve_damper(None, 1e-9).notes if "capacity" in n]
     assert len(notes) == 1 and "after --damper-scale" in notes[0] and "barely act" in notes[0]
+
+
+def test_a_registered_model_without_defaults_says_a_model_file_is_needed(capsys, short_record):
+    # '--damper spencer' listed 14 missing parameters and no way forward
+    assert main(["run", "--record", short_record, "--controller", "passive-on", "--damper", "spencer"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "has no default parameters; give a model file" in err and "virtual" in err, err
