@@ -341,6 +341,10 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
         raise InputError(f"max_iterations: expected >= 1, got {max_iterations!r}")
     controller = _resolve_controller(controller)
     notes: list[str] = []
+    if integration_step is not None and dt < float(integration_step) * (1 - 1e-9):
+        why = (f"the record's own step ({record_dt:g} s) is finer and is kept" if dt <= record_dt * (1 + 1e-9)
+               else f"the step divides the control step ({ratio * dt:g} s) into whole steps")
+        notes.append(f"integration step {dt:g} s, not the {float(integration_step):g} s asked: {why}")
     if controller is not None and building.devices is not None:
         notes.extend(controller_authority_warnings(building.devices, getattr(controller, "name", "")
                                                    or type(controller).__name__))

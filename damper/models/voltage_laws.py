@@ -426,14 +426,14 @@ def check_law(law: VoltageLaw, field: str, voltage_range: Sequence[float], *,
     values = np.atleast_1d(law(samples))
     if not np.all(np.isfinite(values)):
         bad = samples[~np.isfinite(values)][0]
-        raise ParameterError(f"{field}: value is not finite at v = {bad:.4g} V")
+        raise ParameterError(f"{field}: value is not finite at coil input {bad:.4g}")
     if lower is None:
         return
     bad = values <= lower if strict else values < lower
     if np.any(bad):
         i = int(np.argmax(bad))
         relation = ">" if strict else ">="
-        where = "" if law.is_constant else f" at v = {samples[i]:.4g} V"
+        where = "" if law.is_constant else f" at coil input {samples[i]:.4g}"  # V or A: the caller says which
         raise ParameterError(f"{field}: expected {field} {relation} {lower:g}, "
                              f"got {values[i]:.6g}{where}")
 

@@ -101,3 +101,14 @@ def test_bad_integration_options_are_input_errors(kjm_14s, nonlinear):
         simulate(nonlinear, kjm_14s, integration_step=-0.005)
     with pytest.raises(InputError, match="max_halvings"):
         simulate(nonlinear, kjm_14s, max_halvings=-1)
+
+
+def test_an_integration_step_that_is_not_used_is_said():
+    # --integration-step 0.01 on a 0.005-s record ran at 0.005 s without a word
+    from records import Record
+    record = Record("noise", 0.005, 0.3 * np.random.default_rng(3).standard_normal((201, 2)))
+    building = Building.default(isolation="linear").without_devices()
+    result = simulate(building, record, integration_step=0.01)
+    assert result.info["integration_step"] == 0.005
+    assert any("not the 0.01 s asked: the record's own step (0.005 s) is finer" in n for n in result.info["notes"])
+    assert not simulate(building, record).info["notes"]
