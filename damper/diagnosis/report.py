@@ -563,7 +563,13 @@ def residual_not_white(d) -> str:
     """``", but the residual is not white (...)"`` when the held-out residual is mostly structured
     (white-noise share below a half) while no trace variable explains it, else ``""``: a verdict
     of nothing left must not hide a residual the trace cannot see (a channel skew, a lag, a
-    change of the device between tests)."""
+    change of the device between tests).
+
+    Parameters
+    ----------
+    d : Diagnosis
+        The loop's result (its ``unexplained`` verdict and held-out ``trace_after``).
+    """
     ta = getattr(d, "trace_after", None)
     if ta is None or d.unexplained or not ta.noise_fraction < 0.5:
         return ""
