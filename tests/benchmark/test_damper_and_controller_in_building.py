@@ -140,17 +140,21 @@ def test_model_file_in_the_building_scaled_with_stated_mapping(capsys, tmp_path,
     assert s["peaks"] != ref["peaks"]
 
 
+def _current_model_file(path, effect):
+    """A model file of a device fitted on the current at three levels, with one ``effect``."""
+    levels = (0.0, 0.5, 1.0)
+    base = NormalizedBoucWen(kappa_xdot=Tabulated(levels, (10.0, 20.0, 30.0)),
+                             kappa_w=Tabulated(levels, (130.0, 700.0, 1130.0)), rho=3000.0, sigma=1.1, n=2.5)
+    return write_model_file(path, AugmentedModel(base, (effect,)), input=InputSpec("current", "A", (0.0, 1.0), levels))
+
+
 def test_effects_without_a_building_kernel_warn_with_their_share(capsys, tmp_path, short_record):
     """A diagnosis whose final model moved most of its viscous force into shear_thinning (no
     building kernel): the building runs it without that term, and the run says how much of the
     device's force is missing instead of a bare note."""
     from damper.diagnosis.effects import ShearThinning
     from damper.io.model_file import dropped_share
-    levels = (0.0, 0.5, 1.0)
-    base = NormalizedBoucWen(kappa_xdot=Tabulated(levels, (10.0, 20.0, 30.0)),
-                             kappa_w=Tabulated(levels, (130.0, 700.0, 1130.0)), rho=3000.0, sigma=1.1, n=2.5)
-    spec = InputSpec("current", "A", (0.0, 1.0), levels)
-    path = write_model_file(tmp_path / "thinning.json", AugmentedModel(base, (ShearThinning(2000.0),)), input=spec)
+    path = _current_model_file(tmp_path / "thinning.json", ShearThinning(2000.0))
     source = read_model_file(path)
     share = dropped_share(source.augmented(), source.building_model()[0])
     assert 0.3 < share < 1.0
@@ -164,12 +168,7 @@ def test_a_dropped_field_lag_is_judged_under_a_switching_command(tmp_path):
     # warning), while under clipped-optimal control it moved J6 by a fifth in a probe's run
     from damper.diagnosis.effects import VoltageLag
     from damper.io.model_file import dropped_share
-    levels = (0.0, 0.5, 1.0)
-    base = NormalizedBoucWen(kappa_xdot=Tabulated(levels, (10.0, 20.0, 30.0)),
-                             kappa_w=Tabulated(levels, (130.0, 700.0, 1130.0)), rho=3000.0, sigma=1.1, n=2.5)
-    spec = InputSpec("current", "A", (0.0, 1.0), levels)
-    path = write_model_file(tmp_path / "lag.json", AugmentedModel(base, (VoltageLag(0.03),)), input=spec)
-    source = read_model_file(path)
+    source = read_model_file(_current_model_file(tmp_path / "lag.json", VoltageLag(0.03)))
     assert dropped_share(source.augmented(), source.building_model()[0]) > 0.1
 
 
