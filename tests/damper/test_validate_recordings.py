@@ -53,8 +53,13 @@ def test_another_level_than_a_single_fitted_one_is_refused():
 
 
 def test_valid_recordings_pass():
-    # the same level, another recording; and a level between two fitted ones
+    # the same level, another recording (its current measured, wandering by 1 %); and a level
+    # between two fitted ones
     _check([_test("a", 1.0)], [_test("b", 1.0, phase=0.3)])
+    w = _test("w", 1.0, phase=0.3)
+    wandering = DamperTest(w.time, w.displacement, w.velocity, w.force, name="w",
+                           current=1.0 + 0.01 * np.sin(np.arange(w.time.size)))
+    _check([_test("a", 1.0)], [wandering])
     _check([_test("a", 0.0), _test("c", 1.0)], [_test("b", 0.5, phase=0.3)])
     # no coil input anywhere: a passive device, fitted and scored as such
     _check([_test("a", None)], [_test("b", None, phase=0.3)])
