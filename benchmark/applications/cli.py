@@ -149,6 +149,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv : Sequence[str] | None, optional
         Command-line arguments without the program name; None: ``sys.argv[1:]``.
     """
+    _terminate_as_interrupt()
     try:
         ensure_fresh_once()  # before any kernel is loaded from numba's cache (kernel_cache)
         parser = build_parser()
@@ -196,6 +197,19 @@ def _os_error_line(exc: OSError) -> str:
     if path is None:
         return reason
     return f"{path}: {reason.lower() if reason[:1].isupper() and reason[1:2].islower() else reason}"
+
+
+def _terminate_as_interrupt() -> None:
+    """SIGTERM (``kill``, a batch scheduler's time limit) ends a command as Ctrl-C does: the same
+    deferrals, finished files written (an ensemble's ``.h5`` from its journal), workers stopped,
+    status 130. Before, an ensemble ended by SIGTERM left its file behind its journal."""
+    def forward(signum, frame):
+        os.kill(os.getpid(), signal.SIGINT)
+
+    try:
+        signal.signal(signal.SIGTERM, forward)
+    except ValueError:  # not the main thread (main() called from a thread): leave it as it is
+        pass
 
 
 def _interrupted() -> int:

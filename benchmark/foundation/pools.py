@@ -38,6 +38,7 @@ import multiprocessing
 import os
 import signal
 import threading
+import time
 from concurrent.futures import Executor
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
@@ -59,8 +60,23 @@ def ignore_sigint() -> None:
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
 
 
+#: seconds between a worker's checks that its parent still lives
+_PARENT_POLL_S = 1.0
+
+
+def _exit_with_parent(parent: int) -> None:
+    """End this worker once its parent is gone (killed by SIGKILL or SIGTERM, it cannot stop its
+    pool: the workers were left running, each holding its memory, until killed by hand)."""
+    while True:
+        time.sleep(_PARENT_POLL_S)
+        if os.getppid() != parent:  # re-parented: the parent ended
+            os._exit(1)
+
+
 def _start_worker(initializer: Callable[..., Any] | None, initargs: tuple) -> None:
     ignore_sigint()
+    threading.Thread(target=_exit_with_parent, args=(os.getppid(),), daemon=True,
+                     name="sbib-parent-watch").start()
     if initializer is not None:
         initializer(*initargs)
 

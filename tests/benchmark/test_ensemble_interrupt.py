@@ -71,12 +71,44 @@ def _check_resume(tmp_path: Path, cfg: Path, out: Path) -> None:
 def test_kill_9_then_resume(tmp_path):
     proc, cfg, out = _start(tmp_path, jobs=2)
     _wait_for_lines(journal_path(out), 5, proc)  # header + 4 runs
+    children = _children(proc.pid)
     proc.send_signal(signal.SIGKILL)
     proc.wait(timeout=30)
+    # the workers end with their parent (they had run on, 145 MB each, until killed by hand)
+    deadline = time.monotonic() + 15
+    while any(os.path.exists(f"/proc/{c}") for c in children) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert children and not [c for c in children if os.path.exists(f"/proc/{c}")]
     # simulate the worst moment of death: a half-written line at the end of the journal
     with open(journal_path(out), "ab") as fh:
         fh.write(b"0badc0de {\"key\": \"record=kobe")
     _check_resume(tmp_path, cfg, out)
+
+
+def _children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid`` (Linux /proc)."""
+    out = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as fh:
+                    if int(fh.read().rsplit(")", 1)[1].split()[1]) == pid:
+                        out.append(int(entry))
+            except (OSError, ValueError, IndexError):
+                pass
+    return out
+
+
+def test_sigterm_ends_as_ctrl_c_does(tmp_path, sigint_default):
+    # a scheduler's kill: the partial .h5 written from the journal, as after Ctrl-C (before, only
+    # the journal was current)
+    proc, cfg, out = _start(tmp_path, jobs=2, preexec_fn=sigint_default)
+    _wait_for_lines(journal_path(out), 4, proc)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err.decode()
+    partial = read_ensemble(out)
+    assert not partial.attrs["complete"] and 0 < partial.attrs["n_done"] < partial.n_cases
 
 
 def test_ctrl_c_writes_partial_results_then_resume(tmp_path, sigint_default):
