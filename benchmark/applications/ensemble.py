@@ -63,6 +63,7 @@ from benchmark.foundation.errors import InputError, NumericalError, UserCodeErro
 from benchmark.applications.ensemble_simulation import run_ensemble_case
 from benchmark.foundation.provenance import provenance
 from benchmark.foundation.errors import DataNotFoundError
+from benchmark.foundation.paths import structure_file
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from records.catalogue import ORIENTATION_ALIASES
 from benchmark.foundation.textfile import read_text
@@ -483,6 +484,17 @@ def _building_file_hashes(building) -> dict:
     return out
 
 
+def _input_file_hashes(config) -> dict:
+    """``{absolute path: SHA-256}`` of the record files an ensemble names and of the structure
+    file its runs read (``--structure`` / ``SBIB_STRUCTURE``, else the benchmark's)."""
+    paths = [Path(r) for r in config.records if isinstance(r, str) and Path(r).is_file()]
+    try:
+        paths.append(structure_file())
+    except DataNotFoundError:  # the runs will say so
+        pass
+    return {str(p.resolve()): hashlib.sha256(p.read_bytes()).hexdigest() for p in paths}
+
+
 def _flatten(table: Mapping[str, Any], prefix: str = "") -> Iterable[tuple[str, Any]]:
     """Flatten nested TOML tables: ``[grid.damper] kappa_w = [...]`` → ``damper.kappa_w``."""
     for name, value in table.items():
@@ -798,6 +810,9 @@ def run_ensemble(config: EnsembleConfig, out: str | os.PathLike, jobs: int = 1,
     files = _building_file_hashes(config.building)
     if files:  # an edited damper or layout file is another device: its runs are not resumed
         header["building_files_sha256"] = files
+    # so is an edited record file or structure file (a probe's doubled record and 10 % damping had
+    # been resumed with the old runs' numbers)
+    header["input_files_sha256"] = _input_file_hashes(config)
     journal = Journal(journal_path(out), header=header)
     known = {c.key for c in cases}
     n_resumed = sum(1 for key in journal.entries if key in known)

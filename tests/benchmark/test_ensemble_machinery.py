@@ -237,3 +237,31 @@ def test_a_case_the_simulation_refuses_is_named(tmp_path):
     with pytest.raises(InputError) as err:
         _execute(refuse, case)
     assert str(err.value) == f"case {case.key}: n_modes: expected an integer in 1..24, got 30"
+
+
+def test_a_resume_after_an_edited_record_or_structure_file_is_refused(tmp_path, monkeypatch):
+    # the case keys name the files, not their content: a probe doubled a record file, and raised
+    # a --structure file's damping to 10 %, and both ensembles resumed with the old numbers
+    import json
+    from benchmark.foundation.paths import structure_file
+    record = tmp_path / "rec.csv"
+    record.write_text("time [s],ax [m/s2]\n" + "".join(f"{0.005 * k:.3f},{np.sin(0.05 * k):.4f}\n"
+                                                      for k in range(400)))
+    structure = tmp_path / "structure.json"
+    structure.write_text(structure_file().read_text())
+    monkeypatch.setenv("SBIB_STRUCTURE", str(structure))
+    toml = tmp_path / "e.toml"
+    toml.write_text(f'controllers = ["none"]\nrecords = ["{record}"]\n')
+    out = tmp_path / "e.h5"
+    run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)
+    run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)  # unchanged: resumes
+    record.write_text(record.read_text().replace("ax [m/s2]", "ax [g]"))
+    with pytest.raises(InputError, match="input_files_sha256.*do not belong to this ensemble"):
+        run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)
+    journal_path(out).unlink()
+    run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)
+    doc = json.loads(structure.read_text())
+    doc["modal_damping_ratio"] = 0.10
+    structure.write_text(json.dumps(doc))
+    with pytest.raises(InputError, match="input_files_sha256.*do not belong to this ensemble"):
+        run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)
