@@ -734,6 +734,10 @@ def read_csv(path: str | os.PathLike, units: str | None = None, dt: float | None
                 comment_keys = {"synthetic": "true" if m.group(1) else "false", "name": m.group(2),
                                 "source": m.group(3)}
                 continue  # its source may be a path: not a statement of units
+            if comment_keys:
+                # a file sbib wrote states its units in the column header; its other comments
+                # (the original's units, before a conversion) are not statements of units
+                continue
             m = _UNITS_COMMENT.match(stripped)
             # "# units: g", "% Acc. in cm/sec^2" (as the benchmark writes), "# acceleration [g]"
             found = m.group(1) if m else _header_units(stripped[1:], f"{where}:{lineno}")

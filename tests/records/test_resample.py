@@ -63,6 +63,11 @@ def test_cli_writes_units_and_provenance_and_reads_back(shared_dir, tmp_path, ca
     assert main(["records", "resample", str(src), "--dt", "0.02", "--step", "0.01", "--out-units", "m/s2",
                  "--out", str(tmp_path / "kjm-si.csv")]) == 0
     assert "KJM-000 [m/s2]" in (tmp_path / "kjm-si.csv").read_text()
+    # and it reads back: the comment naming the original's units is not a statement of the file's
+    # (it was refused: "the header says 'm/s2' but a comment says 'g'")
+    si = load_record(tmp_path / "kjm-si.csv")
+    assert si.metadata["units_in_file"] == "m/s2"
+    np.testing.assert_allclose(si.acceleration[::2, 0], original.acceleration[:, 0], rtol=1e-5, atol=1e-9)  # SI both
 
 
 @pytest.mark.parametrize("extra, match", [
