@@ -683,6 +683,7 @@ def _execute(run: str | Callable[[EnsembleMember], dict[str, Any]], case: Ensemb
     """Run one case on a worker; a NumericalError or a user's code failing during the run (a
     controller raising at some step) becomes a failed entry, other errors propagate."""
     function = resolve_run_function(run)
+    own = isinstance(run, str) and run in RUN_FUNCTIONS
     start = time.perf_counter()
     try:
         result = function(case)
@@ -693,13 +694,27 @@ def _execute(run: str | Callable[[EnsembleMember], dict[str, Any]], case: Ensemb
         # a grid value the simulation refuses is only seen when its case runs: name the case (its
         # key holds the configuration's values), not just the model field deep inside
         raise InputError(f"case {case.key}: {exc}") from None
+    except Exception as exc:
+        if own:
+            raise
+        # a user's run function failing on one case is that case's failure (the others go on), as
+        # a user's controller failing at some step is; it had ended the ensemble in a traceback
+        return JournalEntry(key=case.key, status="failed",
+                            error=f"run function {run!r} raised {type(exc).__name__}: {exc}",
+                            elapsed_s=time.perf_counter() - start)
     if not isinstance(result, dict):
         raise InputError(f"run function {run!r} returned {type(result).__name__} for case {case.key!r}; "
                          "expected a dict of metric name -> number or array")
-    for name in result:
+    for name, value in list(result.items()):
         if not isinstance(name, str) or not name or "/" in name:
             raise InputError(f"run function {run!r}: metric name {name!r} must be a non-empty string "
                              "without '/'")
+        if not isinstance(value, (np.ndarray, bool, int, float, np.bool_, np.integer, np.floating)):
+            try:  # a list or tuple of numbers is an array
+                result[name] = np.asarray(value, dtype=float)
+            except (TypeError, ValueError):
+                raise InputError(f"run function {run!r}: metric {name!r} of case {case.key!r} is "
+                                 f"{type(value).__name__}; expected a number or an array of numbers") from None
     return JournalEntry(key=case.key, status="ok", result=result, elapsed_s=time.perf_counter() - start)
 
 

@@ -265,3 +265,28 @@ def test_a_resume_after_an_edited_record_or_structure_file_is_refused(tmp_path, 
     structure.write_text(json.dumps(doc))
     with pytest.raises(InputError, match="input_files_sha256.*do not belong to this ensemble"):
         run_ensemble(EnsembleConfig.from_toml(toml), out, max_cases=0, progress=False)
+
+
+def _user_run_raising(case):
+    if case.index % 2:
+        raise ValueError("boom in user run")
+    return {"x": 1.0, "y": [1.0, 2.0]}  # a list is an array
+
+
+def _user_run_text(case):
+    return {"x": "high"}
+
+
+def test_a_user_run_function_failing_on_a_case_fails_that_case(tmp_path):
+    # it had ended the ensemble in a traceback; a list metric had failed to encode (TypeError)
+    cfg = _config(tmp_path)
+    summary = run_ensemble(cfg, tmp_path / "u.h5", run=_user_run_raising, progress=False)
+    n = len(cfg.cases())
+    assert summary.complete and summary.n_failed == n // 2
+    res = read_ensemble(tmp_path / "u.h5")
+    ok = ~np.isnan(res.results["x"])
+    assert ok.sum() == n - n // 2 and np.all(res.results["y"][ok] == [1.0, 2.0])
+    entries = Journal(journal_path(tmp_path / "u.h5"), {}).entries
+    assert any("raised ValueError: boom in user run" in e.error for e in entries.values())
+    with pytest.raises(InputError, match="metric 'x' .* is str; expected a number or an array"):
+        run_ensemble(cfg, tmp_path / "t.h5", run=_user_run_text, progress=False)
