@@ -65,7 +65,9 @@ from benchmark.foundation.provenance import provenance
 from benchmark.foundation.errors import DataNotFoundError
 from benchmark.foundation.paths import structure_file
 from records import BENCHMARK_RECORDS, ORIENTATIONS
-from records.catalogue import ORIENTATION_ALIASES
+from records.catalogue import ORIENTATION_ALIASES, canonical_name
+from records.resolve import looks_like_file
+from controllers.registry import controller_names
 from benchmark.foundation.textfile import read_text
 from benchmark.simulator.criteria import CRITERIA
 from benchmark.simulator.peaks import PEAK_UNITS
@@ -91,6 +93,9 @@ __all__ = [
 ]
 
 #: Named run functions (``run = "..."`` in the TOML file); anything else is ``module:function``.
+#: Most cases one ensemble holds (each a journal line and a row of every result array).
+MAX_CASES = 1_000_000
+
 RUN_FUNCTIONS: dict[str, str] = {
     "simulation": "benchmark.applications.ensemble:simulate_case",
     "peaks": "benchmark.applications.ensemble:simulate_peaks_case",
@@ -382,10 +387,13 @@ class EnsembleConfig:
         name = data.get("name", Path(source).stem if source not in ("<dict>", "<python>") else "ensemble")
         if not isinstance(name, str):
             raise InputError(f"{source}: field 'name' must be a string, got {name!r}")
-        return cls(controllers=controllers, records=records, orientations=orientations,
-                   synthetic_templates=templates, realisations=realisations, pga=pga, grid=tuple(grid),
-                   base_seed=base_seed, run=run, name=name, source=source, text=text,
-                   building=_building_fields(data, source))
+        config = cls(controllers=controllers, records=records, orientations=orientations,
+                     synthetic_templates=templates, realisations=realisations, pga=pga, grid=tuple(grid),
+                     base_seed=base_seed, run=run, name=name, source=source, text=text,
+                     building=_building_fields(data, source))
+        if run in ("simulation", "peaks"):
+            _check_simulated_names(records, controllers, source)
+        return config
 
     # -- expansion -------------------------------------------------------------------------------
     def motions(self) -> list[tuple[str, str, bool, int, float]]:
@@ -403,8 +411,28 @@ class EnsembleConfig:
                         out.append((template, orientation, True, realisation, pga))
         return out
 
+    @property
+    def n_cases(self) -> int:
+        """Number of cases, counted without expanding them."""
+        n = len(self.motions()) * len(self.controllers)
+        for _, values in self.grid:
+            n *= len(values)
+        return n
+
     def cases(self) -> list[EnsembleMember]:
-        """Expand into cases: motions × controllers × grid (cartesian product, in this order)."""
+        """Expand into cases: motions × controllers × grid (cartesian product, in this order).
+
+        Raises
+        ------
+        InputError
+            More than :data:`MAX_CASES` cases (a 9-million grid had taken 3.7 GB and 90 s of
+            silence before its first run).
+        """
+        if self.n_cases > MAX_CASES:
+            raise InputError(f"{self.source}: {self.n_cases:,} cases ({len(self.motions())} motions x "
+                             f"{len(self.controllers)} controllers x the grid's "
+                             + " x ".join(str(len(v)) for _, v in self.grid) + f"); at most {MAX_CASES:,} in "
+                             "one ensemble: split the grid over several")
         names = [name for name, _ in self.grid]
         grid_points = list(itertools.product(*[values for _, values in self.grid]))
         cases: list[EnsembleMember] = []
@@ -435,6 +463,24 @@ class EnsembleConfig:
     def parameter_names(self) -> tuple[str, ...]:
         """Names of the grid parameters, in order."""
         return tuple(name for name, _ in self.grid)
+
+
+def _check_simulated_names(records: Sequence[str], controllers: Sequence[str], source: str) -> None:
+    """Refuse, before any run, a record or controller a simulation cannot resolve (a misspelt
+    name had failed only when its cases ran, after the others' runs; a user's run function may
+    read them as labels of its own, so only the simulations' are checked)."""
+    for name in records:
+        if not looks_like_file(name):
+            try:
+                canonical_name(name)
+            except InputError:
+                raise InputError(f"{source}: field 'records': {name!r} is neither a benchmark record "
+                                 f"({', '.join(BENCHMARK_RECORDS)}) nor an existing file") from None
+    known = set(controller_names())
+    for name in controllers:
+        if name not in known and ":" not in name:
+            raise InputError(f"{source}: field 'controllers': unknown controller {name!r}; expected one of "
+                             f"{', '.join(sorted(known))} or a user's 'module:Class' / 'file.py:Class'")
 
 
 def _building_fields(data: Mapping[str, Any], source: str) -> tuple:

@@ -103,7 +103,7 @@ def test_config_syntax_error_and_missing_file(tmp_path):
 
 
 def test_nested_grid_tables_flatten(tmp_path):
-    cfg = _config(tmp_path, 'controllers = ["a"]\nrecords = ["kobe"]\n[grid.damper]\nkappa_w = [1.0, 2.0]\n')
+    cfg = _config(tmp_path, 'controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid.damper]\nkappa_w = [1.0, 2.0]\n')
     assert cfg.parameter_names == ("damper.kappa_w",)
     assert {c.parameter_dict["damper.kappa_w"] for c in cfg.cases()} == {1.0, 2.0}
 
@@ -290,3 +290,19 @@ def test_a_user_run_function_failing_on_a_case_fails_that_case(tmp_path):
     assert any("raised ValueError: boom in user run" in e.error for e in entries.values())
     with pytest.raises(InputError, match="metric 'x' .* is str; expected a number or an array"):
         run_ensemble(cfg, tmp_path / "t.h5", run=_user_run_text, progress=False)
+
+
+@pytest.mark.parametrize("body, words", [
+    ('controllers = ["passive-on"]\nrecords = ["kobe", "kobee"]\n', "'kobee' is neither a benchmark record"),
+    ('controllers = ["pasive-on"]\nrecords = ["kobe"]\n', "unknown controller 'pasive-on'"),
+    ('controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid]\na = ' + str(list(range(1000)))
+     + '\nb = ' + str(list(range(1000))) + '\n', "2,000,000 cases"),
+])
+def test_names_and_the_case_count_are_checked_before_any_run(tmp_path, body, words):
+    # a misspelt record had failed after 12 runs of the others; a 9-million grid took 3.7 GB and
+    # 90 s of silence before its first run
+    toml = tmp_path / "e.toml"
+    toml.write_text(body)
+    with pytest.raises(InputError, match=words):
+        run_ensemble(EnsembleConfig.from_toml(toml), tmp_path / "e.h5", progress=False)
+    assert not journal_path(tmp_path / "e.h5").exists()
