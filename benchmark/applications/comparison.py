@@ -303,6 +303,9 @@ def parse_list(value: str | Sequence[str] | None, allowed: Sequence[str], what: 
         if item.lower() not in lookup:
             raise InputError(f"--{what}: {item!r} unknown; expected one of {', '.join(allowed)}"
                              f" or {all_words[0]}")
+        if lookup[item.lower()] in out:
+            # run once, a name given twice would count twice in the mean and max over the runs
+            raise InputError(f"--{what}: {item!r} given twice; expected each once")
         out.append(lookup[item.lower()])
     return out
 

@@ -67,6 +67,9 @@ def test_parse_list_checks_names():
     assert parse_list("B", ("a", "b"), "records") == ["b"]
     with pytest.raises(InputError, match="--records: 'c' unknown"):
         parse_list("a,c", ("a", "b"), "records")
+    # FN-x,FN-x had run twice and counted twice in the mean and max over the runs
+    with pytest.raises(InputError, match="--orientations: 'fn-x' given twice"):
+        parse_list("FN-x,fn-x", ("FN-x", "FP-x"), "orientations")
 
 
 def test_user_controller_runs_and_bad_controllers_stop_with_clear_errors(building):
