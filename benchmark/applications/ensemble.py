@@ -1070,7 +1070,13 @@ class EnsembleResults:
             if column is None:
                 raise InputError(f"no case field or parameter {name!r}; have "
                                  f"{sorted(self.cases) + sorted(self.parameters)}")
-            m &= column == value
+            match = column == value
+            if not match.any() and name != "status":
+                # a misspelt value would select nothing without a word (and a mean over nothing)
+                have = sorted({str(v) for v in np.unique(column)})
+                raise InputError(f"no case has {name} = {value!r}; the values are {', '.join(have[:20])}"
+                                 + (" ..." if len(have) > 20 else ""))
+            m &= match
         return m
 
 

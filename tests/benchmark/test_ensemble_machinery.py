@@ -306,3 +306,15 @@ def test_names_and_the_case_count_are_checked_before_any_run(tmp_path, body, wor
     with pytest.raises(InputError, match=words):
         run_ensemble(EnsembleConfig.from_toml(toml), tmp_path / "e.h5", progress=False)
     assert not journal_path(tmp_path / "e.h5").exists()
+
+
+def test_a_mask_on_a_value_no_case_has_is_refused(tmp_path):
+    # controller="passive-onn" had selected nothing without a word
+    cfg = _config(tmp_path)
+    run_ensemble(cfg, tmp_path / "m.h5", progress=False, max_cases=2)
+    res = read_ensemble(tmp_path / "m.h5")
+    name = str(res.cases["controller"][0])
+    assert res.mask(controller=name).any()
+    with pytest.raises(InputError, match=f"no case has controller = '{name}x'; the values are"):
+        res.mask(controller=name + "x")
+    assert res.mask(status="failed").sum() == 0  # a status nobody has is a count, not a typo
