@@ -38,6 +38,7 @@ from records.catalogue import ORIENTATION_ALIASES
 from benchmark.simulator.simulation import check_control_step
 from benchmark.simulator.case import DEFAULT_CONTROL_STEP, Case, ReferenceCache, run_case
 from benchmark.simulator.criteria import J_NAMES, key_json, key_lines  # the single definition table of the J's
+from benchmark.simulator.evaluation import PEAK_UNITS
 from benchmark.foundation.progress import progress_bar
 from benchmark.applications import model_comparison
 import dataclasses
@@ -175,11 +176,13 @@ class ComparisonResult:
         return list(dict.fromkeys(self._summary_key(r) for r in self.runs))
 
     def to_json(self) -> dict:
-        """``{"runs": [...], "summary": {...}, "settings": {...}, "criteria": {J1: {...}, ...}}``
+        """``{"runs": [...], "summary": {...}, "settings": {...}, "criteria": {J1: {...}, ...},
+        "peak_units": {peak: unit}}``
         (``criteria``: the key of :func:`benchmark.simulator.criteria.key_json`); with several
         dampers each run names its model under ``damper`` and ``model_differences`` is added."""
         out = {"runs": [r.to_json() for r in self.runs], "summary": self.summary(),
-               "settings": self.settings, "criteria": key_json()}
+               "settings": self.settings, "criteria": key_json(),
+               "peak_units": {k: PEAK_UNITS[k] for r in self.runs[:1] for k in r.peaks if k in PEAK_UNITS}}
         if len(self.dampers) > 1:
             out["model_differences"] = self.model_differences()
         return out
