@@ -651,9 +651,16 @@ def _open(path: str | os.PathLike):
         raise InputError(f"{path}: not an HDF5 file ({exc})") from None
     fmt = _attr(f.attrs.get("format"))
     if fmt != FORMAT_NAME:
+        # sbib's other result files: say which, and what reads them
+        other = ("an `sbib compare --out` file (one group per run under /runs, J's and peaks as "
+                 "attributes; read it with h5py)" if _attr(f.attrs.get("kind")) == "controller comparison"
+                 else "an ensemble file (read it with benchmark.applications.ensemble.read_ensemble)"
+                 if "n_cases" in f.attrs and "config" in f.attrs else None)
         f.close()
+        if other:
+            raise InputError(f"{path}: {other}; read_result reads the files of `sbib run --out`")
         raise InputError(f"{path}: attribute 'format' is {fmt!r}; expected "
-                         f"{FORMAT_NAME!r} (a file written by sbib)")
+                         f"{FORMAT_NAME!r} (a file written by sbib run)")
     return f
 
 

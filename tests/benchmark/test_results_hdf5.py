@@ -140,3 +140,17 @@ def test_single_precision_halves_the_file_and_reads_back_as_float64(tmp_path):
     with pytest.raises(InputError, match="precision 'half' unknown"):
         write_result(run, tmp_path / "bad.h5", precision="half")
     assert not (tmp_path / "bad.h5").exists()
+
+
+def test_reading_another_sbib_file_names_it(tmp_path):
+    # a compare file read back said "attribute 'format' is None; expected 'sbib-result' (a file
+    # written by sbib)", though sbib had written it
+    import h5py
+    with h5py.File(tmp_path / "cmp.h5", "w") as f:
+        f.attrs["kind"] = "controller comparison"
+    with h5py.File(tmp_path / "ens.h5", "w") as f:
+        f.attrs["n_cases"], f.attrs["config"] = 3, "controllers = ['none']"
+    with pytest.raises(InputError, match="an `sbib compare --out` file"):
+        read_result(tmp_path / "cmp.h5")
+    with pytest.raises(InputError, match="an ensemble file .*read_ensemble"):
+        read_result(tmp_path / "ens.h5")
