@@ -8,7 +8,6 @@ quality and its provenance.
 from __future__ import annotations
 
 import math
-import statistics
 from pathlib import Path
 from typing import Any, Sequence
 
@@ -74,9 +73,10 @@ def write_identified_models(result: dict, out: str | Path, inputs: Sequence[str]
     """Write one model file per model form (``normalized_model.json``, ``extended_model.json``)
     from :func:`damper.identification.measured.identify_files`'s result; return the paths.
 
-    Files at several input levels give tabulated laws through the levels (the median of each
-    parameter over the files at one level); files at one level give constant parameters (and a
-    note: nothing to command). A file without a stated level counts as 0 (V).
+    Files at several input levels give tabulated laws through the levels (at each level the one
+    model fitted over all its files, :func:`damper.identification.measured.fit_levels`; a level of
+    one file has that file's fit); files at one level give constant parameters (and a note:
+    nothing to command). A file without a stated level counts as 0 (V).
 
     Parameters
     ----------
@@ -112,7 +112,13 @@ def write_identified_models(result: dict, out: str | Path, inputs: Sequence[str]
             by_level.setdefault(level, []).append(s)
         levels = tuple(sorted(by_level))
         names = list(tests[0]["parameters"])
-        values = {k: [statistics.median(s["parameters"][k] for s in by_level[lv]) for lv in levels] for k in names}
+        # the one model per level fitted over all its tests (fit_levels), the model the run reports;
+        # a level of one test has that test's fit (the file had held the median of each parameter
+        # over the per-test fits: a set never fitted nor scored)
+        joint = {(0.0 if e["level"] is None else float(e["level"])): e
+                 for e in result.get("levels", {}).values() if e["model"] == form}
+        values = {k: [joint[lv]["parameters"][k] if lv in joint else by_level[lv][0]["parameters"][k]
+                      for lv in levels] for k in names}
         if len(levels) == 1:
             params: dict = {k: v[0] for k, v in values.items()}
         else:
@@ -126,8 +132,18 @@ def write_identified_models(result: dict, out: str | Path, inputs: Sequence[str]
                                            "bootstrap_std": s.get("bootstrap_std"),
                                            "held_out": {k: e["rel_rms_error"] for k, e in s["held_out"].items()}}
                                for s in tests},
-                   "summary": result.get("summary", {}).get(form, {})}
-        notes = [f"parameters at each {quantity} level: the median over the files at that level"
+                   "summary": result.get("summary", {}).get(form, {}),
+                   "by_level": {f"{lv:g} {unit}": ({"tests": joint[lv]["tests"], "rel_rms_error": joint[lv]["errors"],
+                                                     "mean_rel_rms_error": joint[lv]["mean_error"],
+                                                     "at_bounds": joint[lv]["at_bounds"]}
+                                                    if lv in joint else
+                                                    {"tests": [by_level[lv][0]["file"]],
+                                                     "rel_rms_error": {by_level[lv][0]["file"]:
+                                                                       by_level[lv][0]["errors"]["rel_rms_error"]},
+                                                     "at_bounds": by_level[lv][0].get("at_bounds")})
+                                for lv in levels}}
+        notes = [f"parameters at each {quantity} level: one model fitted over all the files at that level "
+                 "(errors under it in quality.by_level)"
                  + ("; PCHIP laws between the levels" if len(levels) > 1 else "")]
         if len(levels) == 1:
             notes.append(f"fitted at one {quantity} level ({levels[0]:g} {unit}): the model's force does not "

@@ -81,6 +81,30 @@ def test_one_model_file_per_form_with_laws_over_the_levels(tmp_path, capsys):
     assert mf.input.single_level and any("nothing" in n or "does not depend" in n for n in mf.notes)
 
 
+def test_the_model_file_holds_the_one_model_per_level_the_run_reports(tmp_path, capsys):
+    # with two tests at a level, the file had held the median of each parameter over the two
+    # per-test fits (a set never fitted nor scored) while the run reported the joint fit
+    from damper.io.data import write_csv
+    from damper.io.model_file import read_model_file
+    from damper.lab.laboratory import periodic_test
+    files = []
+    for v in (0.0, 1.0):
+        for k, (amplitude, frequency) in enumerate(((0.02, 1.0), (0.01, 2.0))):
+            path = tmp_path / f"virtual_{k}_{v:g}V.csv"
+            write_csv(periodic_test("virtual", amplitude, frequency, v, cycles=3, sample_rate=200.0, noise=0.01,
+                                    seed=4 + k), path)
+            files.append(str(path))
+    assert main(["identify", "--data", *files, "--model", "normalized", "--bootstrap", "0", "--no-plots",
+                 "--out", str(tmp_path / "o"), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    mf = read_model_file(data["model_files"]["normalized"])
+    for entry in data["levels"].values():
+        coefficients = mf.model.coefficients(entry["level"])
+        for name in ("kappa_w", "kappa_xdot", "rho", "n"):
+            assert coefficients[name] == pytest.approx(entry["parameters"][name], rel=1e-12), name
+        assert mf.quality["by_level"][f"{entry['level']:g} V"]["mean_rel_rms_error"] == pytest.approx(entry["mean_error"])
+
+
 def test_test_names_from_files_make_safe_unique_figures_and_failures_name_the_file(csv_file, tmp_path, capsys):
     """A test's name comes from its file's '# name:' line: it may not place a figure outside
     --out, two files with one name keep two figures, and a failing file is named by its file."""
