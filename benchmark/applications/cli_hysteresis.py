@@ -130,8 +130,10 @@ def _text_summary(fit, summary: dict, out) -> str:
             ("sigma", m.sigma, se["sigma"], ""), ("n", m.n, se["n"], "")]
     std = m.to_standard(beta=1.0)
     data = summary["data"]
-    lines = [f"hysteretic oscillator from {data['source']} ({data['fit_samples']} samples fitted "
-             f"at {data['sampling_rate_hz']:g} Hz, branch {'saturating' if m.branch > 0 else 'hardening'})"]
+    first, last = summary.get("fit_window", (0, data["fit_samples"]))
+    lines = [f"hysteretic oscillator from {data['source']} ({last - first} samples fitted, the first {first} "
+             f"of {data['fit_samples']} skipped as settling, at {data['sampling_rate_hz']:g} Hz, "
+             f"branch {'saturating' if m.branch > 0 else 'hardening'})"]
     lines += [f"  {name:<10s} {v:>14.6g} ± {s:<10.3g} {unit}" for name, v, s, unit in rows]
     lines.append(f"  standard form (beta = 1): alpha {std['alpha']:.6g} N/m, gamma {std['gamma']:.6g}, "
                  f"delta {std['delta']:.6g}, nu {std['nu']:.6g}")

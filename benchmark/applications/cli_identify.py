@@ -129,6 +129,9 @@ def _run_data(args: argparse.Namespace) -> int:
     """``sbib identify --data``: progress on stderr; a table with units, or JSON with ``--json``."""
 
     models = (args.model,) if args.model else ("normalized", "extended")
+    if args.bootstrap < 0 or args.bootstrap == 1:
+        # one refit has no spread (its standard deviation printed numpy's warnings per fit)
+        raise InputError(f"--bootstrap {args.bootstrap}: expected 0 (none) or at least 2 refits")
     out = args.out or "results/identify-data"
     # read (and screen) every file once, before any fit: a bad one stops the command with its
     # one-line error before any progress line is written

@@ -513,6 +513,10 @@ def identify_hysteretic(force: np.ndarray, displacement: np.ndarray, fs: float,
     start = hysteresis_start(u[:n_start], y[:n_start], fs, linear)
     if skip is not None and not (float(skip) >= 0 and math.isfinite(float(skip))):
         raise InputError(f"skip: expected a finite number >= 0 s, got {skip}")
+    if skip is not None and int(round(float(skip) * fs)) > u.size // 4:
+        # it had been cut to a quarter of the record without a word
+        raise InputError(f"skip: {float(skip):g} s is more than a quarter of the fitted record "
+                         f"({u.size / fs:g} s); expected at most {u.size // 4 / fs:g} s")
     n_skip = _settling_samples(linear, fs) if skip is None else int(round(float(skip) * fs))
     n_skip = min(n_skip, u.size // 4)
     window = slice(n_skip, u.size)

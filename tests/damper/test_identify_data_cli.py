@@ -124,3 +124,11 @@ def test_test_names_from_files_make_safe_unique_figures_and_failures_name_the_fi
     assert all(p.parts[0] == "out" and len(p.parts) == 2 for p in written), written
     assert len([p for p in written if p.name.startswith("fit_")]) == 2, written
     assert "short.csv [normalized]: not identified" in printed, printed
+
+
+@pytest.mark.parametrize("count", ["-1", "1"])
+def test_a_bootstrap_without_a_spread_is_refused(csv_file, capsys, count):
+    # -1 ran as '-1 bootstrap refits'; 1 printed numpy's 'Degrees of freedom <= 0' per fit
+    assert main(["identify", "--data", csv_file, "--bootstrap", count, "--no-plots"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"sbib: error: --bootstrap {count}: expected 0 (none) or at least 2 refits", err

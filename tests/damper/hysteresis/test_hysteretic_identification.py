@@ -73,6 +73,9 @@ def test_identification_input_errors():
         identify_hysteretic(u, np.zeros_like(y), hb.FS)
     with pytest.raises(InputError, match="equal length"):
         identify_hysteretic(u, y[:-1], hb.FS)
+    # a --skip past a quarter of the record had been cut to a quarter without a word
+    with pytest.raises(InputError, match="more than a quarter of the fitted record"):
+        identify_hysteretic(u, y, hb.FS, skip=0.5 * u.size / hb.FS)
 
 
 def test_data_that_are_not_an_oscillator_raise_numerical_error():
