@@ -256,12 +256,15 @@ def _run(args: argparse.Namespace) -> int:
                                  full_histories=args.full_histories)
     if args.json:
         print(json.dumps({k: summary[k] for k in ("device", "voltages", "kappa_x", "parameters", "identification_errors",
-                                                   "law_errors", "field_lag", "validation", "ceiling",
+                                                   "at_bounds", "law_errors", "field_lag", "validation", "ceiling",
                                                    "closed_loop", "claim_test", "files", "timings")}, indent=2, default=float))
     else:
         val = summary["validation"]
         print(f"identified {summary['device']} at {len(summary['voltages'])} voltages; files in "
               f"{summary['files']['parameters'].rsplit('/', 1)[0]}")
+        for model, where in (summary.get("at_bounds") or {}).items():
+            print(f"at a bound of the search ({model}; not identified by these tests): "
+                  + ", ".join(f"{v}: {names}" for v, names in where.items()))
         if val:
             print("validation in the earthquake runs (relative errors as fractions):")
             _print_tree(val["summary"], "  ")

@@ -127,7 +127,8 @@ def write_parameters_csv(rows: Sequence[dict], path) -> Path:
     buf = io.StringIO()
     buf.write("# identified parameters per model and voltage; SI units: kappa_x [N/m], kappa_xdot "
               "[N s/m], kappa_w [N], rho [1/m], sigma [-], n [-]; *_std: Jacobian standard errors; "
-              "errors over the steady cycles of the identification test\n")
+              "errors over the steady cycles of the identification test; at_bounds: the parameters the "
+              "data left at a bound of the search (not identified)\n")
     names = list(rows[0])
     buf.write(",".join(_with_unit(k) for k in names) + "\n")
     writer = csv.DictWriter(buf, fieldnames=names, lineterminator="\n")
@@ -477,6 +478,8 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         "law_errors": {m: {fam: {p: fit.rms_error for p, fit in fits.items()}
                            for fam, fits in fams.items()} for m, fams in grid.laws.items()},
         "law_notes": grid.notes,
+        # the parameters the data left at a bound, per model and voltage (parameters.csv's at_bounds)
+        "at_bounds": {},
         "large_loop_0V": {m: {"parameters": i.parameters, "rel_rms_error": i.errors["rel_rms_error"]}
                           for m, i in large.items()},
         "field_lag": {m: lf.__dict__ for m, lf in lag_fits.items()},
@@ -487,6 +490,10 @@ def run_identify_study(out, device="virtual", voltages: Sequence[float] = DEFAUL
         "files": files,
         "timings": timings,
     }
+    summary["at_bounds"] = {}
+    for row in grid.rows():
+        if row["at_bounds"]:
+            summary["at_bounds"].setdefault(row["model"], {})[f"{row['voltage']:.2f} V"] = row["at_bounds"]
     if with_free:
         g = grids["grid_free_kappa_x"]
         summary["parameters"][FREE_KX] = {f"{v:.2f} V": i.parameters

@@ -52,7 +52,7 @@ from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES, clos
 from damper.identification.cycles import average_branches, detect_cycles, steady_cycles
 from damper.identification.identify import Identification, identify
 from benchmark.foundation.pools import make_executor, run_tasks, worker_count
-from damper.identification.refine import free_parameters, refine_shared
+from damper.identification.refine import free_parameters, parameters_at_bounds, refine_shared
 from damper.models.voltage_laws import (Constant, Exponential, Polynomial, SeedKappaW, Tabulated,
                                  VoltageLaw, check_law)
 from damper.lab.laboratory import periodic_test
@@ -300,6 +300,9 @@ class VoltageGridResult:
                 row.update({f"{k}_std": ident.fit.standard_error[k] for k in PARAMETER_NAMES})
                 row.update({k: ident.errors[k] for k in ("rel_rms_error", "peak_error", "energy_error")})
                 row["rho_stroke"] = ident.summary()["rho_stroke"]
+                # a parameter the data left at its bound was not identified (the --data path says so too)
+                row["at_bounds"] = "; ".join(f"{k} {where}" for k, where in parameters_at_bounds(
+                    ident.fit.parameters, ident.fit.start, ident.fit.free).items())
                 out.append(row)
         return out
 

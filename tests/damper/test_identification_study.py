@@ -77,6 +77,9 @@ def test_voltage_grid_recovers_a_known_voltage_dependent_device():
     model = grid.models["extended"]["generic"]
     assert model.coefficients(0.5)["kappa_w"] == pytest.approx(5e4 + 4.5e5, rel=0.01)
     assert {r["model"] for r in grid.rows()} == {"extended"}
+    # a device inside the search's bounds: nothing at a bound (the column names them, as the
+    # --data path does: the virtual path had said nothing of n at its lower bound 1)
+    assert all(r["at_bounds"] == "" for r in grid.rows())
 
 
 def test_kappa_x_is_read_once_from_the_large_loop_and_held_over_the_grid():
@@ -221,3 +224,13 @@ def test_identify_study_one_run(records_dir, tmp_path):
     assert best[(0.0, "extended")] < 0.5 * best[(0.0, "normalized")]  # the elastic term at 0 V
     assert summary["ceiling"]["1 V"]["extended"]["n_motions"] == 1
     assert any(p.endswith("fig11_error_anatomy.png") for p in summary["files"]["figures"])
+
+
+def test_a_parameter_at_its_bound_is_named_in_the_rows():
+    # a device with n = 1 exactly, the normalized model's lower bound: the fit lands on it
+    from damper.identification.voltage_grid import TestProtocol, identify_voltage_grid
+    device = ExtendedBoucWen(kappa_x=0.0, kappa_xdot=Polynomial((1e5, 1e5)),
+                             kappa_w=Polynomial((5e4, 9e5)), rho=120.0, sigma=0.9, n=1.0)
+    grid = identify_voltage_grid(device, voltages=(0.0, 0.5, 1.0), models=("normalized",),
+                                 protocol=TestProtocol(cycles=3, sample_rate=500.0))
+    assert any("n lower 1" in r["at_bounds"] for r in grid.rows()), [r["at_bounds"] for r in grid.rows()]

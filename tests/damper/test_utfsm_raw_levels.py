@@ -91,7 +91,7 @@ def test_sbib_diagnose_reads_a_raw_export_as_five_currents(shared_dir, capsys):
 
 def test_sbib_identify_data_fits_each_current_of_a_raw_export(shared_dir, tmp_path, capsys):
     path = shared_dir / RAW / "ME2mm5Hz.txt"
-    assert main(["identify", "--data", str(path), "--model", "normalized", "--bootstrap", "1", "--no-plots",
+    assert main(["identify", "--data", str(path), "--model", "normalized", "--bootstrap", "0", "--no-plots",
                  "--json", "--out", str(tmp_path / "id")]) == 0
     import json
 
