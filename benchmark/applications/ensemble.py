@@ -61,7 +61,7 @@ from benchmark.foundation.atomic import atomic_path
 from benchmark.applications.ensemble_journal import Journal, JournalEntry
 from benchmark.foundation.errors import InputError, NumericalError, UserCodeError
 from benchmark.applications.ensemble_simulation import run_ensemble_case
-from benchmark.foundation.provenance import provenance
+from benchmark.foundation.provenance import provenance, sha256_of
 from benchmark.foundation.errors import DataNotFoundError
 from benchmark.foundation.paths import structure_file
 from records import BENCHMARK_RECORDS, ORIENTATIONS
@@ -526,7 +526,7 @@ def _building_file_hashes(building) -> dict:
     out = {}
     for value in building or ():
         if value and isinstance(value, str) and Path(value).is_file():
-            out[Path(value).name] = hashlib.sha256(Path(value).read_bytes()).hexdigest()
+            out[Path(value).name] = sha256_of(value)
     return out
 
 
@@ -538,7 +538,7 @@ def _input_file_hashes(config) -> dict:
         paths.append(structure_file())
     except DataNotFoundError:  # the runs will say so
         pass
-    return {str(p.resolve()): hashlib.sha256(p.read_bytes()).hexdigest() for p in paths}
+    return {str(p.resolve()): sha256_of(p) for p in paths}
 
 
 def _flatten(table: Mapping[str, Any], prefix: str = "") -> Iterable[tuple[str, Any]]:

@@ -10,7 +10,7 @@ from functools import lru_cache
 from pathlib import Path
 from benchmark import __version__
 
-__all__ = ["provenance", "file_identity", "record_command"]
+__all__ = ["provenance", "file_identity", "record_command", "sha256_of"]
 
 
 @lru_cache(maxsize=1)
@@ -88,12 +88,23 @@ def file_identity(path: str | Path) -> dict[str, str]:
         The file; a name that is not a file (a benchmark record's name, a registered model)
         gives only ``{"path": name}``.
     """
-    import hashlib
     p = Path(path).expanduser()
     if not p.is_file():
         return {"path": str(path)}
+    return {"path": str(p.resolve()), "sha256": sha256_of(p)}
+
+
+def sha256_of(path: str | Path) -> str:
+    """SHA-256 of a file's bytes (hex), read in blocks.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    """
+    import hashlib
     digest = hashlib.sha256()
-    with open(p, "rb") as fh:
+    with open(path, "rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):
             digest.update(block)
-    return {"path": str(p.resolve()), "sha256": digest.hexdigest()}
+    return digest.hexdigest()

@@ -291,7 +291,7 @@ def _fingerprint(test: DamperTest) -> bytes:
 
 
 def check_recordings(tests: Sequence[DamperTest], data: DiagnosisData,
-                     recordings: Sequence[DamperTest]) -> None:
+                     recordings: Sequence[DamperTest]) -> DiagnosisData:
     """Refuse, before any fit, other recordings (``--validate``) that cannot score the model.
 
     Parameters
@@ -302,6 +302,11 @@ def check_recordings(tests: Sequence[DamperTest], data: DiagnosisData,
         ``tests`` prepared (their coil-input levels).
     recordings : sequence of DamperTest
         The other recordings.
+
+    Returns
+    -------
+    DiagnosisData
+        ``recordings`` prepared for scoring (every sample after each one's first reversal).
 
     Raises
     ------
@@ -321,6 +326,9 @@ def check_recordings(tests: Sequence[DamperTest], data: DiagnosisData,
             raise InputError(f"--validate: {name} is also a fitted test (--data): its score would be "
                              "a training score; expected another recording of the device")
     prepared = DiagnosisData.from_tests(recordings, validate=recordings)
+    if prepared.input_name != data.input_name and prepared.input_recorded:
+        raise InputError(f"--validate: the recordings give a {prepared.input_name}, the fitted "
+                         f"tests a {data.input_name}; expected the same coil input")
     n = len(recordings)
     need = 4 * DEFAULT_BINS  # as for the held-out part of the fitted tests (diagnose)
     levels = data.levels()
@@ -341,24 +349,20 @@ def check_recordings(tests: Sequence[DamperTest], data: DiagnosisData,
                     f"are all at {float(levels[0]):.4g} {unit}: a model fitted at one {data.input_name} "
                     f"has no law of the {data.input_name} (fit tests at several levels, or validate at "
                     f"{float(levels[0]):.4g} {unit})")
+    return prepared
 
 
-def _cross_validation(tests: Sequence[DamperTest], input_name: str, before: AugmentedModel,
+def _cross_validation(prepared: DiagnosisData, before: AugmentedModel,
                       after: AugmentedModel, levels: np.ndarray | None = None) -> tuple[dict, tuple]:
-    """Errors of the base and final models on other recordings (every sample after each test's
-    first reversal; nothing of them was fitted or used to choose), and their histories.
+    """Errors of the base and final models on other recordings (``prepared`` by
+    :func:`check_recordings`: every sample after each one's first reversal; nothing of them was
+    fitted or used to choose), and their histories.
 
     Beside them, the errors with each recording's force zero re-estimated on it
     (``error_*_force_zero``, the constants in ``force_zero`` [N]): a load cell zeroed anew for each
     recording moves the whole force by a constant that no model of the device predicts (the
     LabControl UTFPR files sit at -25 to +150 N at rest; docs/diagnosis.md)."""
-    tests = list(tests)
-    prepared = DiagnosisData.from_tests(tests, validate=tests)
-    if prepared.input_name != input_name and any(
-            t.voltage is not None or t.current is not None for t in tests):
-        raise InputError(f"--validate: the recordings give a {prepared.input_name}, the fitted "
-                         f"tests a {input_name}; expected the same coil input")
-    n = len(tests)
+    n = len(prepared.motions) // 2  # prepared with validate=the recordings: each one twice
     motions, forces, masks = prepared.motions[n:], prepared.forces[n:], prepared.heldout[n:]
     sums = {"before": [0.0, 0.0], "after": [0.0, 0.0]}
     zeroed = {"before": 0.0, "after": 0.0}  # residual sums of squares with each recording's force zero re-estimated
@@ -543,8 +547,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     if model not in BASE_MODELS:
         raise InputError(f"model: expected one of {', '.join(BASE_MODELS)}, got {model!r}")
     data = DiagnosisData.from_tests(tests, holdout=holdout, validate=validate)
-    if cross_validate:
-        check_recordings(tests, data, cross_validate)
+    recordings = check_recordings(tests, data, cross_validate) if cross_validate else None
     need = 4 * DEFAULT_BINS  # the residual trace's equal-count bins (damper.diagnosis.trace)
     for masks, label in ((data.heldout, "held-out"), (data.train, "fitted")):
         count = sum(int(k.sum()) for k in masks)
@@ -634,8 +637,8 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                 "time_budget": time_budget, "stopped_by_budget": selection.stopped_by_budget,
                 "seconds": round(say.elapsed, 3)}
     validation, validation_histories = None, ()
-    if cross_validate:
-        validation, validation_histories = _cross_validation(cross_validate, data.input_name, base, final,
+    if recordings is not None:
+        validation, validation_histories = _cross_validation(recordings, base, final,
                                                              data.levels() if data.input_recorded else None)
         say(f"validation on {', '.join(validation['tests'])}: error "
             f"{validation['error_before']:.4f} -> {validation['error_after']:.4f}")

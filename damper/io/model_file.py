@@ -45,10 +45,8 @@ unchanged).
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import json
 import math
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -57,7 +55,7 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
-from benchmark.foundation.provenance import provenance as base_provenance
+from benchmark.foundation.provenance import provenance as base_provenance, sha256_of
 from benchmark.foundation.textfile import read_text
 from damper.diagnosis.augmented import BASE_MODELS, AugmentedModel
 from damper.models.base import DamperModel
@@ -386,18 +384,9 @@ def _no_nan(x):
     return x
 
 
-def sha256_of(path) -> str:
-    """SHA-256 of a file's bytes (hex)."""
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
-
-
 def file_provenance(inputs: Sequence = (), command: str | None = None, **extra) -> dict:
     """Provenance of a model file: input files with their SHA-256, the command line (default:
-    this process's ``sys.argv``), package version, commit, time, library versions, ``extra``.
+    the CLI's arguments), package version, commit, time, library versions, ``extra``.
 
     Parameters
     ----------
@@ -405,7 +394,8 @@ def file_provenance(inputs: Sequence = (), command: str | None = None, **extra) 
         Data files the model was fitted on; each is recorded with its SHA-256 (``None`` when the
         file does not exist).
     command : str, optional
-        Command line to record; default ``sbib`` followed by this process's arguments.
+        Command line to record; default the one :func:`benchmark.foundation.provenance.provenance`
+        records (``sbib`` and its arguments).
     **extra
         Further entries passed to :func:`benchmark.foundation.provenance.provenance` (e.g.
         ``kind="sbib diagnose"``).
@@ -421,7 +411,8 @@ def file_provenance(inputs: Sequence = (), command: str | None = None, **extra) 
         files.append({"path": str(p), "sha256": sha256_of(p) if p.is_file() else None})
     out: dict[str, Any] = dict(base_provenance(**extra))
     out["inputs"] = files
-    out["command"] = command if command is not None else " ".join(["sbib", *sys.argv[1:]])
+    if command is not None:  # else provenance()'s: the CLI's arguments, or this process's
+        out["command"] = command
     return out
 
 
