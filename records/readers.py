@@ -47,6 +47,9 @@ Formats
     named in ``metadata["columns"]`` when the building takes its two (``records.resolve``); a
     ``V`` beside ``H1, H2`` is the vertical.
 
+``knet``, ``esm``
+    NIED K-NET/KiK-net and ESM ASCII files, one component each (:mod:`records.station_files`).
+
 Values whose magnitude exceeds 1e8 m/s² after conversion (no unit mix-up gives that much) are
 refused as corrupt. PEER velocity (``.VT2``) and displacement (``.DT2``) files are refused, and
 Fortran fixed-width values written without a space between them (``1.2E-02-3.4E-02``) are split.
@@ -71,6 +74,14 @@ from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.file_units import QUANTITY_UNITS, si_factor, unit_key
 from benchmark.foundation.textfile import decode_text, parse_float
 from records.record import STANDARD_GRAVITY, Record
+from records.file_values import DT_RANGE, unit_factor
+from records.file_values import build_record as _record
+from records.file_values import canonical_units as _canonical
+from records.file_values import check_dt as _check_dt
+from records.file_values import parse_number as _number
+from records.file_values import read_lines as _read_lines
+from records.file_values import to_si as _to_si
+from records.station_files import is_esm, is_knet, read_esm, read_knet
 
 __all__ = [
     "FORMATS",
@@ -86,77 +97,10 @@ __all__ = [
 ]
 
 #: Format names accepted by :func:`load_record`.
-FORMATS = ("auto", "benchmark", "at2", "single", "csv")
+FORMATS = ("auto", "benchmark", "at2", "single", "csv", "knet", "esm")
 
 #: The benchmark's sampling step [s] (Narasimhan et al. 2006; every FDZ file).
 BENCHMARK_DT = 0.005
-#: Time steps a record file may state [s]: strong-motion instruments sample at 50 Hz to 10 kHz
-#: (digitised analogue records at 0.01-0.02 s); a wider margin each way, no more.
-DT_RANGE = (1e-5, 1.0)
-
-_CANONICAL_UNITS = {"g": "g", 1.0: "m/s2", 0.01: "cm/s2", 0.001: "mm/s2"}
-
-
-def unit_factor(units: str, where: str = "units") -> float:
-    """Return the factor that converts ``units`` to m/s².
-
-    Parameters
-    ----------
-    units : str
-        A name from the module docstring (``"g"``, ``"cm/s2"``, ``"gal"``, ``"m/s^2"``, ...).
-    where : str
-        What to name in the error message (a file, an option).
-
-    Raises
-    ------
-    InputError
-        If the unit is not known.
-    """
-    return si_factor("acceleration", units, where)  # the project's one table of file units
-
-
-def _canonical(units: str) -> str:
-    f = unit_factor(units)
-    return "g" if f == STANDARD_GRAVITY else _CANONICAL_UNITS[f]
-
-
-# --------------------------------------------------------------------------- low-level parsing
-def _read_lines(path: str | os.PathLike) -> tuple[Path, list[str]]:
-    path = Path(path)
-    if not path.exists():
-        raise DataNotFoundError(f"{path}: record file not found")
-    if not path.is_file():
-        raise InputError(f"{path}: not a regular file")
-    raw = path.read_bytes()
-    # binary or not UTF-8: one line naming the file and the line (benchmark.foundation.textfile)
-    text = decode_text(raw, str(path)) if raw.strip() else ""
-    if not text.replace("\ufeff", "").strip():  # a byte-order mark or a no-break space is no content
-        raise InputError(f"{path}: file is empty; expected acceleration values")
-    return path, text.splitlines()
-
-
-def _number(token: str, path: Path, lineno: int, what: str) -> float:
-    try:
-        value = parse_float(token)  # Fortran exponents (1.0D-03) too
-    except ValueError:
-        raise InputError(f"{path}:{lineno}: {token!r} is not a number; expected {what}") from None
-    if not math.isfinite(value):
-        raise InputError(f"{path}:{lineno}: {token!r} is not finite; expected {what}")
-    return value
-
-
-def _check_dt(dt: float | None, where: str) -> float:
-    try:
-        value = float(dt)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(f"{where}: time step dt = {dt!r}; expected a positive number of seconds") from None
-    if not math.isfinite(value) or value <= 0.0:
-        raise InputError(f"{where}: time step dt = {dt!r} s; expected a positive finite number of seconds")
-    if not DT_RANGE[0] <= value <= DT_RANGE[1]:
-        # 500 s would ask the simulator for millions of steps; 1e-200 s is a misread header
-        raise InputError(f"{where}: time step dt = {value:g} s; a ground-motion record is sampled every "
-                         f"{DT_RANGE[0]:g}-{DT_RANGE[1]:g} s (a step in ms given as s?)")
-    return value
 
 
 def _parse_table(lines: Sequence[str], path: Path, first_lineno: int, n_columns: int | None,
@@ -182,36 +126,6 @@ def _parse_table(lines: Sequence[str], path: Path, first_lineno: int, n_columns:
     if len(rows) < 2:
         raise InputError(f"{path}:{linenos[0]}: one data row; expected at least two samples ({what})")
     return np.asarray(rows, dtype=float), linenos
-
-
-def _to_si(values, factor: float) -> np.ndarray:
-    """``values * factor`` without numpy's overflow warning: :func:`_record` reports the
-    non-finite sample with its file and line instead."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        return np.asarray(values, dtype=np.float64) * factor
-
-
-#: Largest acceleration accepted from a file [m/s²] (about 1e7 g).
-_LARGEST_SI = 1e8
-
-
-def _record(path: Path, **fields) -> Record:
-    """Build the :class:`Record`; a value that overflows on unit conversion or any other
-    inconsistency is reported against the file (the Record alone only knows its name)."""
-    acc = np.asarray(fields["acceleration"], dtype=float)
-    # Beyond _LARGEST_SI no unit mix-up reaches (mm/s² read as g gives ~1e5 m/s²): the file is
-    # corrupt, and such values would overflow the record's measures and the integration.
-    with np.errstate(invalid="ignore"):
-        bad = ~(np.abs(acc) <= _LARGEST_SI)
-    if bad.any():
-        row = int(np.argwhere(bad)[0][0])
-        raise InputError(f"{path}: sample {row + 1} is {acc[tuple(np.argwhere(bad)[0])]:.3g} m/s² after "
-                         f"conversion; expected accelerations below {_LARGEST_SI:.0e} m/s² (no unit "
-                         "mix-up gives more: a corrupt value?)")
-    try:
-        return Record(**fields)
-    except InputError as exc:
-        raise InputError(f"{path}: {exc}") from None
 
 
 # --------------------------------------------------------------------------- benchmark format
@@ -974,7 +888,8 @@ def _first_column_is_time(rows: Sequence[str], stated_dt: float | None = None) -
 
 
 def detect_format(path: str | os.PathLike) -> str:
-    """Guess a file's format from its name and first lines (``benchmark``, ``at2``, ``single`` or ``csv``).
+    """Guess a file's format from its name and first lines (``benchmark``, ``at2``, ``single``,
+    ``csv``, ``knet`` or ``esm``).
 
     Parameters
     ----------
@@ -983,7 +898,8 @@ def detect_format(path: str | os.PathLike) -> str:
 
     Notes
     -----
-    Rules, in order: suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
+    Rules, in order: a K-NET/KiK-net header (``Origin Time`` ... ``Scale Factor``) → knet, an ESM
+    header (``EVENT_NAME:``, ``SAMPLING_INTERVAL_S:``) → esm (:mod:`records.station_files`); suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
     lines or a first line starting with ``PEER`` → at2; a first line starting with ``%`` →
     benchmark, unless the first column is time (below; where the ``%`` lines state a step, only
     a first column that steps by it); a comma or semicolon in the first
@@ -994,6 +910,10 @@ def detect_format(path: str | os.PathLike) -> str:
     """
     path, lines = _read_lines(path)
     suffix = path.suffix.lower()
+    if is_knet(lines):
+        return "knet"
+    if is_esm(lines):
+        return "esm"
     if suffix == ".at2":
         return "at2"
     if suffix == ".csv":
@@ -1004,8 +924,6 @@ def detect_format(path: str | os.PathLike) -> str:
     nonblank = [line.strip() for line in lines if line.strip()]
     rows = [line for line in nonblank if not line.startswith(("#", "%"))]
     data = rows[:50]
-    # the benchmark's '%' header states the step ("dt=0.005 sec"): its two columns are accelerations
-    # whatever they do; a '%' header without a step over a time column is a CSV with comments
     # the benchmark's '%' header states the step ("dt=0.005 sec"): its two columns are accelerations
     # whatever they do, unless the first steps by that dt (a time column under a stated step); a
     # '%' header without a step over a time column is a CSV with comments
@@ -1039,8 +957,9 @@ def load_record(path: str | os.PathLike, format: str = "auto", dt: float | None 
     ----------
     path : path-like
         The file.
-    format : {"auto", "benchmark", "at2", "single", "csv"}
-        File format; ``"auto"`` uses :func:`detect_format`.
+    format : {"auto", "benchmark", "at2", "single", "csv", "knet", "esm"}
+        File format; ``"auto"`` uses :func:`detect_format`. ``knet`` (NIED K-NET/KiK-net ASCII)
+        and ``esm`` (ESM ASCII) are read by :mod:`records.station_files`, one component each.
     dt : float, optional
         Time step [s]: required for ``single``; for the other formats it must agree with the file.
     units : str, optional
@@ -1073,5 +992,12 @@ def load_record(path: str | os.PathLike, format: str = "auto", dt: float | None 
         return record
     if fmt == "single":
         return read_single_column(path, dt=dt, units=units, name=name)
+    if fmt in ("knet", "esm"):
+        if fmt == "knet" and units is not None:
+            raise InputError(f"{path}: --units does not apply to a K-NET/KiK-net file (counts, scaled by its header)")
+        record = read_knet(path, name=name) if fmt == "knet" else read_esm(path, units=units, name=name)
+        if dt is not None and not math.isclose(_check_dt(dt, f"{path}: dt argument"), record.dt, rel_tol=1e-6):
+            raise InputError(f"{path}: dt = {dt} s given but the header says {record.dt:g} s")
+        return record
     return read_csv(path, units=units, dt=dt, name=name)
 

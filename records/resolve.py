@@ -28,19 +28,37 @@ from records.record import Record, units_assumed
 from records.catalogue import canonical_name, canonical_orientation, load_benchmark_record
 from records.checks import check_record
 from records.readers import load_record
+from records.station_files import STATION_SUFFIXES
 from records.baseline import baseline_correct as _correct
 from records.synthetic import benchmark_like
 from records.catalogue import BENCHMARK_RECORDS
 
-__all__ = ["resolve_record", "looks_like_file", "units_assumed", "RECORD_SUFFIXES"]
+__all__ = ["resolve_record", "looks_like_file", "record_files", "join_components", "units_assumed",
+           "RECORD_SUFFIXES", "PAIR_SEPARATOR"]
 
 #: File suffixes that make a ``--record`` value a path even when the file does not exist.
-RECORD_SUFFIXES = frozenset({".txt", ".at2", ".csv", ".dat", ".acc", ".tsv"})
+RECORD_SUFFIXES = frozenset({".txt", ".at2", ".csv", ".dat", ".acc", ".tsv"}) | STATION_SUFFIXES
+
+#: Joins two one-component files into one record, the first on x: ``RSN1_H1.AT2+RSN1_H2.AT2``,
+#: ``MYG0041103111446.EW+MYG0041103111446.NS`` (PEER, K-NET and ESM give each component in its
+#: own file).
+PAIR_SEPARATOR = "+"
+
+
+def _pair(text: str) -> list[str] | None:
+    """The two files of a pair spec, or None (a file whose own name holds a ``+`` is a file)."""
+    if PAIR_SEPARATOR not in text or Path(text).expanduser().exists():
+        return None
+    parts = [p.strip() for p in text.split(PAIR_SEPARATOR)]
+    if len(parts) != 2 or not all(parts):
+        raise InputError(f"record {text!r}: a pair of component files is written FILE_X{PAIR_SEPARATOR}FILE_Y "
+                         "(two files, the first on x)")
+    return parts
 
 
 def looks_like_file(spec: str | os.PathLike) -> bool:
-    """True when ``spec`` names a file rather than a benchmark record (it exists, has a
-    directory part or a record suffix such as ``.AT2``).
+    """True when ``spec`` names a file (or a pair of files, ``X+Y``) rather than a benchmark
+    record (it exists, has a directory part or a record suffix such as ``.AT2``).
 
     Parameters
     ----------
@@ -49,7 +67,80 @@ def looks_like_file(spec: str | os.PathLike) -> bool:
     """
     text = str(spec)
     path = Path(text).expanduser()
-    return path.exists() or "/" in text or "\\" in text or path.suffix.lower() in RECORD_SUFFIXES
+    if path.exists():
+        return True
+    if PAIR_SEPARATOR in text:
+        return any(looks_like_file(part.strip()) for part in text.split(PAIR_SEPARATOR) if part.strip())
+    return "/" in text or "\\" in text or path.suffix.lower() in RECORD_SUFFIXES
+
+
+def record_files(spec: str | os.PathLike) -> list[Path]:
+    """The files a record spec reads: none for a benchmark name, one for a file, two for a pair.
+
+    Parameters
+    ----------
+    spec : str | os.PathLike
+        As given to :func:`resolve_record`.
+    """
+    text = str(spec)
+    if not looks_like_file(text):
+        return []
+    return [Path(p).expanduser() for p in (_pair(text) or [text])]
+
+
+def join_components(x: Record, y: Record) -> Record:
+    """One two-component record from two one-component records (``x`` on x for ``FN-x``).
+
+    Parameters
+    ----------
+    x, y : Record
+        One component each, sampled at the same step. A shorter one is padded with zeros at its
+        end (PEER's two components often differ by a few samples), which ``metadata["columns"]``
+        says; records from different stations are joined and named so there.
+
+    Raises
+    ------
+    InputError
+        A record with more than one component, different steps, both the same direction, or two
+        different start times stated by their files.
+    """
+    for rec in (x, y):
+        if rec.n_components != 1:
+            raise InputError(f"{rec.source}: holds {rec.n_components} components; a pair joins one-component "
+                             "files (give a two-column file on its own)")
+    if not abs(x.dt - y.dt) <= 1e-6 * x.dt:
+        raise InputError(f"{x.source} is sampled every {x.dt:g} s, {y.source} every {y.dt:g} s; resample one "
+                         f"(sbib records resample FILE --step {x.dt:g}) before joining them")
+    if x.labels[0].strip().upper() == y.labels[0].strip().upper() and x.labels[0] not in ("component 1",):
+        raise InputError(f"{x.source} and {y.source} are both component {x.labels[0]!r}; a pair takes the two "
+                         "horizontal directions")
+    starts = [r.metadata.get("record_time") or r.metadata.get("first_sample") for r in (x, y)]
+    if all(starts) and starts[0] != starts[1]:
+        raise InputError(f"{x.source} starts at {starts[0]} and {y.source} at {starts[1]}; the components of a "
+                         "pair must start together")
+    n = max(x.n_samples, y.n_samples)
+    acc = np.zeros((n, 2))
+    acc[:x.n_samples, 0] = np.asarray(x.acceleration)[:, 0]
+    acc[:y.n_samples, 1] = np.asarray(y.acceleration)[:, 0]
+    notes = [f"x: {x.labels[0]} from {Path(x.source).name}", f"y: {y.labels[0]} from {Path(y.source).name}"]
+    for rec in (x, y):
+        if rec.n_samples < n:
+            notes.append(f"{Path(rec.source).name} is {n - rec.n_samples} samples shorter, padded with zeros at its end")
+    stations = [r.metadata.get("station") for r in (x, y)]
+    if all(stations) and stations[0] != stations[1]:
+        notes.append(f"components from two stations ({stations[0]}, {stations[1]})")
+    same = all(stations) and stations[0] == stations[1]
+    units = [units_assumed(r) for r in (x, y)]
+    meta = {"format": "+".join(str(r.metadata.get("format", "?")) for r in (x, y)), "columns": "; ".join(notes),
+            "source_files": [x.source, y.source],
+            "units_in_file": x.metadata.get("units_in_file") if units[0] == units[1] else None,
+            "units_assumed": units[0] if units[0] == units[1] else f"x: {units[0]}; y: {units[1]}"}
+    for key in ("event", "origin", "event_name", "station", "record_time", "first_sample", "magnitude"):
+        if x.metadata.get(key) and (key != "station" or same):
+            meta[key] = x.metadata[key]
+    name = str(stations[0]) if same else f"{x.name}{PAIR_SEPARATOR}{y.name}"
+    return Record(name=name, dt=x.dt, acceleration=acc, labels=(x.labels[0], y.labels[0]),
+                  source=f"{x.source} {PAIR_SEPARATOR} {y.source}", metadata=meta)
 
 
 def _orient_file_record(record: Record, orientation: str) -> Record:
@@ -142,11 +233,13 @@ def resolve_record(spec: str | os.PathLike, orientation: str = "FN-x", records_d
         if synthetic:
             raise InputError(f"--synthetic needs a benchmark record name, got the file {text!r}")
 
-        path = Path(text).expanduser()
-        if not path.is_file():
-            raise DataNotFoundError(f"record {text}: file not found" if not path.exists()
-                                    else f"record {text}: not a regular file")
-        record = load_record(path, format=format or "auto", dt=dt, units=units)
+        parts = []
+        for path in record_files(text):
+            if not path.is_file():
+                raise DataNotFoundError(f"record {path}: file not found" if not path.exists()
+                                        else f"record {path}: not a regular file")
+            parts.append(load_record(path, format=format or "auto", dt=dt, units=units))
+        record = join_components(*parts) if len(parts) == 2 else parts[0]
         meta = dict(record.metadata)
         meta["flaws"] = [f.message for f in check_record(record)]
         record = _orient_file_record(record.replace(metadata=meta), orientation)

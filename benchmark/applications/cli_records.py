@@ -184,7 +184,7 @@ def _show(args: argparse.Namespace) -> int:
         flaws = [f.message for f in check_record(record)]
     summary["flaws"] = list(flaws)
     for key in ("event", "station", "orientation", "x_file_column", "baseline_correction", "units_in_file",
-                "recorded_comparison", "columns"):
+                "recorded_comparison", "columns", "source_files"):
         if key in record.metadata:
             summary[key] = record.metadata[key]
     if args.plot:
@@ -215,6 +215,8 @@ def _format_summary(s: dict[str, Any]) -> str:
     if s.get("orientation"):
         column = s.get("x_file_column", 1)
         where = f"x = file column {column}" if column is not None else "its one component on y"
+        if s.get("source_files"):  # a pair of one-component files: x is a file, not a column
+            where = f"x = {Path(s['source_files'][column - 1]).name}"
         extra.append(f"orientation {s['orientation']} ({where})")
     lines = [head + (" — " + "; ".join(extra) if extra else ""), f"source: {s['source']}"]
     lines.append(f"dt {s['dt_s']:g} s, {s['n_samples']} samples, duration {s['duration_s']:.3f} s"

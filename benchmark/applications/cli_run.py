@@ -98,12 +98,16 @@ def _clean(d: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def _input_files(record_source: str, controller: str, structure_source: str, damper: dict) -> dict:
+def _input_files(record_source: str | list, controller: str, structure_source: str, damper: dict) -> dict:
     """Each input file of a run by absolute path and SHA-256 (:func:`file_identity`): the record,
     a user's controller file (``file.py:Class``), the structure file and the damper model files;
-    a name that is not a file (a benchmark record, a registered controller) by its name."""
+    a name that is not a file (a benchmark record, a registered controller) by its name. A pair of
+    component files (``record_source`` a list of two) gives both, under ``record["files"]``."""
     head = controller.rsplit(":", 1)[0] if ":" in controller else ""
-    return {"record": file_identity(record_source) if record_source else {},
+    files = [file_identity(f) for f in record_source] if isinstance(record_source, list) else []
+    record = ({"path": " + ".join(f["path"] for f in files), "files": files} if len(files) > 1
+              else files[0] if files else file_identity(record_source) if record_source else {})
+    return {"record": record,
             "controller": file_identity(head) if head.endswith(".py") else {"path": controller},
             "structure": file_identity(structure_source) if structure_source else {},
             "dampers": [file_identity(d["path"]) for d in damper.get("dampers", []) if d.get("path")]}
@@ -251,7 +255,9 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
             lean = {"bearing_force": None, "bearing_state": None, "state": None, "measurements": None}
             stored = dataclasses.replace(result, **lean)
             stored_ref = stored if reference is result else dataclasses.replace(reference, **lean)
-        inputs = _input_files(getattr(rec, "source", ""), controller, sup.source, summary["damper"])
+        files = rec.metadata.get("source_files")
+        inputs = _input_files(list(files) if files else getattr(rec, "source", ""), controller, sup.source,
+                              summary["damper"])
         write_result(stored, out, reference=None if stored is stored_ref else stored_ref, evaluation=J,
                      isolation=layer, record_source=inputs["record"].get("path", ""),
                      record_units=summary["units_assumed"], inputs=json.dumps(inputs),

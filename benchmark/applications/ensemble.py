@@ -66,7 +66,7 @@ from benchmark.foundation.errors import DataNotFoundError
 from benchmark.foundation.paths import structure_file
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from records.catalogue import ORIENTATION_ALIASES, canonical_name
-from records.resolve import looks_like_file
+from records.resolve import looks_like_file, record_files
 from controllers.registry import controller_names
 from benchmark.foundation.textfile import read_text
 from benchmark.simulator.criteria import CRITERIA
@@ -533,7 +533,7 @@ def _building_file_hashes(building) -> dict:
 def _input_file_hashes(config) -> dict:
     """``{absolute path: SHA-256}`` of the record files an ensemble names and of the structure
     file its runs read (``--structure`` / ``SBIB_STRUCTURE``, else the benchmark's)."""
-    paths = [Path(r) for r in config.records if isinstance(r, str) and Path(r).is_file()]
+    paths = [p for r in config.records if isinstance(r, str) for p in record_files(r) if p.is_file()]
     try:
         paths.append(structure_file())
     except DataNotFoundError:  # the runs will say so
