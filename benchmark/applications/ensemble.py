@@ -60,7 +60,7 @@ import numpy as np
 from benchmark.foundation.atomic import atomic_path
 from benchmark.applications.ensemble_journal import Journal, JournalEntry
 from benchmark.foundation.errors import InputError, NumericalError, UserCodeError
-from benchmark.applications.ensemble_simulation import run_ensemble_case
+from benchmark.applications.ensemble_simulation import check_grid_values, run_ensemble_case
 from benchmark.foundation.provenance import provenance, sha256_of
 from benchmark.foundation.errors import DataNotFoundError
 from benchmark.foundation.paths import structure_file
@@ -393,6 +393,10 @@ class EnsembleConfig:
                      building=_building_fields(data, source))
         if run in ("simulation", "peaks"):
             _check_simulated_names(records, controllers, source)
+            try:
+                check_grid_values(config.grid, config.building)
+            except InputError as exc:
+                raise InputError(f"{source}: {exc}") from None
         return config
 
     # -- expansion -------------------------------------------------------------------------------

@@ -38,13 +38,15 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.building import Building
 from benchmark.simulator.case import Case, run_case
+from benchmark.simulator.isolation.configurations import check_substep_tolerance
+from benchmark.simulator.simulation import check_control_step
 from controllers.registry import get_controller
 from records.resolve import resolve_record
 from benchmark.simulator.isolation.configurations import BearingGroup
 from benchmark.simulator.devices import DeviceLayout, DeviceSlot
 from benchmark.applications.damper_choice import resolve_damper, resolve_layout
 
-__all__ = ["run_ensemble_case", "load_motion", "build_building", "SIMULATION_PARAMETERS"]
+__all__ = ["run_ensemble_case", "load_motion", "build_building", "check_grid_values", "SIMULATION_PARAMETERS"]
 
 #: Plain grid parameters (besides ``isolation.<field>`` and ``device.<field>``).
 SIMULATION_PARAMETERS = ("control_step", "n_modes", "substep_tolerance")
@@ -129,6 +131,52 @@ def build_building(n_modes: int | None, isolation: tuple, devices: tuple, damper
     return building
 
 
+def _n_modes(value: float | None) -> int | None:
+    if value is None:
+        return None
+    if value != int(value) or value < 1:
+        raise InputError(f"grid parameter n_modes = {value!r}: expected a positive integer")
+    return int(value)
+
+
+def check_grid_values(grid: tuple[tuple[str, tuple[float, ...]], ...], damper: tuple = ()) -> None:
+    """Refuse, before any run, a grid value the simulation would refuse when its case runs.
+
+    Each value of each parameter is checked on its own, against the building it changes (built,
+    not run: the models' own parameter checks apply): an unknown name, ``n_modes`` that is not a
+    whole number of modes, a control step or sub-step tolerance out of range, a bearing or damper
+    field outside its admissible values. A bad value had stopped an ensemble only when its case
+    came up, after the runs before it.
+
+    Parameters
+    ----------
+    grid : tuple of (str, tuple of float)
+        The ensemble's grid (:attr:`benchmark.applications.ensemble.EnsembleConfig.grid`).
+    damper : tuple
+        The config's ``(damper, devices, damper_scale)`` (empty for the defaults).
+
+    Raises
+    ------
+    InputError
+        Naming the parameter and the value.
+    """
+    for name, values in grid:
+        for value in values:
+            try:
+                plain, isolation, devices = _split(((name, value),))
+                n_modes = _n_modes(plain.get("n_modes"))
+                if "control_step" in plain:
+                    check_control_step(plain["control_step"])
+                if "substep_tolerance" in plain:
+                    check_substep_tolerance(plain["substep_tolerance"])
+                if n_modes is not None or isolation or devices:
+                    build_building(n_modes, isolation, devices, tuple(damper))
+            except InputError as exc:
+                text = str(exc)
+                raise InputError(text if text.startswith("grid parameter") else
+                                 f"grid parameter {name} = {value!r}: {text}") from None
+
+
 def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:
     """Simulate one ensemble case and evaluate it (see the module docstring).
 
@@ -154,11 +202,7 @@ def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, fl
     """
 
     plain, isolation, devices = _split(case.parameters)
-    n_modes = plain.get("n_modes")
-    if n_modes is not None:
-        if n_modes != int(n_modes) or n_modes < 1:
-            raise InputError(f"grid parameter n_modes = {n_modes!r}: expected a positive integer")
-        n_modes = int(n_modes)
+    n_modes = _n_modes(plain.get("n_modes"))
     substep = plain.get("substep_tolerance")
     kwargs: dict[str, Any] = {"bearing_histories": False, "seed": int(case.seed) % (2 ** 32)}
     if "control_step" in plain:

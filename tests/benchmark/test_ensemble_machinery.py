@@ -103,7 +103,8 @@ def test_config_syntax_error_and_missing_file(tmp_path):
 
 
 def test_nested_grid_tables_flatten(tmp_path):
-    cfg = _config(tmp_path, 'controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid.damper]\nkappa_w = [1.0, 2.0]\n')
+    cfg = _config(tmp_path, 'run = "probe"\ncontrollers = ["passive-on"]\nrecords = ["kobe"]\n[grid.damper]\n'
+                            'kappa_w = [1.0, 2.0]\n')
     assert cfg.parameter_names == ("damper.kappa_w",)
     assert {c.parameter_dict["damper.kappa_w"] for c in cfg.cases()} == {1.0, 2.0}
 
@@ -295,8 +296,16 @@ def test_a_user_run_function_failing_on_a_case_fails_that_case(tmp_path):
 @pytest.mark.parametrize("body, words", [
     ('controllers = ["passive-on"]\nrecords = ["kobe", "kobee"]\n', "'kobee' is neither a benchmark record"),
     ('controllers = ["pasive-on"]\nrecords = ["kobe"]\n', "unknown controller 'pasive-on'"),
-    ('controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid]\na = ' + str(list(range(1000)))
-     + '\nb = ' + str(list(range(1000))) + '\n', "2,000,000 cases"),
+    ('controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid]\n"probe.a" = ' + str(list(range(1000)))
+     + '\n"probe.b" = ' + str(list(range(1000))) + '\n', "2,000,000 cases"),
+    # a grid value the simulation refuses had stopped the ensemble only when its case came up
+    ('controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid]\n"isolation.mu_max" = [0.1, -0.1]\n',
+     r"grid parameter isolation.mu_max = -0.1: FrictionPendulumBearing.mu_max = -0.1: expected in \[0.0, 1.0\)"),
+    ('controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid]\n"device.eta" = [0.0]\n', "device.eta = 0.0"),
+    ('controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid]\nn_modes = [3, 2.5]\n', "n_modes = 2.5"),
+    ('controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid]\ncontrol_step = [0.005, 1e-6]\n',
+     "control_step = 1e-06"),
+    ('controllers = ["passive-on"]\nrecords = ["kobe"]\n[grid]\nn_mode = [3]\n', "'n_mode' unknown to the simulation"),
 ])
 def test_names_and_the_case_count_are_checked_before_any_run(tmp_path, body, words):
     # a misspelt record had failed after 12 runs of the others; a 9-million grid took 3.7 GB and
