@@ -39,7 +39,7 @@ from benchmark.foundation.errors import InputError, SbibError
 from benchmark.simulator.devices import (DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout, DeviceSlot,
                                          default_damper_model)
 from damper.models.base import DamperModel
-from damper.io.model_file import (CAPACITY_TEST, SWITCHINGS_PER_CYCLE, InputSpec, as_range, ModelFile, capacity_force, dropped_share,
+from damper.io.model_file import (CAPACITY_TEST, SWITCHINGS_PER_CYCLE, InputSpec, command_ends, as_range, ModelFile, capacity_force, dropped_share,
                                   looks_like_model_file,
                                read_model_file)
 from damper.models.registry import MODELS, get_model_class
@@ -242,13 +242,16 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
     if dropped:
         share = dropped_share(source.augmented(), model)
         names = ", ".join(line.split(" (", 1)[0] for line in dropped)  # "name (parameter ...): ..."
-        line = (f"{label}: the building runs it without {names}, {100 * share:.0f} % of its force (RMS "
+        low, high = command_ends(model.voltage_range)
+        amount = ("a share of its force that could not be measured (the model fails numerically on the "
+                  "test cycle)" if math.isnan(share) else f"{100 * share:.0f} % of its force")
+        line = (f"{label}: the building runs it without {names}, {amount} (RMS "
                 f"over a ±{CAPACITY_TEST['amplitude_m']:g} m, {CAPACITY_TEST['frequency_hz']:g} Hz cycle at "
-                f"{spec_in.range[1]:g} {spec_in.unit}, or with the command switching between "
-                f"{spec_in.range[0]:g} and {spec_in.range[1]:g} {spec_in.unit} {SWITCHINGS_PER_CYCLE} times "
+                f"{high:g} {spec_in.unit}, or with the command switching between "
+                f"{low:g} and {high:g} {spec_in.unit} {SWITCHINGS_PER_CYCLE} times "
                 "a cycle: the larger)")
-        notes.append(f"warning: {line}: its results are not the fitted device's" if share >= DROPPED_WARNING
-                     else line)
+        notes.append(f"warning: {line}: its results are not the fitted device's"
+                     if math.isnan(share) or share >= DROPPED_WARNING else line)
     # the device's size against the benchmark damper's: a file run as fitted, or after a scale
     cap = None
     if how is not None:

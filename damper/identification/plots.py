@@ -34,6 +34,10 @@ from benchmark.foundation.figures import display_envelope, fixed_layout, save_fi
 from benchmark.foundation.display_units import display_unit, parameter_kind, to_display  # noqa: E402
 from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
 from damper.lab.plots import draw_loops  # noqa: E402
+from damper.identification.voltage_grid import inadmissible  # noqa: E402
+
+#: The admissible class's lower bounds drawn where a seed law crosses them (sigma >= 1/2, n >= 1).
+_ADMISSIBLE_LOWER = {"sigma": 0.5, "n": 1.0}
 
 __all__ = ["plot_identified_loops", "plot_inclination", "plot_elastic_removed", "plot_test_signals",
            "plot_parameters_vs_voltage", "plot_force_errors", "plot_fit", "plot_parameters_vs_level",
@@ -193,10 +197,18 @@ def plot_parameters_vs_voltage(grid, path, comparison=None) -> Path:
             ax.errorbar(v, vals, yerr=errs, fmt="o", color=c, ms=4, capsize=2, label=f"{m}")
             laws = grid.laws[m]
             if name in laws["seed"]:
-                ax.plot(vf, laws["seed"][name].law(vf) * scale, "-", color=c, lw=1.2,
-                        label=f"seed law (rms {100 * laws['seed'][name].rms_error:.1f} %)")
-                ax.plot(vf, laws["generic"][name].law(vf) * scale, ":", color=c, lw=1.2,
-                        label=f"PCHIP (LOO {100 * laws['generic'][name].rms_error:.1f} %)")
+                # a seed law leaving the admissible class (n < 1 near 0 V) is not the one the
+                # models use (voltage_model falls back to PCHIP): draw it so, and say which is used
+                why = inadmissible(name, laws["seed"][name].law, (float(v.min()), float(v.max())))
+                ax.plot(vf, laws["seed"][name].law(vf) * scale, "-" if why is None else "--",
+                        color=c if why is None else "0.6", lw=1.2,
+                        label=f"seed law (rms {100 * laws['seed'][name].rms_error:.1f} %)"
+                              + ("" if why is None else "; leaves the admissible class, not used"))
+                ax.plot(vf, laws["generic"][name].law(vf) * scale, ":" if why is None else "-", color=c, lw=1.2,
+                        label=f"PCHIP (LOO {100 * laws['generic'][name].rms_error:.1f} %)"
+                              + ("" if why is None else "; used"))
+                if why is not None and name in _ADMISSIBLE_LOWER:
+                    ax.axhline(_ADMISSIBLE_LOWER[name] * scale, color="0.6", lw=0.8, ls=":")
         if comparison is not None:
             for m in comparison.identifications:
                 if name == "kappa_x" and m == "normalized":

@@ -58,7 +58,7 @@ from damper.models.voltage_laws import (Constant, Exponential, Polynomial, SeedK
 from damper.lab.laboratory import periodic_test
 
 __all__ = ["TestProtocol", "LawFit", "VoltageGridResult", "KappaXEstimate", "identify_voltage_grid",
-           "estimate_kappa_x", "fit_voltage_laws", "voltage_model", "DEFAULT_VOLTAGES",
+           "estimate_kappa_x", "fit_voltage_laws", "voltage_model", "inadmissible", "DEFAULT_VOLTAGES",
            "LARGE_LOOP_PROTOCOL", "KAPPA_X_MODES"]
 
 #: The seed paper's grid (Table 1): 0, 0.1, ..., 1 V.
@@ -405,6 +405,27 @@ _ADMISSIBLE = {"kappa_x": (0.0, False), "kappa_xdot": (0.0, True), "kappa_w": (0
                "rho": (0.0, True), "sigma": (0.5, False), "n": (1.0, False)}
 
 
+def inadmissible(name: str, law: VoltageLaw, voltage_range: tuple[float, float] = (0.0, 1.0)) -> str | None:
+    """Why ``law`` for parameter ``name`` leaves the admissible class over ``voltage_range``
+    (for example ``n < 1`` near 0 V), or None when it stays inside.
+
+    Parameters
+    ----------
+    name : str
+        A Bouc-Wen parameter (:data:`damper.identification.closed_form.PARAMETER_NAMES`).
+    law : VoltageLaw
+        Its law of the coil input.
+    voltage_range : tuple[float, float], optional
+        The coil inputs over which it must hold [V] (or [A]).
+    """
+    lower, strict = _ADMISSIBLE[name]
+    try:
+        check_law(law, name, voltage_range, lower=lower, strict=strict)
+    except ParameterError as exc:
+        return str(exc)
+    return None
+
+
 def voltage_model(model: str, laws: dict[str, LawFit], fallback: dict[str, LawFit] | None = None,
                   notes: list | None = None, voltage_range: tuple[float, float] = (0.0, 1.0)):
     """The voltage-dependent :class:`ExtendedBoucWen`/:class:`NormalizedBoucWen` from fitted laws.
@@ -430,16 +451,14 @@ def voltage_model(model: str, laws: dict[str, LawFit], fallback: dict[str, LawFi
     chosen = {}
     for k in names:
         law = laws[k].law
-        lower, strict = _ADMISSIBLE[k]
-        try:
-            check_law(law, k, voltage_range, lower=lower, strict=strict)
-        except ParameterError as exc:
+        why = inadmissible(k, law, voltage_range)
+        if why is not None:
             if fallback is None:
-                raise
+                raise ParameterError(why)
             law = fallback[k].law
             if notes is not None:
                 notes.append(f"{model}: the {laws[k].family} law for {k} leaves the admissible class "
-                             f"({exc}); the {fallback[k].family} law is used for it")
+                             f"({why}); the {fallback[k].family} law is used for it")
         chosen[k] = law
     cls = ExtendedBoucWen if model == "extended" else NormalizedBoucWen
     return cls(*(chosen[k] for k in names), voltage_range=voltage_range)

@@ -54,7 +54,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
-from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
+from benchmark.foundation.errors import DataNotFoundError, InputError, NumericalError, ParameterError
 from benchmark.foundation.provenance import provenance as base_provenance, sha256_of
 from benchmark.foundation.textfile import read_text
 from damper.diagnosis.augmented import BASE_MODELS, AugmentedModel
@@ -71,7 +71,7 @@ from damper.models.voltage_laws import (Constant, Exponential, Polynomial, Satur
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "ModelFile", "InputSpec", "read_model_file", "write_model_file",
            "parameter_unit", "file_provenance", "OSCILLATOR_MODEL", "LAW_FIELDS", "looks_like_model_file",
-           "capacity_force", "dropped_share", "CAPACITY_TEST", "SWITCHINGS_PER_CYCLE", "as_range", "load_json"]
+           "capacity_force", "dropped_share", "command_ends", "CAPACITY_TEST", "SWITCHINGS_PER_CYCLE", "as_range", "load_json"]
 
 FORMAT = "sbib-damper-model"
 FORMAT_VERSION = 1
@@ -772,17 +772,31 @@ def _read_legacy_oscillator(doc: dict, where: str) -> ModelFile:
 SWITCHINGS_PER_CYCLE = 8
 
 
+def command_ends(voltage_range: Sequence[float]) -> tuple[float, float]:
+    """The lowest and highest input a building's controller commands for a model of this input
+    range: ``[max(lo, 0), hi]`` (controllers command ``u`` in ``[0, hi]``,
+    :mod:`benchmark.applications.damper_choice`). A range fitted to a rig's command that went
+    negative (the Dyke recording's -0.44 V) is not driven there in the building.
+
+    Parameters
+    ----------
+    voltage_range : sequence of two floats
+        The model's input range ``(lo, hi)`` [V] or [A].
+    """
+    lo, hi = (float(v) for v in voltage_range)
+    return max(lo, 0.0), hi
+
+
 def _capacity_cycle(model, test: dict | None = None, switching: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Force [N] of ``model`` (registered or augmented) over the last cycle of the capacity test,
     at the top input, or with ``switching`` under a command that switches between the ends of
-    the input range :data:`SWITCHINGS_PER_CYCLE` times a cycle."""
+    the commands a controller gives (:func:`command_ends`) :data:`SWITCHINGS_PER_CYCLE` times a cycle."""
     test = dict(CAPACITY_TEST if test is None else test)
     f, a, cycles = test["frequency_hz"], test["amplitude_m"], test["cycles"]
     t = np.linspace(0.0, cycles / f, int(cycles * 400) + 1)
     w = 2 * np.pi * f
     x, xd, xdd = a * np.sin(w * t), w * a * np.cos(w * t), -w * w * a * np.sin(w * t)
-    lo, top = (float(v) for v in (model.base.voltage_range if isinstance(model, AugmentedModel)
-                                  else model.voltage_range))
+    lo, top = command_ends(model.base.voltage_range if isinstance(model, AugmentedModel) else model.voltage_range)
     v = np.where(np.sin(0.5 * SWITCHINGS_PER_CYCLE * w * t) >= 0.0, top, lo) if switching else top
     force = (model.simulate(t, x, xd, xdd, v).force if isinstance(model, AugmentedModel)
              else simulate(model, t, x, xd, v).force)
@@ -807,11 +821,16 @@ def dropped_share(full, building) -> float:
     """
     shares = []
     for switching in (False, True):
-        _, f_full = _capacity_cycle(full, switching=switching)
-        _, f_run = _capacity_cycle(building, switching=switching)
+        try:
+            _, f_full = _capacity_cycle(full, switching=switching)
+            _, f_run = _capacity_cycle(building, switching=switching)
+        except NumericalError:
+            # a measure, not the run: a model failing on this cycle must not stop the building
+            # (the run itself reports a failure at its own motion); the other measure stands
+            continue
         den = float(np.sqrt(np.mean(f_full ** 2)))
         shares.append(float(np.sqrt(np.mean((f_full - f_run) ** 2)) / den) if den > 0 else 0.0)
-    return max(shares)
+    return max(shares) if shares else math.nan
 
 
 def capacity_force(model: DamperModel, test: dict | None = None) -> float:

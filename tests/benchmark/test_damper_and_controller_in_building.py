@@ -172,6 +172,41 @@ def test_a_dropped_field_lag_is_judged_under_a_switching_command(tmp_path):
     assert dropped_share(source.augmented(), source.building_model()[0]) > 0.1
 
 
+def test_the_dropped_share_drives_only_the_commands_a_controller_gives(tmp_path, monkeypatch):
+    """A probe's Dyke final model (input range from -0.44 V, the rig's command) failed numerically
+    at -0.44 V in the switching measure, and that measure stopped every building run with it;
+    controllers command [0, v_max], so the measure switches between 0 and the top."""
+    import damper.io.model_file as mf
+    from damper.diagnosis.effects import VoltageLag
+    path = _current_model_file(tmp_path / "lag.json", VoltageLag(0.03))
+    doc = json.loads(path.read_text())
+    doc["input"]["range"] = [-0.44, 1.0]
+    path.write_text(json.dumps(doc))
+    source = read_model_file(path)
+    seen = []
+    real = mf.AugmentedModel.simulate
+    monkeypatch.setattr(mf.AugmentedModel, "simulate", lambda self, t, x, xd, xdd, v: seen.append(np.min(v)) or
+                        real(self, t, x, xd, xdd, v))
+    assert mf.dropped_share(source.augmented(), source.building_model()[0]) > 0.1
+    assert min(seen) == 0.0
+
+
+def test_a_dropped_share_that_cannot_be_measured_does_not_stop_the_run(capsys, tmp_path, short_record, monkeypatch):
+    import damper.io.model_file as mf
+    from benchmark.foundation.errors import NumericalError
+    from damper.diagnosis.effects import VoltageLag
+
+    def fail(*args, **kwargs):
+        raise NumericalError("spencer_bouc_wen: force is not finite")
+
+    monkeypatch.setattr(mf, "_capacity_cycle", fail)
+    path = _current_model_file(tmp_path / "lag.json", VoltageLag(0.03))
+    monkeypatch.setattr("benchmark.applications.damper_choice.capacity_force", lambda model: 2e3)
+    s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(path),
+                  "--damper-scale", "500")
+    assert "a share of its force that could not be measured" in err and s["J"]["J3"] > 0
+
+
 def test_input_range_beyond_the_fitted_levels_is_said(capsys, tmp_path, short_record, model_files):
     doc = json.loads(Path(model_files["final"]).read_text())
     doc["input"]["range"] = [0.0, 2.0]
