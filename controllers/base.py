@@ -19,8 +19,11 @@ Both paths give the same voltages: a built-in's ``step`` calls the same kernel
 
 Outputs are checked at every step (:func:`check_voltages`): a wrong number of voltages is an
 :class:`~benchmark.foundation.errors.InputError`, a NaN or infinite voltage a
-:class:`~benchmark.foundation.errors.NumericalError`; both name the controller and the time. Voltages
-outside ``[0, v_max]`` are saturated and the slew limit applied, as the actuator would.
+:class:`~benchmark.foundation.errors.NumericalError`; both name the controller and the time. The built-in
+controllers' voltages are saturated to ``[0, v_max]`` and the slew limit applied, as the actuator
+would; a user's controller (:mod:`controllers.user`) returning a command outside ``[0, v_max]``
+is refused in one line naming the device and the time (a wrong scale is a bug to report, not to
+hide by clipping).
 """
 
 from __future__ import annotations

@@ -281,6 +281,16 @@ def record_path(name: str, records_dir: str | os.PathLike | None = None) -> Path
     return path
 
 
+def _read_catalogue_file(path: Path, entry: CatalogueEntry) -> Record:
+    """A catalogue file read with the benchmark's step as known, not assumed: the files state no
+    step, but the catalogue does (every benchmark record is sampled at 0.005 s), so no summary
+    asks for ``--dt``, which a record given by name does not take."""
+    record = read_benchmark(path, name=entry.name, labels=entry.column_labels)
+    if str(record.metadata.get("dt_from", "")).startswith("benchmark default"):
+        record = record.replace(metadata=dict(record.metadata, dt_from=f"benchmark catalogue ({BENCHMARK_DT:g} s)"))
+    return record
+
+
 def load_benchmark_record(name: str, orientation: str = "FN-x", records_dir: str | os.PathLike | None = None,
                           baseline_correct: bool = False) -> Record:
     """Load a benchmark record as a two-component record, component 0 on x and 1 on y.
@@ -314,7 +324,7 @@ def load_benchmark_record(name: str, orientation: str = "FN-x", records_dir: str
     entry = get_entry(name)
     orientation = _check_orientation(orientation)
     path = record_path(entry.name, records_dir)
-    raw = read_benchmark(path, name=entry.name, labels=entry.column_labels)
+    raw = _read_catalogue_file(path, entry)
     flaws = check_record(raw, entry.pga_g, entry.duration_s)
     order = [0, 1] if orientation == "FN-x" else [1, 0]
     record = raw.select(order)
@@ -372,7 +382,7 @@ def check_catalogue(records_dir: str | os.PathLike | None = None) -> dict[str, A
             path = directory / entry.file
             item.update(found=True, path=str(path))
             try:
-                rec = read_benchmark(path, name=entry.name, labels=entry.column_labels)
+                rec = _read_catalogue_file(path, entry)
             except InputError as exc:
                 item["error"] = str(exc)
             else:
