@@ -70,19 +70,12 @@ from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.criteria import SOURCE, key_json
 from benchmark.simulator.building import Building
 from benchmark.simulator.isolation.configurations import check_substep_tolerance
-from benchmark.applications.damper_choice import add_damper_options, resolve_damper, resolve_layout
+from benchmark.applications.damper_choice import add_damper_options, command_unit, resolve_damper, resolve_layout
 from controllers.registry import controller_names
 from benchmark.foundation.atomic import output_dir, output_file_of
 from benchmark.foundation.provenance import file_identity
 
 __all__ = ["register", "run_command", "main_run"]
-
-def _command_unit(damper: Any) -> str:
-    """The unit of the devices' command: the damper models' input unit (V unless all read A)."""
-    units = {d.get("input", {}).get("unit", "V") for d in (damper or {}).get("dampers", [])
-             if isinstance(d, dict)}
-    return units.pop() if len(units) == 1 else "V"
-
 
 def _clean(d: dict[str, Any]) -> dict[str, Any]:
     out = {}
@@ -265,7 +258,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
                      n_modes="all" if n_modes is None else n_modes, building=json.dumps(building.describe(),
                                                                                          default=str),
                      precision="double" if full_histories else "single",
-                     command_unit=_command_unit(summary.get("damper")),
+                     command_unit=command_unit(summary.get("damper")),
                      damper=json.dumps(summary["damper"], default=str))
         summary["out"] = str(out)
     if plot_dir:

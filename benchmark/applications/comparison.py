@@ -43,7 +43,7 @@ from benchmark.foundation.progress import progress_bar
 from benchmark.applications import model_comparison
 import dataclasses
 
-from benchmark.applications.damper_choice import parse_scale, resolve_damper, resolve_layout
+from benchmark.applications.damper_choice import command_unit, parse_scale, resolve_damper, resolve_layout
 from controllers.user import is_user_controller_spec
 from benchmark.foundation.pools import WorkerPool
 from benchmark.applications.identification_validation import measured_from_runs
@@ -239,7 +239,7 @@ class ComparisonResult:
                     for k, v in p.items():
                         g.attrs[k] = v
                     for k, v in self.reference_histories.get((rec, ori), {}).items():
-                        g.create_dataset(k, data=v, compression="gzip")
+                        g.create_dataset(k, data=v, compression="gzip").attrs["units"] = HISTORY_UNITS.get(k, "")
                 for r in self.runs:
                     name = r.controller.replace("/", "|") + (f"/{r.damper.replace('/', '|')}" if r.damper else "")
                     g = h5.require_group(f"runs/{r.record}/{r.orientation}/{name}")
@@ -249,8 +249,10 @@ class ComparisonResult:
                         g.attrs[k] = v
                     g.attrs["elapsed_s"] = r.elapsed_s
                     g.attrs["synthetic_record"] = r.synthetic
+                    unit = command_unit(damper, r.damper)
                     for k, v in r.histories.items():
-                        g.create_dataset(k, data=v, compression="gzip")
+                        d = g.create_dataset(k, data=v, compression="gzip")
+                        d.attrs["units"] = unit if k in ("voltage", "voltage_full") else HISTORY_UNITS.get(k, "")
         return path
 
     def plot(self, directory: str | os.PathLike, part: tuple[int, int] = (0, 1)) -> list[Path]:
@@ -416,6 +418,12 @@ def _record(record_name: str, orientation: str, settings_key: tuple):
     settings = dict(settings_key)
     return _load_record(record_name, orientation, settings.get("records_dir"), settings.get("synthetic", False),
                         **_record_options(settings))
+
+
+#: Units of the histories a comparison keeps (each dataset's ``units`` attribute; the commands
+#: ``voltage`` and ``voltage_full`` take the damper model's input unit, V or A).
+HISTORY_UNITS = {"t": "s", "t_full": "s", "base_displacement": "m (x, y)", "device_force_total": "N (x, y)",
+                 "device_force": "N", "device_displacement": "m", "device_velocity": "m/s", "replay_force": "N"}
 
 
 def _histories(result, step: float, full_devices: bool = False) -> dict:

@@ -45,9 +45,26 @@ from damper.io.model_file import (CAPACITY_TEST, SWITCHINGS_PER_CYCLE, InputSpec
 from damper.models.registry import MODELS, get_model_class
 
 __all__ = ["DamperChoice", "resolve_damper", "resolve_layout", "parse_scale", "add_damper_options",
-           "DEFAULT_DAMPER"]
+           "command_unit", "DEFAULT_DAMPER"]
 
 DEFAULT_DAMPER = "virtual"
+
+
+def command_unit(damper: Any, label: str | None = None) -> str:
+    """The unit of the devices' command history: the damper models' input unit (``"V"``, or
+    ``"A"`` for a model identified on the coil current).
+
+    Parameters
+    ----------
+    damper : dict or None
+        A run's damper summary (``{"dampers": [{"damper": label, "input": {"unit": ...}}, ...]}``).
+    label : str, optional
+        The one damper model to take (a ``compare --dampers`` run); None: all of them, ``"V"``
+        unless they all read the same other unit.
+    """
+    units = {d.get("input", {}).get("unit", "V") for d in (damper or {}).get("dampers", [])
+             if isinstance(d, dict) and (label is None or d.get("damper") == label)}
+    return units.pop() if len(units) == 1 else "V"
 _FORCE_UNITS = {"N": 1.0, "kN": 1e3, "MN": 1e6}
 
 

@@ -359,6 +359,15 @@ def test_compare_two_diagnoses_with_the_same_file_name(capsys, tmp_path, short_r
     out, err = capsys.readouterr()
     assert status == 0, err
     assert {r["damper"] for r in json.loads(out)["runs"]} == {a, b}
+    main(["compare", "--records", short_record, "--orientations", "FN-x", "--controllers", "passive-off",
+          "--dampers", f"{a},{b}", "--damper-scale", "300", "--jobs", "1", "--out", str(tmp_path / "c.h5"),
+          "--no-progress"])
+    capsys.readouterr()
+    with h5py.File(tmp_path / "c.h5") as h5:
+        # the model files were identified on the coil current: their command history is in A
+        g = h5["runs"][next(iter(h5["runs"]))]["FN-x/passive-off"]
+        assert {g[m]["voltage"].attrs["units"] for m in g} == {"A"}
+        assert {g[m]["device_force_total"].attrs["units"] for m in g} == {"N (x, y)"}
     assert main(["compare", "--records", short_record, "--controllers", "passive-off",
                  "--dampers", f"{a},{a}", "--damper-scale", "300", "--no-progress"]) == 2
     assert "given twice" in capsys.readouterr().err

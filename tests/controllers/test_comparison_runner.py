@@ -101,5 +101,10 @@ def test_compare_one_record_writes_table_json_hdf5_and_plots(building, records_d
         g = h5["runs/elcentro/FN-x/passive-off"]
         assert np.isclose(g.attrs["J3"], result.runs[0].J["J3"])
         assert g["base_displacement"].shape[1] == 2
+        # every history says its units (a probe found none in comparison files)
+        assert g["base_displacement"].attrs["units"] == "m (x, y)" and g["t"].attrs["units"] == "s"
+        assert g["voltage"].attrs["units"] == "V"
+        ref = h5["reference/elcentro/FN-x"]
+        assert all(ref[k].attrs["units"] for k in ref)
     paths = result.plot(tmp_path / "plots")
     assert all(p.stat().st_size > 10_000 for p in paths)
