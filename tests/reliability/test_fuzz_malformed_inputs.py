@@ -141,12 +141,25 @@ SINGLE_LINES = ["0.0012", "-0.0034", "0.0100", "0.0200", "-0.0150"]
 CSV_LINES = ["# units: g", "time [s],ax [g],ay [g]", "0.00,0.001,0.002", "0.01,0.003,-0.004",
              "0.02,-0.010,0.020", "0.03,0.000,0.010"]
 
+KNET_LINES = ["Origin Time       2011/03/11 14:46:00", "Lat.              38.103", "Long.             142.860",
+              "Depth. (km)       24", "Mag.              9.0", "Station Code      MYG004",
+              "Station Lat.      38.7291", "Station Long.     141.0217", "Station Height(m) 230",
+              "Record Time       2011/03/11 14:46:24", "Sampling Freq(Hz) 100Hz", "Duration Time(s)  0.16",
+              "Dir.              E-W", "Scale Factor      3920(gal)/6182761", "Max. Acc. (gal)   11.689",
+              "Last Correction   2011/03/11 14:46:09", "Memo.",
+              "  1000  1010  -9000  1020  20000  1000  990  1005", "  1001  1000  1000  999  1000  1002  998  1000"]
+ESM_LINES = ["EVENT_NAME: TEST", "EVENT_ID: X", "NETWORK: IT", "STATION_CODE: NRC", "SAMPLING_INTERVAL_S: 0.010000",
+             "NDATA: 5", "STREAM: HGE", "UNITS: cm/s^2", "PGA_CM/S^2: 20.0", "DATA_TYPE: ACCELERATION", "USER5:",
+             "1.0E+00", "-2.0E+01", "3.0E+00", "5.0E+00", "-1.0E+00"]
+
 RECORD_CASES = {
     "benchmark": ("quake.txt", BENCHMARK_LINES, lambda p: __import__("records.readers").readers.read_benchmark(p)),
     "at2": ("quake.AT2", AT2_LINES, lambda p: __import__("records.readers").readers.read_at2(p)),
     "single": ("quake.dat", SINGLE_LINES,
                lambda p: __import__("records.readers").readers.read_single_column(p, dt=0.01)),
     "csv": ("quake.csv", CSV_LINES, lambda p: __import__("records.readers").readers.read_csv(p)),
+    "knet": ("MYG0041103111446.EW", KNET_LINES, lambda p: __import__("records.station_files").station_files.read_knet(p)),
+    "esm": ("IT.NRC..HGE.ASC", ESM_LINES, lambda p: __import__("records.station_files").station_files.read_esm(p)),
 }
 
 
