@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -48,14 +49,26 @@ def unit_factor(units: str, where: str = "units") -> float:
 
 
 def canonical_units(units: str) -> str:
-    """The project's spelling of ``units`` (``"g"``, ``"m/s2"``, ``"cm/s2"`` or ``"mm/s2"``)."""
+    """The project's spelling of ``units`` (``"g"``, ``"m/s2"``, ``"cm/s2"`` or ``"mm/s2"``).
+
+    Parameters
+    ----------
+    units : str
+        Any spelling :func:`unit_factor` accepts.
+    """
     f = unit_factor(units)
     return "g" if f == STANDARD_GRAVITY else _CANONICAL_UNITS[f]
 
 
 # --------------------------------------------------------------------------- low-level parsing
 def read_lines(path: str | os.PathLike) -> tuple[Path, list[str]]:
-    """The file's lines, decoded; a missing, non-regular, binary or empty file is refused."""
+    """The file's lines, decoded; a missing, non-regular, binary or empty file is refused.
+
+    Parameters
+    ----------
+    path : path-like
+        The record file.
+    """
     path = Path(path)
     if not path.exists():
         raise DataNotFoundError(f"{path}: record file not found")
@@ -70,7 +83,19 @@ def read_lines(path: str | os.PathLike) -> tuple[Path, list[str]]:
 
 
 def parse_number(token: str, path: Path, lineno: int, what: str) -> float:
-    """``token`` as a finite float (Fortran exponents too), or an error naming ``path:lineno``."""
+    """``token`` as a finite float (Fortran exponents too), or an error naming ``path:lineno``.
+
+    Parameters
+    ----------
+    token : str
+        The text of one value.
+    path : Path
+        The file, for the message.
+    lineno : int
+        Its line number (1-based), for the message.
+    what : str
+        What the value should be (``"acceleration values"``), for the message.
+    """
     try:
         value = parse_float(token)  # Fortran exponents (1.0D-03) too
     except ValueError:
@@ -81,7 +106,15 @@ def parse_number(token: str, path: Path, lineno: int, what: str) -> float:
 
 
 def check_dt(dt: float | None, where: str) -> float:
-    """``dt`` [s] when it is a positive finite step within :data:`DT_RANGE`, else an error."""
+    """``dt`` [s] when it is a positive finite step within :data:`DT_RANGE`, else an error.
+
+    Parameters
+    ----------
+    dt : float or None
+        The step [s].
+    where : str
+        What to name in the message (a file and line, an option).
+    """
     try:
         value = float(dt)  # type: ignore[arg-type]
     except (TypeError, ValueError):
@@ -96,9 +129,17 @@ def check_dt(dt: float | None, where: str) -> float:
 
 
 
-def to_si(values, factor: float) -> np.ndarray:
-    """``values * factor`` without numpy's overflow warning: :func:`_record` reports the
-    non-finite sample with its file and line instead."""
+def to_si(values: Any, factor: float) -> np.ndarray:
+    """``values * factor`` without numpy's overflow warning: :func:`build_record` reports the
+    non-finite sample with its file instead.
+
+    Parameters
+    ----------
+    values : array-like
+        The file's values.
+    factor : float
+        Their units' factor to m/s² (:func:`unit_factor`).
+    """
     with np.errstate(over="ignore", invalid="ignore"):
         return np.asarray(values, dtype=np.float64) * factor
 
@@ -107,9 +148,17 @@ def to_si(values, factor: float) -> np.ndarray:
 LARGEST_SI = 1e8
 
 
-def build_record(path: Path, **fields) -> Record:
+def build_record(path: Path, **fields: Any) -> Record:
     """Build the :class:`Record`; a value that overflows on unit conversion or any other
-    inconsistency is reported against the file (the Record alone only knows its name)."""
+    inconsistency is reported against the file (the Record alone only knows its name).
+
+    Parameters
+    ----------
+    path : Path
+        The file, for the message.
+    **fields
+        The :class:`Record`'s fields (``acceleration`` in m/s²).
+    """
     acc = np.asarray(fields["acceleration"], dtype=float)
     # Beyond LARGEST_SI no unit mix-up reaches (mm/s² read as g gives ~1e5 m/s²): the file is
     # corrupt, and such values would overflow the record's measures and the integration.

@@ -81,14 +81,26 @@ _HEADER_LINES_KNET = 17
 
 def is_knet(lines: list[str]) -> bool:
     """True when ``lines`` open like a K-NET/KiK-net ASCII file (``Origin Time`` first, then a
-    ``Scale Factor`` line within the header)."""
+    ``Scale Factor`` line within the header).
+
+    Parameters
+    ----------
+    lines : list of str
+        The file's lines.
+    """
     head = [line.strip() for line in lines[:_HEADER_LINES_KNET + 3]]
     return bool(head) and head[0].startswith("Origin Time") and any(h.startswith("Scale Factor") for h in head)
 
 
 def is_esm(lines: list[str]) -> bool:
     """True when ``lines`` open like an ESM ASCII file (``EVENT_NAME:`` first, or a
-    ``SAMPLING_INTERVAL_S:`` key within the first 80 lines)."""
+    ``SAMPLING_INTERVAL_S:`` key within the first 80 lines).
+
+    Parameters
+    ----------
+    lines : list of str
+        The file's lines.
+    """
     head = [line.strip() for line in lines[:80]]
     return bool(head) and (head[0].startswith("EVENT_NAME:") or any(h.startswith("SAMPLING_INTERVAL_S:") for h in head))
 
