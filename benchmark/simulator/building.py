@@ -20,7 +20,8 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import Superstructure, load_superstructure
-from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, IsolationLayer, get_isolation
+from benchmark.simulator.isolation.configurations import (DEFAULT_NONLINEAR, IsolationLayer, check_layer_carries,
+                                                        get_isolation)
 from benchmark.simulator.structure import location_matrix
 from benchmark.simulator.devices import DeviceLayout
 from damper.models.base import DamperModel
@@ -54,23 +55,38 @@ class Building:
         if n_iso != self.superstructure.n_bearings:
             raise InputError(f"building: the isolation layer {getattr(self.isolation, 'name', '?')!r} has "
                              f"{n_iso} bearings, the superstructure's plan has {self.superstructure.n_bearings}")
+        check_layer_carries(self.isolation, self.superstructure.total_mass)
         if self.devices is not None:
             self._check_device_positions()
 
     def _check_device_positions(self) -> None:
         """Every device on the base: within the bearings' plan (its bounding box, widened by 5 %
-        of the plan's size and 1 m, as a device may sit beside an edge bearing). A position off
+        of the plan's size and 1 m, as a device may sit beside an edge bearing, and near a
+        bearing: no farther from one than the plan's bearings stand from their nearest
+        neighbour, plus 1 m). A position off
         the base (a typo, or the default layout on a structure variant of another plan) would
         act through a lever arm the building does not have."""
         xy = np.asarray(self.superstructure.bearing_xy, dtype=float)
         lo, hi = xy.min(axis=0), xy.max(axis=0)
         margin = 0.05 * float(np.max(hi - lo)) + 1.0
+        # a plan that is not a rectangle (the benchmark's is L-shaped) has corners of its bounding
+        # box with no slab: a device farther from every bearing than any bearing is from its
+        # nearest neighbour (7.9 m on the benchmark's plan), plus a metre, is off the slab
+        gaps = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+        np.fill_diagonal(gaps, np.inf)
+        reach = float(gaps.min(axis=1).max()) + 1.0
         for slot in self.devices.slots:  # type: ignore[union-attr]
             p = np.array([slot.x, slot.y], dtype=float)
             if np.any(p < lo - margin) or np.any(p > hi + margin):
                 raise InputError(f"devices: {slot.label or 'a device'} at ({slot.x:g}, {slot.y:g}) m lies off the "
                                  f"base (its bearings span x {lo[0]:g}..{hi[0]:g} m, y {lo[1]:g}..{hi[1]:g} m); "
                                  "expected positions on the base (--devices LAYOUT.json)")
+            nearest = float(np.hypot(*(xy - p).T).min())
+            if nearest > reach:
+                raise InputError(f"devices: {slot.label or 'a device'} at ({slot.x:g}, {slot.y:g}) m is {nearest:.3g} m "
+                                 f"from the nearest bearing, where the plan's bearings stand at most {reach - 1:.3g} m "
+                                 "from a neighbour: off the slab (a notch of the plan?); expected positions on the "
+                                 "base (--devices LAYOUT.json)")
 
     @classmethod
     def default(cls, isolation: str | os.PathLike | IsolationLayer | None = None,
@@ -101,7 +117,8 @@ class Building:
             isolation = DEFAULT_NONLINEAR
         if isinstance(isolation, (str, os.PathLike)):
             # a named configuration's bearings carry this structure's weight on its plan
-            isolation = get_isolation(str(isolation), total_mass=sup.total_mass, n_bearings=sup.n_bearings)
+            isolation = get_isolation(str(isolation), total_mass=sup.total_mass, n_bearings=sup.n_bearings,
+                                      linear_bearing=sup.linear_bearing)
         if isinstance(devices, str):
             if devices != "default":
                 raise InputError(f"devices: {devices!r}; expected 'default', a DeviceLayout or None")
@@ -134,7 +151,8 @@ class Building:
         """
         if isinstance(isolation, (str, os.PathLike)):
             sup = self.superstructure
-            isolation = get_isolation(str(isolation), total_mass=sup.total_mass, n_bearings=sup.n_bearings)
+            isolation = get_isolation(str(isolation), total_mass=sup.total_mass, n_bearings=sup.n_bearings,
+                                      linear_bearing=sup.linear_bearing)
         return replace(self, isolation=isolation)
 
     def reduced(self, n_modes: int | None) -> "Building":

@@ -111,6 +111,8 @@ class DeviceSlot:
         object.__setattr__(self, "direction", int(d))
         for name in ("x", "y"):
             value = getattr(self, name)
+            if isinstance(value, (bool, str)):  # float(True) is 1 m, float("1.0") a typo's silent reading
+                raise InputError(f"device {self.label}: {name} = {value!r}; expected a position in m (a number)")
             try:
                 value = float(value)
             except (TypeError, ValueError):

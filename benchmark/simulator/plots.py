@@ -166,7 +166,7 @@ def plot_floor_envelopes(result: Any, path: str | os.PathLike, reference: Any = 
     return _save(fig, path)
 
 
-def plot_bearing_hysteresis(result: Any, path: str | os.PathLike, bearings: Sequence[int] = (0, 91),
+def plot_bearing_hysteresis(result: Any, path: str | os.PathLike, bearings: Sequence[int] | None = None,
                             bearing_xy: np.ndarray | None = None) -> Path:
     """Force–displacement loops of selected bearings (x and y), kN vs cm.
 
@@ -175,8 +175,9 @@ def plot_bearing_hysteresis(result: Any, path: str | os.PathLike, bearings: Sequ
     result : SimulationResult
         Needs ``bearing_force`` (n, n_bearings, 2) and ``base_displacement``.
     path : path-like
-    bearings : sequence of int
-        0-based bearing indices (default 0 and 91, one of each default group).
+    bearings : sequence of int, optional
+        0-based bearing indices (default the first and the last bearing of the plan: 0 and 91 on
+        the benchmark's, one of each default group).
     bearing_xy : (n_bearings, 2) array, optional
         Plan positions [m]; default from the structure file. The bearing displacement is
         :math:`T_i u_b` unless the result carries ``bearing_displacement``.
@@ -188,7 +189,7 @@ def plot_bearing_hysteresis(result: Any, path: str | os.PathLike, bearings: Sequ
         xy = _bearing_xy(result, bearing_xy)
         disp = np.stack([ub[:, 0:1] - ub[:, 2:3] * xy[:, 1], ub[:, 1:2] + ub[:, 2:3] * xy[:, 0]], axis=2)
     disp = np.asarray(disp, dtype=float)
-    bearings = [int(b) for b in bearings]
+    bearings = [0, force.shape[1] - 1] if bearings is None else [int(b) for b in bearings]
     for b in bearings:
         if not 0 <= b < force.shape[1]:
             raise InputError(f"plot_bearing_hysteresis: bearing index {b} outside 0..{force.shape[1] - 1}")

@@ -51,10 +51,12 @@ benchmark building. Part I: problem definition. Struct. Control Health Monit. 13
 from __future__ import annotations
 
 import json
+import math
 import os
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -158,6 +160,9 @@ class Superstructure:
         the identity for the full model, the first N M-orthonormal modes for a reduced one.
     source : str
         The file the data were read from.
+    linear_bearing : tuple of float, optional
+        ``(k [N/m], c [N·s/m])`` per bearing of the ``linear`` isolation, from the file's
+        ``fdz_linear_bearing`` (the benchmark's: 919.422 kN/m, 27.717 kN·s/m); None: those values.
     """
 
     M: np.ndarray
@@ -175,6 +180,7 @@ class Superstructure:
     basis: np.ndarray
     source: str = ""
     n_modes: int | None = None
+    linear_bearing: tuple[float, float] | None = None
     _modes: tuple = field(default=(), repr=False)
 
     # ----------------------------------------------------------------------------- derived
@@ -302,9 +308,25 @@ class Superstructure:
         return slice(3 * (floor - 1), 3 * floor)
 
 
+def _not_a_number(value: Any) -> Any:
+    """The first boolean or string inside ``value`` (nested lists), or None."""
+    if isinstance(value, (bool, str)):
+        return value
+    if isinstance(value, (list, tuple)):
+        for item in value:
+            bad = _not_a_number(item)
+            if bad is not None:
+                return bad
+    return None
+
+
 def _field(data: dict, name: str, path: Path, shape: tuple | None = None) -> np.ndarray:
     if name not in data:
         raise InputError(f"{path}: field '{name}' missing")
+    bad = _not_a_number(data[name])
+    if bad is not None:
+        # numpy reads true as 1 and "2051" as 2051: a typo would run as a building of other masses
+        raise InputError(f"{path}: field '{name}' holds {bad!r}; expected numbers")
     try:
         arr = np.asarray(data[name], dtype=float)
     except (TypeError, ValueError) as exc:
@@ -414,7 +436,29 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
     basis = np.eye(n)
     basis.setflags(write=False)
     return Superstructure(**arrays, base_mass=base_mass, base_inertia=base_inertia,
-                          damping_ratio=zeta, basis=basis, source=str(path))
+                          damping_ratio=zeta, basis=basis, source=str(path),
+                          linear_bearing=_linear_bearing(data, path))
+
+
+def _linear_bearing(data: dict, path: Path) -> tuple[float, float] | None:
+    """``(k [N/m], c [N·s/m])`` of the file's ``fdz_linear_bearing`` (kN/m, kN·s/m), or None."""
+    entry = data.get("fdz_linear_bearing")
+    if entry is None:
+        return None
+    where = f"{path}: field 'fdz_linear_bearing'"
+    if not isinstance(entry, dict):
+        raise InputError(f"{where}: expected an object with k_per_bearing_kN_per_m and c_per_bearing_kNs_per_m")
+    check_field_names(entry, ("k_per_bearing_kN_per_m", "c_per_bearing_kNs_per_m", "note"), where)
+    values = []
+    for key in ("k_per_bearing_kN_per_m", "c_per_bearing_kNs_per_m"):
+        value = entry.get(key)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+            raise InputError(f"{path}: field 'fdz_linear_bearing.{key}' = {value!r}; expected a non-negative number")
+        values.append(float(value) * _KILO)
+    if values[0] <= 0:
+        raise InputError(f"{path}: field 'fdz_linear_bearing.k_per_bearing_kN_per_m' must be positive (a bearing "
+                         "carries the building)")
+    return values[0], values[1]
 
 
 #: Storey heights a structure file may give [m] (a file in mm or cm falls outside).

@@ -171,3 +171,84 @@ def test_a_misspelt_structure_field_is_refused(variant, tmp_path):
         load_superstructure(path)
     path.write_text(json.dumps({**data, "retrofit_year": 2024}))
     assert load_superstructure(path).base_mass > 0
+
+
+def test_the_structure_files_linear_bearing_reaches_the_linear_layer(shared_dir, tmp_path):
+    """A probe's variant with k = 1500 kN/m and c = 60 kN·s/m ran with the benchmark's 919.4 and
+    27.7 (the field was accepted and ignored): its peak base displacement was the benchmark's."""
+    path = _edited(shared_dir, tmp_path, fdz_linear_bearing={"k_per_bearing_kN_per_m": 1500,
+                                                             "c_per_bearing_kNs_per_m": 60, "note": "stiffer"})
+    bearing = Building.default(structure_path=path, isolation="linear", devices=None).isolation.groups[0].bearing
+    assert (bearing.k, bearing.c) == (1.5e6, 6.0e4)
+    default = Building.default(isolation="linear", devices=None).isolation.groups[0].bearing
+    assert (default.k, default.c) == pytest.approx((919.422e3, 27.717e3), rel=1e-12)
+    with pytest.raises(InputError, match="'fdz_linear_bearing.k_per_bearing_kN_per_m' = 'x'"):
+        load_superstructure(_edited(shared_dir, tmp_path, fdz_linear_bearing={"k_per_bearing_kN_per_m": "x",
+                                                                              "c_per_bearing_kNs_per_m": 60}))
+
+
+@pytest.mark.parametrize("field, value, shown", [("base_mass", True, "True"), ("modal_damping_ratio", "0.05", "'0.05'")])
+def test_booleans_and_strings_are_not_numbers_in_a_structure_file(shared_dir, tmp_path, field, value, shown):
+    # numpy reads true as 1 (a base of 1 t ran) and "2051" as 2051
+    with pytest.raises(InputError, match=f"field '{field}' holds {shown}; expected numbers"):
+        load_superstructure(_edited(shared_dir, tmp_path, **{field: value}))
+    data = json.loads((shared_dir / "benchmark" / "structure.json").read_text())
+    data["floor_mass"][3] = str(data["floor_mass"][3])
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError, match="field 'floor_mass' holds"):
+        load_superstructure(path)
+
+
+@pytest.mark.parametrize("layer, words", [
+    ({"name": "kN", "groups": [{"bearings": "1-92", "type": "linear", "parameters": {"k": 919.422, "c": 27.717}}]},
+     "isolated period of"),
+    ({"name": "kNfp", "groups": [{"bearings": "1-92", "type": "friction-pendulum",
+                                  "parameters": {"weight": 2207.8, "radius": 2.24, "mu_max": 0.06, "mu_min": 0.03,
+                                                 "rate_parameter": 20.0, "yield_displacement": 5e-4}}]},
+     "isolated period of"),
+    ({"name": "heavy", "groups": [{"bearings": "1-92", "type": "friction-pendulum",
+                                   "parameters": {"weight": 2.2e7, "radius": 2.24, "mu_max": 0.06, "mu_min": 0.03,
+                                                  "rate_parameter": 20.0, "yield_displacement": 5e-4}}]},
+     "carry 2024 MN together, the building weighs 203 MN"),
+])
+def test_an_isolation_file_in_other_units_is_refused(tmp_path, layer, words):
+    """A probe's linear bearings in kN/m (a 98-s period: the base moved with the ground) and its
+    pendulums' weights in kN ran without a word."""
+    path = tmp_path / "iso.json"
+    path.write_text(json.dumps(layer))
+    with pytest.raises(InputError, match=words):
+        Building.default(isolation=str(path), devices=None)
+
+
+def test_a_layer_for_92_bearings_on_another_plan_says_to_give_n_bearings(variant, tmp_path):
+    path, _ = variant
+    iso = tmp_path / "iso.json"
+    iso.write_text(json.dumps({"name": "lrb", "groups": [{"bearings": f"1-{N_KEPT}", "type": "linear",
+                                                          "parameters": {"k": 1e6, "c": 3e4}}]}))
+    with pytest.raises(InputError, match='give its "n_bearings"'):
+        Building.default(isolation=str(iso), structure_path=path, devices=None)
+
+
+def test_a_device_in_a_notch_of_the_plan_is_refused(shared_dir):
+    """Inside the L-shaped plan's bounding box but 17.5 m from every bearing: off the slab."""
+    from benchmark.simulator.devices import DeviceLayout, DeviceSlot
+    from damper.models.registry import get_model_class
+    model = get_model_class("virtual")()
+    layout = DeviceLayout((DeviceSlot(30.0, -40.0, 0, model, "notch"), DeviceSlot(0.0, 0.0, 1, model, "in")))
+    with pytest.raises(InputError, match=r"notch at \(30, -40\) m is .* from the nearest bearing"):
+        Building.default(devices=layout)
+    with pytest.raises(InputError, match="x = True; expected a position in m"):
+        DeviceSlot(True, 0.0, 0, model, "x")
+
+
+def test_bearing_loops_are_drawn_for_a_plan_of_another_size(variant, tmp_path, records_dir):
+    """The figure's default bearings were 0 and 91: a 60-bearing plan failed and --json was lost."""
+    from benchmark.simulator.plots import plot_bearing_hysteresis
+    from benchmark.simulator.simulation import simulate
+    from records import load_benchmark_record
+    path, _ = variant
+    record = load_benchmark_record("kobe", "FN-x", records_dir=records_dir)
+    short = record.replace(acceleration=record.acceleration[:400].copy())
+    result = simulate(Building.default(structure_path=path, devices=None), short, bearing_histories=True)
+    assert plot_bearing_hysteresis(result, tmp_path / "b.png").stat().st_size > 10_000

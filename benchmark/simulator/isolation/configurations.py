@@ -73,6 +73,7 @@ __all__ = [
     "BearingGroup", "IsolationLayer", "PackedIsolation", "get_isolation", "load_isolation",
     "isolation_from_dict", "parse_bearing_numbers", "ISOLATION_NAMES", "DEFAULT_NONLINEAR",
     "N_BEARINGS", "GRAVITY", "TOTAL_MASS", "WEIGHT_PER_BEARING", "FDZ_K", "FDZ_C",
+    "check_layer_carries", "MAX_ISOLATED_PERIOD",
 ]
 
 #: number of bearings of the benchmark building
@@ -174,9 +175,11 @@ class IsolationLayer:
                 owner[i] = g
         missing = np.flatnonzero(owner < 0)
         if missing.size:
+            hint = (f"; the layer is for the benchmark's {N_BEARINGS} bearings (the default): for a plan of "
+                    "another size give its \"n_bearings\"" if self.n_bearings == N_BEARINGS else "")
             raise ParameterError(f"isolation layer {self.name!r}: bearings "
                                  f"{_format_numbers(missing + 1)} belong to no group; "
-                                 "expected every bearing in exactly one group")
+                                 f"expected every bearing in exactly one group{hint}")
         object.__setattr__(self, "_owner", owner)
 
     # -- per-bearing views -------------------------------------------------------------
@@ -443,12 +446,16 @@ def _lead_rubber_default(weight: float = WEIGHT_PER_BEARING) -> LeadRubberBearin
                              yield_force=qd / (1.0 - _LRB_ALPHA))
 
 
-def _linear(weight: float, n: int) -> IsolationLayer:
-    # the FDZ values per bearing, whatever the building's weight (they are published as such)
-    return IsolationLayer("linear", (BearingGroup(LinearBearing(FDZ_K, FDZ_C), tuple(range(n)),
+def _linear(weight: float, n: int, kc: tuple[float, float] | None = None) -> IsolationLayer:
+    # the FDZ values per bearing, whatever the building's weight (they are published as such),
+    # unless the structure file gives its own (``fdz_linear_bearing``)
+    k, c = (FDZ_K, FDZ_C) if kc is None else kc
+    source = ("FDZ re-implementation values" if kc is None or (k, c) == (FDZ_K, FDZ_C)
+              else "the structure file's fdz_linear_bearing")
+    return IsolationLayer("linear", (BearingGroup(LinearBearing(k, c), tuple(range(n)),
                                                   f"linear elastomeric 1-{n}"),), n_bearings=n,
-                          description=f"{n} linear elastomeric bearings, k = 919.422 kN/m, "
-                                      "c = 27.717 kN·s/m (FDZ re-implementation values)")
+                          description=f"{n} linear elastomeric bearings, k = {k / 1e3:.7g} kN/m, "
+                                      f"c = {c / 1e3:.7g} kN·s/m ({source})")
 
 
 def _friction_lrb(weight: float, n: int) -> IsolationLayer:
@@ -490,6 +497,55 @@ ISOLATION_NAMES: tuple[str, ...] = tuple(_NAMED)
 DEFAULT_NONLINEAR = "friction-lrb"
 
 
+#: Longest isolated period a layer may give the building [s]: isolated buildings sit at 2-5 s; a
+#: stiffness in kN/m read as N/m (98 s on the benchmark) or a pendulum's weight in kN read as N
+#: leaves a building that the bearings do not hold.
+MAX_ISOLATED_PERIOD = 20.0
+
+
+def check_layer_carries(layer: IsolationLayer, total_mass: float) -> None:
+    """Refuse a layer whose bearings cannot carry a building of ``total_mass`` [kg]: a unit slip
+    in an isolation file otherwise runs silently (a probe's linear bearings in kN/m gave a 98-s
+    isolated period, the base moving with the ground; its pendulums' weights in kN, the same).
+
+    Two checks, each far outside any real isolation system: the isolated period from the
+    bearings' post-yield (or linear) lateral stiffness, :math:`2\\pi\\sqrt{M/\\sum k}`, at most
+    :data:`MAX_ISOLATED_PERIOD`; and the friction pendulums' vertical loads, which together
+    cannot exceed 1.5 times the building's weight.
+
+    Parameters
+    ----------
+    layer : IsolationLayer
+        The bearings.
+    total_mass : float
+        Mass above the isolation interface [kg].
+
+    Raises
+    ------
+    InputError
+        Naming the layer, the figure and the likely slip.
+    """
+    stiffness, pendulum_load = 0.0, 0.0
+    for group in layer.groups:
+        b, n = group.bearing, len(group.indices)
+        if isinstance(b, LinearBearing):
+            stiffness += n * b.k
+        elif isinstance(b, FrictionPendulumBearing):
+            stiffness += n * b.pendulum_stiffness
+            pendulum_load += n * b.weight
+        elif isinstance(b, LeadRubberBearing):
+            stiffness += n * b.post_yield_stiffness
+    weight = total_mass * GRAVITY
+    if pendulum_load > 1.5 * weight:
+        raise InputError(f"isolation layer {layer.name!r}: its friction pendulums carry {pendulum_load / 1e6:.4g} MN "
+                         f"together, the building weighs {weight / 1e6:.4g} MN (weights in N expected)")
+    period = 2.0 * math.pi * math.sqrt(total_mass / stiffness) if stiffness > 0 else math.inf
+    if period > MAX_ISOLATED_PERIOD:
+        raise InputError(f"isolation layer {layer.name!r}: its bearings' lateral stiffness gives the building an "
+                         f"isolated period of {period:.3g} s (at most {MAX_ISOLATED_PERIOD:g} s holds a building: "
+                         "stiffness in N/m, weights in N, forces in N expected; kN given?)")
+
+
 def check_substep_tolerance(substep_tolerance: Any) -> float:
     """``substep_tolerance`` as a float, checked in one place for :func:`get_isolation` and
     :func:`benchmark.simulator.simulation.simulate`.
@@ -512,7 +568,7 @@ def check_substep_tolerance(substep_tolerance: Any) -> float:
 
 
 def get_isolation(name: str, substep_tolerance: float | None = None, *, total_mass: float | None = None,
-                  n_bearings: int | None = None) -> IsolationLayer:
+                  n_bearings: int | None = None, linear_bearing: tuple[float, float] | None = None) -> IsolationLayer:
     """Return a named isolation layer, or one read from a ``.json`` file path.
 
     Parameters
@@ -526,6 +582,10 @@ def get_isolation(name: str, substep_tolerance: float | None = None, *, total_ma
         share (default :data:`TOTAL_MASS`, the benchmark's); a file's parameters are kept.
     n_bearings : int, optional
         Bearings of the plan for a named configuration (default :data:`N_BEARINGS`).
+    linear_bearing : tuple of float, optional
+        ``(k [N/m], c [N·s/m])`` of the ``linear`` configuration's bearings (a structure file's
+        ``fdz_linear_bearing``, :attr:`benchmark.simulator.structure.Superstructure.linear_bearing`);
+        default :data:`FDZ_K`, :data:`FDZ_C`.
 
     Raises
     ------
@@ -540,7 +600,8 @@ def get_isolation(name: str, substep_tolerance: float | None = None, *, total_ma
             raise InputError(f"isolation {name!r}: total_mass must be a positive mass in kg, got {total_mass!r}")
         if n < 2 if name == "friction-lrb" else n < 1:
             raise InputError(f"isolation {name!r}: n_bearings {n} is too few for this configuration")
-        layer = _NAMED[name](mass * GRAVITY / n, n)
+        layer = (_linear(mass * GRAVITY / n, n, linear_bearing) if name == "linear"
+                 else _NAMED[name](mass * GRAVITY / n, n))
     elif str(name).lower().endswith(".json"):
         layer = load_isolation(name)
     else:
