@@ -94,6 +94,7 @@ __all__ = [
     "load_record",
     "detect_format",
     "write_csv",
+    "is_vertical_label",
 ]
 
 #: Format names accepted by :func:`load_record`.
@@ -573,6 +574,25 @@ _AXIS_NAME = re.compile(r"^(?:a|acc|accel|acceleration|ag|ug|ground|groundacc|gr
 #: Which slot of the record (component 0, then 1) each horizontal direction takes; None: vertical.
 _AXIS_SLOT = {"x": 0, "fn": 0, "y": 1, "fp": 1, "z": None, "up": None, "ud": None, "v": None, "vert": None,
               "vertical": None}  # "V" beside "H1, H2": the vertical, as PEER names the components
+
+
+#: Component names that mean the vertical beyond :data:`_AXIS_NAME`'s: PEER's ``DWN``/``VER``, and
+#: SEED channel codes ending in Z (``HNZ``, ``HGZ``).
+_VERTICAL_NAMES = re.compile(r"^(?:dwn|down|ver|updown|[a-z]{2}z)$")
+
+
+def is_vertical_label(label: str) -> bool:
+    """True when a component's name says it is the vertical (``UP``, ``az``, ``V``, ``DWN``,
+    ``HNZ``): the building is excited horizontally, so such a component is never run.
+
+    Parameters
+    ----------
+    label : str
+        The component's name (a CSV column, the component on an ``.AT2`` file's second line).
+    """
+    key = re.sub(r"[\s_.\-]", "", str(label).lower())
+    m = _AXIS_NAME.match(key)
+    return bool((m and _AXIS_SLOT[m.group(1)] is None) or _VERTICAL_NAMES.match(key))
 
 
 def _component_order(labels: Sequence[str], where: str) -> tuple[list[int], str | None]:

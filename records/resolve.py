@@ -27,7 +27,7 @@ from benchmark.foundation.errors import DataNotFoundError, InputError
 from records.record import Record, units_assumed
 from records.catalogue import canonical_name, canonical_orientation, load_benchmark_record
 from records.checks import check_record
-from records.readers import load_record
+from records.readers import is_vertical_label, load_record
 from records.station_files import STATION_SUFFIXES
 from records.baseline import baseline_correct as _correct
 from records.synthetic import benchmark_like
@@ -111,6 +111,14 @@ def join_components(x: Record, y: Record) -> Record:
     if not abs(x.dt - y.dt) <= 1e-6 * x.dt:
         raise InputError(f"{x.source} is sampled every {x.dt:g} s, {y.source} every {y.dt:g} s; resample one "
                          f"(sbib records resample FILE --step {x.dt:g}) before joining them")
+    for rec in (x, y):
+        if is_vertical_label(rec.labels[0]):
+            raise InputError(f"{rec.source}: component {rec.labels[0]!r} is the vertical; a pair takes the two "
+                             "horizontal directions (the building is excited horizontally)")
+    sensors = [r.metadata.get("sensor") for r in (x, y)]
+    if all(sensors) and sensors[0] != sensors[1]:
+        raise InputError(f"{x.source} is a {sensors[0]} sensor, {y.source} a {sensors[1]} one (KiK-net's two "
+                         "instruments); a pair takes two components of one instrument")
     if x.labels[0].strip().upper() == y.labels[0].strip().upper() and x.labels[0] not in ("component 1",):
         raise InputError(f"{x.source} and {y.source} are both component {x.labels[0]!r}; a pair takes the two "
                          "horizontal directions")
@@ -148,6 +156,9 @@ def _orient_file_record(record: Record, orientation: str) -> Record:
     # a reader that took the components out of the file's order says where each came from
     column = record.metadata.get("file_columns") or list(range(1, acc.shape[1] + 1))
     if acc.shape[1] == 1:
+        if record.labels and is_vertical_label(record.labels[0]):
+            raise InputError(f"{record.source}: its one component, {record.labels[0]!r}, is the vertical; the building "
+                             "is excited horizontally: give a horizontal component, or two as FILE_X+FILE_Y")
         zeros = np.zeros_like(acc)
         both = np.hstack([acc, zeros]) if orientation == "FN-x" else np.hstack([zeros, acc])
         label = tuple(record.labels)[0] if record.labels else "component"
@@ -184,8 +195,8 @@ def resolve_record(spec: str | os.PathLike, orientation: str = "FN-x", records_d
         Directory of the benchmark's files (names only).
     baseline_correct : bool
         Apply :func:`records.baseline.baseline_correct`.
-    format : {"auto", "benchmark", "at2", "single", "csv"}
-        File format (files only).
+    format : {"auto", "benchmark", "at2", "single", "csv", "knet", "esm"}
+        File format (files only; both files of a pair ``FILE_X+FILE_Y``).
     dt : float, optional
         Time step [s] (files only): required for single-column files, checked against the others.
     units : str, optional

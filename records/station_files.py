@@ -108,8 +108,9 @@ def is_esm(lines: list[str]) -> bool:
 def _check_peak(path: Path, values_si: np.ndarray, offset_si: float, header_peak: float | None,
                 label: str) -> None:
     """Refuse a file whose converted values do not reproduce the header's own peak."""
-    if header_peak is None or header_peak <= 0.0:
+    if header_peak is None or header_peak == 0.0:
         return
+    header_peak = abs(header_peak)  # ESM's PGA_CM/S^2 carries the peak's sign
     peaks = (float(np.max(np.abs(values_si))), float(np.max(np.abs(values_si + offset_si))))
     if min(abs(p / header_peak - 1.0) for p in peaks) > PEAK_TOLERANCE:
         raise InputError(f"{path}: the values read give a peak of {peaks[0] * 100:.4g} cm/s² but the header's "
@@ -174,9 +175,10 @@ def read_knet(path: str | os.PathLike, name: str | None = None) -> Record:
         raise InputError(f"{where}:{dir_line}: direction {direction_text!r}; expected N-S, E-W, U-D or a KiK-net "
                          "channel 1-6")
     if direction == "UD":
-        stem = path.with_suffix("")
+        digit = path.suffix[-1] if path.suffix[-1:].isdigit() else ""  # KiK-net's .UD1 / .UD2
+        stem = path.with_suffix("").name
         _refuse_vertical(path, f"{where}:{dir_line}", f"Dir. {direction_text}",
-                         f"{stem.name}.EW+{stem.name}.NS")
+                         f"{stem}.EW{digit}+{stem}.NS{digit}")
     scale_text, scale_line = fields["scale"]
     m = _SCALE.match(scale_text)
     if not m:
@@ -210,6 +212,9 @@ def read_knet(path: str | os.PathLike, name: str | None = None) -> Record:
     metadata = {"format": "knet", "units_in_file": "counts", "units_from": f"header scale factor {scale_text}",
                 "offset_removed_m_s2": offset * unit_factor("gal"), "station": station,
                 "direction": direction_text}
+    channel = direction_text.split()[0]
+    if channel.isdigit():  # KiK-net: channels 1-3 the borehole instrument, 4-6 the surface one
+        metadata["sensor"] = "borehole" if int(channel) <= 3 else "surface"
     for key in ("origin", "record_time", "magnitude"):
         if key in fields:
             metadata[key] = fields[key][0]
@@ -280,7 +285,7 @@ def read_esm(path: str | os.PathLike, units: str | None = None, name: str | None
     for lineno, line in enumerate(lines[data_start:], start=data_start + 1):
         for token in line.split():
             values.append(parse_number(token, path, lineno, "acceleration values (ESM data)"))
-    if "NDATA" in header:
+    if header.get("NDATA", ("", 0))[0]:
         ndata_text, ndata_line = header["NDATA"]
         ndata = parse_number(ndata_text, path, ndata_line, "NDATA (an integer)")
         if ndata != len(values):

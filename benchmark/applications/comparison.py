@@ -249,7 +249,7 @@ class ComparisonResult:
                         g.attrs[k] = v
                     g.attrs["elapsed_s"] = r.elapsed_s
                     g.attrs["synthetic_record"] = r.synthetic
-                    unit = command_unit(damper, r.damper)
+                    unit = command_unit(damper, r.damper or None)  # one model: r.damper is ""
                     for k, v in r.histories.items():
                         d = g.create_dataset(k, data=v, compression="gzip")
                         d.attrs["units"] = unit if k in ("voltage", "voltage_full") else HISTORY_UNITS.get(k, "")

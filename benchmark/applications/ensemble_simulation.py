@@ -29,6 +29,7 @@ Grid parameters understood (names in the TOML ``[grid]`` table):
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 from functools import lru_cache
 from typing import Any
@@ -99,17 +100,17 @@ def _replace_fields(obj: Any, overrides: tuple, what: str, strict: bool) -> tupl
 
 
 @lru_cache(maxsize=4)
-def build_building(n_modes: int | None, isolation: tuple, devices: tuple, damper: tuple = ()) -> Any:
-    """The default building with ``n_modes``, the config's ``(damper, devices, damper_scale)``
-    (:mod:`benchmark.applications.damper_choice`) and the isolation/device field overrides."""
-
+def _base_building(n_modes: int | None, damper: tuple = ()) -> Any:
     if damper:
         spec, layout_spec, scale = (v or None for v in damper)
         choice = resolve_damper(spec, scale)
         layout, _ = resolve_layout(layout_spec, choice, scale)
-        building = Building.default(n_modes=n_modes, devices=layout)
-    else:
-        building = Building.default(n_modes=n_modes)
+        return Building.default(n_modes=n_modes, devices=layout)
+    return Building.default(n_modes=n_modes)
+
+
+def _with_overrides(building: Any, isolation: tuple, devices: tuple) -> Any:
+    """``building`` with the isolation and device field overrides (each model's own checks apply)."""
     if isolation:
         layer = building.isolation
         groups, used = [], set()
@@ -131,6 +132,18 @@ def build_building(n_modes: int | None, isolation: tuple, devices: tuple, damper
     return building
 
 
+@lru_cache(maxsize=4)
+def build_building(n_modes: int | None, isolation: tuple, devices: tuple, damper: tuple = ()) -> Any:
+    """The default building with ``n_modes``, the config's ``(damper, devices, damper_scale)``
+    (:mod:`benchmark.applications.damper_choice`) and the isolation/device field overrides."""
+    return _with_overrides(_base_building(n_modes, tuple(damper)), isolation, devices)
+
+
+#: Grid points of the isolation (or device) fields checked together before an ensemble runs; a
+#: larger product has each value checked on its own (:func:`check_grid_values`).
+MAX_CHECKED_POINTS = 10_000
+
+
 def _n_modes(value: float | None) -> int | None:
     if value is None:
         return None
@@ -142,11 +155,12 @@ def _n_modes(value: float | None) -> int | None:
 def check_grid_values(grid: tuple[tuple[str, tuple[float, ...]], ...], damper: tuple = ()) -> None:
     """Refuse, before any run, a grid value the simulation would refuse when its case runs.
 
-    Each value of each parameter is checked on its own, against the building it changes (built,
-    not run: the models' own parameter checks apply): an unknown name, ``n_modes`` that is not a
-    whole number of modes, a control step or sub-step tolerance out of range, a bearing or damper
-    field outside its admissible values. A bad value had stopped an ensemble only when its case
-    came up, after the runs before it.
+    ``n_modes``, ``control_step`` and ``substep_tolerance`` are checked value by value (whole
+    modes, a step and a tolerance in range); the ``isolation.*`` fields are checked together at
+    every point of their product, and so are the ``device.*`` fields, on the building they change
+    (built, not run: the models' own checks apply, such as ``mu_min <= mu_max``, which only a
+    point of both fields can judge); past :data:`MAX_CHECKED_POINTS` points each value on its
+    own. A bad value had stopped an ensemble only when its case came up, after the runs before it.
 
     Parameters
     ----------
@@ -158,8 +172,15 @@ def check_grid_values(grid: tuple[tuple[str, tuple[float, ...]], ...], damper: t
     Raises
     ------
     InputError
-        Naming the parameter and the value.
+        Naming the parameters and the values.
     """
+    def refuse(point: str, exc: InputError) -> None:
+        text = str(exc)
+        if text.startswith("grid parameter"):  # an unknown name: the message names it
+            raise InputError(text) from None
+        raise InputError(f"grid {'point' if ',' in point else 'parameter'} {point}: {text}") from None
+
+    fields: dict[str, list[tuple[str, tuple[float, ...]]]] = {"isolation": [], "device": []}
     for name, values in grid:
         for value in values:
             try:
@@ -169,12 +190,30 @@ def check_grid_values(grid: tuple[tuple[str, tuple[float, ...]], ...], damper: t
                     check_control_step(plain["control_step"])
                 if "substep_tolerance" in plain:
                     check_substep_tolerance(plain["substep_tolerance"])
-                if n_modes is not None or isolation or devices:
-                    build_building(n_modes, isolation, devices, tuple(damper))
+                if n_modes is not None:
+                    _base_building(n_modes, tuple(damper))
             except InputError as exc:
-                text = str(exc)
-                raise InputError(text if text.startswith("grid parameter") else
-                                 f"grid parameter {name} = {value!r}: {text}") from None
+                refuse(f"{name} = {value!r}", exc)
+        kind = name.split(".", 1)[0]
+        if kind in fields and name.startswith(kind + ".") and len(name) > len(kind) + 1:
+            fields[kind].append((name[len(kind) + 1:], values))
+    base = None
+    for kind, items in fields.items():
+        if not items:
+            continue
+        base = base or _base_building(None, tuple(damper))
+        names = [n for n, _ in items]
+        size = math.prod(len(v) for _, v in items)
+        points = (itertools.product(*[v for _, v in items]) if size <= MAX_CHECKED_POINTS else
+                  (tuple(v if j == i else items[j][1][0] for j in range(len(items)))
+                   for i in range(len(items)) for v in items[i][1]))
+        for point in points:
+            overrides = tuple(zip(names, point))
+            try:
+                _with_overrides(base, overrides if kind == "isolation" else (),
+                                overrides if kind == "device" else ())
+            except InputError as exc:
+                refuse(", ".join(f"{kind}.{n} = {v!r}" for n, v in overrides), exc)
 
 
 def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, float]:

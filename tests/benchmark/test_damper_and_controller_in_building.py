@@ -368,6 +368,14 @@ def test_compare_two_diagnoses_with_the_same_file_name(capsys, tmp_path, short_r
         g = h5["runs"][next(iter(h5["runs"]))]["FN-x/passive-off"]
         assert {g[m]["voltage"].attrs["units"] for m in g} == {"A"}
         assert {g[m]["device_force_total"].attrs["units"] for m in g} == {"N (x, y)"}
+    # one model (--damper): the runs carry no model label, and the unit is still the model's A
+    assert main(["compare", "--records", short_record, "--orientations", "FN-x", "--controllers", "passive-off",
+                 "--damper", a, "--damper-scale", "300", "--jobs", "1", "--out", str(tmp_path / "one.h5"),
+                 "--no-progress"]) == 0
+    capsys.readouterr()
+    with h5py.File(tmp_path / "one.h5") as h5:
+        g = h5["runs"][next(iter(h5["runs"]))]["FN-x/passive-off"]
+        assert g["voltage"].attrs["units"] == "A"
     assert main(["compare", "--records", short_record, "--controllers", "passive-off",
                  "--dampers", f"{a},{a}", "--damper-scale", "300", "--no-progress"]) == 2
     assert "given twice" in capsys.readouterr().err

@@ -317,6 +317,15 @@ def test_names_and_the_case_count_are_checked_before_any_run(tmp_path, body, wor
     assert not journal_path(tmp_path / "e.h5").exists()
 
 
+def test_grid_fields_are_checked_together_at_every_point(tmp_path):
+    """A review: mu_max = [0.02, 0.05] with mu_min = [0.01, 0.015] is valid at every point, but each
+    value checked alone against the default bearing (mu_min 0.03) had refused mu_max = 0.02."""
+    from benchmark.applications.ensemble_simulation import check_grid_values
+    check_grid_values((("isolation.mu_max", (0.02, 0.05)), ("isolation.mu_min", (0.01, 0.015))))
+    with pytest.raises(InputError, match=r"grid point isolation.mu_max = 0.02, isolation.mu_min = 0.03"):
+        check_grid_values((("isolation.mu_max", (0.02, 0.05)), ("isolation.mu_min", (0.01, 0.03))))
+
+
 def test_a_mask_on_a_value_no_case_has_is_refused(tmp_path):
     # controller="passive-onn" had selected nothing without a word
     cfg = _config(tmp_path)

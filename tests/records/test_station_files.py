@@ -146,6 +146,30 @@ def test_esm_files_that_would_be_silently_wrong_are_refused(tmp_path, change, wo
     _refused(_esm(tmp_path, "e.ASC", _motion(8), **change), words)
 
 
+def test_esm_peaks_are_signed_and_blank_ndata_is_allowed(tmp_path):
+    # ESM writes PGA_CM/S^2 with the peak's sign: the check must compare magnitudes, not skip
+    gal = _motion(20)
+    signed = -float(np.abs(gal).max())
+    assert load_record(_esm(tmp_path, "a.ASC", gal, **{"PGA_CM/S^2": f"{signed:.6f}", "NDATA": ""})).n_samples == N
+    _refused(_esm(tmp_path, "b.ASC", gal, **{"PGA_CM/S^2": "-3.0"}), "misread scale or unit")
+
+
+def test_kiknet_borehole_and_surface_components_are_not_paired(tmp_path):
+    ew1, _ = _knet(tmp_path, "IWTH251103111446.EW1", _motion(21), direction="2")
+    ns2, _ = _knet(tmp_path, "IWTH251103111446.NS2", _motion(22), direction="4")
+    _refused(f"{ew1}+{ns2}", "a borehole sensor")
+    ud2, _ = _knet(tmp_path, "IWTH251103111446.UD2", _motion(23), direction="6")
+    assert "IWTH251103111446.EW2+IWTH251103111446.NS2" in _refused(ud2, "vertical component")
+
+
+def test_a_vertical_peer_component_is_never_run(tmp_path):
+    g = _motion(24) / 981
+    h1, up = _at2(tmp_path, "RSN_H1.AT2", g, "228"), _at2(tmp_path, "RSN_UP.AT2", g, "UP")
+    _refused(f"{h1}+{up}", "is the vertical")
+    with pytest.raises(InputError, match="is the vertical"):
+        resolve_record(str(up))
+
+
 def test_an_esm_file_without_units_reads_with_units_given(tmp_path):
     gal = _motion(9)
     rec = load_record(_esm(tmp_path, "e.ASC", gal, UNITS=""), units="cm/s2")

@@ -528,13 +528,11 @@ def check_layer_carries(layer: IsolationLayer, total_mass: float) -> None:
     stiffness, pendulum_load = 0.0, 0.0
     for group in layer.groups:
         b, n = group.bearing, len(group.indices)
-        if isinstance(b, LinearBearing):
-            stiffness += n * b.k
-        elif isinstance(b, FrictionPendulumBearing):
-            stiffness += n * b.pendulum_stiffness
+        # every registered bearing's linear part: k, W/R of a pendulum, the post-yield stiffness
+        # of a lead-rubber bearing
+        stiffness += n * b.linear_part()[0]
+        if isinstance(b, FrictionPendulumBearing):
             pendulum_load += n * b.weight
-        elif isinstance(b, LeadRubberBearing):
-            stiffness += n * b.post_yield_stiffness
     weight = total_mass * GRAVITY
     if pendulum_load > 1.5 * weight:
         raise InputError(f"isolation layer {layer.name!r}: its friction pendulums carry {pendulum_load / 1e6:.4g} MN "
