@@ -39,7 +39,7 @@ from benchmark.foundation.errors import InputError, SbibError
 from benchmark.simulator.devices import (DEFAULT_X_POSITIONS, DEFAULT_Y_POSITIONS, DeviceLayout, DeviceSlot,
                                          default_damper_model)
 from damper.models.base import DamperModel
-from damper.io.model_file import (CAPACITY_TEST, SWITCHINGS_PER_CYCLE, InputSpec, command_ends, as_range, ModelFile, capacity_force, dropped_share,
+from damper.io.model_file import (CAPACITY_TEST, CONSTANT_EFFECTS, SWITCHINGS_PER_CYCLE, InputSpec, command_ends, as_range, ModelFile, capacity_force, dropped_share,
                                   looks_like_model_file,
                                read_model_file)
 from damper.models.registry import MODELS, get_model_class
@@ -221,6 +221,9 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
     source = _source(spec, base_dir)
     label = source.label if source.path else (spec or DEFAULT_DAMPER)
     model, dropped = source.building_model()
+    # the effects whose force the building leaves out: a constant force (an offset) is no part of
+    # a damper installed at rest, so it neither sizes the device nor counts as force left out
+    missing = [line for line in dropped if line.split(" (", 1)[0] not in CONSTANT_EFFECTS]
     how = parse_scale(scale)
     factor, basis = 1.0, "as fitted (no scaling)"
     if how is not None:
@@ -231,7 +234,7 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
         else:
             # the fitted device's capacity, effects the building cannot run included: the scale
             # maps that device onto the target, whatever the building then leaves out
-            cap = capacity_force(source.augmented() if dropped else model)
+            cap = capacity_force(source.augmented(constant=False) if missing else model)
             factor = value / cap
             basis = (f"force similitude x{factor:.6g}: capacity {cap / 1e3:.4g} kN -> {value / 1e3:.4g} kN (peak force at "
                      f"{source.input.range[1]:g} {source.input.unit}, ±{CAPACITY_TEST['amplitude_m']:g} m at "
@@ -256,9 +259,9 @@ def resolve_damper(spec: str | None = None, scale: Any = None, base_dir: Path | 
             notes.append(f"warning: {label}: input range [{lo:g}, {hi:g}] {spec_in.unit} goes beyond the levels it "
                          f"was fitted at ({bottom:g}-{top:g} {spec_in.unit}); its laws hold their end values "
                          "there (an extrapolation nobody measured)")
-    if dropped:
-        share = dropped_share(source.augmented(), model)
-        names = ", ".join(line.split(" (", 1)[0] for line in dropped)  # "name (parameter ...): ..."
+    if missing:
+        share = dropped_share(source.augmented(constant=False), model)
+        names = ", ".join(line.split(" (", 1)[0] for line in missing)  # "name (parameter ...): ..."
         low, high = command_ends(model.voltage_range)
         amount = ("a share of its force that could not be measured (the model fails numerically on the "
                   "test cycle)" if math.isnan(share) else f"{100 * share:.0f} % of its force")

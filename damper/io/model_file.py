@@ -71,7 +71,7 @@ from damper.models.voltage_laws import (Constant, Exponential, Polynomial, Satur
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "ModelFile", "InputSpec", "read_model_file", "write_model_file",
            "parameter_unit", "file_provenance", "OSCILLATOR_MODEL", "LAW_FIELDS", "looks_like_model_file",
-           "capacity_force", "dropped_share", "command_ends", "CAPACITY_TEST", "SWITCHINGS_PER_CYCLE", "as_range", "load_json"]
+           "capacity_force", "dropped_share", "command_ends", "CONSTANT_EFFECTS", "CAPACITY_TEST", "SWITCHINGS_PER_CYCLE", "as_range", "load_json"]
 
 FORMAT = "sbib-damper-model"
 FORMAT_VERSION = 1
@@ -227,16 +227,23 @@ class ModelFile:
         """The file's name (or the model's name when built in memory)."""
         return Path(self.path).name if self.path else self.model_name
 
-    def augmented(self) -> AugmentedModel:
+    def augmented(self, constant: bool = True) -> AugmentedModel:
         """The model with its effects as an :class:`~damper.diagnosis.augmented.AugmentedModel`.
 
         The bases are those of :data:`damper.diagnosis.augmented.BASE_MODELS` (normalized, extended
         and Spencer-type Bouc-Wen), the bases ``sbib diagnose --model`` fits.
+
+        Parameters
+        ----------
+        constant : bool, optional
+            Keep the effects of :data:`CONSTANT_EFFECTS` (a constant force); False: the device's
+            force as a building carries it (its damper installed at rest).
         """
         if type(self.model) not in BASE_MODELS.values():
             raise InputError(f"{self.label}: effects compose with a {_base_names()} base, "
                              f"not {self.model_name}")
-        return AugmentedModel(self.model, tuple(self.effects))
+        return AugmentedModel(self.model, tuple(e for e in self.effects
+                                                if constant or e.name not in CONSTANT_EFFECTS))
 
     def building_model(self) -> tuple[DamperModel, list[str]]:
         """The registered model the building runs, and the effects it cannot run (one line each).
@@ -270,7 +277,10 @@ class ModelFile:
             except (InputError, ParameterError) as exc:  # name the file: the building's model is built from it
                 raise InputError(f"{where}: roll_off in the building (a series dashpot): {exc}") from None
         for e in effects.values():
-            dropped.append(f"{e.name} ({e.parameter_name} = {e.value:.4g} {e.unit}): no kernel in the building, not run")
+            why = ("a constant force (an accumulator's preload, or the load cell's zero in the tests): not run, "
+                   "a damper is installed in the building at rest" if e.name in CONSTANT_EFFECTS
+                   else "no kernel in the building, not run")
+            dropped.append(f"{e.name} ({e.parameter_name} = {e.value:.4g} {e.unit}): {why}")
         return model, dropped
 
     def scaled(self, factor: float) -> "ModelFile":
@@ -765,6 +775,12 @@ def _read_legacy_oscillator(doc: dict, where: str) -> ModelFile:
     quality = {k: v for k, v in doc.items() if k not in ("kind", "parameters")}
     return ModelFile(model=model, input=InputSpec("force", "N", (-math.inf, math.inf), ()), quality=quality,
                      path=where)
+
+
+#: Effects that are a constant force: the building never runs them and they are no part of the
+#: device's force there (a damper is installed at rest), so neither its capacity nor the share of
+#: its force the building leaves out counts them (:mod:`benchmark.applications.damper_choice`).
+CONSTANT_EFFECTS = ("offset",)
 
 
 #: Switchings of the command per cycle of the capacity test in :func:`dropped_share`'s second

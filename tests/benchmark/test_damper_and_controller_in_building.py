@@ -172,6 +172,21 @@ def test_a_dropped_field_lag_is_judged_under_a_switching_command(tmp_path):
     assert dropped_share(source.augmented(), source.building_model()[0]) > 0.1
 
 
+def test_a_constant_offset_neither_sizes_the_device_nor_counts_as_force_left_out(capsys, tmp_path, short_record):
+    """A probe: the Dyke base model's -142 N offset (a load cell's zero) was in its capacity (the
+    device came out at 926 kN for a 1000-kN target) and read as '13 % of its force' left out."""
+    from damper.diagnosis.effects import Offset
+    from damper.io.model_file import capacity_force
+    path = _current_model_file(tmp_path / "offset.json", Offset(-300.0))
+    source = read_model_file(path)
+    s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(path),
+                  "--damper-scale", "1000kN")
+    assert "a constant force" in err and "without offset" not in err and "warning: offset" not in err
+    # the building's device (no offset) is what reaches 1000 kN
+    assert s["damper"]["dampers"][0]["scale"] == pytest.approx(1e6 / capacity_force(source.building_model()[0]),
+                                                                rel=1e-9)
+
+
 def test_the_dropped_share_drives_only_the_commands_a_controller_gives(tmp_path, monkeypatch):
     """A probe's Dyke final model (input range from -0.44 V, the rig's command) failed numerically
     at -0.44 V in the switching measure, and that measure stopped every building run with it;
