@@ -47,8 +47,9 @@ Formats
     named in ``metadata["columns"]`` when the building takes its two (``records.resolve``); a
     ``V`` beside ``H1, H2`` is the vertical.
 
-``knet``, ``esm``
-    NIED K-NET/KiK-net and ESM ASCII files, one component each (:mod:`records.station_files`).
+``knet``, ``esm``, ``cosmos``
+    NIED K-NET/KiK-net and ESM ASCII files (one component each) and COSMOS V1/V2 files
+    (:mod:`records.station_files`).
 
 Values whose magnitude exceeds 1e8 m/s² after conversion (no unit mix-up gives that much) are
 refused as corrupt. PEER velocity (``.VT2``) and displacement (``.DT2``) files are refused, and
@@ -81,7 +82,7 @@ from records.file_values import check_dt as _check_dt
 from records.file_values import parse_number as _number
 from records.file_values import read_lines as _read_lines
 from records.file_values import to_si as _to_si
-from records.station_files import is_esm, is_knet, read_esm, read_knet
+from records.station_files import is_cosmos, is_esm, is_knet, read_cosmos, read_esm, read_knet
 
 __all__ = [
     "FORMATS",
@@ -98,7 +99,7 @@ __all__ = [
 ]
 
 #: Format names accepted by :func:`load_record`.
-FORMATS = ("auto", "benchmark", "at2", "single", "csv", "knet", "esm")
+FORMATS = ("auto", "benchmark", "at2", "single", "csv", "knet", "esm", "cosmos")
 
 #: The benchmark's sampling step [s] (Narasimhan et al. 2006; every FDZ file).
 BENCHMARK_DT = 0.005
@@ -909,7 +910,7 @@ def _first_column_is_time(rows: Sequence[str], stated_dt: float | None = None) -
 
 def detect_format(path: str | os.PathLike) -> str:
     """Guess a file's format from its name and first lines (``benchmark``, ``at2``, ``single``,
-    ``csv``, ``knet`` or ``esm``).
+    ``csv``, ``knet``, ``esm`` or ``cosmos``).
 
     Parameters
     ----------
@@ -918,7 +919,7 @@ def detect_format(path: str | os.PathLike) -> str:
 
     Notes
     -----
-    Rules, in order: a K-NET/KiK-net header (``Origin Time`` ... ``Scale Factor``) → knet, an ESM
+    Rules, in order: a COSMOS first line (``(Format v01.20 with N text lines)``) → cosmos, a K-NET/KiK-net header (``Origin Time`` ... ``Scale Factor``) → knet, an ESM
     header (``EVENT_NAME:``, ``SAMPLING_INTERVAL_S:``) → esm (:mod:`records.station_files`); suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
     lines or a first line starting with ``PEER`` → at2; a first line starting with ``%`` →
     benchmark, unless the first column is time (below; where the ``%`` lines state a step, only
@@ -930,6 +931,8 @@ def detect_format(path: str | os.PathLike) -> str:
     """
     path, lines = _read_lines(path)
     suffix = path.suffix.lower()
+    if is_cosmos(lines):
+        return "cosmos"
     if is_knet(lines):
         return "knet"
     if is_esm(lines):
@@ -977,9 +980,10 @@ def load_record(path: str | os.PathLike, format: str = "auto", dt: float | None 
     ----------
     path : path-like
         The file.
-    format : {"auto", "benchmark", "at2", "single", "csv", "knet", "esm"}
-        File format; ``"auto"`` uses :func:`detect_format`. ``knet`` (NIED K-NET/KiK-net ASCII)
-        and ``esm`` (ESM ASCII) are read by :mod:`records.station_files`, one component each.
+    format : {"auto", "benchmark", "at2", "single", "csv", "knet", "esm", "cosmos"}
+        File format; ``"auto"`` uses :func:`detect_format`. ``knet`` (NIED K-NET/KiK-net ASCII),
+        ``esm`` (ESM ASCII, one component each) and ``cosmos`` (COSMOS V1/V2) are read by
+        :mod:`records.station_files`.
     dt : float, optional
         Time step [s]: required for ``single``; for the other formats it must agree with the file.
     units : str, optional
@@ -1012,10 +1016,12 @@ def load_record(path: str | os.PathLike, format: str = "auto", dt: float | None 
         return record
     if fmt == "single":
         return read_single_column(path, dt=dt, units=units, name=name)
-    if fmt in ("knet", "esm"):
-        if fmt == "knet" and units is not None:
-            raise InputError(f"{path}: --units does not apply to a K-NET/KiK-net file (counts, scaled by its header)")
-        record = read_knet(path, name=name) if fmt == "knet" else read_esm(path, units=units, name=name)
+    if fmt in ("knet", "esm", "cosmos"):
+        if fmt != "esm" and units is not None:
+            raise InputError(f"{path}: --units does not apply to a {'K-NET/KiK-net' if fmt == 'knet' else 'COSMOS'} "
+                             "file (its header gives them)")
+        record = (read_knet(path, name=name) if fmt == "knet" else read_cosmos(path, name=name) if fmt == "cosmos"
+                  else read_esm(path, units=units, name=name))
         if dt is not None and not math.isclose(_check_dt(dt, f"{path}: dt argument"), record.dt, rel_tol=1e-6):
             raise InputError(f"{path}: dt = {dt} s given but the header says {record.dt:g} s")
         return record

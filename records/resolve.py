@@ -195,7 +195,7 @@ def resolve_record(spec: str | os.PathLike, orientation: str = "FN-x", records_d
         Directory of the benchmark's files (names only).
     baseline_correct : bool
         Apply :func:`records.baseline.baseline_correct`.
-    format : {"auto", "benchmark", "at2", "single", "csv", "knet", "esm"}
+    format : {"auto", "benchmark", "at2", "single", "csv", "knet", "esm", "cosmos"}
         File format (files only; both files of a pair ``FILE_X+FILE_Y``).
     dt : float, optional
         Time step [s] (files only): required for single-column files, checked against the others.

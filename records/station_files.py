@@ -1,7 +1,7 @@
 """Readers for the strong-motion networks' one-component ASCII files: NIED K-NET/KiK-net and ESM.
 
-These are the files most users outside the United States download (PEER NGA ``.AT2`` is read by
-:mod:`records.readers`). Each holds **one component**; a pair runs as ``EW+NS`` (see
+These are the files most users download besides PEER NGA ``.AT2`` (read by :mod:`records.readers`):
+K-NET/KiK-net and ESM files hold **one component** each, and a pair runs as ``EW+NS`` (see
 :func:`records.resolve.resolve_record`). Both readers return a :class:`records.Record` in m/s²
 and refuse in one line what would be silently wrong: a vertical component (the building is
 excited horizontally), a velocity or displacement history, a value count that disagrees with
@@ -38,7 +38,12 @@ value per line. Read: ``SAMPLING_INTERVAL_S``, ``NDATA`` (must equal the count),
 last letter ``Z`` is the vertical), ``STATION_CODE``, ``NETWORK``, ``EVENT_NAME``, ``EVENT_ID``,
 and ``PGA_CM/S^2``, checked like K-NET's peak.
 
-References: Aoi, S. et al. (2004) Strong-motion seismograph network operated by NIED: K-NET and
+``cosmos`` — COSMOS V1/V2 files (the Center for Engineering Strong Motion Data, USGS NSMP,
+CGS CSMIP: ``.V1``, ``.V2``, ``.V2c``), one or more channels per file: :func:`read_cosmos`. V0
+files (raw counts) are refused.
+
+References: COSMOS Strong-Motion Data Format, v1.20 (Consortium of Organizations for Strong-Motion
+Observation Systems, 2001). Aoi, S. et al. (2004) Strong-motion seismograph network operated by NIED: K-NET and
 KiK-net. J. Japan Assoc. Earthq. Eng. 4(3), 65-74. Luzi, L. et al. (2016) The Engineering
 Strong-Motion Database: a platform to access Pan-European accelerometric data. Seismol. Res.
 Lett. 87(4), 987-997.
@@ -56,7 +61,8 @@ from benchmark.foundation.errors import InputError
 from records.file_values import build_record, canonical_units, check_dt, parse_number, read_lines, to_si, unit_factor
 from records.record import Record
 
-__all__ = ["read_knet", "read_esm", "is_knet", "is_esm", "PEAK_TOLERANCE", "STATION_SUFFIXES"]
+__all__ = ["read_knet", "read_esm", "read_cosmos", "is_knet", "is_esm", "is_cosmos", "PEAK_TOLERANCE",
+           "STATION_SUFFIXES"]
 
 #: Relative agreement asked between a header's peak acceleration and the values read: wide enough
 #: for the header's rounding and for how the network removed the offset, far below the factor of
@@ -64,7 +70,8 @@ __all__ = ["read_knet", "read_esm", "is_knet", "is_esm", "PEAK_TOLERANCE", "STAT
 PEAK_TOLERANCE = 0.10
 
 #: Suffixes of the networks' component files (K-NET, KiK-net surface and borehole, ESM ASCII).
-STATION_SUFFIXES = frozenset({".ew", ".ns", ".ud", ".ew1", ".ns1", ".ud1", ".ew2", ".ns2", ".ud2", ".asc"})
+STATION_SUFFIXES = frozenset({".ew", ".ns", ".ud", ".ew1", ".ns1", ".ud1", ".ew2", ".ns2", ".ud2", ".asc",
+                              ".v1", ".v2", ".v1c", ".v2c"})
 
 _KNET_LABELS = {
     "station": "Station Code", "freq": "Sampling Freq(Hz)", "duration": "Duration Time(s)",
@@ -308,3 +315,174 @@ def read_esm(path: str | os.PathLike, units: str | None = None, name: str | None
     default_name = ".".join(p for p in (network, station, stream) if p) or path.stem
     return build_record(path, name=name or default_name, dt=dt, acceleration=acceleration,
                         labels=(stream or "component 1",), source=str(path), metadata=metadata)
+
+
+# --------------------------------------------------------------------------- COSMOS V1/V2
+#: The first line of a COSMOS channel block: ``Corrected acceleration (Format v01.20 with 13 text lines)``.
+_COSMOS_START = re.compile(r"\(Format\s+v\d+\.\d+\s+with\s+(\d+)\s+text\s+lines\)", re.IGNORECASE)
+_COSMOS_COUNT = re.compile(r"^\s*(\d+)\s+(Integer-header|Real-header|Comment)", re.IGNORECASE)
+_COSMOS_DATA = re.compile(r"^\s*(\d+)\s+(acceleration|velocity|displacement)\s+pts,.*?units\s*=\s*([^(,]*?)\s*"
+                          r"\((\d+)\)\s*,\s*Format\s*=\s*\((\d+)[A-Z](\d+)", re.IGNORECASE)
+_COSMOS_FORMAT = re.compile(r"Format\s*=\s*\((\d+)[A-Z](\d+)", re.IGNORECASE)
+#: COSMOS physical-unit codes of acceleration (COSMOS Strong-Motion Data Format v1.20, Table 2).
+_COSMOS_UNITS = {2: "g", 4: "cm/s2", 10: "cm/s2", 11: None}
+#: COSMOS orientation codes other than azimuths (Table 9).
+_COSMOS_DIRECTIONS = {400: "Up", 401: "Down", 402: "Vertical", 500: "Radial", 501: "Transverse",
+                      600: "Longitudinal", 601: "Tangential", 700: "H1", 701: "H2"}
+#: COSMOS orientation codes of the vertical (Table 9: up, down, vertical).
+_COSMOS_VERTICAL = (400, 401, 402)
+#: 0-based indices in the headers (COSMOS v1.20, Tables 1 and 3; the units code and the sampling
+#: interval in ms, record length in s, maximum in the data's units).
+_INT_ORIENTATION, _REAL_DT_MS, _REAL_LENGTH, _REAL_MAX = 53, 61, 62, 63
+
+
+def is_cosmos(lines: list[str]) -> bool:
+    """True when ``lines`` open like a COSMOS V0/V1/V2 file (``(Format v01.20 with 13 text lines)``).
+
+    Parameters
+    ----------
+    lines : list of str
+        The file's lines.
+    """
+    return bool(lines) and _COSMOS_START.search(lines[0]) is not None
+
+
+def _fortran_values(lines: list[str], start: int, count: int, per_line: int, width: int, path: Path,
+                    what: str) -> tuple[list[float], int]:
+    """``count`` fixed-width values from ``lines[start:]`` (Fortran ``(per_line F width.d)``: glued
+    negative values are split by position, not by blanks); returns them and the next line."""
+    values: list[float] = []
+    i = start
+    while len(values) < count:
+        if i >= len(lines):
+            raise InputError(f"{path}: {what}: {count} values announced, the file ends after {len(values)} "
+                             "(truncated?)")
+        line = lines[i].rstrip()
+        for k in range(per_line):
+            chunk = line[k * width:(k + 1) * width].strip()
+            if chunk and len(values) < count:
+                values.append(parse_number(chunk, path, i + 1, what))
+        i += 1
+    return values, i
+
+
+def read_cosmos(path: str | os.PathLike, name: str | None = None) -> Record:
+    """Read the horizontal acceleration channels of a COSMOS V1 or V2 file (CESMD, USGS NSMP).
+
+    COSMOS Strong-Motion Data Format v1.20 (Consortium of Organizations for Strong-Motion
+    Observation Systems, 2001): per channel, text lines (their number on line 1), an integer and
+    a real header (their counts and Fortran formats on their own lines), comment lines, then
+    ``N acceleration pts, approx S secs, units=cm/sec2(04),Format=(8F10.5)`` and the values,
+    read by their fixed widths. The step is the real header's sampling interval (ms, value 62),
+    checked against the record length (value 63); the units come from the data line's code; the
+    header's maximum (value 64) must match the values read to :data:`PEAK_TOLERANCE`. A channel
+    whose orientation code is vertical (400-402) or whose SCNL channel ends in Z is left out and
+    said; velocity and displacement blocks are skipped.
+
+    Parameters
+    ----------
+    path : path-like
+        The file (``.V1``, ``.V2``, ``.V2c``).
+    name : str, optional
+        Record name (default: the file stem).
+
+    Returns
+    -------
+    Record
+        The file's horizontal acceleration channels [m/s²], labelled by azimuth (``340 deg``) or
+        SCNL channel.
+
+    Raises
+    ------
+    InputError
+        A V0 file (raw counts), a malformed or truncated block, an unknown step or unit, channels
+        at different steps, a peak that disagrees with the header, or only vertical channels.
+    """
+    path, lines = read_lines(path)
+    where = str(path)
+    if re.search(r"\bcounts\b", lines[0], re.IGNORECASE) or "raw" in lines[0].lower():
+        raise InputError(f"{where}:1: a COSMOS V0 file (raw counts, {lines[0].split('(')[0].strip()!r}); give its V1 "
+                         "or V2 file (corrected acceleration)")
+    channels, skipped = [], []
+    i = 0
+    while i < len(lines):
+        m = _COSMOS_START.search(lines[i])
+        if not m:
+            if lines[i].strip() and not re.search(r"end[\s-]+of[\s-]+data", lines[i], re.IGNORECASE):
+                raise InputError(f"{where}:{i + 1}: expected a COSMOS block header '(Format v01.20 with N text "
+                                 f"lines)' or the end of the file, found {lines[i].strip()[:60]!r}")
+            i += 1
+            continue
+        block_line = i + 1
+        text = lines[i:i + int(m.group(1))]
+        unknown = -999.0
+        um = re.search(r"unspecified:\s*(-?\d+)", " ".join(text))
+        if um:
+            unknown = float(um.group(1))
+        i += int(m.group(1))
+        headers: dict[str, list[float]] = {}
+        comments: list[str] = []
+        for kind in ("integer-header", "real-header", "comment"):
+            cm = _COSMOS_COUNT.match(lines[i]) if i < len(lines) else None
+            if not cm or cm.group(2).lower() != kind:
+                raise InputError(f"{where}:{i + 1}: expected the {kind.replace('-', ' ')} line of a COSMOS block, "
+                                 f"found {lines[i].strip()[:60] if i < len(lines) else 'the end of the file'!r}")
+            count = int(cm.group(1))
+            if kind == "comment":
+                comments = lines[i + 1:i + 1 + count]
+                i += 1 + count
+                continue
+            fm = _COSMOS_FORMAT.search(lines[i])
+            if not fm:
+                raise InputError(f"{where}:{i + 1}: no Format=(nIw) / (nFw.d) on the {kind} line")
+            headers[kind], i = _fortran_values(lines, i + 1, count, int(fm.group(1)), int(fm.group(2)), path, kind)
+        dm = _COSMOS_DATA.match(lines[i]) if i < len(lines) else None
+        if not dm:
+            raise InputError(f"{where}:{i + 1}: expected 'N acceleration pts, approx S secs, units=...(code),"
+                             f"Format=(...)', found {lines[i].strip()[:70] if i < len(lines) else 'the end'!r}")
+        npts, series, unit_text, code = int(dm.group(1)), dm.group(2).lower(), dm.group(3), int(dm.group(4))
+        values, i = _fortran_values(lines, i + 1, npts, int(dm.group(5)), int(dm.group(6)), path, f"{series} values")
+        ints, reals = headers["integer-header"], headers["real-header"]
+        scnl = re.search(r"<SCNL>\s*([^\s.]+)\.([^\s.]+)", " ".join(comments))
+        orientation = ints[_INT_ORIENTATION] if len(ints) > _INT_ORIENTATION else unknown
+        label = scnl.group(2) if scnl else (f"{orientation:g} deg" if 0 <= orientation <= 360 else
+                                             _COSMOS_DIRECTIONS.get(int(orientation), f"channel at line {block_line}"))
+        if series != "acceleration":
+            continue  # a V2 file's velocity and displacement blocks
+        if orientation in _COSMOS_VERTICAL or (scnl and scnl.group(2).upper().endswith("Z")):
+            skipped.append(f"{label} (vertical, block at line {block_line})")
+            continue
+        dt_ms = reals[_REAL_DT_MS] if len(reals) > _REAL_DT_MS else unknown
+        if dt_ms == unknown:
+            raise InputError(f"{where}:{block_line}: the real header gives no sampling interval (value 62 = {dt_ms:g})")
+        dt = check_dt(dt_ms / 1000.0, f"{where}:{block_line}")
+        length = reals[_REAL_LENGTH] if len(reals) > _REAL_LENGTH else unknown
+        if length != unknown and abs(length - npts * dt) > 1.5 * dt:
+            raise InputError(f"{where}:{block_line}: {npts} values at {dt:g} s last {npts * dt:g} s, the header says "
+                             f"{length:g} s")
+        units = _COSMOS_UNITS.get(code)
+        try:
+            factor = unit_factor(units or unit_text, f"{where}:{block_line}: units")
+        except InputError:
+            raise InputError(f"{where}:{block_line}: units {unit_text!r} (code {code}); expected an acceleration in "
+                             "g or cm/s²") from None
+        acceleration = to_si(values, factor)
+        peak = reals[_REAL_MAX] if len(reals) > _REAL_MAX and reals[_REAL_MAX] != unknown else None
+        _check_peak(path, acceleration, 0.0, None if peak is None else peak * factor, "maximum (real value 64)")
+        channels.append((label, dt, acceleration, units or unit_text))
+    if not channels:
+        raise InputError(f"{where}: no horizontal acceleration channel" + (f" ({'; '.join(skipped)})" if skipped else "")
+                         + "; the building is excited horizontally")
+    steps = {c[1] for c in channels}
+    if len(steps) > 1:
+        raise InputError(f"{where}: channels sampled at {', '.join(f'{s:g}' for s in sorted(steps))} s; resample "
+                         "them to one step")
+    n = max(c[2].size for c in channels)
+    acc = np.zeros((n, len(channels)))
+    for k, c in enumerate(channels):
+        acc[:c[2].size, k] = c[2]
+    metadata = {"format": "cosmos", "units_in_file": canonical_units(channels[0][3]), "units_from": "file header"}
+    if skipped:
+        metadata["columns"] = "left out: " + ", ".join(skipped)
+    return build_record(path, name=name or path.stem, dt=channels[0][1], acceleration=acc,
+                        labels=tuple(c[0] for c in channels), source=str(path), metadata=metadata)

@@ -228,3 +228,75 @@ def test_a_file_whose_name_holds_a_plus_is_one_file(tmp_path):
     path = _at2(tmp_path, "RSN+1.AT2", _motion(19) / 981, "228")
     assert record_files(str(path)) == [path]
     assert resolve_record(str(path)).labels == ("228", "zero")
+
+
+def _cosmos_block(gal, orientation, dt=0.01, units=("cm/sec2", 4), peak=None, length=None, scnl=None):
+    """One COSMOS v1.20 channel block, written in the format's fixed widths (COSMOS Strong-Motion
+    Data Format v1.20, 2001): 13 text lines, 100 integers (10I8), 100 reals (5F15.6), comments,
+    then the values in (8F10.5), whose full-width negative values touch their neighbours."""
+    ints = [-999] * 100
+    ints[0], ints[1], ints[53] = 2, 1, orientation
+    reals = [-999.0] * 100
+    reals[61] = dt * 1000.0
+    reals[62] = length if length is not None else gal.size * dt
+    reals[63] = peak if peak is not None else float(gal[np.argmax(np.abs(gal))])
+    text = ["Corrected acceleration    (Format v01.20 with 13 text lines) Src: written by a test"]
+    text += [f"text line {k}" for k in range(2, 13)]
+    text += ["Values used when parameter or data value is unknown/unspecified:   -999, -999.0"]
+    out = text + [" 100 Integer-header values follow on  10 lines, Format= (10I8)"]
+    out += ["".join(f"{v:8d}" for v in ints[k:k + 10]) for k in range(0, 100, 10)]
+    out += [" 100 Real-header values follow on  20 lines, Format= (5F15.6)"]
+    out += ["".join(f"{v:15.6f}" for v in reals[k:k + 5]) for k in range(0, 100, 5)]
+    comments = [f"|<SCNL>STA.{scnl}.NP.--"] if scnl else []
+    out += [f"  {len(comments)} Comment line(s) follow, each starting with a \"|\":"] + comments
+    out += [f"  {gal.size:6d}  acceleration pts, approx {gal.size * dt:4.0f} secs, units={units[0]}({units[1]:02d}),"
+            "Format=(8F10.5)"]
+    out += ["".join(f"{v:10.5f}" for v in gal[k:k + 8]) for k in range(0, gal.size, 8)]
+    return out + [f"/&  ----------  End of data for channel  1  ----------"]
+
+
+def test_cosmos_channels_are_read_by_their_fixed_widths_and_the_vertical_left_out(tmp_path):
+    # negative values of 3 integer digits fill F10.5: "-998.12345-512.34567" has no blank between them
+    x = _motion(30, peak_gal=999.0)
+    y = _motion(31, peak_gal=800.0)
+    z = _motion(32, peak_gal=500.0)
+    path = tmp_path / "CE23583.V2"
+    path.write_text("\n".join(_cosmos_block(z, 400) + _cosmos_block(x, 360) + _cosmos_block(y, 90)) + "\n")
+    import re
+    assert re.search(r"\d-\d", path.read_text()), "the test must contain glued values"
+    assert detect_format(path) == "cosmos"
+    rec = load_record(path)
+    assert rec.labels == ("360 deg", "90 deg") and rec.dt == pytest.approx(0.01)
+    np.testing.assert_allclose(rec.acceleration[:, 0], np.round(x, 5) * 0.01, atol=1e-12)
+    assert "Up (vertical" in rec.metadata["columns"]
+
+
+@pytest.mark.parametrize("change,words", [
+    ({"peak": 19.99}, "misread scale or unit"),
+    ({"length": 60.0}, "the header says 60 s"),
+    ({"units": ("in/sec2", 7)}, "expected an acceleration in g or cm/s²"),
+])
+def test_cosmos_files_that_would_be_silently_wrong_are_refused(tmp_path, change, words):
+    path = tmp_path / "c.V2"
+    path.write_text("\n".join(_cosmos_block(_motion(33), 0, **change)) + "\n")
+    _refused(path, words)
+
+
+def test_cosmos_raw_counts_only_vertical_and_truncated_files_are_refused(tmp_path):
+    path = tmp_path / "raw.V0"
+    block = _cosmos_block(_motion(34), 0)
+    block[0] = block[0].replace("Corrected acceleration", "Raw acceleration counts")
+    path.write_text("\n".join(block) + "\n")
+    _refused(path, "a COSMOS V0 file")
+    path.write_text("\n".join(_cosmos_block(_motion(35), 0, scnl="HNZ")) + "\n")
+    _refused(path, "no horizontal acceleration channel")
+    path.write_text("\n".join(_cosmos_block(_motion(36), 0)[:-200]) + "\n")
+    _refused(path, "the file ends after")
+    rec = load_record(_write_g(tmp_path))
+    assert rec.metadata["units_in_file"] == "g"
+
+
+def _write_g(tmp_path):
+    path = tmp_path / "g.V2"
+    path.write_text("\n".join(_cosmos_block(_motion(37, peak_gal=0.5), 90, units=("g", 2))) + "\n")
+    return path

@@ -152,6 +152,23 @@ ESM_LINES = ["EVENT_NAME: TEST", "EVENT_ID: X", "NETWORK: IT", "STATION_CODE: NR
              "NDATA: 5", "STREAM: HGE", "UNITS: cm/s^2", "PGA_CM/S^2: 20.0", "DATA_TYPE: ACCELERATION", "USER5:",
              "1.0E+00", "-2.0E+01", "3.0E+00", "5.0E+00", "-1.0E+00"]
 
+def _cosmos_lines() -> list[str]:
+    """A valid COSMOS v1.20 block of 16 values (layout of records.station_files.read_cosmos)."""
+    ints, reals = [-999] * 100, [-999.0] * 100
+    ints[53], reals[61], reals[62], reals[63] = 90, 10.0, 0.16, -12.5
+    values = [0.5, -1.25, 3.0, -12.5, 7.0, 2.0, -4.0, 1.0, 0.0, 0.25, -0.5, 1.5, 2.5, -3.5, 4.5, -0.75]
+    return (["Corrected acceleration    (Format v01.20 with 13 text lines)"] + [f"text {k}" for k in range(2, 14)]
+            + [" 100 Integer-header values follow on  10 lines, Format= (10I8)"]
+            + ["".join(f"{v:8d}" for v in ints[k:k + 10]) for k in range(0, 100, 10)]
+            + [" 100 Real-header values follow on  20 lines, Format= (5F15.6)"]
+            + ["".join(f"{v:15.6f}" for v in reals[k:k + 5]) for k in range(0, 100, 5)]
+            + ["  0 Comment line(s) follow, each starting with a \"|\":",
+               "      16  acceleration pts, approx    0 secs, units=cm/sec2(04),Format=(8F10.5)"]
+            + ["".join(f"{v:10.5f}" for v in values[k:k + 8]) for k in range(0, 16, 8)])
+
+
+COSMOS_LINES = _cosmos_lines()
+
 RECORD_CASES = {
     "benchmark": ("quake.txt", BENCHMARK_LINES, lambda p: __import__("records.readers").readers.read_benchmark(p)),
     "at2": ("quake.AT2", AT2_LINES, lambda p: __import__("records.readers").readers.read_at2(p)),
@@ -160,6 +177,7 @@ RECORD_CASES = {
     "csv": ("quake.csv", CSV_LINES, lambda p: __import__("records.readers").readers.read_csv(p)),
     "knet": ("MYG0041103111446.EW", KNET_LINES, lambda p: __import__("records.station_files").station_files.read_knet(p)),
     "esm": ("IT.NRC..HGE.ASC", ESM_LINES, lambda p: __import__("records.station_files").station_files.read_esm(p)),
+    "cosmos": ("CE1.V2", COSMOS_LINES, lambda p: __import__("records.station_files").station_files.read_cosmos(p)),
 }
 
 
