@@ -30,7 +30,8 @@ from benchmark.foundation.errors import InputError
 from benchmark.foundation.atomic import atomic_write_text, output_dir, output_file_of
 from damper.hysteresis import noel_schoukens
 from damper.hysteresis.noel_schoukens import FS, rms_error
-from damper.hysteresis.files import data_flaws, load_model, read_data, save_model, write_displacement_csv
+from damper.hysteresis.files import (data_flaws, load_model, read_data, sampling_rate_flaw, save_model,
+                                     write_displacement_csv)
 from damper.hysteresis.identification import MIN_SAMPLES, identify_hysteretic
 
 __all__ = ["register", "run_fit", "run_predict", "run_test_signals"]
@@ -97,6 +98,8 @@ def run_fit(args: argparse.Namespace) -> int:
                               upsample=args.upsample, skip=args.skip,
                               max_nfev=args.max_iterations)
     summary = fit.to_dict()
+    # a fit through flagged data says so in the model file too, not only on stderr
+    summary["warnings"] = list(summary.get("warnings", [])) + [f"fitted with --keep-flagged: {f}" for f in flaws]
     summary["data"] = {"source": data.source, "samples": n, "sampling_rate_hz": data.fs,
                        "fit_samples": n_fit, "holdout_samples": n - n_fit}
     if n_fit < n:
@@ -160,6 +163,9 @@ def run_predict(args: argparse.Namespace) -> int:
     _check_out(args.out)
     model, doc = load_model(args.model)
     data = read_data(args.input, need_displacement=False)
+    rate = sampling_rate_flaw(data.fs)
+    if rate:  # the check `fit` applies: a time column in ms read as s (0.75 Hz)
+        raise InputError(f"{args.input}: {rate}")
     upsample = args.upsample or int(doc.get("upsample", 20))
     y = model.simulate(data.force, data.fs, upsample=upsample, periodic=args.periodic)
     write_displacement_csv(args.out, data.time, y)
@@ -179,6 +185,8 @@ def run_test_signals(args: argparse.Namespace) -> int:
     args : argparse.Namespace
         Parsed command-line options of the sub-command.
     """
+    if args.seed < 0:
+        raise InputError(f"--seed {args.seed}: expected a non-negative integer")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     for name, (u, y) in noel_schoukens.test_sets(seed=args.seed).items():

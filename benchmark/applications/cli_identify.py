@@ -27,7 +27,7 @@ from benchmark.foundation.progress import progress_bar
 from benchmark.foundation.atomic import output_dir
 from damper.identification.measured import identify_files
 from damper.io.reader import read_usable
-from damper.io.screening import units_line
+from damper.io.screening import Finding, finding_lines, units_line
 from benchmark.applications.model_files import write_identified_models
 
 __all__ = ["register"]
@@ -181,8 +181,8 @@ def _run_data(args: argparse.Namespace) -> int:
             print(f"screening {name}: estimated force lag behind the velocity "
                   f"{1e3 * est['force_velocity_lag_s']:.3g} ms, velocity channel "
                   f"{1e3 * est.get('velocity_lag_s', 0.0):.3g} ms behind d(x)/dt")
-        for finding in scr["findings"]:
-            print(f"screening {name}: {_finding_line(finding)}")
+        for line in finding_lines([Finding(**f) for f in scr["findings"]], kept=args.keep_flagged):
+            print(f"screening {name}: {line}")
         if scr["findings"]:
             print(f"screening {name}: {scr['n_excluded']} of {scr['n_samples']} samples "
                   + ("kept (--keep-flagged)" if args.keep_flagged else "excluded from fit and error"))
@@ -219,14 +219,6 @@ def _run_data(args: argparse.Namespace) -> int:
     for form, f in result["model_files"].items():
         print(f"model file ({form}): {f}")
     return 0 if result["tests"] else 2
-
-
-def _finding_line(finding: dict) -> str:
-    """One screening finding (its JSON form) as a report line."""
-    where = (f"{finding['t_start']:.4g} s" if finding["t_end"] == finding["t_start"]
-             else f"{finding['t_start']:.4g}-{finding['t_end']:.4g} s")
-    return (f"{finding['kind']} ({finding['channel']}) at {where}, {finding['n_samples']} sample(s): "
-            f"{finding['message']}")
 
 
 def _run(args: argparse.Namespace) -> int:

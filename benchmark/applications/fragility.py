@@ -37,6 +37,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, Sequence
@@ -432,7 +433,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     options: dict[str, Any] = {}
     if args.quick:
         options = {"templates": ("newhall", "kobe"), "realisations": 4, "pga_g": (0.4, 0.7, 1.0, 1.3)}
-    report = run_fragility(args.out, limit=args.limit, jobs=args.jobs, **options)
+    try:
+        if args.jobs < 1:
+            raise InputError(f"--jobs {args.jobs}: expected at least 1 process")
+        report = run_fragility(args.out, limit=args.limit, jobs=args.jobs, **options)
+    except InputError as exc:  # one line and status 2, as every sbib command (a traceback before)
+        print(f"{parser.prog}: error: {exc}", file=sys.stderr)
+        return 2
     for curve in report["curves"]:
         fit = curve["fit"]
         print(f"{curve['controller']:>18}: theta = {fit['median'] / STANDARD_GRAVITY:.3f} g, beta = {fit['beta']:.3f}"

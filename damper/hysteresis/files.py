@@ -34,7 +34,7 @@ from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
 from damper.io.screening import PLAUSIBLE, POLARITY_SHARE, net_work
 
 __all__ = ["ForceData", "read_data", "read_force_csv", "read_hdf5", "write_displacement_csv",
-           "save_model", "load_model", "data_flaws", "MODEL_KIND"]
+           "save_model", "load_model", "data_flaws", "sampling_rate_flaw", "MODEL_KIND"]
 
 MODEL_KIND = "hysteretic_oscillator"
 #: Each column's quantity (:mod:`benchmark.foundation.file_units`: a unit in brackets is converted to SI).
@@ -70,6 +70,21 @@ class ForceData:
         return self.t0 + np.arange(self.force.size) / self.fs
 
 
+def sampling_rate_flaw(fs: float) -> str | None:
+    """The phrase for a sampling rate no hysteresis test has (a time column in ms declared as s
+    reads as ~1 Hz), or None.
+
+    Parameters
+    ----------
+    fs : float
+        Sampling rate [Hz].
+    """
+    lo, hi = PLAUSIBLE["sample_rate"]
+    if lo <= fs <= hi:
+        return None
+    return f"sampling rate {fs:.4g} Hz is outside the plausible {lo:g}-{hi:g} Hz (a time column in ms?)"
+
+
 def data_flaws(data: ForceData) -> list[str]:
     """What makes ``data`` unfit to identify from, one phrase per flaw (empty: none found).
 
@@ -88,10 +103,9 @@ def data_flaws(data: ForceData) -> list[str]:
         A test as read by :func:`read_data`.
     """
     out = []
-    lo, hi = PLAUSIBLE["sample_rate"]
-    if not lo <= data.fs <= hi:
-        out.append(f"sampling rate {data.fs:.4g} Hz is outside the plausible {lo:g}-{hi:g} Hz "
-                   "(a time column in ms?)")
+    rate = sampling_rate_flaw(data.fs)
+    if rate:
+        out.append(rate)
     t = data.time
     for channel, values, unit in (("force", data.force, "N"), ("displacement", data.displacement, "m")):
         if values is None:

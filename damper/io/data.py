@@ -542,6 +542,10 @@ def read_utfsm(path, keep_flagged: bool = False) -> DamperTest:
             if len(cells) != 4:
                 raise InputError(f"{path}:{line_no}: expected 4 columns (t [s], x [mm], "
                                  f"xdot [mm/s], F [N]), got {len(cells)}")
+            if any("," in c for c in cells) and not any("." in c for c in cells):
+                # whitespace-separated columns with decimal commas (a spreadsheet's export in a
+                # European locale): the comma can only be the decimal mark here
+                cells = [c.replace(",", ".") for c in cells]
             try:
                 values = [parse_float(c) for c in cells]
             except ValueError:

@@ -27,7 +27,7 @@ from benchmark.foundation.errors import InputError
 from damper.io.data import (DamperTest, is_utfsm_raw_file, parse_utfsm_name, read_csv, read_utfsm, read_utfsm_raw,
                            split_utfsm_raw)
 from damper.io.dyke import looks_like_dyke_file, read_dyke
-from damper.io.screening import next_reversal, screening_of
+from damper.io.screening import CLIPPED_FORCE_SHARE, clipped_force_share, next_reversal, screening_of
 
 __all__ = ["read_test", "read_tests", "read_usable", "require_samples", "unique_names", "check_coil_inputs", "count_reversals", "MIN_SAMPLES"]
 
@@ -162,7 +162,8 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
     ------
     InputError
         Fewer than ``minimum`` samples, fewer than ``minimum`` usable ones (the message sums up
-        the screening's findings), or amplitudes no MR damper test has (a ``units`` finding:
+        the screening's findings), a force clipped over more than :data:`CLIPPED_FORCE_SHARE` of
+        the test, or amplitudes no MR damper test has (a ``units`` finding:
         a time in ms, a stroke in mm read as SI), or a force that does net negative work on
         the motion (a ``polarity`` finding: the force's sign inverted against the displacement).
     """
@@ -183,6 +184,12 @@ def require_samples(test: DamperTest, path, minimum: int = MIN_SAMPLES) -> Dampe
                              "onto a uniform grid")
         raise InputError(f"{path}: the screening leaves {usable} of {test.n_samples} samples usable, fewer "
                          f"than {minimum} ({screening.brief()}; --keep-flagged fits the flagged samples too)")
+    clipped = clipped_force_share(test)
+    if clipped > CLIPPED_FORCE_SHARE:
+        raise InputError(f"{path}: the force is clipped over {100 * clipped:.0f} % of the test ({screening.brief()}): "
+                         "its peaks are not measured, and a model fitted on the rest extrapolates past the clip "
+                         "level; give a test within the load cell's range (--keep-flagged fits the clipped values as "
+                         "measured)")
     units = screening.units_problem()
     if units is not None and (turns := count_reversals(np.asarray(test.displacement, dtype=float))) < 2:
         # less than a cycle: its amplitude and rate say nothing of the units

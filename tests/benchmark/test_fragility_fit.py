@@ -115,3 +115,13 @@ def test_run_fragility_end_to_end(tmp_path, shared_dir):
     for c in curves.values():
         assert c["n_total"] == [2, 2]
         assert c["n_exceed"][0] <= c["n_exceed"][1]  # stronger shaking, more exceedance
+
+
+@pytest.mark.parametrize("args, words", [(["--limit", "-1"], "fragility limit must be > 0"),
+                                         (["--jobs", "0"], "--jobs 0: expected at least 1 process")])
+def test_bad_fragility_options_end_in_one_line(tmp_path, capsys, args, words):
+    """A probe: --limit -1 and --jobs 0 ended in a 12-line traceback (status 1)."""
+    from benchmark.applications.fragility import main
+    assert main(["--quick", "--out", str(tmp_path / "f"), *args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and "\n" not in err and "Traceback" not in err

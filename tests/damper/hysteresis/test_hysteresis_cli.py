@@ -208,6 +208,9 @@ def test_flawed_data_are_refused_unless_kept(tmp_path, capsys, flaw, words):
                        "--max-iterations", "2"])
         assert status == 0 and out.exists()
         assert "warning:" in capsys.readouterr().err
+        # the model file says it was fitted through the flaw (it had "warnings": [])
+        warnings = json.loads(out.read_text())["quality"]["fit"]["warnings"]
+        assert any(w.startswith("fitted with --keep-flagged: displacement frozen") for w in warnings)
 
 
 def test_benchmark_training_data_have_no_flaw(shared_dir):
@@ -270,3 +273,31 @@ def test_force_data_read_as_the_damper_tests_are(tmp_path, sep, bom, decimal):
     data = read_data(path)
     np.testing.assert_allclose(data.force, [r[1] for r in rows], rtol=1e-14)
     assert data.fs == pytest.approx(1000.0)
+
+
+def test_predict_refuses_a_sampling_rate_no_test_has_and_test_signals_a_negative_seed(small_fit, tmp_path, capsys):
+    """A probe: predict ran a time column in ms (0.75 Hz) that fit refuses; --seed -1 ended in a
+    traceback."""
+    d, _, model, _ = small_fit
+    inp = _write_csv(tmp_path / "ms.csv", np.ones(64), fs=hb.FS / 1000.0)
+    assert main(["hysteresis", "predict", "--model", str(model), "--input", str(inp),
+                 "--out", str(tmp_path / "y.csv")]) == 2
+    assert "sampling rate 0.75 Hz is outside" in capsys.readouterr().err
+    assert main(["hysteresis", "test-signals", "--out", str(tmp_path / "ts"), "--seed", "-1"]) == 2
+    assert "--seed -1: expected a non-negative integer" in capsys.readouterr().err
+
+
+def test_a_displacement_zero_offset_is_named():
+    """The model has no output offset: a displacement zeroed 0.5 mm off fitted with an RMS error of
+    exactly the offset, silently; 10 mm off, the failure blamed the model class."""
+    from benchmark.foundation.errors import NumericalError
+    from damper.hysteresis.identification import identify_hysteretic
+    u, y = hb.synthesize(hb.true_system(), np.tile(hb.multisine(n=2048, seed=4), 2), decimate=False)
+    # the fit bends part of an offset into the hysteresis: the warning does not wait for the residual
+    fit = identify_hysteretic(u, y + 0.6 * np.std(y), hb.FS, max_nfev=5)
+    assert any("a zero offset of the displacement channel" in w for w in fit.warnings), fit.warnings
+    clean = identify_hysteretic(u, y, hb.FS, max_nfev=5)
+    assert not any("offset" in w or "zero is off" in w for w in clean.warnings)
+    # a fit that fails outright says the offset may be why
+    with pytest.raises(NumericalError, match="zero offset"):
+        identify_hysteretic(u, y + 20 * np.std(y), hb.FS, max_nfev=5)
