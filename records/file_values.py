@@ -3,13 +3,15 @@ checking a time step, converting to m/s² and building the :class:`records.Recor
 
 Each failure is one :class:`~benchmark.foundation.errors.InputError` line naming the file, the
 line and what was expected. The format readers (:mod:`records.readers`,
-:mod:`records.station_files`) sit on top of this module.
+:mod:`records.station_files`) sit on top of this module, which also holds the names that tell a
+component's direction (:data:`AXIS_NAME`, :func:`is_vertical_label`), for every format alike.
 """
 
 from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +22,8 @@ from benchmark.foundation.file_units import si_factor
 from benchmark.foundation.textfile import decode_text, parse_float
 from records.record import STANDARD_GRAVITY, Record
 
-__all__ = ["DT_RANGE", "LARGEST_SI", "unit_factor", "canonical_units", "read_lines", "parse_number",
+__all__ = ["DT_RANGE", "LARGEST_SI", "AXIS_NAME", "AXIS_SLOT", "is_vertical_label", "unit_factor",
+           "canonical_units", "read_lines", "parse_number",
            "check_dt", "to_si", "build_record"]
 
 #: Time steps a record file may state [s]: strong-motion instruments sample at 50 Hz to 10 kHz
@@ -173,3 +176,31 @@ def build_record(path: Path, **fields: Any) -> Record:
         return Record(**fields)
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
+
+
+#: A column name that gives its direction: an optional acceleration prefix, then the axis
+#: (``ax``, ``acc_y``, ``ag-x``, ``FN``, ``a_FP``, ``UP``, ``vertical``); spaces, ``_ - .`` ignored.
+AXIS_NAME = re.compile(r"^(?:a|acc|accel|acceleration|ag|ug|ground|groundacc|groundacceleration)?"
+                       r"(x|y|z|fn|fp|up|ud|v|vert|vertical)$")
+#: Which slot of the record (component 0, then 1) each horizontal direction takes; None: vertical.
+AXIS_SLOT = {"x": 0, "fn": 0, "y": 1, "fp": 1, "z": None, "up": None, "ud": None, "v": None, "vert": None,
+              "vertical": None}  # "V" beside "H1, H2": the vertical, as PEER names the components
+
+
+#: Component names that mean the vertical beyond :data:`AXIS_NAME`'s: PEER's ``DWN``/``VER``, and
+#: SEED channel codes ending in Z (``HNZ``, ``HGZ``).
+_VERTICAL_NAMES = re.compile(r"^(?:dwn|down|ver|updown|[a-z]{2}z)$")
+
+
+def is_vertical_label(label: str) -> bool:
+    """True when a component's name says it is the vertical (``UP``, ``az``, ``V``, ``DWN``,
+    ``HNZ``): the building is excited horizontally, so such a component is never run.
+
+    Parameters
+    ----------
+    label : str
+        The component's name (a CSV column, the component on an ``.AT2`` file's second line).
+    """
+    key = re.sub(r"[\s_.\-]", "", str(label).lower())
+    m = AXIS_NAME.match(key)
+    return bool((m and AXIS_SLOT[m.group(1)] is None) or _VERTICAL_NAMES.match(key))

@@ -75,7 +75,9 @@ from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.file_units import QUANTITY_UNITS, si_factor, unit_key
 from benchmark.foundation.textfile import decode_text, parse_float
 from records.record import STANDARD_GRAVITY, Record
-from records.file_values import DT_RANGE, unit_factor
+from records.file_values import DT_RANGE, is_vertical_label, unit_factor
+from records.file_values import AXIS_NAME as _AXIS_NAME
+from records.file_values import AXIS_SLOT as _AXIS_SLOT
 from records.file_values import build_record as _record
 from records.file_values import canonical_units as _canonical
 from records.file_values import check_dt as _check_dt
@@ -566,34 +568,6 @@ def _numeric_row(line: str) -> tuple[str | None, bool] | None:
     if cells and all(c and _is_number(c, decimal_comma) for c in cells):
         return delimiter, decimal_comma
     return None
-
-
-#: A column name that gives its direction: an optional acceleration prefix, then the axis
-#: (``ax``, ``acc_y``, ``ag-x``, ``FN``, ``a_FP``, ``UP``, ``vertical``); spaces, ``_ - .`` ignored.
-_AXIS_NAME = re.compile(r"^(?:a|acc|accel|acceleration|ag|ug|ground|groundacc|groundacceleration)?"
-                        r"(x|y|z|fn|fp|up|ud|v|vert|vertical)$")
-#: Which slot of the record (component 0, then 1) each horizontal direction takes; None: vertical.
-_AXIS_SLOT = {"x": 0, "fn": 0, "y": 1, "fp": 1, "z": None, "up": None, "ud": None, "v": None, "vert": None,
-              "vertical": None}  # "V" beside "H1, H2": the vertical, as PEER names the components
-
-
-#: Component names that mean the vertical beyond :data:`_AXIS_NAME`'s: PEER's ``DWN``/``VER``, and
-#: SEED channel codes ending in Z (``HNZ``, ``HGZ``).
-_VERTICAL_NAMES = re.compile(r"^(?:dwn|down|ver|updown|[a-z]{2}z)$")
-
-
-def is_vertical_label(label: str) -> bool:
-    """True when a component's name says it is the vertical (``UP``, ``az``, ``V``, ``DWN``,
-    ``HNZ``): the building is excited horizontally, so such a component is never run.
-
-    Parameters
-    ----------
-    label : str
-        The component's name (a CSV column, the component on an ``.AT2`` file's second line).
-    """
-    key = re.sub(r"[\s_.\-]", "", str(label).lower())
-    m = _AXIS_NAME.match(key)
-    return bool((m and _AXIS_SLOT[m.group(1)] is None) or _VERTICAL_NAMES.match(key))
 
 
 def _component_order(labels: Sequence[str], where: str) -> tuple[list[int], str | None]:

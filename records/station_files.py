@@ -58,7 +58,8 @@ from pathlib import Path
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from records.file_values import build_record, canonical_units, check_dt, parse_number, read_lines, to_si, unit_factor
+from records.file_values import (build_record, canonical_units, check_dt, is_vertical_label, parse_number, read_lines,
+                                 to_si, unit_factor)
 from records.record import Record
 
 __all__ = ["read_knet", "read_esm", "read_cosmos", "is_knet", "is_esm", "is_cosmos", "PEAK_TOLERANCE",
@@ -274,7 +275,7 @@ def read_esm(path: str | os.PathLike, units: str | None = None, name: str | None
     if data_type and data_type != "ACCELERATION":
         raise InputError(f"{where}:{header['DATA_TYPE'][1]}: DATA_TYPE {data_type!r}; expected an ACCELERATION history")
     stream, stream_line = header.get("STREAM", ("", 0))
-    if stream.upper().endswith("Z"):
+    if stream and is_vertical_label(stream):
         stem = path.name
         _refuse_vertical(path, f"{where}:{stream_line}", f"STREAM {stream}",
                          f"{stem.replace(stream, stream[:-1] + 'E')}+{stem.replace(stream, stream[:-1] + 'N')}")
@@ -449,7 +450,7 @@ def read_cosmos(path: str | os.PathLike, name: str | None = None) -> Record:
                                              _COSMOS_DIRECTIONS.get(int(orientation), f"channel at line {block_line}"))
         if series != "acceleration":
             continue  # a V2 file's velocity and displacement blocks
-        if orientation in _COSMOS_VERTICAL or (scnl and scnl.group(2).upper().endswith("Z")):
+        if orientation in _COSMOS_VERTICAL or (scnl and is_vertical_label(scnl.group(2))):
             skipped.append(f"{label} (vertical, block at line {block_line})")
             continue
         dt_ms = reals[_REAL_DT_MS] if len(reals) > _REAL_DT_MS else unknown

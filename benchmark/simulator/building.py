@@ -22,7 +22,7 @@ from benchmark.foundation.errors import InputError
 from benchmark.simulator.structure import Superstructure, load_superstructure
 from benchmark.simulator.isolation.configurations import (DEFAULT_NONLINEAR, IsolationLayer, check_layer_carries,
                                                         get_isolation)
-from benchmark.simulator.structure import location_matrix
+from benchmark.simulator.structure import bearing_gaps, location_matrix
 from benchmark.simulator.devices import DeviceLayout
 from damper.models.base import DamperModel
 
@@ -72,9 +72,7 @@ class Building:
         # a plan that is not a rectangle (the benchmark's is L-shaped) has corners of its bounding
         # box with no slab: a device farther from every bearing than any bearing is from its
         # nearest neighbour (7.9 m on the benchmark's plan), plus a metre, is off the slab
-        gaps = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))
-        np.fill_diagonal(gaps, np.inf)
-        reach = float(gaps.min(axis=1).max()) + 1.0
+        reach = float(bearing_gaps(xy).min(axis=1).max()) + 1.0
         for slot in self.devices.slots:  # type: ignore[union-attr]
             p = np.array([slot.x, slot.y], dtype=float)
             if np.any(p < lo - margin) or np.any(p > hi + margin):

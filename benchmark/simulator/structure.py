@@ -67,7 +67,7 @@ from benchmark.foundation.fields import check_field_names
 from benchmark.foundation.paths import structure_file
 from benchmark.foundation.textfile import read_text
 
-__all__ = ["Superstructure", "load_superstructure", "transformation", "location_matrix",
+__all__ = ["Superstructure", "load_superstructure", "transformation", "location_matrix", "bearing_gaps",
            "N_FLOORS", "DOF_NAMES"]
 
 N_FLOORS = 8
@@ -101,6 +101,21 @@ def transformation(xy: np.ndarray) -> np.ndarray:
     T[:, 0, 2] = -xy[:, 1]
     T[:, 1, 2] = xy[:, 0]
     return T
+
+
+def bearing_gaps(xy: np.ndarray) -> np.ndarray:
+    """Distances [m] between every two plan positions ``xy`` (n, 2), ``inf`` on the diagonal
+    (a position given twice, the plan's spacing, a device's nearest bearing).
+
+    Parameters
+    ----------
+    xy : np.ndarray
+        Plan positions (n, 2) [m].
+    """
+    xy = np.asarray(xy, dtype=float)
+    gaps = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+    np.fill_diagonal(gaps, np.inf)
+    return gaps
 
 
 def location_matrix(xy: np.ndarray, weights: np.ndarray | None = None) -> np.ndarray:
@@ -397,8 +412,7 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
                          "(expected (rad/s)², "
                          "not Hz or Hz²)")
     if bearing_xy.shape[0] > 1:
-        gaps = np.hypot(*(bearing_xy[:, None, :] - bearing_xy[None, :, :]).transpose(2, 0, 1))
-        np.fill_diagonal(gaps, np.inf)
+        gaps = bearing_gaps(bearing_xy)
         if float(gaps.min()) < MIN_BEARING_SPACING:
             i, j = np.unravel_index(int(np.argmin(gaps)), gaps.shape)
             raise InputError(f"{path}: field 'bearing_xy': bearings {min(i, j) + 1} and {max(i, j) + 1} are "
