@@ -15,11 +15,14 @@ cannot be built with no arguments, or whose ``step``/``reset`` take other argume
 run (:class:`GuardedController`) an exception inside ``reset`` or ``step``, or commands outside
 ``[0, voltage_max]`` (beyond a rounding tolerance), end the run with one line naming the class,
 the time and the offending device; a wrong number of commands or a non-finite one is reported
-by :func:`controllers.base.check_voltages` with the same name.
+by :func:`controllers.base.check_voltages` with the same name. What the user's code prints goes
+to standard error (sbib's standard output carries its tables and ``--json`` documents), and
+:func:`user_controller_file` names the file that results and ensemble journals hash.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib
 import importlib.util
@@ -33,7 +36,8 @@ import numpy as np
 from benchmark.foundation.errors import InputError, SbibError, UserCodeError
 from controllers.base import CompiledController, ControlContext, Controller
 
-__all__ = ["is_user_controller_spec", "load_user_controller", "GuardedController", "VOLTAGE_TOLERANCE"]
+__all__ = ["is_user_controller_spec", "load_user_controller", "user_controller_file", "GuardedController",
+           "VOLTAGE_TOLERANCE"]
 
 #: Commands may exceed ``[0, voltage_max]`` by this much (relative to ``voltage_max``) for rounding.
 VOLTAGE_TOLERANCE = 1e-9
@@ -51,6 +55,41 @@ def is_user_controller_spec(spec: Any) -> bool:
     return isinstance(spec, str) and ":" in spec.strip() and not spec.strip().startswith(":")
 
 
+def user_controller_file(spec: str) -> Path | None:
+    """The Python file a user's controller is read from, or ``None`` (not a user's spec, or a
+    module without a file).
+
+    Results and ensemble journals hash this file: an edited controller is another controller,
+    whether it is named by its file (``path/to/file.py:Class``) or by its module
+    (``package.module:Class``, located by Python's import system; its parent package is imported).
+
+    Parameters
+    ----------
+    spec : str
+        A ``--controller`` value.
+    """
+    if not is_user_controller_spec(spec):
+        return None
+    target = spec.strip().rpartition(":")[0]
+    if _is_file_target(target):
+        path = Path(target).expanduser()
+        return path.resolve() if path.is_file() else None
+    module = sys.modules.get(target)
+    origin = getattr(module, "__file__", None) if module is not None else None
+    if origin is None:
+        try:
+            found = importlib.util.find_spec(target)
+        except (ImportError, ValueError):
+            return None
+        origin = found.origin if found is not None else None
+    path = Path(origin) if origin else None
+    return path.resolve() if path is not None and path.is_file() else None
+
+
+def _is_file_target(target: str) -> bool:
+    return target.endswith(".py") or "/" in target or "\\" in target
+
+
 def _split(spec: str) -> tuple[str, str]:
     target, _, cls_name = spec.strip().rpartition(":")
     if not target or not cls_name.isidentifier():
@@ -59,7 +98,7 @@ def _split(spec: str) -> tuple[str, str]:
 
 
 def _import(spec: str, target: str):
-    if target.endswith(".py") or "/" in target or "\\" in target:
+    if _is_file_target(target):
         path = Path(target)
         if not path.is_file():
             raise InputError(f"controller {spec!r}: file {target} not found")
@@ -73,7 +112,8 @@ def _import(spec: str, target: str):
         module = importlib.util.module_from_spec(module_spec)
         sys.modules[name] = module
         try:
-            module_spec.loader.exec_module(module)
+            with _user_output():
+                module_spec.loader.exec_module(module)
         except SbibError:
             sys.modules.pop(name, None)
             raise
@@ -83,7 +123,8 @@ def _import(spec: str, target: str):
                              f"{_one_line(exc)}") from None
         return module
     try:
-        return importlib.import_module(target)
+        with _user_output():
+            return importlib.import_module(target)
     except ModuleNotFoundError as exc:
         hint = ("; a package of the current directory: run with PYTHONPATH=. or give path/to/file.py:Class"
                 if Path(target.split(".")[0]).is_dir() or Path(target.split(".")[0] + ".py").is_file() else "")
@@ -108,6 +149,18 @@ def _takes_one_argument(function, bound: bool) -> bool:
     except TypeError:
         return False
     return True
+
+
+def _method_takes_one_argument(cls, name: str) -> bool:
+    # a staticmethod or classmethod is called without self: step(measurements) binds one argument
+    bound = isinstance(inspect.getattr_static(cls, name, None), (staticmethod, classmethod))
+    return _takes_one_argument(getattr(cls, name), bound=bound)
+
+
+def _user_output():
+    """Where the user's code prints: standard error, so that what sbib writes to standard output
+    (a ``--json`` document, a table) stays sbib's alone."""
+    return contextlib.redirect_stdout(sys.stderr)
 
 
 def load_user_controller(spec: str) -> "GuardedController":
@@ -139,11 +192,11 @@ def load_user_controller(spec: str) -> "GuardedController":
     step = getattr(cls, "step", None)
     if not callable(step):
         raise InputError(f"controller {spec!r}: {cls_name} has no step(self, measurements) method")
-    if not _takes_one_argument(step, bound=False):
+    if not _method_takes_one_argument(cls, "step"):
         raise InputError(f"controller {spec!r}: {cls_name}.step{inspect.signature(step)} must take one "
                          "argument, the measurement vector: step(self, measurements)")
     reset = getattr(cls, "reset", None)
-    if reset is not None and not _takes_one_argument(reset, bound=False):
+    if reset is not None and not _method_takes_one_argument(cls, "reset"):
         raise InputError(f"controller {spec!r}: {cls_name}.reset{inspect.signature(reset)} must take one "
                          "argument, the context: reset(self, context)")
     try:
@@ -154,7 +207,8 @@ def load_user_controller(spec: str) -> "GuardedController":
     except ValueError:
         pass
     try:
-        instance = cls()
+        with _user_output():
+            instance = cls()
     except SbibError:
         raise
     except Exception as exc:
@@ -201,7 +255,8 @@ class GuardedController(Controller):
         reset = getattr(self.inner, "reset", None)
         if reset is not None:
             try:
-                reset(context)
+                with _user_output():
+                    reset(context)
             except SbibError:
                 raise
             except (Exception, SystemExit) as exc:  # sys.exit() in user code ends the run, not sbib
@@ -212,7 +267,8 @@ class GuardedController(Controller):
         if not callable(compiled):
             return None
         try:
-            out = compiled()
+            with _user_output():
+                out = compiled()
         except SbibError:
             raise
         except (Exception, SystemExit) as exc:
@@ -225,7 +281,8 @@ class GuardedController(Controller):
     def step(self, measurements: np.ndarray) -> np.ndarray:
         assert self.context is not None
         try:
-            raw = self.inner.step(measurements)
+            with _user_output():
+                raw = self.inner.step(measurements)
         except SbibError:
             raise
         except (Exception, SystemExit) as exc:
@@ -259,7 +316,8 @@ class GuardedController(Controller):
         describe = getattr(self.inner, "describe", None)
         if callable(describe):
             try:
-                out["parameters"] = describe()
+                with _user_output():
+                    out["parameters"] = describe()
             except Exception:  # a description is optional; a broken one must not stop the run
                 pass
         return out

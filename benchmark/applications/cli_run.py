@@ -72,6 +72,7 @@ from benchmark.simulator.building import Building
 from benchmark.simulator.isolation.configurations import check_substep_tolerance
 from benchmark.applications.damper_choice import add_damper_options, command_unit, resolve_damper, resolve_layout
 from controllers.registry import controller_names
+from benchmark.applications.run_inputs import controller_identity, damper_identities, record_identity
 from benchmark.foundation.atomic import output_dir, output_file_of
 from benchmark.foundation.provenance import file_identity
 
@@ -92,18 +93,13 @@ def _clean(d: dict[str, Any]) -> dict[str, Any]:
 
 
 def _input_files(record_source: str | list, controller: str, structure_source: str, damper: dict) -> dict:
-    """Each input file of a run by absolute path and SHA-256 (:func:`file_identity`): the record,
-    a user's controller file (``file.py:Class``), the structure file and the damper model files;
-    a name that is not a file (a benchmark record, a registered controller) by its name. A pair of
-    component files (``record_source`` a list of two) gives both, under ``record["files"]``."""
-    head = controller.rsplit(":", 1)[0] if ":" in controller else ""
-    files = [file_identity(f) for f in record_source] if isinstance(record_source, list) else []
-    record = ({"path": " + ".join(f["path"] for f in files), "files": files} if len(files) > 1
-              else files[0] if files else file_identity(record_source) if record_source else {})
-    return {"record": record,
-            "controller": file_identity(head) if head.endswith(".py") else {"path": controller},
+    """Each input file of a run by absolute path and SHA-256 (:mod:`benchmark.applications.run_inputs`):
+    the record (both files of a pair, under ``record["files"]``), a user's controller file, the
+    structure file and the damper model files; a name that is not a file (a benchmark record, a
+    registered controller) by its name."""
+    return {"record": record_identity(record_source), "controller": controller_identity(controller),
             "structure": file_identity(structure_source) if structure_source else {},
-            "dampers": [file_identity(d["path"]) for d in damper.get("dampers", []) if d.get("path")]}
+            "dampers": damper_identities(damper)}
 
 
 def run_command(record: str, orientation: str = "FN-x", isolation: str | None = None,

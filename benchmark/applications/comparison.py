@@ -24,12 +24,15 @@ from typing import Any, Sequence
 import numpy as np
 
 from benchmark.foundation.cache import register_cache
-from benchmark.foundation.errors import InputError
+from benchmark.foundation.errors import InputError, UserCodeError
 from benchmark.simulator.building import Building
 from controllers.registry import controller_names
 from records import BENCHMARK_RECORDS, ORIENTATIONS
 from benchmark.foundation.atomic import atomic_path
-from benchmark.foundation.provenance import provenance
+from benchmark.foundation.provenance import file_identity, provenance
+from benchmark.foundation.errors import DataNotFoundError
+from benchmark.foundation.paths import structure_file
+from benchmark.applications.run_inputs import controller_identity, damper_identities, record_identity
 from benchmark.applications import comparison_plots
 from controllers.registry import get_controller
 from records.resolve import resolve_record
@@ -230,6 +233,8 @@ class ComparisonResult:
                 for key, value in provenance(kind="controller comparison", **extra).items():
                     h5.attrs[key] = value
                 h5.attrs["settings"] = json.dumps(self.settings, default=str)
+                if "inputs" in self.settings:  # as sbib run writes them: each file by path and SHA-256
+                    h5.attrs["inputs"] = json.dumps(self.settings["inputs"])
                 h5.attrs["summary"] = json.dumps(self.summary())
                 h5.attrs["units"] = ("SI: m, N, s; device commands in each damper model's input unit "
                                      "(V, or A for a model identified on the coil current); J's dimensionless")
@@ -355,12 +360,13 @@ def _canonical_orientations(orientations: str | Sequence[str]) -> Any:
     return ",".join(mapped) if isinstance(orientations, str) else mapped
 
 
-def _check_records(record_list: list[str], orientation: str, settings: dict,
-                   warn: bool) -> tuple[dict[str, str], dict[str, str], dict[str, float], list[str]]:
+def _check_records(record_list: list[str], orientation: str, settings: dict, warn: bool,
+                   identities: dict | None = None) -> tuple[dict[str, str], dict[str, str], dict[str, float], list[str]]:
     """Load each record once here: bad files and control steps that do not fit fail before any
     run, and each gets its row label (the catalogue name, or the file's record name, made unique).
     Returns the labels by spec, by label the units each record's values were read in and its
-    control step [s], and the lines to print after the runs (implausible records, chosen steps)."""
+    control step [s], and the lines to print after the runs (implausible records, chosen steps);
+    ``identities``, if given, gets each record's files by label (path and SHA-256)."""
     messages: list[str] = []
     labels: dict[str, str] = {}
     units: dict[str, str] = {}
@@ -377,6 +383,9 @@ def _check_records(record_list: list[str], orientation: str, settings: dict,
         seen.add(label)
         labels[spec] = label
         units[label] = record.metadata.get("units_assumed", "")
+        files = record.metadata.get("source_files")
+        if identities is not None:
+            identities[label] = record_identity(list(files) if files else getattr(record, "source", ""))
         steps[label] = settings["control_step"] or DEFAULT_CONTROL_STEP  # checked once, in compare()
         for flaw in record.metadata.get("flaws", []):
             if "implausible" in flaw:
@@ -476,7 +485,10 @@ def _run_one(task) -> tuple:
     case = Case(record=record, controller=_make_controller(spec),
                 building=_building(settings.get("isolation"), settings.get("n_modes"), damper),
                 control_step=settings["control_step"], options=options)
-    out = run_case(case, cache=_WORKER_REFERENCES)
+    try:
+        out = run_case(case, cache=_WORKER_REFERENCES)
+    except UserCodeError as exc:  # a user's controller failed: say in which of the runs
+        raise UserCodeError(f"{label[0] if label else record_name} {orientation}: {exc}") from None
     result, reference = out.result, out.reference
     run = ComparisonRun(record=label[0] if label else record_name, orientation=orientation,
                         controller=_controller_label(spec),
@@ -611,8 +623,9 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         settings["building"] = None
         settings["dampers"] = tuple(damper_names) if damper_names != [""] else None
     settings_key = tuple(sorted(settings.items(), key=lambda kv: kv[0]))
+    record_inputs: dict = {}
     labels_by_spec, record_units, control_steps, messages = _check_records(record_list, orientation_list[0],
-                                                                            settings, warn)
+                                                                            settings, warn, record_inputs)
     unknown = sorted(set(measure) - set(labels))
     if unknown:
         raise InputError(f"measure: {unknown} are not among the controllers {labels}")
@@ -665,5 +678,14 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     public_settings["control_step_by_record"] = control_steps  # [s], chosen or given
     if damper_info is not None:
         public_settings["damper"] = damper_info  # model, scale and its basis, input mapping, notes
+    # each file the runs read, by path and SHA-256, as sbib run writes them (run_inputs)
+    try:
+        structure = file_identity(structure_file())
+    except DataNotFoundError:
+        structure = {}
+    public_settings["inputs"] = {"records": record_inputs,
+                                 "controllers": {label: controller_identity(spec) for label, spec
+                                                 in zip(labels, specs) if isinstance(spec, str)},
+                                 "structure": structure, "dampers": damper_identities(damper_info)}
     return ComparisonResult(runs=runs, references=references, reference_histories=ref_hist,
                             settings=public_settings, measured=measured)

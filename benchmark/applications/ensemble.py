@@ -68,6 +68,7 @@ from records import BENCHMARK_RECORDS, ORIENTATIONS
 from records.catalogue import ORIENTATION_ALIASES, canonical_name
 from records.resolve import looks_like_file, record_files
 from controllers.registry import controller_names
+from controllers.user import user_controller_file
 from benchmark.foundation.textfile import read_text
 from benchmark.simulator.criteria import CRITERIA
 from benchmark.simulator.peaks import PEAK_UNITS
@@ -535,9 +536,13 @@ def _building_file_hashes(building) -> dict:
 
 
 def _input_file_hashes(config) -> dict:
-    """``{absolute path: SHA-256}`` of the record files an ensemble names and of the structure
-    file its runs read (``--structure`` / ``SBIB_STRUCTURE``, else the benchmark's)."""
+    """``{absolute path: SHA-256}`` of the record files an ensemble names, of its users' controller
+    files (``file.py:Class`` or ``package.module:Class``) and of the structure file its runs read
+    (``--structure`` / ``SBIB_STRUCTURE``, else the benchmark's)."""
     paths = [p for r in config.records if isinstance(r, str) for p in record_files(r) if p.is_file()]
+    # an edited controller is another controller: its runs are not resumed (a probe's edited
+    # file.py:Class had been resumed with the old commands' J's)
+    paths += [p for p in (user_controller_file(c) for c in config.controllers) if p is not None]
     try:
         paths.append(structure_file())
     except DataNotFoundError:  # the runs will say so
