@@ -568,7 +568,9 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
             "Spencer et al.'s model with its field lag")
     nodes = data.nodes()
     q = decimation_factor(data, coarse_samples)
-    work = data if coarse_samples is None else coarse_pass(data, q, coarse_samples)
+    # the Spencer-type base filters the input through its own field; the others read it in their laws
+    work = data if coarse_samples is None else coarse_pass(data, q, coarse_samples,
+                                                           "mean" if model == "spencer" else "end")
     # a window carries the time its test began (Motion.origin); the tests themselves do not
     n_windows = sum(m.origin is not None for m in work.motions)
     if q > 1 or n_windows:
