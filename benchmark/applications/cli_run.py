@@ -260,7 +260,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
     if plot_dir:
         say(f"plotting into {plot_dir}")
         paths = plot_run(result, plot_dir, reference=None if result is reference else reference,
-                         bearing_xy=sup.bearing_xy, corners=plan_corners(sup.bearing_xy))
+                         bearing_xy=sup.bearing_xy, corners=plan_corners(sup.bearing_xy),
+                         command_unit=command_unit(summary["damper"]))
         summary["plots"] = [str(p) for p in paths]
     summary["elapsed_s"] = time.perf_counter() - start
     summary["result"] = result

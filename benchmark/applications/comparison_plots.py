@@ -26,6 +26,7 @@ __all__ = ["plot_all", "plot_J_by_record", "plot_J_summary", "plot_histories"]
 from benchmark.simulator.criteria import J_NAMES, axis_label, is_ratio, key_lines
 from benchmark.foundation.display_units import axis_label as unit_label
 from benchmark.foundation.display_units import to_display
+from benchmark.applications.damper_choice import command_unit
 
 
 def _pyplot():
@@ -176,7 +177,8 @@ def plot_histories(result: Any, record: str, orientation: str, path: Path) -> Pa
                          label=run.controller)
     axes[0].set_ylabel(unit_label("base displacement |u_b|", "displacement"))
     axes[1].set_ylabel(unit_label("total device force |F|", "force"))
-    axes[2].set_ylabel(f"device voltage, {VOLTAGE_WINDOW:g} s moving mean [V]")
+    unit = command_unit(result.settings.get("damper"))
+    axes[2].set_ylabel(f"device command, {VOLTAGE_WINDOW:g} s moving mean [{unit}]")
     axes[2].set_title("bang-bang laws switch tens of times per second: the moving mean is "
                       "V_max × the fraction of time on (duty cycle), mean over devices", fontsize=8)
     axes[2].set_xlabel("time [s]")

@@ -45,7 +45,7 @@ from damper.io.model_file import (CAPACITY_TEST, CONSTANT_EFFECTS, SWITCHINGS_PE
 from damper.models.registry import MODELS, get_model_class
 
 __all__ = ["DamperChoice", "resolve_damper", "resolve_layout", "parse_scale", "add_damper_options",
-           "command_unit", "DEFAULT_DAMPER"]
+           "command_unit", "MIXED_COMMAND_UNITS", "DEFAULT_DAMPER"]
 
 DEFAULT_DAMPER = "virtual"
 
@@ -60,11 +60,19 @@ def command_unit(damper: Any, label: str | None = None) -> str:
         A run's damper summary (``{"dampers": [{"damper": label, "input": {"unit": ...}}, ...]}``).
     label : str, optional
         The one damper model to take (a ``compare --dampers`` run); None: all of them, ``"V"``
-        unless they all read the same other unit.
+        when none is named, their one unit when they share it, and ``MIXED_COMMAND_UNITS`` when a
+        layout mixes models read in volts and in amperes (each device's command is in its own
+        model's unit: the damper summary says which).
     """
     units = {d.get("input", {}).get("unit", "V") for d in (damper or {}).get("dampers", [])
              if isinstance(d, dict) and (label is None or d.get("damper") == label)}
-    return units.pop() if len(units) == 1 else "V"
+    if len(units) > 1:
+        return MIXED_COMMAND_UNITS
+    return units.pop() if units else "V"
+
+
+#: The command unit of a layout that mixes models read in volts and in amperes (:func:`command_unit`).
+MIXED_COMMAND_UNITS = "V or A (each device in its own model's input unit)"
 _FORCE_UNITS = {"N": 1.0, "kN": 1e3, "MN": 1e6}
 
 

@@ -207,7 +207,7 @@ def plot_bearing_hysteresis(result: Any, path: str | os.PathLike, bearings: Sequ
 
 
 def plot_device_hysteresis(result: Any, path: str | os.PathLike,
-                           devices: Sequence[int] | None = None) -> Path:
+                           devices: Sequence[int] | None = None, command_unit: str = "V") -> Path:
     """Force–displacement and force–velocity loops of selected devices (kN vs cm, m/s).
 
     Parameters
@@ -217,6 +217,9 @@ def plot_device_hysteresis(result: Any, path: str | os.PathLike,
     path : path-like
     devices : sequence of int, optional
         0-based device indices (default up to four spread over the layout).
+    command_unit : str, optional
+        Unit of the devices' commands in the titles: the damper models' input unit (``"V"``, or
+        ``"A"`` for a model identified on the coil current).
 
     Raises
     ------
@@ -239,7 +242,7 @@ def plot_device_hysteresis(result: Any, path: str | os.PathLike,
     axes = fig.subplots(2, len(devices), squeeze=False)
     volt = getattr(result, "voltage", None)
     for j, d in enumerate(devices):
-        vmax = f", max {np.max(volt[:, d]):.2f} V" if volt is not None and np.size(volt) else ""
+        vmax = f", max {np.max(volt[:, d]):.2f} {command_unit}" if volt is not None and np.size(volt) else ""
         axes[0, j].plot(_disp(x[:, d]), to_display(force[:, d], "force"), lw=0.7, color="C3")
         axes[0, j].set_xlabel(axis_label(f"device {d + 1} displacement", "displacement"))
         axes[0, j].set_title(f"device {d + 1}{vmax}", fontsize=8)
@@ -254,7 +257,7 @@ def plot_device_hysteresis(result: Any, path: str | os.PathLike,
 
 def plot_run(result: Any, directory: str | os.PathLike, reference: Any = None,
              prefix: str | None = None, bearing_xy: np.ndarray | None = None,
-             corners: np.ndarray | None = None) -> list[Path]:
+             corners: np.ndarray | None = None, command_unit: str = "V") -> list[Path]:
     """Write every figure of a run into ``directory``; return the paths.
 
     Files: ``<prefix>_orbit.png``, ``<prefix>_envelopes.png``, ``<prefix>_bearings.png`` and,
@@ -272,6 +275,8 @@ def plot_run(result: Any, directory: str | os.PathLike, reference: Any = None,
         Bearing plan positions [m] (default from the structure file).
     corners : (n_c, 2) array, optional
         Plan corners for the orbit figure.
+    command_unit : str, optional
+        Unit of the devices' commands (:func:`plot_device_hysteresis`).
     """
     directory = Path(directory)
     if prefix is None:
@@ -283,5 +288,6 @@ def plot_run(result: Any, directory: str | os.PathLike, reference: Any = None,
              plot_bearing_hysteresis(result, directory / f"{prefix}_bearings.png", bearing_xy=bearing_xy)]
     force = getattr(result, "device_force", None)
     if force is not None and np.ndim(force) == 2 and np.shape(force)[1] > 0:
-        paths.append(plot_device_hysteresis(result, directory / f"{prefix}_devices.png"))
+        paths.append(plot_device_hysteresis(result, directory / f"{prefix}_devices.png",
+                                            command_unit=command_unit))
     return paths

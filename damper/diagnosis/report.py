@@ -416,7 +416,10 @@ def format_parameters(effect: str, params: dict) -> str:
 
 
 def input_word(variable: str, input_name: str) -> str:
-    """A trace variable named for the coil input the tests give (``voltage`` -> ``current``)."""
+    """A trace variable named for the coil input the tests give (``voltage`` -> ``current``); the
+    entry of structure no variable locates (:data:`damper.diagnosis.loop.UNLOCATED`) in words."""
+    if variable == "unlocated":
+        return "no trace variable (a residual that is not white)"
     return variable.replace("voltage", input_name) if input_name != "voltage" else variable
 
 
@@ -539,6 +542,11 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
     if d.unexplained:
         lines.append("**Unexplained structure remains** (no library term paid for it). It lives in: "
                      + ", ".join(f"`{v}` (share {s:.2f}, {100 * lv:.1f} % of the force RMS)"
+                                 if v != "unlocated" else
+                                 f"no variable of the trace: the residual is not white (structured share "
+                                 f"{s:.2f}, {100 * lv:.1f} % of the force RMS; lag-1 autocorrelation "
+                                 f"{ta.lag1:.3f}), as a channel skew, a lag, a dead zone after reversals or "
+                                 "a change of the device between tests leave it"
                                  for v, s, lv in d.unexplained_in) + ".")
     else:
         lines.append(f"No residual structure above {100 * d.settings.get('structure_level', 0):g} % of "

@@ -93,3 +93,17 @@ def test_run_figures_use_display_units(tmp_path, runs, figures):
     labels = [text for texts in figures.seen for _, text in texts]
     assert any("displacement" in t and t.endswith("[m]") for t in labels)
     assert not any("[cm]" in t for t in labels)
+
+
+def test_device_commands_in_amperes_are_labelled_so(tmp_path, runs, figures):
+    """A model identified on the coil current commands amperes: the devices' titles say A, not V
+    (a probe's run of the UTFSM model had read 'max 1.00 V')."""
+    from benchmark.applications.damper_choice import MIXED_COMMAND_UNITS, command_unit
+    run, _ = runs
+    plot_device_hysteresis(run, tmp_path / "dev.png", command_unit="A")
+    titles = [text for texts in figures.seen for _, text in texts if text.startswith("device ")]
+    assert titles and all(t.endswith(" A") for t in titles if "max" in t)
+    volts, amps = {"input": {"unit": "V"}}, {"input": {"unit": "A"}}
+    assert command_unit({"dampers": [amps, amps]}) == "A"
+    assert command_unit({"dampers": [volts, amps]}) == MIXED_COMMAND_UNITS  # not "V" for all
+    assert command_unit(None) == "V"

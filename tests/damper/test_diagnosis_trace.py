@@ -128,3 +128,20 @@ def test_unexplained_needs_both_share_and_level():
     small = unexplained_structure(tr, force_rms=1000.0)  # 0.35/1000: below 2 %
     assert big and big[0][0] == "velocity"
     assert small == []
+
+
+def test_structure_no_variable_locates_is_unexplained():
+    """A residual that is not white but that no trace variable holds (here an oscillation at a
+    frequency of its own, as a rig's resonance leaves it) is reported as ``unlocated``, not as
+    nothing."""
+    from damper.diagnosis.loop import UNLOCATED
+    drift = 0.3 * np.sin(2 * np.pi * 7.3 * T) + 0.01 * RNG.standard_normal(N)
+    tr = trace_residual(drift, _signals())
+    assert tr.noise_fraction < 0.5
+    found = unexplained_structure(tr, force_rms=10.0)
+    assert found and found[0][0] == UNLOCATED
+    assert found[0][1] == pytest.approx(1.0 - tr.noise_fraction)
+    assert found[0][2] == pytest.approx(math.sqrt(1.0 - tr.noise_fraction) * tr.rms / 10.0)
+    assert unexplained_structure(tr, force_rms=1000.0) == []  # below the level
+    white = trace_residual(0.3 * RNG.standard_normal(N), _signals())
+    assert unexplained_structure(white, force_rms=10.0) == []  # white: noise, not structure
