@@ -5,8 +5,9 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import sys
 from pathlib import Path
-from benchmark.applications.ensemble import EnsembleConfig, run_ensemble
+from benchmark.applications.ensemble import EnsembleConfig, building_notes, run_ensemble
 from benchmark.foundation.errors import InputError
 from benchmark.foundation.atomic import output_file_of
 
@@ -48,6 +49,9 @@ def _run(args: argparse.Namespace) -> int:
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
     if jobs < 1:
         raise InputError(f"--jobs must be >= 1, got {jobs}")
+    for note in building_notes(config.building):  # the damper models' notes, as sbib run prints them
+        print(f"sbib ensemble: {note if note.startswith('warning: ') else 'note: ' + note}", file=sys.stderr,
+              flush=True)
     summary = run_ensemble(config, out, jobs=jobs, scheduler=args.scheduler, run=args.run,
                            progress=not args.no_progress)
     print(json.dumps(summary.as_dict(), indent=2))

@@ -75,11 +75,14 @@ from benchmark.simulator.peaks import PEAK_UNITS
 from benchmark.foundation.pools import WorkerPool
 from benchmark.foundation.progress import progress_bar
 from benchmark.applications.damper_choice import resolve_damper, resolve_layout
+from benchmark.applications.run_inputs import damper_identities
 
 __all__ = [
     "EnsembleMember",
     "EnsembleConfig",
     "EnsembleSummary",
+    "building_description",
+    "building_notes",
     "EnsembleResults",
     "RUN_FUNCTIONS",
     "resolve_run_function",
@@ -533,6 +536,42 @@ def _building_file_hashes(building) -> dict:
         if value and isinstance(value, str) and Path(value).is_file():
             out[Path(value).name] = sha256_of(value)
     return out
+
+
+def building_description(building) -> dict | None:
+    """What an ensemble's runs install at the isolation level, as ``sbib run`` states it: the
+    layout, each damper model (file, scale and its basis, input mapping, effects, notes) and the
+    model files' SHA-256; ``None`` for the benchmark's own devices.
+
+    Parameters
+    ----------
+    building : tuple
+        ``(damper, devices, damper_scale)`` of the TOML (:attr:`EnsembleConfig.building`), empty
+        when none is given.
+    """
+    if not building:
+        return None
+    damper, devices, scale = (list(building) + ["", "", ""])[:3]
+    choice = resolve_damper(damper or None, scale or None)
+    layout, used = resolve_layout(devices or None, choice, scale or None)
+    described = [c.describe() for c in used]
+    return {"layout": {"name": layout.name, "n_devices": layout.n_devices}, "dampers": described,
+            "files": damper_identities({"dampers": described})}
+
+
+def building_notes(building) -> list[str]:
+    """The notes and warnings of an ensemble's damper models (a scale, effects the building cannot
+    run and their share of the force, an input range past the fitted levels), each once, as
+    ``sbib run`` prints them.
+
+    Parameters
+    ----------
+    building : tuple
+        ``(damper, devices, damper_scale)`` of the TOML (:attr:`EnsembleConfig.building`).
+    """
+    described = building_description(building)
+    notes = [n for d in (described or {}).get("dampers", []) for n in d.get("notes", [])]
+    return list(dict.fromkeys(notes))
 
 
 def _input_file_hashes(config) -> dict:
@@ -1005,6 +1044,9 @@ def write_hdf5(config: EnsembleConfig, cases: list[EnsembleMember], entries: Map
             f.attrs.update(provenance(name=config.name, base_seed=config.base_seed,
                                       run=run_label or str(config.run), config_source=config.source))
             f.attrs["config"] = config.text or json.dumps(dataclasses.asdict(config), default=str)
+            described = building_description(config.building)
+            if described is not None:  # the devices the runs had: model files, scale, mapping, effects
+                f.attrs["damper"] = json.dumps(described, default=str)
             f.attrs["n_cases"], f.attrs["n_done"], f.attrs["n_failed"] = n, n_done, n_failed
             f.attrs["complete"] = complete
             g = f.create_group("cases")

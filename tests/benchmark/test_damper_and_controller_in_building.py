@@ -341,6 +341,28 @@ def test_chain_diagnose_compare_run(capsys, tmp_path, shared_dir, monkeypatch):
     assert main(["run", "--record", "kobe", "--controller", EXAMPLE]) == 0
 
 
+def test_an_ensemble_states_its_devices_as_sbib_run_does(tmp_path, model_files, capsys):
+    """The ensemble's HDF5 file names its damper models (file and SHA-256, scale, input mapping,
+    effects) and the command prints their notes; a probe's ensemble of a model run without one of
+    its effects had said nothing of it and kept only the TOML's text."""
+    from benchmark.applications.ensemble import building_description
+    toml = tmp_path / "e.toml"
+    toml.write_text(f'controllers = ["passive-off"]\nrecords = ["kobe"]\norientations = ["FN-x"]\n'
+                    f'damper = "{model_files["final"]}"\ndamper_scale = "1000kN"\n')
+    out = tmp_path / "e.h5"
+    assert main(["ensemble", "--config", str(toml), "--out", str(out), "--no-progress", "--jobs", "1"]) == 0
+    err = capsys.readouterr().err
+    assert "sbib ensemble: note:" in err and "inertia" in err  # no building kernel for inertia
+    with h5py.File(out) as h5:
+        described = json.loads(h5.attrs["damper"])
+    assert described["layout"]["n_devices"] == 16
+    (d,) = described["dampers"]
+    assert d["scale"] > 1 and "current in A" in d["input_mapping"]
+    assert described["files"][0]["path"] == str(Path(model_files["final"]).resolve())
+    assert len(described["files"][0]["sha256"]) == 64
+    assert building_description(()) is None
+
+
 def test_ensemble_does_not_resume_runs_of_an_edited_damper_file(tmp_path, model_files):
     """The case keys name the damper file, not its content: the journal keeps the file's SHA-256
     and a resume after an edit is refused (the finished runs were of another device)."""
