@@ -70,7 +70,8 @@ from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.criteria import SOURCE, key_json
 from benchmark.simulator.building import Building
 from benchmark.simulator.isolation.configurations import check_substep_tolerance
-from benchmark.applications.damper_choice import add_damper_options, command_unit, resolve_damper, resolve_layout
+from benchmark.applications.damper_choice import (add_damper_options, command_unit, motion_notes, resolve_damper,
+                                                  resolve_layout)
 from controllers.registry import controller_names
 from benchmark.applications.run_inputs import controller_identity, damper_identities, record_identity
 from benchmark.foundation.atomic import output_dir, output_file_of
@@ -197,11 +198,15 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         print(f"sbib run: note: structure {sup.source} ({sup.total_mass / 1e3:.6g} t on {sup.n_bearings} "
               f"bearings; isolation '{run.building.isolation.name}': {run.building.isolation.description})",
               file=sys.stderr, flush=True)
+    rec, building, result, reference, J = run.record, run.building, run.result, run.reference, run.J
+    stroke = getattr(result, "device_displacement", None)
+    speed = getattr(result, "device_velocity", None)
+    moved = (motion_notes(used, float(np.max(np.abs(stroke))), float(np.max(np.abs(speed))))
+             if result is not reference and stroke is not None and speed is not None and np.size(stroke) else [])
     if warn:
-        for note in run.notes:
+        for note in [*run.notes, *moved]:
             flag = "warning: " if "implausible" in note and not note.startswith("warning: ") else ""
             print(f"sbib run: {flag}{note}", file=sys.stderr, flush=True)
-    rec, building, result, reference, J = run.record, run.building, run.result, run.reference, run.J
     orientation = rec.metadata.get("orientation", orientation)
     layer = building.isolation
     ctrl_used = result is not reference
@@ -220,7 +225,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         "record_columns": rec.metadata.get("columns"),
         "record_step_s": float(result.info.get("record_step", rec.dt)),
         "integration_step_s": float(result.info.get("integration_step", rec.dt)),
-        "notes": list(run.notes),
+        "notes": [*run.notes, *moved],
         "record_flaws": list(rec.metadata.get("flaws", [])),
         "peaks": _clean(run.peaks.as_record()),
         "peak_units": {k: PEAK_UNITS[k] for k in run.peaks.as_record() if k in PEAK_UNITS},

@@ -31,7 +31,7 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -45,7 +45,7 @@ from damper.io.model_file import (CAPACITY_TEST, CONSTANT_EFFECTS, SWITCHINGS_PE
 from damper.models.registry import MODELS, get_model_class
 
 __all__ = ["DamperChoice", "resolve_damper", "resolve_layout", "parse_scale", "add_damper_options",
-           "command_unit", "MIXED_COMMAND_UNITS", "DEFAULT_DAMPER"]
+           "command_unit", "MIXED_COMMAND_UNITS", "motion_notes", "MOTION_EXTRAPOLATION", "DEFAULT_DAMPER"]
 
 DEFAULT_DAMPER = "virtual"
 
@@ -69,6 +69,43 @@ def command_unit(damper: Any, label: str | None = None) -> str:
     if len(units) > 1:
         return MIXED_COMMAND_UNITS
     return units.pop() if units else "V"
+
+
+#: A run whose devices move beyond this multiple of the stroke or velocity a model file was fitted
+#: on is said to extrapolate its hysteresis (:func:`motion_notes`).
+MOTION_EXTRAPOLATION = 1.5
+
+
+def motion_notes(used: Sequence["DamperChoice"], stroke: float, velocity: float) -> list[str]:
+    """Warnings for model files whose fitted motion the run's devices exceeded.
+
+    A model identified on laboratory tests (``quality.fitted_motion`` of a file written by
+    ``sbib diagnose``) knows its hysteresis only over the strokes and velocities it was fitted
+    on; a scaled force does not scale that motion, so a building run far beyond it extrapolates
+    the model's transition and velocity laws.
+
+    Parameters
+    ----------
+    used : sequence of DamperChoice
+        The damper choices of the run's layout.
+    stroke, velocity : float
+        The run's largest device stroke [m] and velocity [m/s].
+    """
+    notes = []
+    for choice in used:
+        quality = getattr(choice.source, "quality", None) or {}
+        fitted = quality.get("fitted_motion") if isinstance(quality, dict) else None
+        if not isinstance(fitted, dict):
+            continue
+        s0, v0 = fitted.get("stroke_m"), fitted.get("velocity_m_s")
+        if not (isinstance(s0, (int, float)) and isinstance(v0, (int, float)) and s0 > 0 and v0 > 0):
+            continue
+        rs, rv = stroke / s0, velocity / v0
+        if max(rs, rv) > MOTION_EXTRAPOLATION:
+            notes.append(f"warning: {choice.label}: the devices moved up to {stroke:.3g} m and {velocity:.3g} m/s, "
+                         f"{rs:.3g} and {rv:.3g} times the largest stroke and velocity the model was fitted on "
+                         f"({1e3 * s0:.3g} mm, {1e3 * v0:.3g} mm/s): its hysteresis there is an extrapolation")
+    return list(dict.fromkeys(notes))
 
 
 #: The command unit of a layout that mixes models read in volts and in amperes (:func:`command_unit`).

@@ -47,9 +47,13 @@ def write_diagnosis_models(result: Any, out: str | Path, inputs: Sequence[str]) 
     spec = InputSpec(data.input_name, data.input_unit, as_range(data.voltage_range()), levels)
     prov = file_provenance(inputs, kind="sbib diagnose")
     by_input = {k: {"before": b, "after": a} for k, (b, a) in result.errors_by_input.items()}
+    fitted = [(m.x[k], m.xdot[k]) for m, k in zip(data.motions, data.train) if k.any()]
     common = {"error_measure": "held-out relative RMS force error ||F - F_model|| / ||F||",
               "holdout": result.settings.get("holdout"),
-              "standard_errors": None}
+              "standard_errors": None,
+              # the motion the model has seen: a run far beyond it is an extrapolation (said by sbib run)
+              "fitted_motion": {"stroke_m": max(float(np.max(np.abs(x))) for x, _ in fitted),
+                                "velocity_m_s": max(float(np.max(np.abs(v))) for _, v in fitted)}}
     notes = ["standard errors: the residual loop does not compute them (sbib identify --data does)"]
     if spec.single_level:
         notes.append(f"fitted at one {spec.quantity} level ({levels[0]:g} {spec.unit}): the model's force does "

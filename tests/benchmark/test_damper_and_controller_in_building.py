@@ -341,6 +341,24 @@ def test_chain_diagnose_compare_run(capsys, tmp_path, shared_dir, monkeypatch):
     assert main(["run", "--record", "kobe", "--controller", EXAMPLE]) == 0
 
 
+def test_a_run_beyond_the_fitted_motion_is_said(capsys, tmp_path, short_record):
+    """A model file that says which motion it was fitted on (``quality.fitted_motion``, written by
+    sbib diagnose): a building run whose devices move far beyond it is warned about (a probe's
+    UTFSM model, fitted on 9.7 mm and 63 mm/s, had run at 0.22 m and 0.87 m/s without a word)."""
+    spec = InputSpec("current", "A", (0.0, 1.0), (0.0, 0.5, 1.0))
+    path = write_model_file(tmp_path / "lab.json", _lab_model(), input=spec,
+                            quality={"fitted_motion": {"stroke_m": 0.001, "velocity_m_s": 0.006}})
+    doc, err = _run(capsys, "--record", short_record, "--damper", str(path), "--damper-scale", "1000kN",
+                    "--controller", "passive-on")
+    assert "times the largest stroke and velocity the model was fitted on (1 mm, 6 mm/s)" in err
+    assert any("extrapolation" in n for n in doc["notes"])
+    wide = write_model_file(tmp_path / "wide.json", _lab_model(), input=spec,
+                            quality={"fitted_motion": {"stroke_m": 1.0, "velocity_m_s": 5.0}})
+    _, err = _run(capsys, "--record", short_record, "--damper", str(wide), "--damper-scale", "1000kN",
+                  "--controller", "passive-on")
+    assert "extrapolation" not in err
+
+
 def test_an_ensemble_states_its_devices_as_sbib_run_does(tmp_path, model_files, capsys):
     """The ensemble's HDF5 file names its damper models (file and SHA-256, scale, input mapping,
     effects) and the command prints their notes; a probe's ensemble of a model run without one of
