@@ -41,6 +41,8 @@ HDF5 layout (all SI; case *i* is row *i* in every dataset)::
 from __future__ import annotations
 
 import concurrent.futures as cf
+import copy
+import functools
 import dataclasses
 import contextlib
 import hashlib
@@ -551,6 +553,15 @@ def building_description(building) -> dict | None:
     """
     if not building:
         return None
+    # resolving a model file measures its capacity and dropped share (damper simulations): once
+    # per content of the files, not at every checkpoint of the HDF5 file
+    stamps = tuple((p, os.stat(p).st_mtime_ns, os.stat(p).st_size) for p in building
+                   if isinstance(p, str) and p and Path(p).is_file())
+    return copy.deepcopy(_described(tuple(building), stamps))
+
+
+@functools.lru_cache(maxsize=4)
+def _described(building: tuple, stamps: tuple) -> dict:  # noqa: ARG001 (stamps: the cache key)
     damper, devices, scale = (list(building) + ["", "", ""])[:3]
     choice = resolve_damper(damper or None, scale or None)
     layout, used = resolve_layout(devices or None, choice, scale or None)
