@@ -35,7 +35,6 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, ParameterError
-from damper.models.series_dashpot import SeriesDashpotBoucWen
 from damper.identification.refine import free_parameters
 from damper.identification.voltage_grid import fit_voltage_laws, voltage_model
 from damper.diagnosis import diagnose
@@ -57,21 +56,17 @@ CLOSED_LOOP_NORMALIZED = "closed-loop-normalized"
 #: The loop's own result from the normalized base (reported; it may add the elastic term itself).
 LOOP_FROM_NORMALIZED = "loop-from-normalized"
 
-#: Effects a registered building model can carry (anything else is replayed, not re-run).
-_BUILDING_EFFECTS = frozenset({"stiffness", "roll_off", "voltage_lag"})
-
-
 def building_model(model):
     """The registered damper model that computes what the augmented ``model`` computes.
 
-    The base model with ``stiffness`` becomes the extended Bouc-Wen model (:math:`\\kappa_x`
-    added); with ``roll_off`` it becomes :class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`,
-    which also carries a ``voltage_lag`` as its field time constant. The result runs on the
-    compiled kernels, in :func:`damper.simulate` and in the building alike.
+    :meth:`damper.diagnosis.augmented.AugmentedModel.building_model` (κ_x, the series dashpot with
+    its field lag, the memoryless force terms), refusing a model with an effect the building
+    cannot run: the closed loop re-runs its models in the building, and a model that left an
+    effect out would be scored as something it is not.
 
     Parameters
     ----------
-    model : damper.diagnosis.augmented.AugmentedModel
+    model : damper.diagnosis.augmented.AugmentedModel or a registered damper model
 
     Returns
     -------
@@ -84,27 +79,12 @@ def building_model(model):
         An effect has no counterpart in a registered model (a ``voltage_lag`` without
         ``roll_off`` included: the Bouc-Wen kernels have no field state), named in the message.
     """
-
     if not isinstance(model, AugmentedModel):
         return model
-    names = set(model.effect_names)
-    other = sorted(names - _BUILDING_EFFECTS)
-    if other:
-        raise InputError(f"building model: no compiled kernel carries the effect(s) {', '.join(other)}")
-    params = model.base_parameters()
-    if "stiffness" in names:
-        params["kappa_x"] = model.effect("stiffness").value
-    kind = "extended" if "kappa_x" in params else model.base_kind
-    base = make_base(kind, params, model.base.voltage_range)
-    lag = model.effect("voltage_lag")
-    roll = model.effect("roll_off")
-    if roll is not None and roll.value > 0:
-        return SeriesDashpotBoucWen.from_bouc_wen(base, roll.value,
-                                                  field_lag=0.0 if lag is None else lag.value)
-    if lag is not None and lag.value > 0:
-        raise InputError("building model: a voltage_lag without roll_off has no compiled kernel "
-                         "(the Bouc-Wen kernels carry no field state)")
-    return base
+    built, dropped = model.building_model()
+    if dropped:
+        raise InputError("building model: no compiled kernel carries " + "; ".join(dropped))
+    return built
 
 
 def closed_form_models(grid, voltage_range: tuple[float, float] = (0.0, 1.0), notes: list | None = None) -> dict:

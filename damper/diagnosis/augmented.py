@@ -41,10 +41,11 @@ import numpy as np
 
 from damper.fitting import least_squares_fit
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.models.base import with_coarser_substeps
+from damper.models.base import DamperModel, with_coarser_substeps
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.diagnosis.effects import EFFECTS, Effect, Motion, effect_names, get_effect
-from damper.models.series_dashpot import SpencerBoucWen
+from damper.models.force_terms import WithForceTerms
+from damper.models.series_dashpot import SeriesDashpotBoucWen, SpencerBoucWen
 from damper.models.response import simulate
 from damper.models.voltage_laws import Tabulated, VoltageLaw
 
@@ -59,6 +60,8 @@ __all__ = [
     "BASE_MODELS",
     "make_base",
     "BASE_DECLARES",
+    "TERM_EFFECTS",
+    "NOT_IN_BUILDING",
 ]
 
 #: Base model kinds accepted by the loop.
@@ -69,6 +72,21 @@ BASE_MODELS: dict[str, type] = {"normalized": NormalizedBoucWen, "extended": Ext
 #: its field filter.
 BASE_DECLARES: dict[str, tuple[str, ...]] = {"normalized": (), "extended": ("stiffness",),
                                              "spencer": ("stiffness", "roll_off", "voltage_lag")}
+
+#: Effects that run in the building as force terms (:class:`~damper.models.force_terms.WithForceTerms`,
+#: whose field names are the effect names): :meth:`AugmentedModel.building_model`.
+TERM_EFFECTS = ("asymmetry", "shear_thinning", "quadratic_damping")
+#: Why the building leaves an effect out (:meth:`AugmentedModel.building_model`); a
+#: ``voltage_lag`` without ``roll_off`` has no field state in the Bouc-Wen kernels.
+NOT_IN_BUILDING = {
+    "offset": ("a constant force (an accumulator's preload, or the load cell's zero in the tests): not run, "
+               "a damper is installed in the building at rest"),
+    "fade": ("the force level's drift over a test (the fluid heating) depends on that test's history and "
+             "length, not on the building's motion: not run"),
+    "inertia": "the building's devices have no mass of their own: not run",
+    "direction": ("a force level that jumps by 2*ratio*F at every reversal, which the building's step "
+                  "does not converge on at building scale (damper/models/force_terms.py): not run"),
+}
 
 _ROLE_ORDER = {"series": 0, "input": 1, "factor": 2, "additive": 3}
 #: Base parameters a series effect needs independent of the coil input.
@@ -343,6 +361,45 @@ class AugmentedModel:
     def base_parameters(self) -> dict:
         """The base model's parameters (numbers or voltage laws), by name."""
         return {k: getattr(self.base, k) for k in self.base.parameter_names}
+
+    def building_model(self) -> tuple[DamperModel, list[str]]:
+        """The registered model the building runs for this model, and the effects it cannot run.
+
+        ``stiffness`` becomes κ_x of the extended model; ``roll_off`` the series dashpot
+        (:class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`, with ``voltage_lag`` as its
+        field lag); :data:`TERM_EFFECTS` run as force terms around that model
+        (:class:`~damper.models.force_terms.WithForceTerms`; ``stiffness`` joins them beside
+        ``asymmetry``, since :meth:`response` adds it after the factors). The result runs on the
+        compiled kernels, in :func:`damper.simulate` and in the building alike, and gives
+        :meth:`force` under the same motion (``tests/damper/test_force_terms.py``).
+
+        Returns
+        -------
+        model : DamperModel
+            A registered model.
+        dropped : list of str
+            One line per effect left out, with its value and why (:data:`NOT_IN_BUILDING`).
+
+        Raises
+        ------
+        ParameterError
+            The series dashpot cannot be built from the base (its ρ, σ or n depend on the input).
+        """
+        model = self.base
+        effects = {e.name: e for e in self.effects}
+        terms = {name: effects.pop(name).value for name in TERM_EFFECTS if name in effects}
+        if "stiffness" in effects and "asymmetry" in terms:
+            terms["stiffness"] = effects.pop("stiffness").value
+        if "stiffness" in effects:  # a normalized base (the others declare it)
+            model = model.extended(effects.pop("stiffness").value)
+        if "roll_off" in effects:
+            lag = effects.pop("voltage_lag").value if "voltage_lag" in effects else 0.0
+            model = SeriesDashpotBoucWen.from_bouc_wen(model, effects.pop("roll_off").value, field_lag=lag)
+        if terms:
+            model = WithForceTerms(model, **terms)
+        dropped = [f"{e.name} ({e.parameter_name} = {e.value:.4g} {e.unit}): "
+                   f"{NOT_IN_BUILDING.get(e.name, 'no kernel in the building, not run')}" for e in effects.values()]
+        return model, dropped
 
     def to_dict(self) -> dict:
         """Plain description: base kind, base parameters (laws as node lists), effects."""

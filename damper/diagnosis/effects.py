@@ -90,6 +90,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError, ParameterError
 from benchmark.foundation.registry import Registry
 from damper.models.field_filter import first_order_filter
+from damper.models.force_terms import SHEAR_THINNING_EXPONENT, shear_thinning_force
 from damper.models.series_dashpot import SeriesDashpotBoucWen
 
 __all__ = [
@@ -557,6 +558,9 @@ class QuadraticDamping(Effect):
 class ShearThinning(Effect):
     """Shear-thinning (Herschel-Bulkley) post-yield force :math:`k\\,\\mathrm{sgn}(\\dot x)|\\dot x|^{1/2}` [N].
 
+    The sign is linear within 0.1 mm/s (:func:`damper.models.force_terms.shear_thinning_force`): the
+    term's slope at rest is finite, as the building's step needs.
+
     Beside the base model's linear viscous term it makes the post-yield force grow less than
     linearly with the velocity (see the module docstring).
 
@@ -573,7 +577,7 @@ class ShearThinning(Effect):
     unit: ClassVar[str] = "N*(s/m)^0.5"
     lower: ClassVar[float] = 0.0
     #: Flow index of the term.
-    exponent: ClassVar[float] = 0.5
+    exponent: ClassVar[float] = SHEAR_THINNING_EXPONENT
     description: ClassVar[str] = "shear-thinning post-yield force k*sgn(xdot)*|xdot|^0.5"
     traces: ClassVar[tuple[str, ...]] = ("velocity",)
 
@@ -586,7 +590,8 @@ class ShearThinning(Effect):
         return _zero_throughout(motions, "xdot", "velocity")
 
     def force(self, motion):
-        return self.k * np.sign(motion.xdot) * np.abs(motion.xdot) ** self.exponent
+        # the sign is linear within 0.1 mm/s, as in the building (damper.models.force_terms)
+        return shear_thinning_force(self.k, motion.xdot)
 
 
 @register_effect

@@ -33,10 +33,12 @@ or extra parameter, a wrong unit, a malformed law, or a parameter (law) that lea
 admissible class over the input range, a law node outside the input range.
 :func:`write_model_file` writes atomically.
 
-In the building (:meth:`ModelFile.building_model`) the effects that a registered kernel carries
-are folded into the model (``stiffness`` into κ_x, ``roll_off`` into the series dashpot of
+In the building (:meth:`ModelFile.building_model`, which is
+:meth:`damper.diagnosis.augmented.AugmentedModel.building_model`) the effects that a registered kernel
+carries are folded into the model (``stiffness`` into κ_x, ``roll_off`` into the series dashpot of
 :class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`, ``voltage_lag`` into its field lag when
-there is a roll-off); the others are listed as not run, with their values.
+there is a roll-off, the memoryless terms into :class:`~damper.models.force_terms.WithForceTerms`);
+the others are listed as not run, with their values and why.
 :meth:`ModelFile.scaled` applies a force similitude (every parameter whose unit is a force
 unit, N..., and every effect in N or kg, times the factor; displacements, velocities and times
 unchanged).
@@ -59,12 +61,12 @@ from benchmark.foundation.provenance import provenance as base_provenance, sha25
 from benchmark.foundation.textfile import read_text
 from damper.diagnosis.augmented import BASE_MODELS, AugmentedModel
 from damper.models.base import DamperModel
-from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.diagnosis.effects import EFFECTS, Effect
 from damper.hysteresis.oscillator import PARAMETER_UNITS as OSCILLATOR_UNITS
 from damper.hysteresis.oscillator import HystereticOscillator
+from damper.models.force_terms import WithForceTerms
 from damper.models.registry import MODELS, get_model_class
-from damper.models.series_dashpot import SeriesDashpotBoucWen, scaled_law
+from damper.models.series_dashpot import scaled_law
 from damper.models.response import simulate
 from damper.models.voltage_laws import (Constant, Exponential, Polynomial, Saturating, SeedKappaW, Tabulated,
                                  VoltageLaw)
@@ -107,6 +109,9 @@ _MODEL_UNITS = {
                 "rho": "1/m", "sigma": "1", "n": "1", "eta": "1/s", "substep_tolerance": "1"},
     "bingham": {"f_c": "N", "c0": "N*s/m", "f0": "N"},
     "hyperbolic_tangent": {"c": "N*s/m", "k": "N/m", "alpha": "N", "beta": "s/m", "delta": "1", "f0": "N"},
+    # written as its inner model plus effects (write_model_file); the inner model has its own table
+    "with_force_terms": {"inner": "model", "asymmetry": "1", "direction": "1", "stiffness": "N/m",
+                         "shear_thinning": "N*(s/m)^0.5", "quadratic_damping": "N*s^2/m^2"},
     OSCILLATOR_MODEL: dict(OSCILLATOR_UNITS),
 }
 
@@ -248,9 +253,8 @@ class ModelFile:
     def building_model(self) -> tuple[DamperModel, list[str]]:
         """The registered model the building runs, and the effects it cannot run (one line each).
 
-        ``stiffness`` becomes κ_x of the extended model, ``roll_off`` the series dashpot
-        (:class:`~damper.models.series_dashpot.SeriesDashpotBoucWen`, with ``voltage_lag`` as its field
-        lag); the other effects have no kernel and are listed.
+        :meth:`damper.diagnosis.augmented.AugmentedModel.building_model` of the model with its effects
+        (κ_x, the series dashpot, force terms; what cannot run is listed with the reason).
 
         Raises
         ------
@@ -261,27 +265,12 @@ class ModelFile:
         if isinstance(self.model, HystereticOscillator):
             raise InputError(f"{where}: model {OSCILLATOR_MODEL} is a force-driven oscillator (sbib hysteresis), "
                              "not a device model the building can run; give a model of damper.models.registry")
-        model = self.model
-        effects = {e.name: e for e in self.effects}
-        dropped = []
-        if "stiffness" in effects:
-            if isinstance(model, NormalizedBoucWen):
-                model = model.extended(effects.pop("stiffness").value)
-            elif isinstance(model, ExtendedBoucWen):
-                kx = effects.pop("stiffness").value
-                model = dataclasses.replace(model, kappa_x=_add(model.kappa_x, kx))
-        if "roll_off" in effects and isinstance(model, (NormalizedBoucWen, ExtendedBoucWen)):
-            lag = effects.pop("voltage_lag").value if "voltage_lag" in effects else 0.0
-            try:
-                model = SeriesDashpotBoucWen.from_bouc_wen(model, effects.pop("roll_off").value, field_lag=lag)
-            except (InputError, ParameterError) as exc:  # name the file: the building's model is built from it
-                raise InputError(f"{where}: roll_off in the building (a series dashpot): {exc}") from None
-        for e in effects.values():
-            why = ("a constant force (an accumulator's preload, or the load cell's zero in the tests): not run, "
-                   "a damper is installed in the building at rest" if e.name in CONSTANT_EFFECTS
-                   else "no kernel in the building, not run")
-            dropped.append(f"{e.name} ({e.parameter_name} = {e.value:.4g} {e.unit}): {why}")
-        return model, dropped
+        if not self.effects:
+            return self.model, []
+        try:
+            return AugmentedModel(self.model, self.effects).building_model()
+        except (InputError, ParameterError) as exc:  # name the file: the building's model is built from it
+            raise InputError(f"{where}: its model in the building: {exc}") from None
 
     def scaled(self, factor: float) -> "ModelFile":
         """The model under force similitude ``factor`` (module docstring); ``scale`` multiplies.
@@ -328,21 +317,6 @@ class ModelFile:
         """What results record about the model: file, name, input, scale, effects."""
         return {"file": self.label, "path": self.path, "model": self.model_name, "input": self.input.to_json(),
                 "scale": self.scale, "effects": [_effect_json(e) for e in self.effects]}
-
-
-def _add(value, constant: float):
-    """``value + constant`` for a number or a law of :mod:`damper.models.voltage_laws`."""
-    if not isinstance(value, VoltageLaw):
-        return float(value) + constant
-    if isinstance(value, Constant):
-        return Constant(value.value + constant)
-    if isinstance(value, Polynomial):
-        return Polynomial((value.coefficients[0] + constant, *value.coefficients[1:]))
-    if isinstance(value, Tabulated):
-        return dataclasses.replace(value, values=tuple(v + constant for v in value.values))
-    if isinstance(value, (Exponential, Saturating)):
-        return dataclasses.replace(value, a=value.a + constant)
-    raise InputError(f"stiffness effect: cannot add to a {type(value).__name__} law of kappa_x")
 
 
 # ------------------------------------------------------------------------------------ writing
@@ -451,6 +425,9 @@ def write_model_file(path, model, *, input: InputSpec | None = None, effects: Se
     if isinstance(model, AugmentedModel):
         effects = tuple(model.effects) + effects
         model = model.base
+    if isinstance(model, WithForceTerms):  # its terms are effects of the file (what building_model reads)
+        effects = tuple(EFFECTS[name](value) for name, value in model.terms.items()) + effects
+        model = model.inner
     if isinstance(model, HystereticOscillator):
         name = OSCILLATOR_MODEL
         params = {k: {"value": float(v), "unit": OSCILLATOR_UNITS[k]} for k, v in model.parameters().items()}

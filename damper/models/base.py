@@ -34,7 +34,7 @@ from benchmark.foundation.errors import ParameterError
 from benchmark.foundation.registry import Registry
 
 __all__ = ["DamperModel", "MODELS", "register_model", "with_coarser_substeps", "KERNEL_BOUC_WEN", "KERNEL_SPENCER_TYPE", "KERNEL_BINGHAM",
-           "KERNEL_HYPERBOLIC_TANGENT", "KERNELS"]
+           "KERNEL_HYPERBOLIC_TANGENT", "KERNEL_FORCE_TERMS", "KERNELS"]
 
 #: Bouc-Wen family (normalized, extended, Dahl): :func:`damper.models.bouc_wen.bouc_wen_step`.
 KERNEL_BOUC_WEN = 1
@@ -45,9 +45,13 @@ KERNEL_SPENCER_TYPE = 2
 KERNEL_BINGHAM = 3
 #: Stateless hyperbolic-tangent law: :func:`damper.models.hyperbolic_tangent.hyperbolic_tangent_step`.
 KERNEL_HYPERBOLIC_TANGENT = 4
+#: Memoryless force terms around another family's model (a diagnosed model's effects in the
+#: building): :mod:`damper.models.force_terms`.
+KERNEL_FORCE_TERMS = 5
 #: Kernel families by id.
 KERNELS: dict[int, str] = {KERNEL_BOUC_WEN: "bouc_wen", KERNEL_SPENCER_TYPE: "spencer_type",
-                           KERNEL_BINGHAM: "bingham", KERNEL_HYPERBOLIC_TANGENT: "hyperbolic_tangent"}
+                           KERNEL_BINGHAM: "bingham", KERNEL_HYPERBOLIC_TANGENT: "hyperbolic_tangent",
+                           KERNEL_FORCE_TERMS: "force_terms"}
 
 
 class DamperModel(abc.ABC):

@@ -19,14 +19,15 @@ import numba
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.models.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_HYPERBOLIC_TANGENT, KERNEL_SPENCER_TYPE,
-                                MODELS, DamperModel, register_model)
+from damper.models.base import (KERNEL_BINGHAM, KERNEL_BOUC_WEN, KERNEL_FORCE_TERMS, KERNEL_HYPERBOLIC_TANGENT,
+                                KERNEL_SPENCER_TYPE, MODELS, DamperModel, register_model)
 from damper.models.bouc_wen import bouc_wen_force, bouc_wen_step, bouc_wen_step_memo
 from damper.models.spencer import (LOCKSTEP_NODE_COLUMNS, MEMO_LENGTH, SPENCER_LOCKSTEP_ROWS,
                                    spencer_type_force_kernel, spencer_type_lockstep, spencer_type_step,
                                    spencer_type_step_memo, spencer_type_tangent, spencer_type_tangent_memo)
 from damper.models.bingham import bingham_force, bingham_step
 from damper.models.hyperbolic_tangent import hyperbolic_tangent_force, hyperbolic_tangent_step
+from damper.models.force_terms import WithForceTerms, force_terms, force_terms_tangent
 from damper.models import dahl, series_dashpot, virtual  # noqa: F401  (importing registers them)
 
 __all__ = [
@@ -44,6 +45,7 @@ __all__ = [
     "device_tangent",
     "device_tangent_memo",
     "device_force",
+    "WithForceTerms",
 ]
 
 def get_model_class(name: str) -> type[DamperModel]:
@@ -105,6 +107,30 @@ def kernel_id_of(model: DamperModel) -> int:
 
 
 @numba.njit(cache=True)
+def _inner(kernel_id, params):
+    """The kernel family and packed parameters that advance the device's states: the inner model's
+    for :data:`~damper.models.base.KERNEL_FORCE_TERMS` (:mod:`damper.models.force_terms`), else its own.
+    One call site per dispatch keeps the compiled code small (every family inlined once)."""
+    if kernel_id == KERNEL_FORCE_TERMS:
+        return int(params[0]), params[2:2 + int(params[1])]
+    return kernel_id, params[0:params.shape[0]]
+
+
+@numba.njit(cache=True)
+def _family_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt):
+    """:func:`device_step` of the built-in kernel families."""
+    if kernel_id == KERNEL_BOUC_WEN:
+        return bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt)
+    if kernel_id == KERNEL_SPENCER_TYPE:
+        return spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt)
+    if kernel_id == KERNEL_BINGHAM:
+        return bingham_step(params, state, x0, x1, xd0, xd1, v, dt)
+    if kernel_id == KERNEL_HYPERBOLIC_TANGENT:
+        return hyperbolic_tangent_step(params, state, x0, x1, xd0, xd1, v, dt)
+    return np.nan
+
+
+@numba.njit(cache=True)
 def device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt):
     """Advance one device over one step; return its force at the end of the step [N].
 
@@ -131,15 +157,19 @@ def device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt):
     ``(x1, xd1)``; each model sub-steps as its stiffness needs. An unknown ``kernel_id`` returns
     NaN (the caller turns it into a :class:`NumericalError`).
     """
-    if kernel_id == KERNEL_BOUC_WEN:
-        return bouc_wen_step(params, state, x0, x1, xd0, xd1, v, dt)
+    kid, inner = _inner(kernel_id, params)
+    f = _family_step(kid, inner, state, x0, x1, xd0, xd1, v, dt)
+    return force_terms(params, f, x1, xd1) if kernel_id == KERNEL_FORCE_TERMS else f
+
+
+@numba.njit(cache=True)
+def _family_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
+    """:func:`device_step_memo` of the built-in kernel families."""
     if kernel_id == KERNEL_SPENCER_TYPE:
-        return spencer_type_step(params, state, x0, x1, xd0, xd1, v, dt)
-    if kernel_id == KERNEL_BINGHAM:
-        return bingham_step(params, state, x0, x1, xd0, xd1, v, dt)
-    if kernel_id == KERNEL_HYPERBOLIC_TANGENT:
-        return hyperbolic_tangent_step(params, state, x0, x1, xd0, xd1, v, dt)
-    return np.nan
+        return spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
+    if kernel_id == KERNEL_BOUC_WEN:
+        return bouc_wen_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
+    return _family_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt)
 
 
 @numba.njit(cache=True)
@@ -177,11 +207,23 @@ def device_step_memo(kernel_id, params, state, x0, x1, xd0, xd1, v, dt, memo):
         Per-device scratch array (float64, :data:`damper.models.registry.MEMO_LENGTH` entries) shared by the step
         and tangent calls of one device.
     """
-    if kernel_id == KERNEL_SPENCER_TYPE:
-        return spencer_type_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
+    kid, inner = _inner(kernel_id, params)
+    f = _family_step_memo(kid, inner, state, x0, x1, xd0, xd1, v, dt, memo)
+    return force_terms(params, f, x1, xd1) if kernel_id == KERNEL_FORCE_TERMS else f
+
+
+@numba.njit(cache=True)
+def _family_force(kernel_id, params, state, x, xd, v):
+    """:func:`device_force` of the built-in kernel families."""
     if kernel_id == KERNEL_BOUC_WEN:
-        return bouc_wen_step_memo(params, state, x0, x1, xd0, xd1, v, dt, memo)
-    return device_step(kernel_id, params, state, x0, x1, xd0, xd1, v, dt)
+        return bouc_wen_force(params, state, x, xd, v)
+    if kernel_id == KERNEL_SPENCER_TYPE:
+        return spencer_type_force_kernel(params, state, x, xd, v)
+    if kernel_id == KERNEL_BINGHAM:
+        return bingham_force(params, state, x, xd, v)
+    if kernel_id == KERNEL_HYPERBOLIC_TANGENT:
+        return hyperbolic_tangent_force(params, state, x, xd, v)
+    return np.nan
 
 
 @numba.njit(cache=True)
@@ -204,15 +246,17 @@ def device_force(kernel_id, params, state, x, xd, v):
     v
         Coil input: voltage [V] (or current [A] for a model identified on currents).
     """
-    if kernel_id == KERNEL_BOUC_WEN:
-        return bouc_wen_force(params, state, x, xd, v)
+    kid, inner = _inner(kernel_id, params)
+    f = _family_force(kid, inner, state, x, xd, v)
+    return force_terms(params, f, x, xd) if kernel_id == KERNEL_FORCE_TERMS else f
+
+
+@numba.njit(cache=True)
+def _family_tangent(kernel_id, params, state, x, xd, v):
+    """:func:`device_tangent` of the built-in kernel families."""
     if kernel_id == KERNEL_SPENCER_TYPE:
-        return spencer_type_force_kernel(params, state, x, xd, v)
-    if kernel_id == KERNEL_BINGHAM:
-        return bingham_force(params, state, x, xd, v)
-    if kernel_id == KERNEL_HYPERBOLIC_TANGENT:
-        return hyperbolic_tangent_force(params, state, x, xd, v)
-    return np.nan
+        return spencer_type_tangent(params, state, x, xd)
+    return 0.0, 0.0
 
 
 @numba.njit(cache=True)
@@ -238,9 +282,19 @@ def device_tangent(kernel_id, params, state, x, xd, v):
     v
         Coil input: voltage [V] (or current [A] for a model identified on currents).
     """
+    kid, inner = _inner(kernel_id, params)
+    kx, kxd = _family_tangent(kid, inner, state, x, xd, v)
+    if kernel_id == KERNEL_FORCE_TERMS:
+        return force_terms_tangent(params, _family_force(kid, inner, state, x, xd, v), kx, kxd, xd)
+    return kx, kxd
+
+
+@numba.njit(cache=True)
+def _family_tangent_memo(kernel_id, params, state, x, xd, v, memo):
+    """:func:`device_tangent_memo` of the built-in kernel families."""
     if kernel_id == KERNEL_SPENCER_TYPE:
-        return spencer_type_tangent(params, state, x, xd)
-    return 0.0, 0.0
+        return spencer_type_tangent_memo(params, memo)
+    return _family_tangent(kernel_id, params, state, x, xd, v)
 
 
 @numba.njit(cache=True)
@@ -267,9 +321,11 @@ def device_tangent_memo(kernel_id, params, state, x, xd, v, memo):
         Per-device scratch array (float64, :data:`damper.models.registry.MEMO_LENGTH` entries) shared by the step
         and tangent calls of one device.
     """
-    if kernel_id == KERNEL_SPENCER_TYPE:
-        return spencer_type_tangent_memo(params, memo)
-    return device_tangent(kernel_id, params, state, x, xd, v)
+    kid, inner = _inner(kernel_id, params)
+    kx, kxd = _family_tangent_memo(kid, inner, state, x, xd, v, memo)
+    if kernel_id == KERNEL_FORCE_TERMS:
+        return force_terms_tangent(params, _family_force(kid, inner, state, x, xd, v), kx, kxd, xd)
+    return kx, kxd
 
 
 class DevicesWorkspace(NamedTuple):

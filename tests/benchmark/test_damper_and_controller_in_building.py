@@ -149,18 +149,38 @@ def _current_model_file(path, effect):
 
 
 def test_effects_without_a_building_kernel_warn_with_their_share(capsys, tmp_path, short_record):
-    """A diagnosis whose final model moved most of its viscous force into shear_thinning (no
-    building kernel): the building runs it without that term, and the run says how much of the
-    device's force is missing instead of a bare note."""
-    from damper.diagnosis.effects import ShearThinning
+    """A diagnosis whose final model carries a large `direction` factor (no building kernel: a
+    force jump at every reversal): the building runs it without that term, and the run says how
+    much of the device's force is missing instead of a bare note."""
+    from damper.diagnosis.effects import Direction
     from damper.io.model_file import dropped_share
-    path = _current_model_file(tmp_path / "thinning.json", ShearThinning(2000.0))
+    path = _current_model_file(tmp_path / "direction.json", Direction(0.6))
     source = read_model_file(path)
     share = dropped_share(source.augmented(), source.building_model()[0])
     assert 0.3 < share < 1.0
     s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(path),
                   "--damper-scale", "1000kN")
-    assert f"warning: thinning.json: the building runs it without shear_thinning, {100 * share:.0f} % of its force" in err
+    assert f"warning: direction.json: the building runs it without direction, {100 * share:.0f} % of its force" in err
+
+
+def test_shear_thinning_runs_in_the_building(capsys, tmp_path, short_record):
+    """The UTFSM chain's final model moved 18 % of its force into shear_thinning, which the
+    building used to leave out with that warning; it now runs as a force term
+    (damper.models.force_terms), so nothing is left out and the device's force differs from the
+    base alone's."""
+    from damper.diagnosis.effects import ShearThinning
+    from damper.io.model_file import dropped_share
+    path = _current_model_file(tmp_path / "thinning.json", ShearThinning(2000.0))
+    source = read_model_file(path)
+    model, dropped = source.building_model()
+    assert dropped == [] and dropped_share(source.augmented(), model) < 1e-9
+    s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(path),
+                  "--damper-scale", "1000kN")
+    assert "without shear_thinning" not in err
+    plain = write_model_file(tmp_path / "plain.json", source.model, input=source.input)
+    p, _ = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(plain),
+                "--damper-scale", "1000kN")
+    assert s["J"] != p["J"]
 
 
 def test_a_dropped_field_lag_is_judged_under_a_switching_command(tmp_path):

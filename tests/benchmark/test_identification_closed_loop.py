@@ -11,7 +11,7 @@ import pytest
 from benchmark.foundation.errors import InputError, ParameterError
 from damper.diagnosis.augmented import AugmentedModel
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
-from damper.diagnosis.effects import Asymmetry, RollOff, Stiffness, VoltageLag
+from damper.diagnosis.effects import Asymmetry, Inertia, RollOff, Stiffness, VoltageLag
 from benchmark.applications.identification_campaign import laboratory_campaign
 from damper.lab.protocols import random_voltage
 from benchmark.applications.identification_closed_loop import (CLOSED_LOOP_EXTENDED, CLOSED_LOOP_NORMALIZED, ORIGINAL,
@@ -86,8 +86,10 @@ def test_building_model_computes_what_the_augmented_model_computes():
 
 def test_building_model_names_what_no_kernel_carries():
     aug = _augmented()
-    with pytest.raises(InputError, match="asymmetry"):
-        building_model(aug.with_effect(Asymmetry(0.1)))
+    with pytest.raises(InputError, match="inertia"):
+        building_model(aug.with_effect(Inertia(3.0)))
+    # a factor runs as a force term around the series-dashpot model (damper.models.force_terms)
+    assert building_model(aug.with_effect(Asymmetry(0.1))).terms["asymmetry"] == pytest.approx(0.1)
     with pytest.raises(InputError, match="voltage_lag"):
         building_model(AugmentedModel(aug.base, (VoltageLag(0.03),)))
     plain = building_model(AugmentedModel(aug.base, (Stiffness(1e5),)))

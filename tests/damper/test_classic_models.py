@@ -77,6 +77,8 @@ EXAMPLES = {
     "bingham": lambda cls: Bingham(f_c=1e3, c0=1e4),
     "dahl": lambda cls: Dahl.virtual_0V(),
     "hyperbolic_tangent": lambda cls: HyperbolicTangent.virtual_0V(),
+    "with_force_terms": lambda cls: cls(VirtualBenchmarkDamper(), asymmetry=0.1, shear_thinning=5e3,
+                                        quadratic_damping=1e4),
 }
 
 

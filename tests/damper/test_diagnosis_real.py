@@ -91,7 +91,9 @@ def test_shear_thinning_follows_its_equation():
     m = _motion()
     fb = simulate(BASE, m.t, m.x, m.xdot, 0.0).force
     f = AugmentedModel(BASE, (ShearThinning(300.0),)).force(m)
-    np.testing.assert_allclose(f - fb, 300.0 * np.sign(m.xdot) * np.sqrt(np.abs(m.xdot)),
+    # k sgn(v) |v|^0.5, its sign linear within 0.1 mm/s (damper.models.force_terms)
+    eps = 1e-4
+    np.testing.assert_allclose(f - fb, 300.0 * np.clip(m.xdot / eps, -1, 1) * np.sqrt(np.maximum(np.abs(m.xdot), eps)),
                                rtol=1e-12, atol=1e-9)
     with pytest.raises(ParameterError, match="shear_thinning.k"):
         ShearThinning(-1.0)
