@@ -46,7 +46,8 @@ from benchmark.foundation.progress import progress_bar
 from benchmark.applications import model_comparison
 import dataclasses
 
-from benchmark.applications.damper_choice import command_unit, parse_scale, resolve_damper, resolve_layout
+from benchmark.applications.damper_choice import (command_unit, motion_notes, parse_scale, resolve_damper,
+                                                  resolve_layout)
 from controllers.user import is_user_controller_spec
 from benchmark.foundation.pools import WorkerPool
 from benchmark.applications.identification_validation import measured_from_runs
@@ -497,16 +498,27 @@ def _run_one(task) -> tuple:
                         elapsed_s=time.perf_counter() - t0,
                         synthetic=bool(getattr(record, "synthetic", False)), damper=damper)
     full = measured_from_runs(record_name, orientation, record, result, reference) if measure else None
-    return run, reference.peaks.as_record(), _histories(reference, _HISTORY_STEP), full
+    return run, reference.peaks.as_record(), _histories(reference, _HISTORY_STEP), full, _device_motion(result)
 
 
-def _damper_buildings(dampers, devices, damper_scale, isolation, n_modes) -> tuple[dict, dict]:
-    """One building per damper (``{label: Building}``) and what the results say about them."""
+def _device_motion(result) -> tuple[float, float]:
+    """The run's largest device stroke [m] and velocity [m/s] (0, 0 without devices)."""
+    x = getattr(result, "device_displacement", None)
+    v = getattr(result, "device_velocity", None)
+    if x is None or v is None or not np.size(x):
+        return 0.0, 0.0
+    return float(np.max(np.abs(x))), float(np.max(np.abs(v)))
+
+
+def _damper_buildings(dampers, devices, damper_scale, isolation, n_modes) -> tuple[dict, dict, dict]:
+    """One building per damper (``{label: Building}``), what the results say about them, and
+    each building's damper choices (``{label: [DamperChoice]}``, for :func:`motion_notes`)."""
     items = [d.strip() for d in dampers.split(",") if d.strip()] if isinstance(dampers, str) \
         else list(dampers or [None])
     if not items:
         raise InputError("--dampers: empty list; expected model files or registered names")
     buildings: dict = {}
+    choices: dict = {}
     info: dict = {"layout": None, "dampers": []}
     seen: set = set()
     names = [Path(str(i)).name for i in items if i]
@@ -528,9 +540,10 @@ def _damper_buildings(dampers, devices, damper_scale, isolation, n_modes) -> tup
             raise InputError(f"--dampers: {choice.label} given twice")
         layout, used = resolve_layout(devices, choice, damper_scale)
         buildings[choice.label] = Building.default(isolation=isolation, devices=layout, n_modes=n_modes)
+        choices[choice.label] = used
         info["layout"] = {"name": layout.name, "n_devices": layout.n_devices}
         info["dampers"] += [c.describe() for c in used]
-    return buildings, info
+    return buildings, info, choices
 
 
 def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[str] = "both",
@@ -612,11 +625,11 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
                 "format": None if format in (None, "auto") else format, "dt": dt, "units": units,
                 "baseline_correct": bool(baseline_correct) or None,
                 "building": None if building is None else f"custom:{getattr(building, 'name', '?')}:{id(building)}"}
-    damper_names, damper_info = [""], None
+    damper_names, damper_info, damper_choices = [""], None, {}
     if dampers is not None or devices is not None or damper_scale is not None:
         if building is not None:
             raise InputError("compare: give a building or dampers/devices/damper_scale, not both")
-        building, damper_info = _damper_buildings(dampers, devices, damper_scale, isolation, n_modes)
+        building, damper_info, damper_choices = _damper_buildings(dampers, devices, damper_scale, isolation, n_modes)
         damper_names = list(building) if len(building) > 1 else [""]
         if len(building) == 1:
             building = next(iter(building.values()))
@@ -658,11 +671,18 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         bar.close()
         if n_jobs == 1:
             _init_worker(None)
+    # a model fitted on laboratory motions, driven far beyond them (as sbib run says)
+    moved: dict = {}
+    for run, *_, (stroke, speed) in outcomes:
+        old = moved.get(run.damper, (0.0, 0.0))
+        moved[run.damper] = (max(old[0], stroke), max(old[1], speed))
+    motion = [note for label, used in damper_choices.items()
+              for note in motion_notes(used, *moved.get(label if len(damper_choices) > 1 else "", (0.0, 0.0)))]
     if warn:  # after the runs: a run that fails says so in one line (with the record's flag)
-        for message in messages:
+        for message in [*messages, *(f"sbib compare: {note}" for note in motion)]:
             print(message, file=sys.stderr, flush=True)
     runs, references, ref_hist, measured = [], {}, {}, {}
-    for run, ref_peaks, ref_histories, full in outcomes:
+    for run, ref_peaks, ref_histories, full, _ in outcomes:
         runs.append(run)
         references[(run.record, run.orientation)] = ref_peaks
         ref_hist[(run.record, run.orientation)] = ref_histories
@@ -677,7 +697,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     public_settings["record_units"] = record_units  # units each record's values were read in
     public_settings["control_step_by_record"] = control_steps  # [s], chosen or given
     if damper_info is not None:
-        public_settings["damper"] = damper_info  # model, scale and its basis, input mapping, notes
+        public_settings["damper"] = {**damper_info, "motion_notes": motion}  # model, scale, input mapping, notes
     # each file the runs read, by path and SHA-256, as sbib run writes them (run_inputs)
     try:
         structure = file_identity(structure_file())

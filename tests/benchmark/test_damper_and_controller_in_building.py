@@ -379,6 +379,25 @@ def test_a_run_beyond_the_fitted_motion_is_said(capsys, tmp_path, short_record):
     assert "extrapolation" not in err
 
 
+def test_compare_says_a_run_beyond_the_fitted_motion_too(capsys, tmp_path, short_record):
+    """sbib compare warns as sbib run does, once per model, naming only the model that was driven
+    beyond its fitted motion (a probe found the warning in sbib run alone)."""
+    spec = InputSpec("current", "A", (0.0, 1.0), (0.0, 0.5, 1.0))
+    narrow = write_model_file(tmp_path / "lab.json", _lab_model(), input=spec,
+                              quality={"fitted_motion": {"stroke_m": 0.001, "velocity_m_s": 0.006}})
+    wide = write_model_file(tmp_path / "wide.json", _lab_model(), input=spec,
+                            quality={"fitted_motion": {"stroke_m": 1.0, "velocity_m_s": 5.0}})
+    status = main(["compare", "--records", short_record, "--orientations", "FN-x", "--controllers", "passive-on",
+                   "--dampers", f"{narrow},{wide}", "--damper-scale", "1000kN", "--jobs", "1",
+                   "--out", str(tmp_path / "c.h5"), "--no-progress"])
+    _, err = capsys.readouterr()
+    assert status == 0, err
+    lines = [line for line in err.splitlines() if "extrapolation" in line]
+    assert len(lines) == 1 and "lab.json" in lines[0] and "wide.json" not in lines[0]
+    with h5py.File(tmp_path / "c.h5") as h5:
+        assert "extrapolation" in json.loads(h5.attrs["settings"])["damper"]["motion_notes"][0]
+
+
 def test_an_ensemble_states_its_devices_as_sbib_run_does(tmp_path, model_files, capsys):
     """The ensemble's HDF5 file names its damper models (file and SHA-256, scale, input mapping,
     effects) and the command prints their notes; a probe's ensemble of a model run without one of
