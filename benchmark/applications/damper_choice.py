@@ -148,11 +148,20 @@ class DamperChoice:
 
     def describe(self) -> dict:
         """JSON-ready description for results and provenance."""
-        return {"damper": self.label, "path": self.source.path, "model": self.model.name,
+        return {"damper": self.label, "path": self.source.path, "model": _model_label(self.model),
                 "file_model": self.source.model_name, "input": self.source.input.to_json(),
                 "scale": self.scale, "scale_basis": self.scale_basis, "input_mapping": self.input_mapping,
                 "effects": [{"name": e.name, "value": e.value, "unit": e.unit} for e in self.source.effects],
                 "notes": list(self.notes)}
+
+
+def _model_label(model) -> str:
+    """The building's model by name; force terms around a model (:mod:`damper.models.force_terms`)
+    as ``inner + term + ...`` (``normalized_bouc_wen + shear_thinning``), not the wrapper's name."""
+    inner, terms = getattr(model, "inner", None), getattr(model, "terms", None)
+    if inner is not None and terms:
+        return " + ".join((str(inner.name), *terms))
+    return str(model.name)
 
 
 #: A model file run without --damper-scale whose capacity is below this share of the benchmark

@@ -177,6 +177,7 @@ def test_shear_thinning_runs_in_the_building(capsys, tmp_path, short_record):
     s, err = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(path),
                   "--damper-scale", "1000kN")
     assert "without shear_thinning" not in err
+    assert s["damper"]["dampers"][0]["model"] == "normalized_bouc_wen + shear_thinning"
     plain = write_model_file(tmp_path / "plain.json", source.model, input=source.input)
     p, _ = _run(capsys, "--record", short_record, "--controller", "passive-on", "--damper", str(plain),
                 "--damper-scale", "1000kN")
