@@ -110,7 +110,7 @@ _MODEL_UNITS = {
     "bingham": {"f_c": "N", "c0": "N*s/m", "f0": "N"},
     "hyperbolic_tangent": {"c": "N*s/m", "k": "N/m", "alpha": "N", "beta": "s/m", "delta": "1", "f0": "N"},
     # written as its inner model plus effects (write_model_file); the inner model has its own table
-    "with_force_terms": {"inner": "model", "asymmetry": "1", "direction": "1", "stiffness": "N/m",
+    "with_force_terms": {"inner": "model", "asymmetry": "1", "stiffness": "N/m",
                          "shear_thinning": "N*(s/m)^0.5", "quadratic_damping": "N*s^2/m^2"},
     OSCILLATOR_MODEL: dict(OSCILLATOR_UNITS),
 }
