@@ -70,8 +70,8 @@ from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.criteria import SOURCE, key_json
 from benchmark.simulator.building import Building
 from benchmark.simulator.isolation.configurations import check_substep_tolerance
-from benchmark.applications.damper_choice import (add_damper_options, command_unit, motion_notes, resolve_damper,
-                                                  resolve_layout)
+from benchmark.applications.damper_choice import (add_damper_options, command_unit, device_motion, motion_notes,
+                                                  resolve_damper, resolve_layout)
 from controllers.registry import controller_names
 from benchmark.applications.run_inputs import controller_identity, damper_identities, record_identity
 from benchmark.foundation.atomic import output_dir, output_file_of
@@ -199,10 +199,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
               f"bearings; isolation '{run.building.isolation.name}': {run.building.isolation.description})",
               file=sys.stderr, flush=True)
     rec, building, result, reference, J = run.record, run.building, run.result, run.reference, run.J
-    stroke = getattr(result, "device_displacement", None)
-    speed = getattr(result, "device_velocity", None)
-    moved = (motion_notes(used, float(np.max(np.abs(stroke))), float(np.max(np.abs(speed))))
-             if result is not reference and stroke is not None and speed is not None and np.size(stroke) else [])
+    moved = motion_notes(used, *device_motion(result)) if result is not reference else []
     if warn:
         for note in [*run.notes, *moved]:
             flag = "warning: " if "implausible" in note and not note.startswith("warning: ") else ""

@@ -46,8 +46,8 @@ from benchmark.foundation.progress import progress_bar
 from benchmark.applications import model_comparison
 import dataclasses
 
-from benchmark.applications.damper_choice import (command_unit, motion_notes, parse_scale, resolve_damper,
-                                                  resolve_layout)
+from benchmark.applications.damper_choice import (command_unit, device_motion, motion_notes, parse_scale,
+                                                  resolve_damper, resolve_layout)
 from controllers.user import is_user_controller_spec
 from benchmark.foundation.pools import WorkerPool
 from benchmark.applications.identification_validation import measured_from_runs
@@ -498,16 +498,7 @@ def _run_one(task) -> tuple:
                         elapsed_s=time.perf_counter() - t0,
                         synthetic=bool(getattr(record, "synthetic", False)), damper=damper)
     full = measured_from_runs(record_name, orientation, record, result, reference) if measure else None
-    return run, reference.peaks.as_record(), _histories(reference, _HISTORY_STEP), full, _device_motion(result)
-
-
-def _device_motion(result) -> tuple[float, float]:
-    """The run's largest device stroke [m] and velocity [m/s] (0, 0 without devices)."""
-    x = getattr(result, "device_displacement", None)
-    v = getattr(result, "device_velocity", None)
-    if x is None or v is None or not np.size(x):
-        return 0.0, 0.0
-    return float(np.max(np.abs(x))), float(np.max(np.abs(v)))
+    return run, reference.peaks.as_record(), _histories(reference, _HISTORY_STEP), full, device_motion(result)
 
 
 def _damper_buildings(dampers, devices, damper_scale, isolation, n_modes) -> tuple[dict, dict, dict]:

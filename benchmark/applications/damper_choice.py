@@ -45,7 +45,7 @@ from damper.io.model_file import (CAPACITY_TEST, CONSTANT_EFFECTS, SWITCHINGS_PE
 from damper.models.registry import MODELS, get_model_class
 
 __all__ = ["DamperChoice", "resolve_damper", "resolve_layout", "parse_scale", "add_damper_options",
-           "command_unit", "MIXED_COMMAND_UNITS", "motion_notes", "MOTION_EXTRAPOLATION", "DEFAULT_DAMPER"]
+           "command_unit", "MIXED_COMMAND_UNITS", "motion_notes", "device_motion", "MOTION_EXTRAPOLATION", "DEFAULT_DAMPER"]
 
 DEFAULT_DAMPER = "virtual"
 
@@ -74,6 +74,22 @@ def command_unit(damper: Any, label: str | None = None) -> str:
 #: A run whose devices move beyond this multiple of the stroke or velocity a model file was fitted
 #: on is said to extrapolate its hysteresis (:func:`motion_notes`).
 MOTION_EXTRAPOLATION = 1.5
+
+
+def device_motion(result: Any) -> tuple[float, float]:
+    """A run's largest device stroke [m] and velocity [m/s] (``(0, 0)`` without devices): what
+    :func:`motion_notes` compares with a model's fitted motion.
+
+    Parameters
+    ----------
+    result : SimulationResult
+        A building run (``device_displacement``, ``device_velocity``).
+    """
+    x = getattr(result, "device_displacement", None)
+    v = getattr(result, "device_velocity", None)
+    if x is None or v is None or not np.size(x):
+        return 0.0, 0.0
+    return float(np.max(np.abs(x))), float(np.max(np.abs(v)))
 
 
 def motion_notes(used: Sequence["DamperChoice"], stroke: float, velocity: float) -> list[str]:

@@ -117,6 +117,12 @@ class WithForceTerms(DamperModel):
         object.__setattr__(self, "voltage_range", tuple(inner.voltage_range))
         object.__setattr__(self, "n_states", int(type(inner).n_states))
         object.__setattr__(self, "state_names", tuple(getattr(type(inner), "state_names", ())))
+        # packed once: force() runs at every right-hand side of the solve_ivp oracle
+        inner_packed = np.asarray(inner.to_array(), dtype=np.float64)
+        packed = np.concatenate(([float(type(inner).kernel), float(inner_packed.size)], inner_packed,
+                                 [self.asymmetry, self.stiffness, self.shear_thinning, SHEAR_THINNING_EXPONENT,
+                                  self.quadratic_damping, REGULARIZATION_VELOCITY]))
+        object.__setattr__(self, "_packed", packed)
 
     @property
     def terms(self) -> dict[str, float]:
@@ -127,10 +133,7 @@ class WithForceTerms(DamperModel):
 
     def to_array(self) -> np.ndarray:
         """``[inner kernel, m, inner.to_array() (m values), a, kappa, k, exponent, c2, v_eps]``."""
-        inner = np.asarray(self.inner.to_array(), dtype=np.float64)
-        return np.concatenate(([float(type(self.inner).kernel), float(inner.size)], inner,
-                               [self.asymmetry, self.stiffness, self.shear_thinning,
-                                SHEAR_THINNING_EXPONENT, self.quadratic_damping, REGULARIZATION_VELOCITY]))
+        return self._packed.copy()
 
     def initial_state(self) -> np.ndarray:
         """The inner model's states at rest."""
@@ -167,7 +170,7 @@ class WithForceTerms(DamperModel):
             Coil input: voltage [V] (or current [A] for a model identified on currents).
         """
         f = float(self.inner.force(state, x, xdot, v))
-        return float(force_terms(self.to_array(), f, float(x), float(xdot)))
+        return float(force_terms(self._packed, f, float(x), float(xdot)))
 
 
 def _regularized_sign(xd) -> np.ndarray:
