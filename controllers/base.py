@@ -37,7 +37,7 @@ from benchmark.foundation.registry import Registry
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from controllers.compiled import STATUS_OK, CompiledController, controller_update
 from controllers.lqg import LinearPlant
-from controllers.measurements import (N_ACCELERATIONS, MeasurementLayout, measurement_layout,
+from controllers.measurements import (N_ACCELERATIONS, N_FLOORS, MeasurementLayout, measurement_layout,
                                       measurement_slices, n_measurements)
 
 __all__ = [
@@ -108,6 +108,9 @@ class ControlContext:
         Actuator slew limit [V/s] applied to every controller's output (``inf``: none).
     info : dict
         Free-form run information (record name, orientation, ...).
+    n_floors : int
+        Floors above the base (the benchmark's 8; a variant structure file may have others): the
+        measurement vector has ``3 + 3 n_floors`` accelerations (:mod:`controllers.measurements`).
     """
 
     n_devices: int
@@ -117,6 +120,7 @@ class ControlContext:
     design_model: DesignModel | None = None
     slew_rate: float | np.ndarray = np.inf
     info: dict = field(default_factory=dict)
+    n_floors: int = N_FLOORS
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -133,7 +137,11 @@ class ControlContext:
             raise ParameterError(f"ControlContext: voltage_max must be {n_dev} finite values >= 0 V, "
                                  f"got {self.voltage_max!r}")
         set_(self, "voltage_max", vmax)
-        n_meas = n_measurements(n_dev) if self.n_measurements is None else int(self.n_measurements)
+        floors = self.n_floors
+        if isinstance(floors, bool) or not isinstance(floors, (int, np.integer)) or floors < 1:
+            raise ParameterError(f"ControlContext: n_floors must be an integer >= 1, got {floors!r}")
+        set_(self, "n_floors", int(floors))
+        n_meas = n_measurements(n_dev, self.n_floors) if self.n_measurements is None else int(self.n_measurements)
         set_(self, "n_measurements", n_meas)
         slew = np.asarray(self.slew_rate, dtype=np.float64)
         slew = np.full(n_dev, float(slew)) if slew.ndim == 0 else slew.copy()
@@ -145,7 +153,7 @@ class ControlContext:
     @property
     def layout(self) -> MeasurementLayout:
         """The measurement vector's layout (:mod:`controllers.measurements`)."""
-        return measurement_layout(self.n_devices)
+        return measurement_layout(self.n_devices, self.n_floors)
 
     @property
     def slices(self) -> dict[str, slice]:
@@ -267,6 +275,7 @@ class CompiledBackedController(Controller):
                              f"{compiled.n_meas} measurements, the run has {context.n_devices} and "
                              f"{context.n_measurements}")
         self._compiled = compiled
+        self._force_rows = context.slices["device_force"]
         self._xc, self._voltage = compiled.initial_state()
         self._desired = np.zeros(compiled.n_devices)
         self._steps = 0
@@ -282,7 +291,7 @@ class CompiledBackedController(Controller):
         if y.shape != (c.n_meas,):
             raise InputError(f"controller {self.name!r}: measurement vector has shape {y.shape}, "
                              f"expected ({c.n_meas},)")
-        f = np.ascontiguousarray(y[measurement_slices(c.n_devices)["device_force"]])
+        f = np.ascontiguousarray(y[self._force_rows])
         status = controller_update(*c.kernel_arguments(), y, f, self._xc, self._voltage,  # type: ignore[call-arg]
                                    self._desired)
         if status != STATUS_OK:

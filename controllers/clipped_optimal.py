@@ -50,12 +50,12 @@ from typing import Any
 
 import numpy as np
 
-from benchmark.foundation.errors import ParameterError
-from controllers.base import (CompiledBackedController, ControlContext, measurement_slices, n_measurements,
-                              register_controller)
+from benchmark.foundation.errors import InputError, ParameterError
+from controllers.base import CompiledBackedController, ControlContext, register_controller
 from controllers.compiled import DEFAULT_DEAD_BAND, LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.lqg import (LinearPlant, ReducedPlant, estimator_fit, kalman_design, lqr_design,
                              modal_reduction, observer_controller, simulate_linear)
+from controllers.measurements import MeasurementLayout, layout_of
 from controllers.plant import building_plant, device_force_capacity, device_models
 
 __all__ = ["LQGWeights", "LQGDesign", "design_lqg", "regulated_outputs", "ClippedOptimal", "DEFAULT_DEAD_BAND"]
@@ -144,20 +144,21 @@ def regulated_outputs(plant: LinearPlant, n_devices: int, weights: LQGWeights) -
     weights : LQGWeights
         Weights of the regulated outputs (drifts, accelerations, base displacement).
     """
-    s = measurement_slices(n_devices)
+    lay = layout_of(plant.C.shape[0], n_devices)
+    s = lay.slices()
     rot = np.ones(3)
     rot[2] = weights.rotation_radius
     Cd = plant.C[s["base_displacement"]] * rot[:, None]
     Dd = plant.D[s["base_displacement"]] * rot[:, None]
     Cv = Cd @ plant.A          # d/dt of the displacement rows (their force feedthrough is zero)
     Dv = Cd @ plant.B
-    rot_floor = np.tile(rot, 8)
+    rot_floor = np.tile(rot, lay.n_accelerations // 3 - 1)
     Ca = plant.C[s["floor_acceleration"]] * rot_floor[:, None]
     Da = plant.D[s["floor_acceleration"]] * rot_floor[:, None]
     Cz = np.vstack([Cd / weights.displacement_scale, Cv / weights.velocity_scale, Ca / weights.acceleration_scale])
     Dz = np.vstack([Dd / weights.displacement_scale, Dv / weights.velocity_scale, Da / weights.acceleration_scale])
     Wz = np.diag(np.concatenate([np.full(3, weights.q_displacement), np.full(3, weights.q_velocity),
-                                 np.full(24, weights.q_acceleration)]))
+                                 np.full(lay.n_accelerations - 3, weights.q_acceleration)]))
     return Cz, Dz, Wz
 
 
@@ -247,10 +248,11 @@ def _pole_lines(poles: np.ndarray) -> list[str]:
     return out
 
 
-def _sensor_noise(n_devices: int, weights: LQGWeights) -> tuple[np.ndarray, np.ndarray]:
-    s = measurement_slices(n_devices)
+def _sensor_noise(lay: MeasurementLayout, weights: LQGWeights) -> tuple[np.ndarray, np.ndarray]:
+    s = lay.slices()
     rows = np.arange(s["base_acceleration"].start, s["base_displacement"].stop)
-    rms = np.concatenate([np.full(27, weights.acceleration_noise_rms), np.full(3, weights.displacement_noise_rms)])
+    rms = np.concatenate([np.full(lay.n_accelerations, weights.acceleration_noise_rms),
+                          np.full(3, weights.displacement_noise_rms)])
     rms[2::3] /= weights.rotation_radius  # θ entries
     return rows, rms
 
@@ -276,10 +278,15 @@ def design_lqg(plant: LinearPlant, n_devices: int, control_step: float, weights:
     seed : int, optional
         Seed of the random ground motion and device forces of the estimator-fit check.
     """
-    n_meas = n_measurements(n_devices)
-    if plant.C.shape[0] != n_meas or plant.B.shape[1] != n_devices:
+    try:
+        lay = layout_of(plant.C.shape[0], n_devices)
+    except InputError:
+        lay = None
+    if lay is None or plant.B.shape[1] != n_devices:
         raise ParameterError(f"design_lqg: plant has {plant.C.shape[0]} outputs and {plant.B.shape[1]} "
-                             f"inputs, expected {n_meas} measurements and {n_devices} devices")
+                             f"inputs, expected 6 + 3 n_floors + 2 n_devices measurements and {n_devices} "
+                             "devices")
+    n_meas = lay.n_measurements
     f0 = np.broadcast_to(np.asarray(force_scale, dtype=float), (n_devices,)).copy()
     if np.any(~np.isfinite(f0)) or np.any(f0 <= 0):
         raise ParameterError(f"design_lqg: force_scale must be positive, got {force_scale!r}")
@@ -290,8 +297,8 @@ def design_lqg(plant: LinearPlant, n_devices: int, control_step: float, weights:
     Wf = np.diag(weights.r_force / f0 ** 2)
     lqr = lqr_design(p.A, p.B, Cz, Dz, Wz, Wf)
     Ad, Bd, Ed = p.discretise(control_step)
-    sensor_rows, rms = _sensor_noise(n_devices, weights)
-    force_rows = np.arange(n_meas)[measurement_slices(n_devices)["device_force"]]
+    sensor_rows, rms = _sensor_noise(lay, weights)
+    force_rows = np.arange(n_meas)[lay.slices()["device_force"]]
     Cs, Ds = p.C[sensor_rows], p.D[sensor_rows]
     kf = kalman_design(Ad, Ed, Cs, np.eye(p.E.shape[1]) * weights.ground_rms ** 2, np.diag(rms ** 2))
     G = -lqr["K"]
@@ -328,7 +335,7 @@ def _estimator_fit(plant: LinearPlant, design: LQGDesign, seed: int, duration: f
         innovation = y[k, design.sensor_rows] - Cs @ xc - Ds @ forces[k]
         est[k] = xc + M @ innovation
         xc = Ac @ xc + Bc @ y[k]
-    s = measurement_slices(n_dev)
+    s = layout_of(plant.C.shape[0], n_dev).slices()
     disp_true = y[:, s["base_displacement"]]
     disp_est = est @ p.C[s["base_displacement"]].T
     vel_true = x @ (plant.C[s["base_displacement"]] @ plant.A).T

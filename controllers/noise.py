@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from controllers.base import measurement_slices, n_measurements
+from controllers.base import measurement_layout
+from controllers.measurements import N_FLOORS
 
 __all__ = ["MeasurementNoise"]
 
@@ -71,41 +72,46 @@ class MeasurementNoise:
         """True if the noise adds nothing."""
         return self.acceleration_rms == 0 and self.displacement_rms == 0 and self.force_rms == 0
 
-    def rms_vector(self, n_devices: int) -> np.ndarray:
+    def rms_vector(self, n_devices: int, n_floors: int = N_FLOORS) -> np.ndarray:
         """RMS of each entry of the measurement vector (SI).
 
         Parameters
         ----------
         n_devices : int
             Number of controlled devices (MR dampers) in the building.
+        n_floors : int, optional
+            Floors above the base (the benchmark's 8 by default; :mod:`controllers.measurements`).
         """
-        rms = np.zeros(n_measurements(n_devices))
-        slices = measurement_slices(n_devices)
+        return self._per_entry(n_devices, n_floors, "rms", 0.0)
+
+    def _per_entry(self, n_devices: int, n_floors: int, kind: str, default: float) -> np.ndarray:
+        lay = measurement_layout(n_devices, n_floors)
+        out = np.full(lay.n_measurements, default)
+        slices = lay.slices()
         for field_name, groups in _GROUPS.items():
             for group in groups:
-                rms[slices[group]] = getattr(self, f"{field_name}_rms")
-        # θ entries (every third entry of the first 30) are rotations: scale by the radius.
-        rms[2:30:3] /= self.rotation_radius
-        return rms
+                out[slices[group]] = getattr(self, f"{field_name}_{kind}")
+        # θ entries (every third one of the accelerations and base displacements) are rotations:
+        # scale by the radius.
+        out[2:lay.base_displacement + 3:3] /= self.rotation_radius
+        return out
 
-    def range_vector(self, n_devices: int) -> np.ndarray:
+    def range_vector(self, n_devices: int, n_floors: int = N_FLOORS) -> np.ndarray:
         """Sensor range of each entry (``inf``: unlimited).
 
         Parameters
         ----------
         n_devices : int
             Number of controlled devices (MR dampers) in the building.
+        n_floors : int, optional
+            Floors above the base (the benchmark's 8 by default; :mod:`controllers.measurements`).
         """
-        rng = np.full(n_measurements(n_devices), np.inf)
-        slices = measurement_slices(n_devices)
-        for field_name, groups in _GROUPS.items():
-            for group in groups:
-                rng[slices[group]] = getattr(self, f"{field_name}_range")
-        rng[2:30:3] /= self.rotation_radius
-        return rng
+        return self._per_entry(n_devices, n_floors, "range", np.inf)
 
-    def sample(self, n_steps: int, n_devices: int, rng: np.random.Generator | None = None) -> np.ndarray:
-        """Draw the noise of a whole run, shape ``(n_steps, 30 + 2 n_devices)`` (SI units).
+    def sample(self, n_steps: int, n_devices: int, rng: np.random.Generator | None = None,
+               n_floors: int = N_FLOORS) -> np.ndarray:
+        """Draw the noise of a whole run, shape ``(n_steps, 30 + 2 n_devices)`` on the benchmark's
+        floors (SI units).
 
         The same seed gives the same array; pass ``rng`` to draw from a caller's generator.
 
@@ -117,12 +123,15 @@ class MeasurementNoise:
             Number of controlled devices (MR dampers) in the building.
         rng : np.random.Generator | None, optional
             Generator to draw from; None: a new one seeded with the noise model's seed.
+        n_floors : int, optional
+            Floors above the base (the benchmark's 8 by default; :mod:`controllers.measurements`).
         """
         generator = rng if rng is not None else np.random.default_rng(self.seed)
-        rms = self.rms_vector(n_devices)
+        rms = self.rms_vector(n_devices, n_floors)
         return generator.standard_normal((int(n_steps), rms.size)) * rms
 
-    def apply(self, measurements: np.ndarray, noise: np.ndarray | None, n_devices: int) -> np.ndarray:
+    def apply(self, measurements: np.ndarray, noise: np.ndarray | None, n_devices: int,
+              n_floors: int = N_FLOORS) -> np.ndarray:
         """Return ``measurements + noise`` clipped to the sensor ranges.
 
         Parameters
@@ -133,9 +142,11 @@ class MeasurementNoise:
             Noise for this step (a row of :meth:`sample`), or None for none.
         n_devices : int
             Number of controlled devices (MR dampers) in the building.
+        n_floors : int, optional
+            Floors above the base (the benchmark's 8 by default; :mod:`controllers.measurements`).
         """
         y = measurements if noise is None else measurements + noise
-        limits = self.range_vector(n_devices)
+        limits = self.range_vector(n_devices, n_floors)
         if np.all(np.isinf(limits)):
             return y
         return np.clip(y, -limits, limits)

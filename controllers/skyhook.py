@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from benchmark.foundation.errors import ParameterError
-from controllers.base import CompiledBackedController, ControlContext, measurement_slices, register_controller
+from controllers.base import CompiledBackedController, ControlContext, register_controller
 from controllers.compiled import DEFAULT_DEAD_BAND, LAW_CLIPPED_OPTIMAL, CompiledController
 from controllers.plant import device_force_capacity, device_geometry, device_models
 
@@ -99,7 +99,7 @@ class Skyhook(CompiledBackedController):
             c_sky = np.array([device_force_capacity(m, v) for m, v in zip(models, context.voltage_max)]) \
                 / self.velocity_scale
         self.c_sky = c_sky
-        s = measurement_slices(n_dev)
+        s = context.slices
         base = s["base_acceleration"].start
         # Acceleration at each device location as a row map of the measurement vector.
         accel_map = np.zeros((n_dev, context.n_measurements))

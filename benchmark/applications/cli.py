@@ -121,7 +121,7 @@ def build_parser() -> argparse.ArgumentParser:
         subparsers.choices[command].add_argument(
             "--structure", default=None, metavar="FILE.json",
             help="a variant of the benchmark's structure file (the fields of shared/benchmark/"
-                 "structure.json: masses, modes, damping ratio, bearing plan; 8 floors); the named "
+                 "structure.json: masses, modes, damping ratio, bearing plan; n_floors, default 8); the named "
                  "isolation layers carry its weight on its bearings. Same as SBIB_STRUCTURE "
                  "(default: shared/benchmark/structure.json)")
     return parser

@@ -129,7 +129,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
     plot_dir : str, optional
         Directory for the figures (:func:`benchmark.simulator.plots.plot_run`).
     n_modes : int, optional
-        Reduced superstructure (first ``n_modes`` modes); default all 24.
+        Reduced superstructure (first ``n_modes`` modes); default all (24 in the benchmark: 3 per floor).
     control_step : float, optional
         Controller sample time [s]; ``None``: the benchmark's 0.005 s. Without a controller it
         sets only the time grid.
@@ -355,7 +355,7 @@ def register(subparsers: Any) -> None:
     p.add_argument("--plot", default=None, metavar="DIR", type=output_dir, help="write figures (PNG) into DIR")
     p.add_argument("--json", action="store_true", help="print one JSON object on stdout")
     p.add_argument("--n-modes", type=int, default=None, metavar="N",
-                   help="keep the first N superstructure modes (default all 24)")
+                   help="keep the first N superstructure modes (default all: 3 per floor, 24 in the benchmark)")
     p.add_argument("--control-step", type=float, default=None, metavar="S",
                    help="controller sample time [s] (default 0.005, the benchmark's); any record step "
                         "fits")

@@ -569,7 +569,7 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
     noise : optional
         Measurement noise (e.g. :class:`controllers.noise.MeasurementNoise`), seeded by ``seed``.
     n_modes : int, optional
-        Reduced superstructure (default: all 24 modes).
+        Reduced superstructure (default: all modes, 24 in the benchmark).
     synthetic : bool
         Use the labelled synthetic benchmark-like records (no files needed).
     building : benchmark.simulator.building.Building, optional

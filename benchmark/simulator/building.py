@@ -189,7 +189,7 @@ class Building:
         sup = self.superstructure
         return {
             "name": self.name,
-            "superstructure": {"source": sup.source, "n_modes": sup.n_modes if sup.is_reduced else "all (24)"},
+            "superstructure": {"source": sup.source, "n_modes": sup.n_modes if sup.is_reduced else f"all ({sup.n_dof})"},
             "isolation": self.isolation.describe() if hasattr(self.isolation, "describe") else str(self.isolation),
             "devices": None if self.devices is None else self.devices.describe(),
         }

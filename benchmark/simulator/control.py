@@ -113,4 +113,5 @@ def control_context(building: Building, control_step: float = 0.005,
     dm = design_model(building)
     vmax = np.array([float(m.voltage_range[1]) for m in dm.device_models])
     return ControlContext(n_devices=len(dm.device_models), control_step=control_step, voltage_max=vmax,
-                          design_model=dm, slew_rate=slew_rate, info=dict(info or {}))
+                          design_model=dm, slew_rate=slew_rate, info=dict(info or {}),
+                          n_floors=building.superstructure.n_floors)

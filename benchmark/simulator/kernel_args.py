@@ -380,6 +380,7 @@ def pack_run(building: Any, record: Any, plant_extra: dict, n: int, dt: float, r
         or device count.
     """
     isolation = building.isolation
+    floors = building.superstructure.n_floors
     if substep_tolerance is not None:
         isolation = isolation.with_substep_tolerance(substep_tolerance)
     packed = isolation.pack()
@@ -408,19 +409,19 @@ def pack_run(building: Any, record: Any, plant_extra: dict, n: int, dt: float, r
             if abs(compiled.control_step - ratio * dt) > 1e-9 * ratio * dt:
                 raise InputError(f"controller {session.name!r} was designed for a control step of "
                                  f"{compiled.control_step:g} s, the run uses {ratio * dt:g} s")
-            if compiled.n_devices != d_infl.shape[0] or compiled.n_meas != n_measurements(d_infl.shape[0]):
+            if compiled.n_devices != d_infl.shape[0] or compiled.n_meas != n_measurements(d_infl.shape[0], floors):
                 raise InputError(f"controller {session.name!r} expects {compiled.n_devices} devices and "
                                  f"{compiled.n_meas} measurements; the building has {d_infl.shape[0]} "
-                                 f"devices ({n_measurements(d_infl.shape[0])} measurements)")
+                                 f"devices ({n_measurements(d_infl.shape[0], floors)} measurements)")
     else:
         d_model = np.zeros(0, dtype=np.int64)
         d_params = np.zeros((0, 1))
         d_state = np.zeros((0, 1))
         d_infl = np.zeros((0, 3))
     nd = d_infl.shape[0]
-    n_meas = n_measurements(nd)
+    n_meas = n_measurements(nd, floors)
     n_control = (n - 1) // ratio + 1 if nd else 0
-    noise_arr, meas_range = noise_samples(noise if nd else None, n_control, nd, seed)
+    noise_arr, meas_range = noise_samples(noise if nd else None, n_control, nd, seed, n_floors=floors)
 
     if compiled is not None:
         ctrl_mode = 1
@@ -458,7 +459,7 @@ def pack_run(building: Any, record: Any, plant_extra: dict, n: int, dt: float, r
                   params=_f64(d_params), state=_f64(d_state))
     sensors = Sensors(C_acc=plant_extra["C_acc"], D_acc_g=plant_extra["D_acc_g"],
                       D_acc_ag=plant_extra["D_acc_ag"], noise=_f64(noise_arr), ranges=_f64(meas_range),
-                      layout=measurement_layout(nd))
+                      layout=measurement_layout(nd, floors))
     settings = Settings(fp_tol=float(fixed_point_tolerance), max_iter=int(max_iterations),
                         blowup_limit=float(blowup_limit), record_bearings=bool(bearing_histories),
                         record_states=bool(bearing_histories and record_states),

@@ -338,7 +338,7 @@ def linear_model(building, isolation: str = "equivalent", amplitude: float = 0.1
     n_dev = G.shape[0]
     B = mats["B_g"] @ G.T
     E = mats["B_ag"].copy()
-    lay = measurement_layout(n_dev)
+    lay = measurement_layout(n_dev, sup.n_floors)
     s = lay.slices()
     C = np.zeros((lay.n_measurements, nz))
     D = np.zeros((lay.n_measurements, n_dev))
@@ -350,6 +350,6 @@ def linear_model(building, isolation: str = "equivalent", amplitude: float = 0.1
     C[s["device_displacement"], nq:nv] = G
     D[s["device_force"], :] = np.eye(n_dev)
     return LinearModel(A=mats["A"], B=B, E=E, C=C, D=D, D_g=D_g,
-                       state_names=state_names(nq, sup.is_reduced), output_names=measurement_names(n_dev),
+                       state_names=state_names(nq, sup.is_reduced), output_names=measurement_names(n_dev, sup.n_floors),
                        n_q=nq, bearing_stiffness=k, bearing_damping=c, device_influence=G, matrices=mats,
                        settings={"isolation": isolation, "amplitude": amplitude, "period": period})

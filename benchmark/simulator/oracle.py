@@ -450,7 +450,7 @@ def simulate_oracle(building: Any, record: Any, controller: Any = None, control_
         model = OracleModel(building, record, voltage=0.0)
         nd = len(model.models)
         n_control = (n - 1) // ratio + 1
-        _, sensor_range = noise_samples(None, n_control, nd, None)
+        _, sensor_range = noise_samples(None, n_control, nd, None, n_floors=building.superstructure.n_floors)
         compiled = session.compiled
         if compiled is not None:
             _, v0 = compiled.initial_state()

@@ -298,9 +298,10 @@ def derived_histories(building, z, gb, gd, ag, mats, Kb, Cb, d_infl) -> dict[str
     base_abs = ab.copy()
     base_abs[:, :2] += ag
     us = z[:, :nq].copy() if identity_basis else Y[:, blocks["us"]]
-    floor_abs = Y[:, blocks["floor_rel_acc"]].reshape(n, 8, 3) + base_abs[:, None, :]
-    floor_disp = us.reshape(n, 8, 3)
-    drift = np.empty((n, 8, 2))
+    n_floors = sup.n_floors
+    floor_abs = Y[:, blocks["floor_rel_acc"]].reshape(n, n_floors, 3) + base_abs[:, None, :]
+    floor_disp = us.reshape(n, n_floors, 3)
+    drift = np.empty((n, n_floors, 2))
     drift[:, 0] = floor_disp[:, 0, :2]
     drift[:, 1:] = floor_disp[:, 1:, :2] - floor_disp[:, :-1, :2]
     drift /= sup.storey_heights[None, :, None]
@@ -377,7 +378,7 @@ def build_result(building, record, ag, dt, out, mats, Kb, Cb, extra, packed, d_i
     info.setdefault("isolation", getattr(isolation, "name", ""))
     info["controller"] = "none" if session is None else session.name
     info["n_devices"] = d_infl.shape[0]
-    info["n_modes"] = sup.n_modes if sup.is_reduced else 24
+    info["n_modes"] = sup.n_modes if sup.is_reduced else sup.n_dof
     info["integration_step"] = dt
     info["settings"] = {k: (v if isinstance(v, (int, float, str, type(None))) else repr(v))
                         for k, v in settings.items()}

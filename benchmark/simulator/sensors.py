@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from controllers.measurements import (N_ACCELERATIONS, MeasurementLayout, measurement_layout,
+from controllers.measurements import (N_ACCELERATIONS, N_FLOORS, MeasurementLayout, measurement_layout,
                                       measurement_names, measurement_slices, n_measurements)
 
 __all__ = ["measurement_names", "measurement_slices", "n_measurements", "noise_samples",
@@ -25,7 +25,7 @@ __all__ = ["measurement_names", "measurement_slices", "n_measurements", "noise_s
 
 
 def noise_samples(noise: Any, n_control: int, n_devices: int,
-                  seed: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+                  seed: int | None = None, n_floors: int = N_FLOORS) -> tuple[np.ndarray, np.ndarray]:
     """Measurement noise for every control step and the sensor ranges.
 
     Parameters
@@ -45,6 +45,10 @@ def noise_samples(noise: Any, n_control: int, n_devices: int,
         Number of devices (sets ``n_meas = 30 + 2 n_devices``).
     seed : int, optional
         Seed of the :class:`numpy.random.Generator`.
+    n_floors : int, optional
+        Floors above the base (the benchmark's 8 by default). A noise object is told it (keyword
+        ``n_floors``) only on a building of another height, so objects written for the benchmark's
+        signature keep working on it.
 
     Returns
     -------
@@ -53,15 +57,16 @@ def noise_samples(noise: Any, n_control: int, n_devices: int,
     ranges : (n_meas,) array
         Sensor ranges: noisy measurements are clipped to ``±range`` (``inf``: none).
     """
-    n_meas = n_measurements(n_devices)
+    n_meas = n_measurements(n_devices, n_floors)
     ranges = np.full(n_meas, np.inf)
+    height = {} if n_floors == N_FLOORS else {"n_floors": n_floors}
     if noise is None or (np.isscalar(noise) and float(noise) == 0.0):
         return np.zeros((n_control, n_meas)), ranges
     if hasattr(noise, "sample") and callable(noise.sample):
         rng = None if seed is None else np.random.default_rng(seed)
-        out = np.asarray(noise.sample(n_control, n_devices, rng=rng), dtype=float)
+        out = np.asarray(noise.sample(n_control, n_devices, rng=rng, **height), dtype=float)
         if hasattr(noise, "range_vector"):
-            ranges = np.asarray(noise.range_vector(n_devices), dtype=float)
+            ranges = np.asarray(noise.range_vector(n_devices, **height), dtype=float)
     else:
         rng = np.random.default_rng(seed)
         arr = np.asarray(noise, dtype=float)

@@ -18,7 +18,12 @@ squared circular frequencies ω² and the modal damping ratio ζ = 5 %,
     C = \\Phi^{-T} \\operatorname{diag}(2\\zeta\\omega) \\Phi^{-1},
 
 exactly as the benchmark's own script does (its ``STRUC.mat`` K and C are reproduced to
-machine precision). The floor masses and inertias give the diagonal M; that the floor
+machine precision).
+
+A variant structure file may give another number of floors (field ``n_floors``, default 8, at
+most :data:`MAX_FLOORS`): every per-floor field then has that many floors, the superstructure
+``3 n_floors`` DOF, and the measurement vector ``3 + 3 n_floors`` accelerations
+(:mod:`controllers.measurements`); the criteria, controllers and outputs follow. The floor masses and inertias give the diagonal M; that the floor
 order is right is checked on reading by :math:`\\Phi^T M \\Phi \\approx I` (the file's
 rounding leaves about 1 % off the identity; the reversed order is off by 11 %).
 
@@ -66,11 +71,13 @@ from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.fields import check_field_names
 from benchmark.foundation.paths import structure_file
 from benchmark.foundation.textfile import read_text
+from controllers.measurements import N_FLOORS  # the benchmark's 8 (the layout below the simulator owns it)
 
 __all__ = ["Superstructure", "load_superstructure", "transformation", "location_matrix", "bearing_gaps",
-           "N_FLOORS", "DOF_NAMES"]
+           "N_FLOORS", "MAX_FLOORS", "DOF_NAMES"]
 
-N_FLOORS = 8
+#: The most floors a structure file may have (a sanity bound on its size, not a limit of the method).
+MAX_FLOORS = 60
 DOF_NAMES = ("x", "y", "theta")
 _KILO = 1.0e3  # t → kg, kN → N, t·m² → kg·m²
 _ORTHONORMALITY_TOLERANCE = 0.05  # max |ΦᵀMΦ − I| accepted (file rounding gives ~0.0125)
@@ -149,18 +156,18 @@ class Superstructure:
 
     Attributes
     ----------
-    M, K, C : array (24, 24)
+    M, K, C : array (3 n_floors, 3 n_floors)
         Mass [kg, kg·m²], stiffness [N/m, N·m/rad ...] and damping [N·s/m ...] matrices,
         DOF order floor 1 → floor 8, (x, y, θ) per floor, relative to the base.
-    R : array (24, 3)
+    R : array (3 n_floors, 3)
         Influence matrix (eight stacked 3×3 identities).
-    storey_heights : array (8,)
+    storey_heights : array (n_floors,)
         Storey heights [m], storey 1 (base to floor 1) first.
-    floor_heights : array (8,)
-        Height of floors 1..8 above the base [m].
-    omega : array (24,)
+    floor_heights : array (n_floors,)
+        Height of floors 1..n_floors above the base [m].
+    omega : array (3 n_floors,)
         Circular frequencies of the fixed-base modes as given by the benchmark [rad/s].
-    phi : array (24, 24)
+    phi : array (3 n_floors, 3 n_floors)
         The benchmark's mass-normalised mode shapes, rows re-ordered floor 1 → floor 8.
     base_mass : float
         Base slab mass [kg].
@@ -170,7 +177,7 @@ class Superstructure:
         Bearing plan coordinates [m] relative to the base centre of mass.
     damping_ratio : float
         Modal damping ratio used to build C.
-    basis : array (24, n_q)
+    basis : array (3 n_floors, n_q)
         Generalised coordinates of the superstructure, :math:`u_s = \\text{basis}\\, q`:
         the identity for the full model, the first N M-orthonormal modes for a reduced one.
     source : str
@@ -201,12 +208,17 @@ class Superstructure:
     # ----------------------------------------------------------------------------- derived
     @property
     def n_dof(self) -> int:
-        """Number of physical superstructure DOF (24)."""
+        """Number of physical superstructure DOF (24 in the benchmark: 3 per floor)."""
         return self.M.shape[0]
 
     @property
+    def n_floors(self) -> int:
+        """Number of floors above the base (8 in the benchmark; a structure file may give another)."""
+        return self.M.shape[0] // 3
+
+    @property
     def n_q(self) -> int:
-        """Number of generalised superstructure coordinates (24, or N when reduced)."""
+        """Number of generalised superstructure coordinates (``n_dof``, or N when reduced)."""
         return self.basis.shape[1]
 
     @property
@@ -277,7 +289,7 @@ class Superstructure:
         """Effective modal mass ratios of the fixed-base modes (24, 3) for x, y and θ.
 
         :math:`\\Gamma = \\Psi^T M R`; the ratio of mode *i* in direction *d* is
-        :math:`\\Gamma_{id}^2 / (R^T M R)_{dd}`. Each column sums to 1 over the 24 modes;
+        :math:`\\Gamma_{id}^2 / (R^T M R)_{dd}`. Each column sums to 1 over all the modes (24 in the benchmark);
         the cumulative sum over the first N rows says how much mass a reduced model keeps.
         """
         _, psi = self.undamped_modes()
@@ -291,7 +303,7 @@ class Superstructure:
         Parameters
         ----------
         n_modes : int
-            Modes kept, 1 ≤ n_modes ≤ 24, lowest frequencies first.
+            Modes kept, 1 ≤ n_modes ≤ n_dof (24 in the benchmark), lowest frequencies first.
 
         Returns
         -------
@@ -311,15 +323,15 @@ class Superstructure:
         return replace(self, basis=np.eye(self.n_dof), n_modes=None, _modes=self._modes)
 
     def floor_slice(self, floor: int) -> slice:
-        """Rows of floor ``floor`` (1..8) in the 24-DOF vectors.
+        """Rows of floor ``floor`` (1..n_floors) in the superstructure's DOF vectors.
 
         Parameters
         ----------
         floor : int
-            Floor number, 1..8.
+            Floor number, 1..n_floors.
         """
-        if not 1 <= floor <= N_FLOORS:
-            raise InputError(f"floor: expected 1..{N_FLOORS}, got {floor}")
+        if not 1 <= floor <= self.n_floors:
+            raise InputError(f"floor: expected 1..{self.n_floors}, got {floor}")
         return slice(3 * (floor - 1), 3 * floor)
 
 
@@ -371,20 +383,27 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
         raise InputError(f"{path}: a JSON {type(data).__name__}; expected an object of named fields "
                          "(the benchmark's structure.json is one)")
     check_field_names(data, _STRUCTURE_FIELDS, str(path))
-    n = 3 * N_FLOORS
     floors = data.get("n_floors", N_FLOORS)
-    if floors != N_FLOORS:
-        raise InputError(f"{path}: field 'n_floors' = {floors!r}: sbib models the benchmark's {N_FLOORS}-storey "
-                         f"superstructure ({n} DOF); a variant may change its masses, modes, damping and "
-                         "bearing plan, not its number of floors")
+    if isinstance(floors, bool) or not isinstance(floors, int) or not 1 <= floors <= MAX_FLOORS:
+        raise InputError(f"{path}: field 'n_floors' = {floors!r}; expected an integer number of floors "
+                         f"above the base, 1..{MAX_FLOORS}")
+    n = 3 * floors
+    # every per-floor field must agree with n_floors: say so by name (a file cut to fewer floors
+    # with n_floors left at 8, or n_floors missing: the benchmark's 8 is the default)
+    told = "n_floors" in data
+    for name, size in (("floor_mass", floors), ("omega_squared", n), ("floor_height_above_base", floors + 1)):
+        entries = data.get(name)
+        if isinstance(entries, list) and len(entries) != size:
+            raise InputError(f"{path}: field '{name}' has {len(entries)} entries, expected {size} for n_floors = "
+                             f"{floors}{'' if told else ' (the default: give n_floors for another height)'}")
     w2 = _field(data, "omega_squared", path, (n,))
     if np.any(w2 <= 0):
         raise InputError(f"{path}: field 'omega_squared' must be positive")
     phi_file = _field(data, "mode_shapes_floor8_to_floor1", path, (n, n))
-    floor_mass = _field(data, "floor_mass", path, (N_FLOORS,)) * _KILO
-    floor_inertia = _field(data, "floor_rot_inertia", path, (N_FLOORS,)) * _KILO
+    floor_mass = _field(data, "floor_mass", path, (floors,)) * _KILO
+    floor_inertia = _field(data, "floor_rot_inertia", path, (floors,)) * _KILO
     zeta = float(_field(data, "modal_damping_ratio", path, ()))
-    heights = _field(data, "floor_height_above_base", path, (N_FLOORS + 1,))
+    heights = _field(data, "floor_height_above_base", path, (floors + 1,))
     base_mass = float(_field(data, "base_mass", path, ())) * _KILO
     base_inertia = float(_field(data, "base_rot_inertia", path, ())) * _KILO
     bearing_xy = _field(data, "bearing_xy", path)
@@ -408,7 +427,7 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
     lo, hi = FUNDAMENTAL_PERIOD_RANGE
     if not lo <= float(periods.max()) <= hi:
         raise InputError(f"{path}: field 'omega_squared': the fixed-base fundamental period is "
-                         f"{float(periods.max()):.4g} s; an {N_FLOORS}-storey superstructure's is {lo:g}-{hi:g} s "
+                         f"{float(periods.max()):.4g} s; a building superstructure's is {lo:g}-{hi:g} s "
                          "(expected (rad/s)², "
                          "not Hz or Hz²)")
     if bearing_xy.shape[0] > 1:
@@ -427,7 +446,7 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
         raise InputError(f"{path}: field 'modal_damping_ratio' must lie in [0, 1), got {zeta:g}")
 
     # File rows: row 3*(k-1)+j is floor 9-k. Re-order to floor 1 → floor 8.
-    order = np.ravel([[3 * (N_FLOORS - f) + j for j in range(3)] for f in range(1, N_FLOORS + 1)])
+    order = np.ravel([[3 * (floors - f) + j for j in range(3)] for f in range(1, floors + 1)])
     phi = phi_file[order]
     M = np.diag(np.ravel(np.column_stack([floor_mass, floor_mass, floor_inertia])))
     deviation = np.abs(phi.T @ M @ phi / _KILO - np.eye(n)).max()  # Φ is normalised in t
@@ -442,7 +461,7 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
     C = phi_inv.T @ np.diag(2.0 * zeta * omega) @ phi_inv * _KILO
     K = 0.5 * (K + K.T)
     C = 0.5 * (C + C.T)
-    R = np.tile(np.eye(3), (N_FLOORS, 1))
+    R = np.tile(np.eye(3), (floors, 1))
     arrays = dict(M=M, K=K, C=C, R=R, storey_heights=np.diff(heights), floor_heights=heights[1:],
                   omega=omega, phi=phi / np.sqrt(_KILO), bearing_xy=bearing_xy)
     for arr in arrays.values():
