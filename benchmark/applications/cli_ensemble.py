@@ -54,5 +54,16 @@ def _run(args: argparse.Namespace) -> int:
               flush=True)
     summary = run_ensemble(config, out, jobs=jobs, scheduler=args.scheduler, run=args.run,
                            progress=not args.no_progress)
+    for note in _motion_notes(summary.path):  # devices beyond a model's fitted motion, as sbib run says
+        print(f"sbib ensemble: {note}", file=sys.stderr, flush=True)
     print(json.dumps(summary.as_dict(), indent=2))
     return 0
+
+
+def _motion_notes(path: Path) -> list[str]:
+    """The ``motion_notes`` the ensemble's file holds (written by ``write_hdf5``)."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        text = f.attrs.get("motion_notes")
+    return list(json.loads(text)) if text else []

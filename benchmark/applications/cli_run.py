@@ -180,7 +180,14 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         if substep_tolerance is not None:
             building_given = building_given.with_isolation(
                 building_given.isolation.with_substep_tolerance(check_substep_tolerance(substep_tolerance)))
-    if warn:
+    uncontrolled = controller is None or (isinstance(controller, str) and controller.strip().lower() == "none")
+    if warn and uncontrolled and building_given is not None:
+        # the uncontrolled run has no devices: the damper's notes would describe nothing that ran
+        given = [o for o, v in (("--damper", damper), ("--devices", devices), ("--damper-scale", damper_scale))
+                 if v is not None]
+        print(f"sbib run: note: --controller none runs the building without devices; {', '.join(given)} "
+              "not used (name a controller, e.g. passive-on, to run them)", file=sys.stderr, flush=True)
+    elif warn:
         for note in dict.fromkeys(n for c in used for n in c.notes):
             print(f"sbib run: {note if note.startswith('warning: ') else 'note: ' + note}", file=sys.stderr,
                   flush=True)

@@ -76,7 +76,7 @@ from benchmark.simulator.criteria import CRITERIA
 from benchmark.simulator.peaks import PEAK_UNITS
 from benchmark.foundation.pools import WorkerPool
 from benchmark.foundation.progress import progress_bar
-from benchmark.applications.damper_choice import resolve_damper, resolve_layout
+from benchmark.applications.damper_choice import motion_notes, resolve_damper, resolve_layout
 from benchmark.applications.run_inputs import damper_identities
 
 __all__ = [
@@ -85,6 +85,8 @@ __all__ = [
     "EnsembleSummary",
     "building_description",
     "building_notes",
+    "ensemble_motion_notes",
+    "DEVICE_MOTION_UNITS",
     "EnsembleResults",
     "RUN_FUNCTIONS",
     "resolve_run_function",
@@ -555,16 +557,24 @@ def building_description(building) -> dict | None:
         return None
     # resolving a model file measures its capacity and dropped share (damper simulations): once
     # per content of the files, not at every checkpoint of the HDF5 file
-    stamps = tuple((p, os.stat(p).st_mtime_ns, os.stat(p).st_size) for p in building
-                   if isinstance(p, str) and p and Path(p).is_file())
-    return copy.deepcopy(_described(tuple(building), stamps))
+    return copy.deepcopy(_described(tuple(building), _stamps(building)))
+
+
+def _stamps(building) -> tuple:
+    return tuple((p, os.stat(p).st_mtime_ns, os.stat(p).st_size) for p in building
+                 if isinstance(p, str) and p and Path(p).is_file())
 
 
 @functools.lru_cache(maxsize=4)
-def _described(building: tuple, stamps: tuple) -> dict:  # noqa: ARG001 (stamps: the cache key)
+def _resolved(building: tuple, stamps: tuple) -> tuple:  # noqa: ARG001 (stamps: the cache key)
     damper, devices, scale = (list(building) + ["", "", ""])[:3]
     choice = resolve_damper(damper or None, scale or None)
-    layout, used = resolve_layout(devices or None, choice, scale or None)
+    return resolve_layout(devices or None, choice, scale or None)
+
+
+@functools.lru_cache(maxsize=4)
+def _described(building: tuple, stamps: tuple) -> dict:
+    layout, used = _resolved(building, stamps)
     described = [c.describe() for c in used]
     return {"layout": {"name": layout.name, "n_devices": layout.n_devices}, "dampers": described,
             "files": damper_identities({"dampers": described})}
@@ -583,6 +593,31 @@ def building_notes(building) -> list[str]:
     described = building_description(building)
     notes = [n for d in (described or {}).get("dampers", []) for n in d.get("notes", [])]
     return list(dict.fromkeys(notes))
+
+
+#: Units of the device motion each run of the built-in run functions returns beside its peaks.
+DEVICE_MOTION_UNITS = {"peak_device_stroke": "m", "peak_device_velocity": "m/s"}
+
+
+def ensemble_motion_notes(building, results: Mapping[str, np.ndarray]) -> list[str]:
+    """Warnings for model files whose fitted motion the ensemble's devices exceeded, as ``sbib run``
+    and ``sbib compare`` give them (:func:`benchmark.applications.damper_choice.motion_notes`),
+    over the largest stroke and velocity of all finished runs.
+
+    Parameters
+    ----------
+    building : tuple
+        ``(damper, devices, damper_scale)`` of the TOML (:attr:`EnsembleConfig.building`); empty:
+        the benchmark's own devices, which have no fitted motion.
+    results : mapping
+        The runs' metrics by name (``peak_device_stroke`` [m], ``peak_device_velocity`` [m/s]; NaN
+        for a run not finished).
+    """
+    stroke, velocity = (np.asarray(results.get(k, []), dtype=float) for k in DEVICE_MOTION_UNITS)
+    if not building or not np.any(np.isfinite(stroke)) or not np.any(np.isfinite(velocity)):
+        return []
+    _, used = _resolved(tuple(building), _stamps(building))
+    return motion_notes(used, float(np.nanmax(stroke)), float(np.nanmax(velocity)))
 
 
 def _input_file_hashes(config) -> dict:
@@ -1058,6 +1093,9 @@ def write_hdf5(config: EnsembleConfig, cases: list[EnsembleMember], entries: Map
             described = building_description(config.building)
             if described is not None:  # the devices the runs had: model files, scale, mapping, effects
                 f.attrs["damper"] = json.dumps(described, default=str)
+            notes = ensemble_motion_notes(config.building, results)
+            if notes:  # devices driven beyond a model's fitted motion (sbib ensemble prints them too)
+                f.attrs["motion_notes"] = json.dumps(notes)
             f.attrs["n_cases"], f.attrs["n_done"], f.attrs["n_failed"] = n, n_done, n_failed
             f.attrs["complete"] = complete
             g = f.create_group("cases")
@@ -1083,8 +1121,8 @@ def write_hdf5(config: EnsembleConfig, cases: list[EnsembleMember], entries: Map
                     c = CRITERIA[metric]
                     r[metric].attrs.update(name=c.name, formula=c.formula, normalised_by=c.normalised_by,
                                            source=c.source, choice=c.choice, units="1")
-                elif metric in PEAK_UNITS:
-                    r[metric].attrs["units"] = PEAK_UNITS[metric]
+                elif metric in PEAK_UNITS or metric in DEVICE_MOTION_UNITS:
+                    r[metric].attrs["units"] = {**PEAK_UNITS, **DEVICE_MOTION_UNITS}[metric]
                 else:  # a run function of the user's: its own quantity
                     r[metric].attrs["units"] = "as returned by the run function"
     return complete

@@ -45,7 +45,7 @@ from controllers.registry import get_controller
 from records.resolve import resolve_record
 from benchmark.simulator.isolation.configurations import BearingGroup
 from benchmark.simulator.devices import DeviceLayout, DeviceSlot
-from benchmark.applications.damper_choice import resolve_damper, resolve_layout
+from benchmark.applications.damper_choice import device_motion, resolve_damper, resolve_layout
 
 __all__ = ["run_ensemble_case", "load_motion", "build_building", "check_grid_values", "SIMULATION_PARAMETERS"]
 
@@ -258,6 +258,10 @@ def run_ensemble_case(case: Any, evaluate_criteria: bool = True) -> dict[str, fl
     run = run_case(Case(record=motion, controller=controller, building=building, control_step=control_step,
                         options=kwargs), reference=evaluate_criteria or controller is None)
     out = {name: float(value) for name, value in run.peaks.as_record().items()}
+    if controller is not None:
+        # the devices' largest stroke and velocity: what a model fitted on laboratory motions is
+        # compared with once the ensemble is done (DEVICE_MOTION_UNITS, ensemble_motion_notes)
+        out["peak_device_stroke"], out["peak_device_velocity"] = device_motion(run.result)
     if evaluate_criteria:
         for name, value in run.J.items():
             out[name] = math.nan if value is None else float(value)

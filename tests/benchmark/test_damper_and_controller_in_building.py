@@ -380,6 +380,18 @@ def test_a_run_beyond_the_fitted_motion_is_said(capsys, tmp_path, short_record):
     assert "extrapolation" not in err
 
 
+def test_an_uncontrolled_run_says_its_damper_is_not_used(capsys, tmp_path, short_record):
+    """``--controller none`` runs no devices: the damper's own notes (here, an input range past its
+    fitted levels) would describe nothing that ran, so the run says the options were not used."""
+    spec = InputSpec("current", "A", (0.0, 2.0), (0.0, 0.5, 1.0))
+    path = write_model_file(tmp_path / "lab.json", _lab_model(), input=spec)
+    doc, err = _run(capsys, "--record", short_record, "--damper", str(path), "--controller", "none")
+    assert "--controller none runs the building without devices; --damper not used" in err
+    assert "fitted at" not in err and doc["peaks"]["peak_device_force"] == 0
+    _, err = _run(capsys, "--record", short_record, "--damper", str(path), "--controller", "passive-on")
+    assert "fitted at" in err and "not used" not in err
+
+
 def test_compare_says_a_run_beyond_the_fitted_motion_too(capsys, tmp_path, short_record):
     """sbib compare warns as sbib run does, once per model, naming only the model that was driven
     beyond its fitted motion (a probe found the warning in sbib run alone)."""
@@ -397,6 +409,34 @@ def test_compare_says_a_run_beyond_the_fitted_motion_too(capsys, tmp_path, short
     assert len(lines) == 1 and "lab.json" in lines[0] and "wide.json" not in lines[0]
     with h5py.File(tmp_path / "c.h5") as h5:
         assert "extrapolation" in json.loads(h5.attrs["settings"])["damper"]["motion_notes"][0]
+
+
+def test_an_ensemble_says_a_run_beyond_the_fitted_motion_too(capsys, tmp_path, short_record):
+    """sbib ensemble warns as sbib run and sbib compare do, over the largest stroke and velocity of
+    its runs (its runs had returned peaks and J's only, so nothing could be said), prints the
+    warning and keeps it in the file; a model fitted on wide motions gets no warning."""
+    spec = InputSpec("current", "A", (0.0, 1.0), (0.0, 0.5, 1.0))
+    for name, fitted, warned in (("lab.json", (0.001, 0.006), True), ("wide.json", (1.0, 5.0), False)):
+        path = write_model_file(tmp_path / name, _lab_model(), input=spec,
+                                quality={"fitted_motion": {"stroke_m": fitted[0], "velocity_m_s": fitted[1]}})
+        toml = tmp_path / f"{name}.toml"
+        toml.write_text(f'controllers = ["passive-on", "passive-off"]\nrecords = ["{short_record}"]\n'
+                        f'orientations = ["FN-x"]\ndamper = "{path}"\ndamper_scale = "1000kN"\n')
+        out = tmp_path / f"{name}.h5"
+        assert main(["ensemble", "--config", str(toml), "--out", str(out), "--no-progress", "--jobs", "1"]) == 0
+        err = capsys.readouterr().err
+        lines = [line for line in err.splitlines() if "extrapolation" in line]
+        with h5py.File(out) as h5:
+            stroke = h5["results/peak_device_stroke"][()]
+            assert h5["results/peak_device_stroke"].attrs["units"] == "m"
+            assert h5["results/peak_device_velocity"].attrs["units"] == "m/s"
+            notes = json.loads(h5.attrs.get("motion_notes", "[]"))
+        assert np.all(stroke > 0.001)  # each run's own stroke, in its row
+        if warned:
+            assert len(lines) == 1 and name in lines[0] and f"{stroke.max():.3g} m" in lines[0]
+            assert notes == [lines[0].removeprefix("sbib ensemble: ")]
+        else:
+            assert not lines and not notes
 
 
 def test_an_ensemble_states_its_devices_as_sbib_run_does(tmp_path, model_files, capsys):
