@@ -25,7 +25,7 @@ cannot act on the devices) are printed on stderr too.
 
 ``--json`` prints exactly one JSON object on stdout::
 
-    {"record", "orientation" (FN-x or FP-x), "isolation", "structure": {"source", "total_mass_kg",
+    {"record", "orientation" (FN-x or FP-x), "isolation", "structure": {"source", "n_floors", "total_mass_kg",
      "n_bearings"} (the structure file read: the benchmark's or --structure), "controller",
      "control_step_s" (null without a controller), "units_assumed", "record_step_s",
      "integration_step_s" (the step of the results' time grid), "notes": [lines],
@@ -202,7 +202,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         f"{time.perf_counter() - start:.1f} s")
     if warn and os.environ.get("SBIB_STRUCTURE"):
         sup = run.building.superstructure
-        print(f"sbib run: note: structure {sup.source} ({sup.total_mass / 1e3:.6g} t on {sup.n_bearings} "
+        print(f"sbib run: note: structure {sup.source} ({sup.n_floors} floors, {sup.total_mass / 1e3:.6g} t on {sup.n_bearings} "
               f"bearings; isolation '{run.building.isolation.name}': {run.building.isolation.description})",
               file=sys.stderr, flush=True)
     rec, building, result, reference, J = run.record, run.building, run.result, run.reference, run.J
@@ -222,7 +222,8 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         "orientation": orientation,
         "isolation": layer.name,
         # the structure file read (a variant given by --structure / SBIB_STRUCTURE shows here)
-        "structure": {"source": sup.source, "total_mass_kg": sup.total_mass, "n_bearings": sup.n_bearings},
+        "structure": {"source": sup.source, "n_floors": sup.n_floors, "total_mass_kg": sup.total_mass,
+                      "n_bearings": sup.n_bearings},
         "controller": controller,
         "control_step_s": float(control_step) if ctrl_used else None,
         "units_assumed": rec.metadata.get("units_assumed", ""),

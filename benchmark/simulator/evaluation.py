@@ -13,7 +13,7 @@ J3        peak base displacement :math:`\max_t \|u_b(t)\|` (``base_displacement`
 J4        peak inter-storey drift ratio :math:`\max_{t,f} \|d_f(t)\| / h_f`             ratio to ref.
           (``drift_ratio``; floor 1 relative to the base)
 J5        peak absolute floor acceleration :math:`\max_{t,f} \|a_f(t)\|`,                ratio to ref.
-          floors 1–8 (``floor_acceleration_absolute``)
+          every floor, 1–8 in the benchmark (``floor_acceleration_absolute``)
 J6        peak total device force over the **controlled** peak base shear,             own run
           :math:`\max_t \|\sum_j f_{d,j}(t)\| / \max_t \|V_0(t)\|`
 J7        RMS base displacement :math:`\sqrt{\overline{\|u_b\|^2}}`                      ratio to ref.

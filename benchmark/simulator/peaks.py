@@ -42,7 +42,7 @@ PEAK_FIELD_UNITS: dict[str, tuple[str, str]] = {
     "base_rotation": ("rad", "peak |θ| base rotation"),
     "rms_base_displacement": ("m", "RMS x–y resultant base displacement (J7's numerator)"),
     "drift_ratio": ("1", "peak x–y resultant inter-storey drift / storey height, any storey (J4)"),
-    "floor_acceleration": ("m/s^2", "peak x–y resultant absolute floor acceleration, floors 1–8 (J5)"),
+    "floor_acceleration": ("m/s^2", "peak x–y resultant absolute floor acceleration, every floor (J5)"),
     "rms_floor_acceleration": ("m/s^2", "RMS x–y resultant absolute floor acceleration, largest floor (J8)"),
     "base_shear": ("N", "peak x–y resultant isolation-level force, bearings + devices (J1)"),
     "base_torque": ("N*m", "peak |torque| of the isolation-level force about the base centre of mass"),

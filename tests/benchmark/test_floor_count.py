@@ -163,9 +163,11 @@ def test_sbib_run_takes_a_five_storey_file(five, records_dir, tmp_path):
     out = tmp_path / "run.h5"
     proc = subprocess.run([sys.executable, "-m", "benchmark", "run", "--structure", str(path),
                            "--record", "kobe", "--controller", "clipped-optimal", "--records-dir", str(records_dir),
-                           "--out", str(out)], capture_output=True, text=True, timeout=600)
+                           "--out", str(out), "--json"], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
-    assert "J5" in proc.stdout
+    doc = json.loads(proc.stdout)
+    assert doc["structure"]["n_floors"] == FLOORS and f"({FLOORS} floors," in proc.stderr
+    assert 0 < doc["J"]["J5"] < 10
     with h5py.File(out) as f:
         shapes = []
         f.visititems(lambda name, obj: shapes.append(obj.shape) if "floor_acceleration" in name
