@@ -23,7 +23,9 @@ machine precision).
 A variant structure file may give another number of floors (field ``n_floors``, default 8, at
 most :data:`MAX_FLOORS`): every per-floor field then has that many floors, the superstructure
 ``3 n_floors`` DOF, and the measurement vector ``3 + 3 n_floors`` accelerations
-(:mod:`controllers.measurements`); the criteria, controllers and outputs follow. The floor masses and inertias give the diagonal M; that the floor
+(:mod:`controllers.measurements`); the criteria, controllers and outputs follow. The mode
+shapes keep their field name, ``mode_shapes_floor8_to_floor1``, at any height: rows top floor
+first, three per floor. The floor masses and inertias give the diagonal M; that the floor
 order is right is checked on reading by :math:`\\Phi^T M \\Phi \\approx I` (the file's
 rounding leaves about 1 % off the identity; the reversed order is off by 11 %).
 
