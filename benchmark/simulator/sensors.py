@@ -64,9 +64,17 @@ def noise_samples(noise: Any, n_control: int, n_devices: int,
         return np.zeros((n_control, n_meas)), ranges
     if hasattr(noise, "sample") and callable(noise.sample):
         rng = None if seed is None else np.random.default_rng(seed)
-        out = np.asarray(noise.sample(n_control, n_devices, rng=rng, **height), dtype=float)
-        if hasattr(noise, "range_vector"):
-            ranges = np.asarray(noise.range_vector(n_devices, **height), dtype=float)
+        try:
+            out = np.asarray(noise.sample(n_control, n_devices, rng=rng, **height), dtype=float)
+            if hasattr(noise, "range_vector"):
+                ranges = np.asarray(noise.range_vector(n_devices, **height), dtype=float)
+        except TypeError as exc:
+            if height and "n_floors" in str(exc):
+                raise InputError(f"noise: {type(noise).__name__}.sample / range_vector take no n_floors, and the "
+                                 f"building has {n_floors} floors ({n_meas} measurements, not the benchmark's "
+                                 f"{n_measurements(n_devices)}); accept n_floors=, as "
+                                 "controllers.noise.MeasurementNoise does") from None
+            raise
     else:
         rng = np.random.default_rng(seed)
         arr = np.asarray(noise, dtype=float)

@@ -173,3 +173,39 @@ def test_sbib_run_takes_a_five_storey_file(five, records_dir, tmp_path):
         f.visititems(lambda name, obj: shapes.append(obj.shape) if "floor_acceleration" in name
                      and isinstance(obj, h5py.Dataset) else None)
     assert shapes and all(s[1] == FLOORS for s in shapes)
+
+
+def test_measurement_noise_on_the_variant(five, records_dir):
+    """The noise model's vector follows the height (its rotation entries, scaled by the radius, are
+    every third of the accelerations and base displacements), a run with it is seeded as on the
+    benchmark, and a noise object that takes no n_floors is refused by name, not by a TypeError."""
+    from benchmark.simulator.sensors import noise_samples
+    from controllers.noise import MeasurementNoise
+
+    noise = MeasurementNoise(acceleration_rms=0.1, displacement_rms=1e-3, force_rms=10.0, rotation_radius=20.0)
+    lay = measurement_layout(2, FLOORS)
+    rms = noise.rms_vector(2, FLOORS)
+    assert rms.shape == (lay.n_measurements,)
+    theta = np.arange(2, lay.base_displacement + 3, 3)
+    np.testing.assert_allclose(rms[theta[:-1]], 0.1 / 20.0)
+    assert rms[theta[-1]] == pytest.approx(1e-3 / 20.0)  # the base rotation
+    np.testing.assert_allclose(rms[lay.slices()["device_force"]], 10.0)
+    samples, ranges = noise_samples(noise, 50, 2, seed=3, n_floors=FLOORS)
+    assert samples.shape == (50, lay.n_measurements) and ranges.shape == (lay.n_measurements,)
+
+    class Old:  # written for the benchmark's signature
+        def sample(self, n_steps, n_devices, rng=None):
+            return np.zeros((n_steps, 30 + 2 * n_devices))
+
+    with pytest.raises(InputError, match="take no n_floors, and the building has 5 floors"):
+        noise_samples(Old(), 50, 2, seed=3, n_floors=FLOORS)
+    assert noise_samples(Old(), 50, 2, seed=3)[0].shape == (50, 34)  # the benchmark's height: as before
+
+    path, _, _ = five
+    building = Building.default(isolation="friction-lrb", devices="default", structure_path=path)
+    record = _truncate(load_benchmark_record("kobe", "FN-x", records_dir=records_dir), 3.0)
+    runs = [simulate(building, record, controller="clipped-optimal", noise=noise, seed=7) for _ in range(2)]
+    clean = simulate(building, record, controller="clipped-optimal")
+    np.testing.assert_array_equal(runs[0].voltage, runs[1].voltage)
+    assert not np.array_equal(runs[0].measurements, clean.measurements)
+
