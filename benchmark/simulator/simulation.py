@@ -43,7 +43,8 @@ from records.resample import interpolate_onto
 
 __all__ = ["SimulationResult", "simulate", "reduction_error", "ENERGY_NAMES", "choose_integration_step",
            "check_control_step", "CONTROL_STEP_RANGE", "MAX_INTEGRATION_STEPS",
-           "DEFAULT_INTEGRATION_STEP", "DEFAULT_MAX_HALVINGS"]
+           "DEFAULT_INTEGRATION_STEP", "DEFAULT_MAX_HALVINGS", "slow_controller_note",
+           "SLOW_CONTROLLER_SHARE", "SLOW_CONTROLLER_SECONDS"]
 
 #: The building's integration step [s]: the benchmark's 0.005 s (Narasimhan et al. 2006). A
 #: record at another step is interpolated onto it (:func:`choose_integration_step`).
@@ -369,8 +370,13 @@ def simulate(building, record, controller: Any = None, control_step: float = 0.0
     result.info["integration_step"] = dt
     result.info["integration_step_requested"] = float(max_step)
     result.info["integration_step_halvings"] = halving
-    result.info["notes"] = notes
     result.info["elapsed_s"] = _time.perf_counter() - t_start
+    slow = slow_controller_note(getattr(controller, "name", "") or type(controller).__name__,
+                                result.info["controller_s"], result.info["elapsed_s"],
+                                result.info["controller_calls"])
+    if slow is not None:
+        notes.append(slow)
+    result.info["notes"] = notes
     return result
 
 
@@ -417,6 +423,7 @@ def _simulate_once(building, record, ag, dt, ratio, controller, substep_toleranc
         out.bstate[0] = run.bearing_state0
     stepping.initial_forces(dt, bearings, dev, control.voltage, out.fb[0], out.fd[0], out.gb[0], out.gd[0])
 
+    controller_s = 0.0
     if control.mode == 2:
         y = np.empty(n_meas)
         g_tot = np.empty(3)
@@ -426,7 +433,9 @@ def _simulate_once(building, record, ag, dt, ratio, controller, substep_toleranc
             g_tot[:] = out.gb[k] + out.gd[k]
             stepping.measure(nq, out.z[k], g_tot, ag[k], out.fd[k], dev, sensors, sensors.noise[kc], y)
             out.meas[kc] = y
+            t_call = _time.perf_counter()
             control.voltage[:] = session.step(y.copy(), time=k * dt)
+            controller_s += _time.perf_counter() - t_call
             k1 = min(k + ratio, n - 1)
             if k1 <= k:
                 break
@@ -447,8 +456,39 @@ def _simulate_once(building, record, ag, dt, ratio, controller, substep_toleranc
                           run.isolation, session, dict(info or {}), bearing_histories=settings.record_bearings,
                           control_step=ratio * dt, substep_tolerance=substep_tolerance,
                           fixed_point_tolerance=fixed_point_tolerance, seed=seed, noise=noise)
+    result.info["controller_s"] = controller_s  # in step() of a controller called from Python
+    result.info["controller_calls"] = n_control if control.mode == 2 else 0
     result.info["elapsed_s"] = _time.perf_counter() - t_start
     return result
+
+
+#: A controller called from Python that takes more of a run's wall time than this share, and at
+#: least :data:`SLOW_CONTROLLER_SECONDS`, is named in the run's notes with its time per step.
+SLOW_CONTROLLER_SHARE = 0.5
+SLOW_CONTROLLER_SECONDS = 2.0
+
+
+def slow_controller_note(name: str, controller_s: float, elapsed_s: float, n_calls: int) -> str | None:
+    """The note for a controller called from Python that dominates a run's time, or None.
+
+    A built-in controller runs inside the compiled loop; a user's class runs in Python once per
+    control step, and a heavy ``step`` (a network, an optimisation) can then make a 30-s record
+    take minutes with nothing said of why.
+
+    Parameters
+    ----------
+    name : str
+        The controller's name.
+    controller_s, elapsed_s : float
+        Wall time [s] inside the controller's ``step`` calls and of the whole run.
+    n_calls : int
+        Number of ``step`` calls (control steps).
+    """
+    if n_calls < 1 or controller_s < SLOW_CONTROLLER_SECONDS or controller_s < SLOW_CONTROLLER_SHARE * elapsed_s:
+        return None
+    return (f"controller {name!r} took {controller_s:.1f} s of the run's {elapsed_s:.1f} s "
+            f"({1e3 * controller_s / n_calls:.2g} ms per control step, {n_calls} steps): its step() is "
+            "what the run waits on (compiled controllers run inside the stepping loop: controllers/compiled.py)")
 
 
 def _numerical_error(status, k, dt, z_out, nq, nv, session, halvings: int = 0) -> NumericalError:

@@ -145,3 +145,35 @@ def test_python_controller_voltages_are_applied_and_saturated(building, record):
     assert np.all(result.voltage[:198] == 0.5)
     assert np.all(result.voltage[200:] == 1.0)  # saturated at the damper's 1 V
     assert np.all(np.isnan(result.desired_force))
+
+
+def test_a_slow_python_controller_is_named_with_its_time(building, record):
+    """A controller called from Python whose step() is most of the run's time is named in the run's
+    notes with its time per control step; a fast one, and a compiled one, are not."""
+    import time
+
+    from benchmark.simulator.simulation import SLOW_CONTROLLER_SECONDS, slow_controller_note
+
+    class Sleepy:
+        name = "sleepy"
+
+        def reset(self, context):
+            self.n = context.n_devices
+
+        def step(self, measurements):
+            time.sleep(0.004)
+            return np.zeros(self.n)
+
+    short = _first_seconds(record, 3.0)  # 601 control steps: about 2.4 s asleep
+    slow = simulate(building, short, controller=Sleepy())
+    assert slow.info["controller_calls"] == 601 and slow.info["controller_s"] > SLOW_CONTROLLER_SECONDS
+    (note,) = [n for n in slow.info["notes"] if "sleepy" in n]
+    assert "ms per control step, 601 steps" in note and "compiled.py" in note
+    fast = simulate(building, short, controller=PythonOnly(get_controller("passive-on")))
+    compiled = simulate(building, short, controller="clipped-optimal")
+    assert not any("per control step" in n for run in (fast, compiled) for n in run.info["notes"])
+    assert compiled.info["controller_calls"] == 0
+    # the rule itself: at least SLOW_CONTROLLER_SECONDS and half of the run
+    assert slow_controller_note("c", 3.0, 4.0, 600) is not None
+    assert slow_controller_note("c", 3.0, 7.0, 600) is None
+    assert slow_controller_note("c", 1.0, 1.2, 600) is None
