@@ -8,7 +8,8 @@ A controller is a small object with a state:
   (re)initialises the state;
 * ``step(measurements) -> voltages`` — called at every control step with the measurement
   vector (noise added, layout of :mod:`controllers.measurements`: absolute accelerations of the
-  base (3) and floors 1..8 (24), base displacement (3), device displacements, device forces) and
+  base (3) and floors (24 on the benchmark's 8: ``context.slices`` gives the offsets of any
+  height), base displacement (3), device displacements, device forces) and
   returning one coil voltage per device [V];
 * ``compiled()`` — built-in controllers return their :class:`~controllers.compiled.CompiledController`
   so that the stepping kernel runs them inside numba; a user's controller returns ``None`` (the
@@ -99,7 +100,8 @@ class ControlContext:
     voltage_max : ndarray, shape (n_devices,)
         Largest admissible coil voltage of each device [V] (the device's ``voltage_range[1]``).
     n_measurements : int, optional
-        Length of the measurement vector (default ``30 + 2 n_devices``).
+        Length of the measurement vector (default ``6 + 3 n_floors + 2 n_devices``: ``30 + 2
+        n_devices`` on the benchmark's 8 floors).
     design_model : DesignModel, optional
         The building as a model-based design sees it (clipped-optimal, Lyapunov, skyhook's
         device positions), supplied by the simulator. Pure measurement-driven controllers do not

@@ -110,8 +110,8 @@ class MeasurementNoise:
 
     def sample(self, n_steps: int, n_devices: int, rng: np.random.Generator | None = None,
                n_floors: int = N_FLOORS) -> np.ndarray:
-        """Draw the noise of a whole run, shape ``(n_steps, 30 + 2 n_devices)`` on the benchmark's
-        floors (SI units).
+        """Draw the noise of a whole run, shape ``(n_steps, n_measurements)`` (``30 + 2 n_devices``
+        on the benchmark's 8 floors; SI units).
 
         The same seed gives the same array; pass ``rng`` to draw from a caller's generator.
 

@@ -7,8 +7,9 @@ It follows the controller interface of ``controllers/base.py``: built with
 no arguments; ``reset(context)`` once before the run; ``step(measurements) -> commands`` at
 every control step, one command per device in ``[0, context.voltage_max]`` (volts, or amperes
 for a damper model fitted on coil currents). The measurement vector's layout is
-``controllers/measurements.py``: accelerations of the base and floors (27), base displacement
-(3), device displacements (n), device forces (n), SI units; ``context.slices`` names its parts.
+``controllers/measurements.py``: accelerations of the base and floors (27 on the benchmark's 8
+floors, ``3 + 3 n_floors`` on a variant), base displacement (3), device displacements (n), device
+forces (n), SI units; ``context.slices`` names its parts (use it rather than fixed offsets).
 
 The law: each device's command grows with its own stroke, ``v = v_max · min(1, |x| / x_ref)``,
 so small motions meet a soft device (less floor acceleration) and large ones a stiff device

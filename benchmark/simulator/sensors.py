@@ -1,6 +1,7 @@
 """The sensors: the measurement vector a controller sees at each control step, and its noise.
 
-The layout of the vector (27 absolute accelerations, the base displacement, the device
+The layout of the vector (27 absolute accelerations on the benchmark's 8 floors, ``3 + 3 n_floors``
+on a variant; the base displacement, the device
 displacements and forces) is defined once, in :mod:`controllers.measurements`, and used here, in
 :mod:`benchmark.simulator.linear_model` (the output rows ``C``, ``D``), in the stepping kernel and
 by every controller.

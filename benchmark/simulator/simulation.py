@@ -487,7 +487,7 @@ def slow_controller_note(name: str, controller_s: float, elapsed_s: float, n_cal
     if n_calls < 1 or controller_s < SLOW_CONTROLLER_SECONDS or controller_s < SLOW_CONTROLLER_SHARE * elapsed_s:
         return None
     return (f"controller {name!r} took {controller_s:.1f} s of the run's {elapsed_s:.1f} s "
-            f"({1e3 * controller_s / n_calls:.2g} ms per control step, {n_calls} steps): its step() is "
+            f"({1e3 * controller_s / n_calls:.3g} ms per control step, {n_calls} steps): its step() is "
             "what the run waits on (compiled controllers run inside the stepping loop: controllers/compiled.py)")
 
 
