@@ -69,6 +69,7 @@ from records.options import add_record_options
 from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.criteria import SOURCE, key_json
 from benchmark.simulator.building import Building
+from controllers.registry import NO_CONTROLLER
 from benchmark.simulator.isolation.configurations import check_substep_tolerance
 from benchmark.applications.damper_choice import (add_damper_options, command_unit, device_motion, motion_notes,
                                                   resolve_damper, resolve_layout)
@@ -180,7 +181,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
         if substep_tolerance is not None:
             building_given = building_given.with_isolation(
                 building_given.isolation.with_substep_tolerance(check_substep_tolerance(substep_tolerance)))
-    uncontrolled = controller is None or (isinstance(controller, str) and controller.strip().lower() == "none")
+    uncontrolled = controller is None or (isinstance(controller, str) and controller.strip().lower() == NO_CONTROLLER)
     if warn and uncontrolled and building_given is not None:
         # the uncontrolled run has no devices: the damper's notes would describe nothing that ran
         given = [o for o, v in (("--damper", damper), ("--devices", devices), ("--damper-scale", damper_scale))

@@ -349,7 +349,10 @@ def _not_a_number(value: Any) -> Any:
     return None
 
 
-def _field(data: dict, name: str, path: Path, shape: tuple | None = None) -> np.ndarray:
+def _field(data: dict, name: str, path: Path, shape: tuple | None = None,
+           per_floor: str | None = None) -> np.ndarray:
+    """Field ``name`` as a finite float array of ``shape``; ``per_floor``: the field's length
+    follows n_floors, and a wrong length is said with that text (which n_floors was expected)."""
     if name not in data:
         raise InputError(f"{path}: field '{name}' missing")
     bad = _not_a_number(data[name])
@@ -361,6 +364,8 @@ def _field(data: dict, name: str, path: Path, shape: tuple | None = None) -> np.
     except (TypeError, ValueError) as exc:
         raise InputError(f"{path}: field '{name}' is not numeric ({exc})") from None
     if shape is not None and arr.shape != shape:
+        if per_floor is not None and arr.ndim >= 1 and arr.shape[0] != shape[0]:
+            raise InputError(f"{path}: field '{name}' has {arr.shape[0]} entries, expected {shape[0]}{per_floor}")
         raise InputError(f"{path}: field '{name}' has shape {arr.shape}, expected {shape}")
     if not np.all(np.isfinite(arr)):
         raise InputError(f"{path}: field '{name}' contains non-finite values")
@@ -390,22 +395,18 @@ def _load_cached(path_str: str, mtime: float) -> Superstructure:
         raise InputError(f"{path}: field 'n_floors' = {floors!r}; expected an integer number of floors "
                          f"above the base, 1..{MAX_FLOORS}")
     n = 3 * floors
-    # every per-floor field must agree with n_floors: say so by name (a file cut to fewer floors
-    # with n_floors left at 8, or n_floors missing: the benchmark's 8 is the default)
-    told = "n_floors" in data
-    for name, size in (("floor_mass", floors), ("omega_squared", n), ("floor_height_above_base", floors + 1)):
-        entries = data.get(name)
-        if isinstance(entries, list) and len(entries) != size:
-            raise InputError(f"{path}: field '{name}' has {len(entries)} entries, expected {size} for n_floors = "
-                             f"{floors}{'' if told else ' (the default: give n_floors for another height)'}")
-    w2 = _field(data, "omega_squared", path, (n,))
+    # a per-floor field of another length names n_floors (a file cut to fewer floors with n_floors
+    # left at 8, or n_floors missing: the benchmark's 8 is the default); the floor masses first
+    per_floor = f" for n_floors = {floors}" + ("" if "n_floors" in data
+                                              else " (the default: give n_floors for another height)")
+    floor_mass = _field(data, "floor_mass", path, (floors,), per_floor) * _KILO
+    w2 = _field(data, "omega_squared", path, (n,), per_floor)
     if np.any(w2 <= 0):
         raise InputError(f"{path}: field 'omega_squared' must be positive")
-    phi_file = _field(data, "mode_shapes_floor8_to_floor1", path, (n, n))
-    floor_mass = _field(data, "floor_mass", path, (floors,)) * _KILO
-    floor_inertia = _field(data, "floor_rot_inertia", path, (floors,)) * _KILO
+    phi_file = _field(data, "mode_shapes_floor8_to_floor1", path, (n, n), per_floor)
+    floor_inertia = _field(data, "floor_rot_inertia", path, (floors,), per_floor) * _KILO
     zeta = float(_field(data, "modal_damping_ratio", path, ()))
-    heights = _field(data, "floor_height_above_base", path, (floors + 1,))
+    heights = _field(data, "floor_height_above_base", path, (floors + 1,), per_floor)
     base_mass = float(_field(data, "base_mass", path, ())) * _KILO
     base_inertia = float(_field(data, "base_rot_inertia", path, ())) * _KILO
     bearing_xy = _field(data, "bearing_xy", path)
