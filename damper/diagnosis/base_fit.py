@@ -34,7 +34,7 @@ from damper.models.base import with_coarser_substeps
 from damper.models.bouc_wen import NormalizedBoucWen
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size
-from damper.diagnosis.effects import Offset
+from damper.diagnosis.effects import FIELD_LAG_STARTS, Offset
 from damper.models.field_filter import first_order_filter
 from damper.models.series_dashpot import SpencerBoucWen
 from damper.models.response import simulate
@@ -50,7 +50,7 @@ N_GRID = (1.0, 2.0)
 START_NFEV = 4
 #: Field time constants [s] scanned by the Spencer-type base's projection stage when the input
 #: changes (MR dampers' coils and eddy currents: a few to a few tens of milliseconds).
-TAU_GRID = (0.0, 0.0025, 0.005, 0.01, 0.02, 0.04, 0.08)
+TAU_GRID = (0.0,) + FIELD_LAG_STARTS
 #: Starting roll-off velocities of the series dashpot, as fractions of the training velocity RMS
 #: (c1 = kappa_w / v_r): a sharp and a soft roll-off.
 ROLL_OFF_STARTS = (0.05, 0.3)

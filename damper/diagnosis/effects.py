@@ -108,6 +108,7 @@ __all__ = [
     "Fade",
     "EFFECTS",
     "EFFECT_NAMES",
+    "FIELD_LAG_STARTS",
     "effect_names",
     "register_effect",
     "get_effect",
@@ -279,6 +280,19 @@ class Effect:
             RMS of the measured force [N].
         """
         raise NotImplementedError
+
+    @classmethod
+    def start_grid(cls, motions: "list[Motion]") -> tuple[float, ...]:
+        """Values to try before the effect's refit starts (the best of them and the screening's
+        estimate on the training samples is the start), for a parameter whose least-squares
+        landscape has several minima; empty (the default): the screening's estimate alone.
+
+        Parameters
+        ----------
+        motions : 'list[Motion]'
+            The prescribed motions of the tests (:class:`damper.diagnosis.effects.Motion`).
+        """
+        return ()
 
     @classmethod
     def not_identifiable(cls, motions: "list[Motion]") -> str | None:
@@ -489,6 +503,12 @@ class Inertia(Effect):
         return self.mass * motion.xddot
 
 
+#: Field time constants [s] from which a field lag's fit starts (MR dampers' coils and eddy
+#: currents: a few to a few tens of milliseconds): ``VoltageLag.start_grid`` and the Spencer-type
+#: base's projection stage (:data:`damper.diagnosis.base_fit.TAU_GRID`).
+FIELD_LAG_STARTS = (0.0025, 0.005, 0.01, 0.02, 0.04, 0.08)
+
+
 @register_effect
 @dataclass(frozen=True)
 class VoltageLag(Effect):
@@ -514,6 +534,13 @@ class VoltageLag(Effect):
     @classmethod
     def scale(cls, motions, force_rms):
         return 0.01
+
+    @classmethod
+    def start_grid(cls, motions):
+        # under a random command the joint refit of tau can stay in a minimum near one sample of
+        # the coarse pass instead of the field's own (ranran_50: 0.7 ms against 8.6 ms, the
+        # loop's error 0.21 against 0.113, docs/diagnosis.md); the grid spans MR dampers' lags
+        return FIELD_LAG_STARTS
 
     @classmethod
     def not_identifiable(cls, motions):

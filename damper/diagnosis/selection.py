@@ -49,7 +49,8 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.diagnosis.augmented import BASE_DECLARES, AugmentedModel, Parametrization, refit
+from damper.diagnosis.augmented import BASE_DECLARES, AugmentedModel, Parametrization, RefitResult, refit
+from damper.diagnosis.base_fit import START_NFEV
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size, trace_residual
 from damper.diagnosis.effects import Effect, effect_names, get_effect
@@ -603,8 +604,8 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
                     progress(f"  time budget spent: {s.name} not refitted jointly")
                 continue
             try:
-                fit = refit(quick_model, motions, data.forces, data.train, nodes=nodes,
-                            scales=base_scales, max_nfev=max_nfev, tolerance=tolerance, stall=stall)
+                fit = _joint_refit(quick_model, current, s.name, data, nodes, base_scales, max_nfev,
+                                   tolerance, stall)
                 rss_new, _ = _heldout_rss(fit.model, data)
             except (NumericalError, ParameterError, InputError) as exc:
                 round_trials.append(Trial(s.name, s.score, math.nan, math.inf, {}, note=str(exc)))
@@ -630,6 +631,36 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         if best is None or stopped:
             break
     return SelectionResult(current, tuple(steps), tuple(rounds), stopped)
+
+
+def _joint_refit(quick_model: AugmentedModel, current: AugmentedModel, name: str, data: DiagnosisData,
+                 nodes, scales: dict, max_nfev: int, tolerance: float,
+                 stall: tuple[int, float] | None) -> RefitResult:
+    """The joint refit of the candidate ``name`` from its effect-only refit ``quick_model``.
+
+    A parameter whose landscape has several minima (the effect's
+    :meth:`~damper.diagnosis.effects.Effect.start_grid`: a field lag under a command that changes
+    within the tests) is refitted jointly from the effect-only value and from each value of the
+    grid for :data:`~damper.diagnosis.base_fit.START_NFEV` evaluations; the start with the least
+    training error goes on to convergence. Others: one refit from ``quick_model``."""
+    grid = get_effect(name).start_grid(list(data.motions)) if data.input_varies_within_tests else ()
+    if not grid:
+        return refit(quick_model, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
+                     max_nfev=max_nfev, tolerance=tolerance, stall=stall)
+    cls = get_effect(name)
+    best: RefitResult | None = None
+    for start in (quick_model, *(with_candidate(current, cls.from_value(g), nodes) for g in grid)):
+        try:
+            trial = refit(start, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
+                          max_nfev=min(START_NFEV, max_nfev), tolerance=tolerance)
+        except (NumericalError, ParameterError, InputError):
+            continue
+        if best is None or trial.relative_rms_error < best.relative_rms_error:
+            best = trial
+    if best is None:
+        raise NumericalError(f"{name}: no start of its joint refit could be evaluated")
+    return refit(best.model, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
+                 max_nfev=max_nfev, tolerance=tolerance, stall=stall)
 
 
 def _at_neutral(effect: Effect, scale: float) -> bool:
