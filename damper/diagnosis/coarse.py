@@ -31,9 +31,9 @@ below which :data:`BAND_POWER` of its velocity's power lies (between its first a
 samples, :func:`damper.io.screening.band_edge`). On the Dyke damper's random
 recording (`ranran_50`, content up to about 80 Hz), one sample in 16 instead of 9 raised the
 Spencer base's training error from 0.16 to 0.21, and its refinement took five times as long.
-Where that bound is what stops the decimation and the tests, so decimated, still hold more than
-:data:`WINDOW_TRIGGER` times ``max_samples`` fitted samples (a random-input recording of a minute
-at 3 kHz), the coarse pass fits
+Where that bound is what stops the decimation (alone, or at the same ``q`` as another) and the
+tests, so decimated, still hold more than :data:`WINDOW_TRIGGER` times ``max_samples`` fitted
+samples (a random-input recording of a minute at 3 kHz, or of 20 s at 1 kHz), the coarse pass fits
 **windows** of them (:func:`windows`): stretches spread evenly over each test's usable span,
 each a separate motion that starts :data:`LEAD_IN` before its first scored sample, where the
 displacement passes through its value at the test's start (so that the models' rest state is as
@@ -116,7 +116,8 @@ def decimation_factor(data: DiagnosisData, max_samples: int | None) -> int:
 
 def _decimation(data: DiagnosisData, max_samples: int | None) -> tuple[int, bool]:
     """:func:`decimation_factor`'s ``q``, and whether a test's velocity bandwidth is what bounds it
-    below the ``q`` the sample cap asks for (then the coarse pass may fit windows)."""
+    (alone or with another bound) below the ``q`` the sample cap asks for (then the coarse pass may
+    fit windows)."""
     if max_samples is None:
         return 1, False
     if isinstance(max_samples, bool) or not isinstance(max_samples, (int, np.integer)) or max_samples < 100:
@@ -135,7 +136,11 @@ def _decimation(data: DiagnosisData, max_samples: int | None) -> tuple[int, bool
         per_band = (1.0 / band) / (MIN_SAMPLES_PER_BAND * dt) if band > 0 else limit
         limit = min(limit, int(per_period), int(per_lag))
         band_limit = min(band_limit, int(per_band))
-    return max(1, min(limit, band_limit)), band_limit < limit
+    # the bandwidth stops the decimation also where another bound stops it at the same q: a
+    # broadband record's "dominant" frequency is the peak of a flat spectrum and moves with the
+    # span (ranran_50 at 3 kHz: 1.9 Hz; its first 21 s at 1 kHz: 8 Hz, one sample in 1 either way)
+    limit, band_limit = max(1, limit), max(1, band_limit)
+    return min(limit, band_limit), band_limit <= limit and band_limit < q
 
 
 def _velocity_band(m: Motion, scored: np.ndarray) -> float:

@@ -96,6 +96,20 @@ def test_windows_hold_about_the_samples_asked_for_and_both_parts():
     assert len(windows(short, 3000).motions) == 1
 
 
+def test_a_broadband_test_stopped_by_its_dominant_frequency_too_is_windowed():
+    """At 1 kHz a broadband test's "dominant" frequency (the peak of a flat spectrum, here above
+    10 Hz) asks for one sample in 1, as its bandwidth (120 Hz) does: the bandwidth still stops
+    the decimation, and 21 000 fitted samples are fitted on windows (before, a tie left the
+    whole test: a 21-s copy of `ranran_50` at 1 kHz was fitted on all its 14 800 samples)."""
+    data = DiagnosisData.from_tests([_long_test(duration=30.0, rate=1000.0, band=(12.0, 120.0))],
+                                    holdout=0.3)
+    assert decimation_factor(data, 6000) == 1
+    coarse = coarse_pass(data, 1, 6000)
+    assert len(coarse.motions) >= 2
+    assert all(m.origin is not None for m in coarse.motions)
+    assert sum(int(k.sum()) for k in coarse.train) <= 1.6 * 6000
+
+
 def test_coarse_pass_without_bandwidth_bound_keeps_tests_whole():
     """A slow motion sampled densely decimates to the cap: no windows."""
     data = DiagnosisData.from_tests([_long_test(duration=60.0, band=(0.2, 1.0))], holdout=0.3)
