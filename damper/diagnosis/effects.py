@@ -283,9 +283,10 @@ class Effect:
 
     @classmethod
     def start_grid(cls, motions: "list[Motion]") -> tuple[float, ...]:
-        """Values to try before the effect's refit starts (the best of them and the screening's
-        estimate on the training samples is the start), for a parameter whose least-squares
-        landscape has several minima; empty (the default): the screening's estimate alone.
+        """Values from which the effect's joint refit also starts, for a parameter whose
+        least-squares landscape has several minima (a few evaluations from each and from the
+        effect-only refit's value, the best goes on: :mod:`damper.diagnosis.selection`); empty
+        (the default): the effect-only refit's value alone.
 
         Parameters
         ----------

@@ -643,11 +643,11 @@ def _joint_refit(quick_model: AugmentedModel, current: AugmentedModel, name: str
     within the tests) is refitted jointly from the effect-only value and from each value of the
     grid for :data:`~damper.diagnosis.base_fit.START_NFEV` evaluations; the start with the least
     training error goes on to convergence. Others: one refit from ``quick_model``."""
-    grid = get_effect(name).start_grid(list(data.motions)) if data.input_varies_within_tests else ()
+    cls = get_effect(name)
+    grid = cls.start_grid(list(data.motions)) if data.input_varies_within_tests else ()
     if not grid:
         return refit(quick_model, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
                      max_nfev=max_nfev, tolerance=tolerance, stall=stall)
-    cls = get_effect(name)
     best: RefitResult | None = None
     for start in (quick_model, *(with_candidate(current, cls.from_value(g), nodes) for g in grid)):
         try:
