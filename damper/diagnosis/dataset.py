@@ -316,10 +316,18 @@ class DiagnosisData:
         return "A" if self.input_name == "current" else "V"
 
     def levels(self) -> np.ndarray:
-        """Distinct coil-input values over all tests (rounded to 1e-9)."""
+        """Distinct coil-input values over all tests (rounded to 1e-9; the least and the largest
+        exact, so that :meth:`voltage_range` holds every input value: rounded, a command written
+        with more digits, 1.9968512345 V, lay above its own range and the base model refused it)."""
         if self.source_levels is not None:
             return self.source_levels
-        return np.unique(np.round(np.concatenate([m.v for m in self.motions]), 9))
+        v = np.concatenate([m.v for m in self.motions])
+        levels = np.unique(np.round(v, 9))
+        if levels.size:
+            levels[0] = v.min()
+        if levels.size > 1:
+            levels[-1] = v.max()
+        return levels
 
     @property
     def input_varies_within_tests(self) -> bool:

@@ -13,6 +13,7 @@ from damper.diagnosis.coarse import COARSE_SUBSTEP_SCALE, Progress, decimate, de
 from damper.models.base import with_coarser_substeps
 from damper.models.series_dashpot import SpencerBoucWen
 from damper.lab.protocols import random_motion, random_voltage, random_voltage_test, smooth_ramp
+from damper.io.data import DamperTest
 from damper.io.dyke import is_dyke_file, read_dyke
 
 DYKE = "hysteresis_data/dyke_mr_damper_random_voltage/ransim_u_converted.csv"
@@ -84,6 +85,27 @@ def test_decimation_keeps_levels_nodes_and_enough_samples_per_period():
     assert decimation_factor(data, 100) <= q * 100
     with pytest.raises(InputError, match="coarse_samples"):
         decimation_factor(data, 5)
+
+
+def test_a_command_written_with_many_digits_lies_within_its_own_range():
+    """A command with more than 9 decimals (a uniform random level, a MATLAB export at %.15g):
+    the levels were rounded to 1e-9, so the largest one lay below the input's maximum, and the
+    fitted base refused the test it was fitted on ("expected voltages in [0, 1.99685] V ... got
+    1.99685 V")."""
+    t = np.arange(0.0, 20.0, 1e-3)
+    rng = np.random.default_rng(3)
+    x, xd = random_motion(t, 0.01, (0.3, 8.0), rng, components=12, ramp=1.0)
+    v = 1.9968512345678 * random_voltage(t, (0.0, 1.0), 0.05, rng)
+    v[v.argmax()] = 1.9968512345678
+    test = DamperTest(time=t, displacement=x, velocity=xd, force=800.0 * np.tanh(xd / 0.01), voltage=v,
+                      name="digits")
+    data = DiagnosisData.from_tests([test])
+    assert data.levels()[-1] == v.max() and data.levels()[0] == v.min()
+    assert data.voltage_range()[1] == v.max()
+    coarse = decimate(data, decimation_factor(data, 3000))
+    assert coarse.voltage_range() == data.voltage_range()
+    d = diagnose([test], model="normalized", holdout=0.3, candidates=["offset"])
+    assert np.isfinite(d.error_after)
 
 
 def test_coarser_substeps_changes_only_the_tolerance():
