@@ -133,12 +133,14 @@ def _decimation(data: DiagnosisData, max_samples: int | None) -> tuple[int, bool
         per_period = (1.0 / f) / (MIN_SAMPLES_PER_PERIOD * dt) if f > 0 else limit
         per_lag = FASTEST_LAG / (MIN_SAMPLES_PER_LAG * dt)
         band = _velocity_band(m, tr | ho)
-        per_band = (1.0 / band) / (MIN_SAMPLES_PER_BAND * dt) if band > 0 else limit
+        # no velocity content (a test at rest): no band bound, not a tie with the others
+        per_band = (1.0 / band) / (MIN_SAMPLES_PER_BAND * dt) if band > 0 else q
         limit = min(limit, int(per_period), int(per_lag))
         band_limit = min(band_limit, int(per_band))
     # the bandwidth stops the decimation also where another bound stops it at the same q: a
     # broadband record's "dominant" frequency is the peak of a flat spectrum and moves with the
-    # span (ranran_50 at 3 kHz: 1.9 Hz; its first 21 s at 1 kHz: 8 Hz, one sample in 1 either way)
+    # span (ranran_50 at 3 kHz: 1.9 Hz; its first 21 s at 1 kHz: 8 Hz, where the period rule and
+    # the bandwidth both ask for one sample in 1)
     limit, band_limit = max(1, limit), max(1, band_limit)
     return min(limit, band_limit), band_limit <= limit and band_limit < q
 
@@ -216,8 +218,9 @@ def coarse_pass(data: DiagnosisData, q: int, max_samples: int | None = None,
                 input_rule: str = "end") -> DiagnosisData:
     """The tests the loop's coarse pass fits: one sample in ``q`` (:func:`decimate`) and, even when
     ``q = 1``, simulated at :data:`COARSE_SUBSTEP_SCALE` times the models' sub-step tolerance;
-    windows of them (:func:`windows`) where a test's velocity bandwidth stops the decimation and
-    they still hold more than :data:`WINDOW_TRIGGER` times ``max_samples`` fitted samples.
+    windows of them (:func:`windows`) where a test's velocity bandwidth stops the decimation (alone
+    or at the same ``q`` as another bound) and they still hold more than :data:`WINDOW_TRIGGER`
+    times ``max_samples`` fitted samples.
 
     Parameters
     ----------

@@ -362,6 +362,11 @@ class DiagnosisData:
         levels = self.levels()
         lo = min(0.0, float(levels[0]))
         hi = max(1.0, float(levels[-1]))
+        # every value exactly, also where one level stands for values spread below its rounding
+        # (the levels of a decimated copy are its source's, which contain its inputs)
+        for m in self.motions:
+            if m.v.size:
+                lo, hi = min(lo, float(m.v.min())), max(hi, float(m.v.max()))
         return lo, hi
 
     def concat(self, arrays: Sequence[np.ndarray], which: str = "heldout") -> np.ndarray:

@@ -465,7 +465,8 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
     max_effects : int, optional
         Stop after this many effects.
     max_nfev : int
-        Residual evaluations per joint refit.
+        Residual evaluations per joint refit (an effect with a start grid takes
+        :data:`~damper.diagnosis.base_fit.START_NFEV` more from each of its starts).
     progress : callable, optional
         Called with a one-line message after each trial.
     tolerance : float
@@ -642,9 +643,10 @@ def _joint_refit(quick_model: AugmentedModel, current: AugmentedModel, name: str
     :meth:`~damper.diagnosis.effects.Effect.start_grid`: a field lag under a command that changes
     within the tests) is refitted jointly from the effect-only value and from each value of the
     grid for :data:`~damper.diagnosis.base_fit.START_NFEV` evaluations; the start with the least
-    training error goes on to convergence. Others: one refit from ``quick_model``."""
+    training error goes on to convergence (its short refit stands if that fails or ends worse).
+    Others: one refit from ``quick_model``."""
     cls = get_effect(name)
-    grid = cls.start_grid(list(data.motions)) if data.input_varies_within_tests else ()
+    grid = cls.start_grid(list(data.motions))
     if not grid:
         return refit(quick_model, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
                      max_nfev=max_nfev, tolerance=tolerance, stall=stall)
@@ -659,8 +661,12 @@ def _joint_refit(quick_model: AugmentedModel, current: AugmentedModel, name: str
             best = trial
     if best is None:
         raise NumericalError(f"{name}: no start of its joint refit could be evaluated")
-    return refit(best.model, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
-                 max_nfev=max_nfev, tolerance=tolerance, stall=stall)
+    try:
+        more = refit(best.model, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
+                     max_nfev=max_nfev, tolerance=tolerance, stall=stall)
+    except (NumericalError, ParameterError, InputError):
+        return best
+    return more if more.relative_rms_error <= best.relative_rms_error else best
 
 
 def _at_neutral(effect: Effect, scale: float) -> bool:

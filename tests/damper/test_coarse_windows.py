@@ -11,7 +11,7 @@ import pytest
 from benchmark.foundation.errors import InputError
 from damper.diagnosis import DiagnosisData, diagnose
 from damper.diagnosis.augmented import AugmentedModel
-from damper.diagnosis.coarse import (BAND_POWER, LEAD_IN, MIN_SAMPLES_PER_BAND, coarse_pass, decimate,
+from damper.diagnosis.coarse import (BAND_POWER, LEAD_IN, MIN_SAMPLES_PER_BAND, _decimation, coarse_pass, decimate,
                                      decimation_factor, windows)
 from damper.diagnosis.effects import Fade, Motion, Offset
 from damper.diagnosis.report import write_report
@@ -175,8 +175,8 @@ def test_decimation_of_a_measured_recording_keeps_its_models_force(shared_dir):
     above a few tens of hertz. On the shared Dyke recording (3004.8 Hz, 99 % of the velocity's
     power below 29 Hz) the model's force at the kept training samples moves from the full-rate
     force by 1.7 % (relative RMS) at one sample in 2 (the coarse pass's 4x sub-step tolerance),
-    3.7 % at 8 samples per period of that bandwidth (one in 13) and 5.3 % at 4 per period (one in
-    26), a third of the 0.15 residual the loop works on. At 4 per period `ranran_50` (another
+    3.7 % at 8 samples per period of that bandwidth (one in 12) and 5.3 % at 4 per period (one in
+    25), a third of the 0.15 residual the loop works on. At 4 per period `ranran_50` (another
     recording of that damper, 82 Hz) sent the Spencer base into a σ = 50 optimum and the loop took
     75 s for 0.1560 -> 0.1165; at 8 per period, 29 s for 0.1545 -> 0.1155 (docs/diagnosis.md).
     The recording's dominant frequency stops the decimation at one sample in 5 before its
@@ -200,3 +200,18 @@ def test_decimation_of_a_measured_recording_keeps_its_models_force(shared_dir):
     ref = full[kept][k]
     moved = np.linalg.norm(model.force(coarse.motions[0])[k] - ref) / np.linalg.norm(ref)
     assert moved <= 0.045, (q, moved)
+
+
+def test_a_test_without_velocity_content_sets_no_band_bound():
+    """A test whose velocity has no band (at rest) must not tie with the other bounds and send a
+    periodic test, which its dominant frequency bounds, into windows."""
+    t = np.arange(0.0, 60.0, 1e-3)
+    x = 0.01 * np.sin(2 * np.pi * t)
+    xd = 0.01 * 2 * np.pi * np.cos(2 * np.pi * t)
+    moving = DamperTest(time=t, displacement=x, velocity=xd, force=800.0 * np.tanh(xd / 0.01),
+                        voltage=np.full(t.size, 1.0), name="sine")
+    rest = DamperTest(time=t, displacement=np.zeros(t.size), velocity=np.zeros(t.size),
+                      force=np.zeros(t.size), voltage=np.full(t.size, 1.0), name="rest")
+    alone = _decimation(DiagnosisData.from_tests([moving], holdout=0.3), 3000)
+    assert alone[1] is False
+    assert _decimation(DiagnosisData.from_tests([moving, rest], holdout=0.3), 3000) == alone

@@ -95,13 +95,19 @@ def test_a_command_written_with_many_digits_lies_within_its_own_range():
     t = np.arange(0.0, 20.0, 1e-3)
     rng = np.random.default_rng(3)
     x, xd = random_motion(t, 0.01, (0.3, 8.0), rng, components=12, ramp=1.0)
-    v = 1.9968512345678 * random_voltage(t, (0.0, 1.0), 0.05, rng)
-    v[v.argmax()] = 1.9968512345678
+    v = 1.9968512345 * random_voltage(t, (0.0, 1.0), 0.05, rng)
+    v[v.argmax()] = 1.9968512345  # rounds down to 1.996851234: below the maximum
+    v[v.argmin()] = -0.1234567894  # rounds up to -0.123456789: above the minimum
     test = DamperTest(time=t, displacement=x, velocity=xd, force=800.0 * np.tanh(xd / 0.01), voltage=v,
                       name="digits")
     data = DiagnosisData.from_tests([test])
     assert data.levels()[-1] == v.max() and data.levels()[0] == v.min()
-    assert data.voltage_range()[1] == v.max()
+    assert data.voltage_range() == (v.min(), v.max())
+    # one level standing for values spread below its rounding: the range still holds them all
+    flat = DamperTest(time=t, displacement=x, velocity=xd, force=800.0 * np.tanh(xd / 0.01),
+                      voltage=np.where(np.arange(t.size) == 500, 2.0 + 5e-11, 2.0), name="flat")
+    lo, hi = DiagnosisData.from_tests([flat]).voltage_range()
+    assert lo <= 2.0 and hi >= 2.0 + 5e-11
     coarse = decimate(data, decimation_factor(data, 3000))
     assert coarse.voltage_range() == data.voltage_range()
     d = diagnose([test], model="normalized", holdout=0.3, candidates=["offset"])
