@@ -56,6 +56,8 @@ __all__ = [
     "Parametrization",
     "RefitResult",
     "refit",
+    "refit_from_starts",
+    "START_NFEV",
     "base_at_bounds",
     "BASE_MODELS",
     "make_base",
@@ -872,3 +874,77 @@ def refit(start: AugmentedModel, motions: Sequence[Motion], forces: Sequence[np.
     rel = float(np.linalg.norm(sol.fun) * force_scale / norm)
     return RefitResult(model=model, relative_rms_error=rel, nfev=count["n"],
                        success=bool(sol.success), message=str(sol.message))
+
+
+#: Residual evaluations each start of :func:`refit_from_starts` gets before the best one goes on.
+START_NFEV = 4
+
+
+def refit_from_starts(starts: Sequence[AugmentedModel], motions: Sequence[Motion],
+                      forces: Sequence[np.ndarray], masks: Sequence[np.ndarray] | None = None,
+                      nodes: Sequence[float] | None = None, scales: dict | None = None,
+                      max_nfev: int = 200, tolerance: float = 1e-10,
+                      stall: tuple[int, float] | None = None,
+                      on_start=None) -> RefitResult | None:
+    """The global stage of a refit whose landscape may have several minima: a few steps from
+    every start, then the best one to convergence.
+
+    Each start takes :data:`START_NFEV` residual evaluations of :func:`refit`; the one with the
+    least error goes on with ``max_nfev`` and ``stall``, unless its short refit has converged.
+    The short refit stands when the long one fails or ends worse. A single start is refitted
+    once, with ``max_nfev`` and ``stall``. Starts that cannot be evaluated are skipped. Used by
+    the base fits (:mod:`damper.diagnosis.base_fit`: the grid's best shapes mostly reach the same
+    optimum, and refining each to the end tripled the base fit's cost) and by the residual loop's
+    joint refit of an effect with a start grid (:meth:`~damper.diagnosis.effects.Effect.start_grid`).
+
+    Parameters
+    ----------
+    starts : sequence of AugmentedModel
+        Starting models (the same parametrization).
+    motions, forces, masks, nodes, scales, tolerance
+        As in :func:`refit`.
+    max_nfev : int
+        Cap on the final refinement's residual evaluations.
+    stall : (int, float), optional
+        The final refinement's stall rule (:func:`refit`); the short refits run without one.
+    on_start : callable, optional
+        ``on_start(index, start, result)`` after each start's short refit.
+
+    Returns
+    -------
+    RefitResult or None
+        The best refit; ``None`` when no start could be evaluated.
+
+    Raises
+    ------
+    InputError
+        Inconsistent data (checked once, before any start).
+    """
+    starts = list(starts)
+    _check_data(motions, forces, masks)
+    failures = (NumericalError, ParameterError, InputError)
+    if len(starts) == 1:
+        try:
+            return refit(starts[0], motions, forces, masks, nodes=nodes, scales=scales,
+                         max_nfev=max_nfev, tolerance=tolerance, stall=stall)
+        except failures:
+            return None
+    best: RefitResult | None = None
+    for i, start in enumerate(starts):
+        try:
+            trial = refit(start, motions, forces, masks, nodes=nodes, scales=scales,
+                          max_nfev=min(START_NFEV, max_nfev), tolerance=tolerance)
+        except failures:
+            continue
+        if on_start is not None:
+            on_start(i, start, trial)
+        if best is None or trial.relative_rms_error < best.relative_rms_error:
+            best = trial
+    if best is None or best.success or max_nfev <= START_NFEV:
+        return best
+    try:
+        more = refit(best.model, motions, forces, masks, nodes=nodes, scales=scales,
+                     max_nfev=max_nfev, tolerance=tolerance, stall=stall)
+    except failures:
+        return best
+    return more if more.relative_rms_error <= best.relative_rms_error else best

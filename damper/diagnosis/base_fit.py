@@ -28,7 +28,7 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from benchmark.foundation.errors import InputError, NumericalError
-from damper.diagnosis.augmented import AugmentedModel, RefitResult, make_base, refit
+from damper.diagnosis.augmented import AugmentedModel, RefitResult, make_base, refit, refit_from_starts
 from damper.fitting import DEFAULT_STALL
 from damper.models.base import with_coarser_substeps
 from damper.models.bouc_wen import NormalizedBoucWen
@@ -46,8 +46,6 @@ __all__ = ["fit_base", "fit_spencer_base", "shape_grid", "hat_weights", "BaseFit
 RHO_STROKE_GRID = (0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0)
 SIGMA_GRID = (0.5, 1.0, 2.0)
 N_GRID = (1.0, 2.0)
-#: Residual evaluations (optimizer iterations) each start gets before the best one goes on.
-START_NFEV = 4
 #: Field time constants [s] scanned by the Spencer-type base's projection stage when the input
 #: changes (MR dampers' coils and eddy currents: a few to a few tens of milliseconds).
 TAU_GRID = (0.0,) + FIELD_LAG_STARTS
@@ -199,31 +197,17 @@ def fit_base(data: DiagnosisData, kind: str = "normalized", n_starts: int = 3,
         starts.append(_model_from(kind, coef, rho, sigma, n, nodes, vr, floor))
         if len(starts) >= n_starts:
             break
-    # every start takes a few steps, then only the best goes on (the starts of the grid mostly
-    # reach the same optimum; refining each to the end tripled the cost of the base fit)
-    best: RefitResult | None = None
-    budget = START_NFEV if len(starts) > 1 else max_nfev
-    for i, start in enumerate(starts):
-        try:
-            result = refit(start, data.motions, data.forces, data.train, nodes=nodes,
-                           max_nfev=min(budget, max_nfev), tolerance=tolerance)
-        except NumericalError:
-            continue
+
+    def report(i, start, result):
         if progress:
             progress(f"  base start {i + 1}/{len(starts)} (rho {start.base.rho:.4g} 1/m): training "
                      f"error {result.relative_rms_error:.4f} after {result.nfev} evaluations")
-        if best is None or result.relative_rms_error < best.relative_rms_error:
-            best = result
-    if best is not None and budget < max_nfev and not best.success:
-        try:
-            more = refit(best.model, data.motions, data.forces, data.train, nodes=nodes,
-                         max_nfev=max_nfev, tolerance=tolerance, stall=DEFAULT_STALL)
-        except NumericalError:
-            more = None
-        if more is not None and more.relative_rms_error <= best.relative_rms_error:
-            best = more
-        if progress:
-            progress(f"  base model refined: training error {best.relative_rms_error:.4f}")
+
+    best = refit_from_starts(starts, data.motions, data.forces, data.train, nodes=nodes,
+                             max_nfev=max_nfev, tolerance=tolerance, stall=DEFAULT_STALL,
+                             on_start=report)
+    if progress and best is not None:
+        progress(f"  base model refined: training error {best.relative_rms_error:.4f}")
     if best is None:
         raise NumericalError("diagnose: the base model could not be refined from any start",
                              hint="check the data (units, force sign) or try the other --model")
@@ -410,30 +394,19 @@ def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200
             break
     scales = {"kappa_x": f_rms / x_rms, "k0": f_rms / x_rms, "kappa_xdot": f_rms / v_rms,
               "kappa_w": f_rms, "c1": 10.0 * f_rms / v_rms, "field_lag": 0.01, "offset": f_rms}
-    best: RefitResult | None = None
-    for i, start in enumerate(starts):
-        try:
-            result = refit(start, data.motions, data.forces, data.train, nodes=lin_nodes,
-                           scales=scales, max_nfev=min(START_NFEV, max_nfev), tolerance=tolerance)
-        except NumericalError:
-            continue
+    def report(i, start, result):
         if progress:
             b = start.base
             progress(f"  spencer start {i + 1}/{len(starts)} (rho {b.rho:.4g} 1/m, tau "
                      f"{1e3 * b.field_lag:.3g} ms): training error {result.relative_rms_error:.4f}")
-        if best is None or result.relative_rms_error < best.relative_rms_error:
-            best = result
+
+    # the refinement's stall rule: one that crawled along a flat optimum had run 200 s on ranran_50
+    best = refit_from_starts(starts, data.motions, data.forces, data.train, nodes=lin_nodes,
+                             scales=scales, max_nfev=max_nfev, tolerance=tolerance,
+                             stall=DEFAULT_STALL, on_start=report)
     if best is None:
         raise NumericalError("diagnose: the Spencer-type base could not be refined from any start",
                              hint="check the data (units, force sign) or try another --model")
-    try:
-        # a refinement that crawls along a flat optimum stops (on ranran_50 it had crawled 200 s)
-        more = refit(best.model, data.motions, data.forces, data.train, nodes=lin_nodes,
-                     scales=scales, max_nfev=max_nfev, tolerance=tolerance, stall=DEFAULT_STALL)
-        if more.relative_rms_error <= best.relative_rms_error:
-            best = more
-    except NumericalError:
-        pass
     note = "constant parameters" if lin_nodes is None else "laws linear in the field (2 nodes)"
     if progress:
         progress(f"  spencer base refined: training error {best.relative_rms_error:.4f} ({note})")

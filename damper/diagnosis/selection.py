@@ -49,8 +49,8 @@ from typing import Callable, Sequence
 import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
-from damper.diagnosis.augmented import BASE_DECLARES, AugmentedModel, Parametrization, RefitResult, refit
-from damper.diagnosis.base_fit import START_NFEV
+from damper.diagnosis.augmented import (BASE_DECLARES, AugmentedModel, Parametrization, RefitResult, refit,
+                                       refit_from_starts)
 from damper.diagnosis.dataset import DiagnosisData
 from damper.diagnosis.trace import effective_sample_size, trace_residual
 from damper.diagnosis.effects import Effect, effect_names, get_effect
@@ -466,7 +466,7 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         Stop after this many effects.
     max_nfev : int
         Residual evaluations per joint refit (an effect with a start grid takes
-        :data:`~damper.diagnosis.base_fit.START_NFEV` more from each of its starts).
+        :data:`~damper.diagnosis.augmented.START_NFEV` more from each of its starts).
     progress : callable, optional
         Called with a one-line message after each trial.
     tolerance : float
@@ -642,31 +642,17 @@ def _joint_refit(quick_model: AugmentedModel, current: AugmentedModel, name: str
     A parameter whose landscape has several minima (the effect's
     :meth:`~damper.diagnosis.effects.Effect.start_grid`: a field lag under a command that changes
     within the tests) is refitted jointly from the effect-only value and from each value of the
-    grid for :data:`~damper.diagnosis.base_fit.START_NFEV` evaluations; the start with the least
+    grid for :data:`~damper.diagnosis.augmented.START_NFEV` evaluations; the start with the least
     training error goes on to convergence (its short refit stands if that fails or ends worse).
     Others: one refit from ``quick_model``."""
     cls = get_effect(name)
     grid = cls.start_grid(list(data.motions))
-    if not grid:
-        return refit(quick_model, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
-                     max_nfev=max_nfev, tolerance=tolerance, stall=stall)
-    best: RefitResult | None = None
-    for start in (quick_model, *(with_candidate(current, cls.from_value(g), nodes) for g in grid)):
-        try:
-            trial = refit(start, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
-                          max_nfev=min(START_NFEV, max_nfev), tolerance=tolerance)
-        except (NumericalError, ParameterError, InputError):
-            continue
-        if best is None or trial.relative_rms_error < best.relative_rms_error:
-            best = trial
+    starts = [quick_model, *(with_candidate(current, cls.from_value(g), nodes) for g in grid)]
+    best = refit_from_starts(starts, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
+                             max_nfev=max_nfev, tolerance=tolerance, stall=stall)
     if best is None:
         raise NumericalError(f"{name}: no start of its joint refit could be evaluated")
-    try:
-        more = refit(best.model, data.motions, data.forces, data.train, nodes=nodes, scales=scales,
-                     max_nfev=max_nfev, tolerance=tolerance, stall=stall)
-    except (NumericalError, ParameterError, InputError):
-        return best
-    return more if more.relative_rms_error <= best.relative_rms_error else best
+    return best
 
 
 def _at_neutral(effect: Effect, scale: float) -> bool:
