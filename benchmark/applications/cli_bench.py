@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-from benchmark.foundation.errors import InputError
+from benchmark.foundation.arguments import positive_int
 from benchmark.foundation.atomic import output_dir
 from benchmark.applications.speed import run_bench
 
@@ -28,15 +28,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "scaling.png into --out. Timings are measured, never asserted.")
     p.add_argument("--out", default="results/bench", type=output_dir, help="output directory (default: results/bench)")
     p.add_argument("--quick", action="store_true", help="fewer repeats and scaling points (smoke run)")
-    p.add_argument("--jobs", type=int, default=2, help="processes of the suite and ensemble cases (default 2)")
+    p.add_argument("--jobs", type=positive_int, default=2, help="processes of the suite and ensemble cases (default 2)")
     p.add_argument("--only", default=None,
                    help="comma list of sections: single, suite, identify, diagnose, scaling (default: all)")
     p.set_defaults(func=_run)
 
 
 def _run(args: argparse.Namespace) -> int:
-    if args.jobs < 1:
-        raise InputError(f"--jobs must be >= 1, got {args.jobs}")
     sections = ("single", "suite", "identify", "diagnose", "scaling")
     if args.only:
         sections = tuple(s.strip() for s in args.only.split(",") if s.strip())

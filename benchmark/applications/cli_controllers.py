@@ -14,6 +14,7 @@ import json
 import sys
 from controllers.registry import controller_names
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.arguments import positive_int
 from benchmark.foundation.atomic import output_dir, output_file_of
 from benchmark.applications.comparison import compare
 from records.options import add_record_options
@@ -53,7 +54,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="control step [s], any positive time (default: the benchmark's 0.005 s); a record "
                         "at another step is interpolated onto the integration step, e.g. --control-step 0.01")
     p.add_argument("--n-modes", type=int, default=None, help="reduced superstructure (default: all modes)")
-    p.add_argument("--jobs", type=int, default=None, help="worker processes (default: all cores)")
+    p.add_argument("--jobs", type=positive_int, default=None, help="worker processes (default: all cores)")
     p.add_argument("--json", action="store_true", help="print {\"runs\": [...]} as JSON instead of the table")
     p.add_argument("--out", default=None, type=output_file_of("hdf5"), help="write every run to this HDF5 file (atomic)")
     p.add_argument("--plot", default=None, metavar="DIR", type=output_dir, help="write the PNG figures into DIR")
@@ -66,8 +67,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    if args.jobs is not None and args.jobs < 1:
-        raise InputError(f"--jobs: expected a positive number of processes, got {args.jobs}")
     if args.damper and args.dampers:
         raise InputError("--damper and --dampers: give one of them")
     dampers = args.dampers or args.damper

@@ -34,6 +34,7 @@ import textwrap
 from pathlib import Path
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.arguments import fraction
 from benchmark.foundation.atomic import output_dir
 from damper.io.reader import read_usable, unique_names
 from damper.io.screening import screening_lines, screening_summary
@@ -46,16 +47,6 @@ from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES
 from benchmark.applications.model_files import write_diagnosis_models
 
 __all__ = ["register", "run"]
-
-
-def _fraction(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a fraction between 0 and 1, got {text!r}") from None
-    if not 0.0 < value < 1.0:
-        raise argparse.ArgumentTypeError(f"expected a fraction between 0 and 1, got {text!r}")
-    return value
 
 
 def _paragraphs(text: str, width: int = 78) -> str:
@@ -102,7 +93,7 @@ def register(subparsers) -> None:
     p.add_argument("--model", choices=("normalized", "extended", "spencer", "auto"), default="normalized",
                    help="base model (default: normalized; auto = spencer when the coil input changes "
                         "within a test, as in a random-voltage recording, else normalized)")
-    p.add_argument("--holdout", type=_fraction, default=None, metavar="FRACTION",
+    p.add_argument("--holdout", type=fraction, default=None, metavar="FRACTION",
                    help="fraction of each test, at its end, held out: not used in the fit, only to "
                         "judge it (0-1, default 0.25)")
     p.add_argument("--validate", nargs="+", metavar="FILE",

@@ -8,7 +8,7 @@ import os
 import sys
 from pathlib import Path
 from benchmark.applications.ensemble import EnsembleConfig, building_notes, run_ensemble
-from benchmark.foundation.errors import InputError
+from benchmark.foundation.arguments import positive_int
 from benchmark.foundation.atomic import output_file_of
 
 __all__ = ["register"]
@@ -33,7 +33,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--out", default=None, type=output_file_of("hdf5"),
                    help="HDF5 results file (default: <config stem>.h5 beside the config); "
                         "its journal is <out>.journal")
-    p.add_argument("--jobs", type=int, default=None,
+    p.add_argument("--jobs", type=positive_int, default=None,
                    help="local worker processes (default: all cores; 1 runs in this process)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="Dask scheduler address (tcp://host:8786); needs the 'dask' extra")
@@ -47,8 +47,6 @@ def _run(args: argparse.Namespace) -> int:
     config = EnsembleConfig.from_toml(args.config)
     out = Path(args.out) if args.out else Path(args.config).with_suffix(".h5")
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
-    if jobs < 1:
-        raise InputError(f"--jobs must be >= 1, got {jobs}")
     for note in building_notes(config.building):  # the damper models' notes, as sbib run prints them
         print(f"sbib ensemble: {note if note.startswith('warning: ') else 'note: ' + note}", file=sys.stderr,
               flush=True)

@@ -20,13 +20,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from pathlib import Path
 
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.arguments import fraction_from_zero, nonnegative, positive_int
 from benchmark.foundation.atomic import atomic_write_text, output_dir, output_file_of
 from damper.hysteresis import noel_schoukens
 from damper.hysteresis.noel_schoukens import FS, rms_error
@@ -35,36 +35,6 @@ from damper.hysteresis.files import (data_flaws, load_model, read_data, sampling
 from damper.hysteresis.identification import MIN_SAMPLES, identify_hysteretic
 
 __all__ = ["register", "run_fit", "run_predict", "run_test_signals"]
-
-
-def _fraction(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (0.0 <= v < 1.0):
-        raise argparse.ArgumentTypeError(f"expected 0 <= fraction < 1, got {text}")
-    return v
-
-
-def _positive_int(text: str) -> int:
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text}")
-    return v
-
-
-def _nonnegative(text: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (v >= 0 and math.isfinite(v)):
-        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text}")
-    return v
 
 
 def _check_out(path) -> None:
@@ -218,16 +188,16 @@ def register(subparsers) -> None:
     p.add_argument("--data", required=True, help="benchmark HDF5 or CSV time,force,displacement (SI)")
     p.add_argument("--out", required=True, type=output_file_of("json"), help="output model JSON")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.add_argument("--holdout", type=_fraction, default=0.2,
+    p.add_argument("--holdout", type=fraction_from_zero, default=0.2,
                    help="fraction of the record, at its end, left out of the fit and reported "
                         "(default 0.2)")
     p.add_argument("--group", default=None, help="HDF5 group (default: multisine)")
-    p.add_argument("--upsample", type=_positive_int, default=20,
+    p.add_argument("--upsample", type=positive_int, default=20,
                    help="integration steps per sample (default 20, the benchmark's)")
-    p.add_argument("--skip", type=_nonnegative, default=None,
+    p.add_argument("--skip", type=nonnegative, default=None,
                    help="seconds at the start left out of the fit window (default: the start "
                         "model's settling time)")
-    p.add_argument("--max-iterations", type=_positive_int, default=40,
+    p.add_argument("--max-iterations", type=positive_int, default=40,
                    help="cap on the output-error iterations (default 40)")
     p.add_argument("--keep-flagged", action="store_true",
                    help="fit data with a clipped or stuck channel or an implausible sampling rate "
@@ -240,7 +210,7 @@ def register(subparsers) -> None:
     p.add_argument("--out", required=True, type=output_file_of("csv"), help="output CSV time,displacement")
     p.add_argument("--periodic", action="store_true",
                    help="the input is one period of a periodic force: return the steady state")
-    p.add_argument("--upsample", type=_positive_int, default=None,
+    p.add_argument("--upsample", type=positive_int, default=None,
                    help="integration steps per sample (default: the model file's)")
     p.set_defaults(func=run_predict)
 

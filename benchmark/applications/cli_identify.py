@@ -19,6 +19,7 @@ import sys
 from pathlib import Path
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.arguments import positive_int
 from benchmark.applications.identification_study import run_identify_study
 from records.options import orientation_name
 
@@ -90,7 +91,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--campaign-scale", type=float, default=0.5, metavar="F",
                    help="duration factor of the closed loop's laboratory tests (default 0.5: 30 s of "
                         "training and 22 s of held-out tests)")
-    p.add_argument("--jobs", type=int, default=None,
+    p.add_argument("--jobs", type=positive_int, default=None,
                    help="worker processes (default: all cores; 1: no pool)")
     p.set_defaults(func=_run)
 

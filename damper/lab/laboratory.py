@@ -15,11 +15,11 @@ drawn from ``numpy.random.default_rng(seed)``: the same seed gives the same data
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.arguments import positive
 from damper.io.data import DamperTest
 from damper.models.base import DamperModel
 from damper.models.registry import get_model_class
@@ -47,16 +47,6 @@ def resolve_device(device):
     if not isinstance(device, DamperModel):
         raise InputError(f"device: expected a damper model or its name, got {type(device).__name__}")
     return device
-
-
-def _positive(name: str, value, strict: bool = True) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected a number, got {value!r}") from None
-    if not math.isfinite(value) or (value <= 0 if strict else value < 0):
-        raise InputError(f"{name}: expected a finite number {'>' if strict else '>='} 0, got {value}")
-    return value
 
 
 #: largest test a protocol generates (a typo such as cycles=1e12 must not exhaust the memory)
@@ -112,11 +102,11 @@ def periodic_test(device, amplitude: float, frequency: float, voltage: float, cy
         ``time, displacement, velocity, force, voltage`` (SI), metadata with the protocol.
     """
     model = resolve_device(device)
-    amplitude = _positive("amplitude", amplitude)
-    frequency = _positive("frequency", frequency)
-    cycles = _positive("cycles", cycles)
-    sample_rate = _positive("sample_rate", sample_rate)
-    noise = _positive("noise", noise, strict=False)
+    amplitude = positive("amplitude", amplitude)
+    frequency = positive("frequency", frequency)
+    cycles = positive("cycles", cycles)
+    sample_rate = positive("sample_rate", sample_rate)
+    noise = positive("noise", noise, strict=False)
     if waveform not in WAVEFORMS:
         raise InputError(f"waveform: expected one of {', '.join(WAVEFORMS)}, got {waveform!r}")
     if sample_rate < 10.0 * frequency:
@@ -182,7 +172,7 @@ def general_test(device, t, x, v, noise: float = 0.0, seed: int | None = None,
         Velocity history [m/s]; None: second-order finite difference of ``x``.
     """
     model = resolve_device(device)
-    noise = _positive("noise", noise, strict=False)
+    noise = positive("noise", noise, strict=False)
     _check_seed(seed)
     response = simulate(model, t, x, xdot, v=v)
     return DamperTest(time=response.t, displacement=response.displacement,

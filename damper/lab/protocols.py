@@ -33,22 +33,13 @@ import math
 import numpy as np
 
 from benchmark.foundation.errors import InputError
+from benchmark.foundation.arguments import positive
 from damper.io.data import DamperTest
 from damper.lab.laboratory import general_test
 from damper.lab.laboratory import resolve_device
 
 __all__ = ["random_voltage_test", "random_motion", "random_voltage", "staircase_voltage", "square_voltage",
            "smooth_ramp"]
-
-
-def _positive(name: str, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected a number, got {value!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise InputError(f"{name}: expected a finite number > 0, got {value}")
-    return value
 
 
 def smooth_ramp(t: np.ndarray, ramp: float) -> tuple[np.ndarray, np.ndarray]:
@@ -151,7 +142,7 @@ def random_voltage(t: np.ndarray, levels, hold, rng: np.random.Generator) -> np.
     """
     v = np.empty(t.size)
     if np.ndim(hold) == 0:
-        hold = _positive("hold", hold)
+        hold = positive("hold", hold)
         lo, hi = (float(levels[0]), float(levels[1]))
         if len(levels) != 2 or not hi >= lo:
             raise InputError(f"levels: expected (low, high) with high >= low, got {levels!r}")
@@ -162,7 +153,7 @@ def random_voltage(t: np.ndarray, levels, hold, rng: np.random.Generator) -> np.
             v[k:stop] = rng.uniform(lo, hi)
             k, now = stop, end
         return v
-    shortest, longest = (_positive("hold", hold[0]), _positive("hold", hold[1]))
+    shortest, longest = (positive("hold", hold[0]), positive("hold", hold[1]))
     if longest < shortest:
         raise InputError(f"hold: expected (shortest, longest) with longest >= shortest, got {hold!r}")
     choices = np.asarray(levels, dtype=float)
@@ -189,7 +180,7 @@ def staircase_voltage(t: np.ndarray, levels, hold: float) -> np.ndarray:
     hold : float
         Holding time [s] of each level.
     """
-    k = (np.floor(t / _positive("hold", hold)).astype(int)) % len(levels)
+    k = (np.floor(t / positive("hold", hold)).astype(int)) % len(levels)
     return np.asarray(levels, dtype=float)[k]
 
 
@@ -207,7 +198,7 @@ def square_voltage(t: np.ndarray, low: float, high: float, period: float) -> np.
     period : float
         Period [s].
     """
-    period = _positive("period", period)
+    period = positive("period", period)
     return np.where(np.mod(t, period) < 0.5 * period, low, high)
 
 
@@ -247,10 +238,10 @@ def random_voltage_test(device, duration: float = 40.0, sample_rate: float = 100
     """
 
     model = resolve_device(device)
-    duration = _positive("duration", duration)
-    sample_rate = _positive("sample_rate", sample_rate)
-    amplitude = _positive("amplitude", amplitude)
-    f_lo, f_hi = (_positive("band", band[0]), _positive("band", band[1]))
+    duration = positive("duration", duration)
+    sample_rate = positive("sample_rate", sample_rate)
+    amplitude = positive("amplitude", amplitude)
+    f_lo, f_hi = (positive("band", band[0]), positive("band", band[1]))
     if f_hi < f_lo or sample_rate < 20.0 * f_hi:
         raise InputError(f"band: expected 0 < low <= high <= sample_rate/20, got {band!r} at "
                          f"{sample_rate:g} Hz")

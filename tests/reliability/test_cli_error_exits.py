@@ -168,6 +168,11 @@ CASES = {
     "identify: NaN": (["identify", "--data", "@damper_nan.csv", "--out", "@tmp"], "damper_nan.csv:3"),
     "identify: bootstrap text": (["identify", "--data", "@damper_back.csv", "--bootstrap", "many"], "--bootstrap"),
     "identify: unknown model": (["identify", "--data", "@damper_back.csv", "--model", "magic"], "--model"),
+    # --jobs had no check of its own here: 0 and -2 reached the study's pool (the other commands
+    # refused them; benchmark.foundation.arguments.positive_int is now every command's check)
+    "identify: jobs 0": (["identify", "--jobs", "0"], "--jobs"),
+    "identify: jobs negative": (["identify", "--jobs", "-2", "--out", "@tmp"], "--jobs"),
+    "compare: jobs 1.5": (["compare", "--jobs", "1.5"], "--jobs"),
     # --- sbib hysteresis
     "hysteresis fit: missing file": (["hysteresis", "fit", "--data", "@missing", "--out", "@missing"],
                                      "does_not_exist"),
