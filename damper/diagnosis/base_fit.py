@@ -301,8 +301,7 @@ def _spencer_on_nodes(model: SpencerBoucWen, nodes, voltage_range) -> SpencerBou
 
 
 def _training_rss(result: RefitResult, data: DiagnosisData) -> tuple[float, np.ndarray]:
-    measured = data.measured("train")
-    r = measured - data.concat([result.model.force(m) for m in data.motions], "train")
+    r = data.residual(result.model, "train")
     return float(r @ r), r
 
 

@@ -30,6 +30,7 @@ from damper.io.data import DamperTest
 from damper.io.reader import check_coil_inputs
 from damper.io.screening import band_edge, dominant_frequency, screening_of
 from damper.diagnosis.effects import Motion
+from damper.identification.metrics import relative_rms_error
 
 __all__ = ["DiagnosisData", "acceleration_from_velocity", "acceleration_window", "first_reversal",
            "reach_of_flagged", "DEFAULT_HOLDOUT"]
@@ -426,6 +427,38 @@ class DiagnosisData:
             "time": self.concat([m.elapsed for m in self.motions], which),
             "cycle": self.concat(cycles, which),
         }
+
+    def residual(self, model, which: str = "heldout") -> np.ndarray:
+        """Measured minus predicted force [N] over the ``which`` samples.
+
+        Parameters
+        ----------
+        model : object
+            Anything with ``force(motion) -> ndarray`` (an
+            :class:`~damper.diagnosis.augmented.AugmentedModel`), simulated over each whole test.
+        which : str, optional
+            Samples to use: ``"train"``, ``"heldout"`` or ``"all"``.
+        """
+        return self.measured(which) - self.concat([model.force(m) for m in self.motions], which)
+
+    def relative_error(self, model, which: str = "heldout") -> float:
+        """:math:`\\|F - \\hat F\\|_2 / \\|F\\|_2` of ``model`` over the ``which`` samples
+        (:func:`damper.identification.metrics.relative_rms_error`).
+
+        Parameters
+        ----------
+        model : object
+            Anything with ``force(motion) -> ndarray``.
+        which : str, optional
+            Samples to use: ``"train"``, ``"heldout"`` or ``"all"``.
+
+        Raises
+        ------
+        InputError
+            The measured force is identically zero over those samples.
+        """
+        predicted = self.concat([model.force(m) for m in self.motions], which)
+        return relative_rms_error(self.measured(which), predicted)
 
     def force_rms(self, which: str = "train") -> float:
         """RMS of the measured force over the ``which`` samples [N].

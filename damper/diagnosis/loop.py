@@ -439,9 +439,7 @@ def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolera
     """Refit ``model`` on every sample with at most ``nfev`` evaluations; keep it if it is better."""
     if nfev <= 0:
         return model
-    measured = data.measured("train")
-    before = float(np.linalg.norm(measured - data.concat([model.force(m) for m in data.motions],
-                                                          "train")) / np.linalg.norm(measured))
+    before = data.relative_error(model, "train")
     try:
         fit = refit(model, data.motions, data.forces, data.train, nodes=nodes, max_nfev=nfev,
                     tolerance=tolerance)
@@ -457,12 +455,8 @@ def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolera
 def _full_rate_steps(selection: SelectionResult, final: AugmentedModel, data: DiagnosisData,
                      base: AugmentedModel) -> SelectionResult:
     """The steps' held-out errors recomputed on every sample (the last step ends at ``final``)."""
-    measured = data.measured("heldout")
-    norm = float(np.linalg.norm(measured))
-
     def err(m):
-        return float(np.linalg.norm(measured - data.concat([m.force(x) for x in data.motions],
-                                                           "heldout")) / norm)
+        return data.relative_error(m, "heldout")
 
     steps, previous = [], err(base)
     for i, s in enumerate(selection.steps):

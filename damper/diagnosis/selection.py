@@ -432,8 +432,7 @@ class SelectionResult:
 
 
 def _heldout_rss(model: AugmentedModel, data: DiagnosisData) -> tuple[float, np.ndarray]:
-    pred = data.concat([model.force(m) for m in data.motions], "heldout")
-    residual = data.measured("heldout") - pred
+    residual = data.residual(model, "heldout")
     return float(residual @ residual), residual
 
 
@@ -525,7 +524,7 @@ def select_effects(model: AugmentedModel, data: DiagnosisData,
         ranked = sorted((s for s in screens.values() if s.score >= MIN_SCORE),
                         key=lambda s: -s.score)[:trials]
         # the trace of the training residual names the effects that depend on where it lives
-        train_res = data.measured("train") - _train_forces(current, data)
+        train_res = data.residual(current, "train")
         tr = trace_residual(train_res, data.signals("train"))
         named = effects_for_trace(tr.shares, tr.mean_share, remaining, trace_share)
         if data.input_varies_within_tests:
