@@ -21,7 +21,6 @@ copes with what the closed form cannot: offsets, several tests, voltage changes.
 from __future__ import annotations
 
 import itertools
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,7 +32,7 @@ from damper.fitting import DEFAULT_STALL
 from damper.models.base import with_coarser_substeps
 from damper.models.bouc_wen import NormalizedBoucWen
 from damper.diagnosis.dataset import DiagnosisData
-from damper.diagnosis.trace import effective_sample_size
+from damper.diagnosis.trace import bic_delta, effective_sample_size
 from damper.diagnosis.effects import FIELD_LAG_STARTS, Offset
 from damper.models.field_filter import first_order_filter
 from damper.models.series_dashpot import SpencerBoucWen
@@ -428,8 +427,7 @@ def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200
         except NumericalError:
             continue
         rss_alt, _ = _training_rss(alt, data)
-        delta = (n_eff * math.log(max(rss_alt, 1e-300) / max(rss_lin, 1e-300))
-                 + 3 * (count - len(lin_nodes)) * math.log(n_eff))
+        delta = bic_delta(rss_lin, rss_alt, n_eff, 3 * (count - len(lin_nodes)))
         if progress:
             progress(f"  spencer laws on {count} nodes: training error {alt.relative_rms_error:.4f}, "
                      f"BIC change {delta:+.1f}")

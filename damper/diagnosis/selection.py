@@ -52,7 +52,7 @@ from benchmark.foundation.errors import InputError, NumericalError, ParameterErr
 from damper.diagnosis.augmented import (BASE_DECLARES, AugmentedModel, Parametrization, RefitResult, refit,
                                        refit_from_starts)
 from damper.diagnosis.dataset import DiagnosisData
-from damper.diagnosis.trace import effective_sample_size, trace_residual
+from damper.diagnosis.trace import bic_delta, effective_sample_size, trace_residual
 from damper.diagnosis.effects import Effect, effect_names, get_effect
 # the package's one relative RMS error (mask and weights), re-exported here for the loop
 from damper.fitting import DEFAULT_STALL
@@ -63,8 +63,6 @@ __all__ = [
     "Trial",
     "Step",
     "SelectionResult",
-    "heldout_bic",
-    "bic_delta",
     "relative_rms_error",
     "screen_columns",
     "screen_effects",
@@ -122,45 +120,6 @@ def effects_for_trace(shares: dict, mean_share: float, names, min_share: float =
         if hit:
             out[n] = hit
     return out
-
-
-def heldout_bic(rss: float, n_samples: int, n_effective: float, n_parameters: int) -> float:
-    """:math:`N_\\text{eff}\\ln(\\mathrm{RSS}/N) + k\\ln N_\\text{eff}` (see the module docstring).
-
-    Parameters
-    ----------
-    rss : float
-        Residual sum of squares [N²].
-    n_samples : int
-        Number of samples N.
-    n_effective : float
-        Effective number of independent samples (:func:`damper.diagnosis.trace.effective_sample_size`).
-    n_parameters : int
-        Number of free parameters k.
-    """
-    if not (rss > 0 and n_samples > 0 and n_effective >= 1):
-        raise InputError(f"heldout_bic: expected rss > 0, n > 0, n_eff >= 1; got {rss}, "
-                         f"{n_samples}, {n_effective}")
-    return float(n_effective * math.log(rss / n_samples) + n_parameters * math.log(n_effective))
-
-
-def bic_delta(rss_old: float, rss_new: float, n_effective: float, added_parameters: int) -> float:
-    """Change of :func:`heldout_bic` when ``added_parameters`` bring the RSS from old to new.
-
-    Parameters
-    ----------
-    rss_old : float
-        Residual sum of squares before [N²].
-    rss_new : float
-        Residual sum of squares after [N²].
-    n_effective : float
-        Effective number of independent samples (:func:`damper.diagnosis.trace.effective_sample_size`).
-    added_parameters : int
-        Number of parameters added.
-    """
-    if not (rss_old > 0 and rss_new > 0):
-        return -math.inf if rss_new <= 0 < rss_old else math.inf
-    return float(n_effective * math.log(rss_new / rss_old) + added_parameters * math.log(n_effective))
 
 
 @dataclass(frozen=True)

@@ -48,6 +48,7 @@ Geyer C.J. (1992) *Practical Markov chain Monte Carlo*, Statistical Science 7(4)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -63,6 +64,8 @@ __all__ = [
     "autocorrelation",
     "ljung_box",
     "effective_sample_size",
+    "heldout_bic",
+    "bic_delta",
 ]
 
 #: Variables a residual is traced against (``sign`` and ``loop`` derive from the motion).
@@ -353,3 +356,42 @@ def trace_residual(residual: np.ndarray, signals: dict, bins: int = DEFAULT_BINS
                          rms=float(np.sqrt(ms)), ljung_box=q, ljung_box_p=p, lags=h, lag1=rho1,
                          effective_samples=effective_sample_size(r),
                          noise_fraction=float(min(noise, 1.0)), n_samples=int(r.size))
+
+
+def heldout_bic(rss: float, n_samples: int, n_effective: float, n_parameters: int) -> float:
+    """:math:`N_\\text{eff}\\ln(\\mathrm{RSS}/N) + k\\ln N_\\text{eff}` (the residual loop's criterion: :mod:`damper.diagnosis.selection`).
+
+    Parameters
+    ----------
+    rss : float
+        Residual sum of squares [N²].
+    n_samples : int
+        Number of samples N.
+    n_effective : float
+        Effective number of independent samples (:func:`damper.diagnosis.trace.effective_sample_size`).
+    n_parameters : int
+        Number of free parameters k.
+    """
+    if not (rss > 0 and n_samples > 0 and n_effective >= 1):
+        raise InputError(f"heldout_bic: expected rss > 0, n > 0, n_eff >= 1; got {rss}, "
+                         f"{n_samples}, {n_effective}")
+    return float(n_effective * math.log(rss / n_samples) + n_parameters * math.log(n_effective))
+
+
+def bic_delta(rss_old: float, rss_new: float, n_effective: float, added_parameters: int) -> float:
+    """Change of :func:`heldout_bic` when ``added_parameters`` bring the RSS from old to new.
+
+    Parameters
+    ----------
+    rss_old : float
+        Residual sum of squares before [N²].
+    rss_new : float
+        Residual sum of squares after [N²].
+    n_effective : float
+        Effective number of independent samples (:func:`damper.diagnosis.trace.effective_sample_size`).
+    added_parameters : int
+        Number of parameters added.
+    """
+    if not (rss_old > 0 and rss_new > 0):
+        return -math.inf if rss_new <= 0 < rss_old else math.inf
+    return float(n_effective * math.log(rss_new / rss_old) + added_parameters * math.log(n_effective))

@@ -33,6 +33,7 @@ import numpy as np  # noqa: E402
 from benchmark.foundation.figures import display_envelope, fixed_layout, save_figure  # noqa: E402
 from benchmark.foundation.display_units import display_unit, parameter_kind, to_display  # noqa: E402
 from damper.identification.closed_form import PARAMETER_NAMES  # noqa: E402
+from damper.identification.metrics import relative_rms_error  # noqa: E402
 from damper.lab.plots import draw_loops  # noqa: E402
 from damper.identification.voltage_grid import inadmissible  # noqa: E402
 
@@ -326,7 +327,7 @@ def plot_fit(ident, path, held_out: Sequence = ()) -> Path:
     if held_out:
         a4 = fig.add_subplot(rows, 1, 3)
         for name, t, f, g in held_out:
-            rel = np.linalg.norm(f - g) / np.linalg.norm(f)
+            rel = relative_rms_error(f, g)
             a4.plot(t, (f - g) * kN, lw=0.6, label=f"{name} (held out, rel. RMS {100 * rel:.1f} %)")
         a4.set_xlabel("Time (s)")
         a4.set_ylabel(f"Error ({display_unit('force')})")

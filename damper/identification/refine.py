@@ -35,6 +35,7 @@ from benchmark.foundation.errors import InputError, NumericalError, ParameterErr
 from damper.models.bouc_wen import ExtendedBoucWen, NormalizedBoucWen
 from damper.identification.closed_form import MODEL_FORMS, PARAMETER_NAMES
 from damper.identification.cycles import Cycle
+from damper.identification.metrics import relative_rms_error
 from damper.models.response import simulate
 
 __all__ = ["RefinedFit", "refine", "SharedFit", "refine_shared", "make_model",
@@ -330,7 +331,7 @@ def refine(t: np.ndarray, x: np.ndarray, xdot: np.ndarray, force: np.ndarray,
         boot_std = {k: 0.0 for k in PARAMETER_NAMES}
         boot_std.update({k: float(s) for k, s in zip(problem.free, boot.std(axis=0, ddof=1))})
 
-    rel = float(np.linalg.norm(f_fit[window] - force[window]) / np.linalg.norm(force[window]))
+    rel = relative_rms_error(force[window], f_fit[window])
     start_values = {k: float(start.get(k, 0.0)) for k in PARAMETER_NAMES}
     start_values.update(problem.fixed)
     return RefinedFit(model_name=model, model=fitted, parameters=params,
@@ -593,8 +594,7 @@ def refine_common(tests: list[tuple], start: dict, model: str = "extended", max_
     errors = []
     for p in problems:
         f = simulate(fitted, p.t, p.x, p.xdot, 0.0).force
-        errors.append(float(np.linalg.norm(f[p.window] - p.force[p.window])
-                            / np.linalg.norm(p.force[p.window])))
+        errors.append(relative_rms_error(p.force[p.window], f[p.window]))
     start_values = {k: float(start.get(k, 0.0)) for k in PARAMETER_NAMES}
     return CommonFit(model_name=model, model=fitted, parameters=params, start=start_values,
                      standard_error=standard_error, rel_rms_errors=errors,

@@ -23,6 +23,7 @@ from scipy.optimize import minimize_scalar
 from benchmark.foundation.errors import InputError
 from damper.models.field_filter import first_order_filter
 from damper.models.response import simulate
+from damper.identification.metrics import relative_rms_error
 from damper.lab.laboratory import general_test, resolve_device
 
 __all__ = ["LagFit", "switching_test", "fit_voltage_lag", "filtered_force"]
@@ -121,10 +122,9 @@ def fit_voltage_lag(model, test, tau_max: float = 0.5) -> LagFit:
     if test.voltage is None or np.ptp(test.voltage) == 0:
         raise InputError(f"{test.name}: the field lag needs a test whose voltage changes")
     t, x, xd, v, f = test.time, test.displacement, test.velocity, test.voltage, test.force
-    norm = np.linalg.norm(f)
 
     def error(tau: float) -> float:
-        return float(np.linalg.norm(filtered_force(model, t, x, xd, v, tau) - f) / norm)
+        return relative_rms_error(f, filtered_force(model, t, x, xd, v, tau))
 
     res = minimize_scalar(error, bounds=(0.0, tau_max), method="bounded", options={"xatol": 1e-5})
     tau = float(res.x)

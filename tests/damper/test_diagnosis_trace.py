@@ -9,7 +9,8 @@ import pytest
 
 from benchmark.foundation.errors import InputError
 from damper.diagnosis.loop import unexplained_structure
-from damper.diagnosis.selection import bic_delta, heldout_bic, screen_columns
+from damper.diagnosis.selection import screen_columns
+from damper.diagnosis.trace import bic_delta, heldout_bic
 from damper.diagnosis.trace import (TRACE_VARIABLES, correlation_ratio, effective_sample_size,
                                     ljung_box, trace_residual)
 
