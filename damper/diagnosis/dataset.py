@@ -28,11 +28,11 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest
 from damper.io.reader import check_coil_inputs
-from damper.io.screening import band_edge, dominant_frequency, screening_of
+from damper.io.screening import band_edge, dominant_frequency, next_reversal, screening_of
 from damper.diagnosis.effects import Motion
 from damper.identification.metrics import relative_rms_error
 
-__all__ = ["DiagnosisData", "acceleration_from_velocity", "acceleration_window", "first_reversal",
+__all__ = ["DiagnosisData", "acceleration_from_velocity", "acceleration_window",
            "reach_of_flagged", "DEFAULT_HOLDOUT"]
 
 #: Default held-out fraction of each test.
@@ -135,35 +135,6 @@ def reach_of_flagged(mask: np.ndarray, reach: int) -> np.ndarray:
     return count == 0
 
 
-def first_reversal(x: np.ndarray, hysteresis: float = 0.25) -> int:
-    """Index of the first displacement reversal (0 when the motion never reverses).
-
-    A reversal is confirmed once the displacement has come back by ``hysteresis`` times the
-    stroke from its running extreme (a Schmitt trigger, insensitive to noise).
-
-    Parameters
-    ----------
-    x : np.ndarray
-        Displacement history [m].
-    hysteresis : float, optional
-        Fraction of the stroke the displacement must come back to confirm a reversal.
-    """
-    x = np.asarray(x, dtype=float)
-    stroke = float(np.ptp(x))
-    if stroke == 0.0:
-        return 0
-    moved = np.flatnonzero(np.abs(x - x[0]) > 0.05 * stroke)
-    if moved.size == 0:
-        return 0
-    rising = x[moved[0]] > x[0]
-    y = x if rising else -x
-    running = np.maximum.accumulate(y)
-    back = np.flatnonzero(running - y > hysteresis * stroke)
-    if back.size == 0:
-        return 0
-    return int(np.argmax(y[:back[0] + 1]))
-
-
 def _input_of(test: DamperTest) -> tuple[str, np.ndarray]:
     if test.voltage is not None:
         return "voltage", np.asarray(test.voltage, dtype=float)
@@ -259,7 +230,9 @@ class DiagnosisData:
             window = acceleration_window(t, xd, x)
             motion = Motion(t, x, xd, acceleration_from_velocity(t, xd, x, window), v,
                             name=test.name or test.source or f"test {len(motions) + 1}")
-            start = first_reversal(x)
+            # the warm-up ends at the first reversal (none: there is no warm-up to leave out)
+            start = next_reversal(x, 0)
+            start = 0 if start >= x.size else start
             usable = np.zeros(t.size, dtype=bool)
             usable[start:] = True
             if test.mask is not None and test.mask.any():
