@@ -85,6 +85,15 @@ def nonnegative(text: str) -> float:
     return value
 
 
+def _fraction(text: str, zero: bool) -> float:
+    # the two fraction types differ only in whether 0 is admitted
+    value = _number(text)
+    if not ((0.0 <= value if zero else 0.0 < value) and value < 1.0):
+        bound = "0 <= fraction < 1" if zero else "a fraction between 0 and 1"
+        raise argparse.ArgumentTypeError(f"expected {bound}, got {text!r}")
+    return value
+
+
 def fraction(text: str) -> float:
     """``argparse`` type: a fraction strictly between 0 and 1 (a held-out share).
 
@@ -93,10 +102,7 @@ def fraction(text: str) -> float:
     text : str
         The command line's text.
     """
-    value = _number(text)
-    if not 0.0 < value < 1.0:
-        raise argparse.ArgumentTypeError(f"expected a fraction between 0 and 1, got {text!r}")
-    return value
+    return _fraction(text, zero=False)
 
 
 def fraction_from_zero(text: str) -> float:
@@ -107,7 +113,4 @@ def fraction_from_zero(text: str) -> float:
     text : str
         The command line's text.
     """
-    value = _number(text)
-    if not 0.0 <= value < 1.0:
-        raise argparse.ArgumentTypeError(f"expected 0 <= fraction < 1, got {text}")
-    return value
+    return _fraction(text, zero=True)

@@ -392,6 +392,7 @@ def fit_spencer_base(data: DiagnosisData, n_starts: int = 3, max_nfev: int = 200
             break
     scales = {"kappa_x": f_rms / x_rms, "k0": f_rms / x_rms, "kappa_xdot": f_rms / v_rms,
               "kappa_w": f_rms, "c1": 10.0 * f_rms / v_rms, "field_lag": 0.01, "offset": f_rms}
+
     def report(i, start, result):
         if progress:
             b = start.base
