@@ -147,6 +147,10 @@ class Diagnosis:
     validation_histories : tuple of ValidationHistory
         The ``cross_validate`` recordings with both models' forces, for the report's figure
         (not in the JSON).
+    forces_before, forces_after : tuple of ndarray
+        The base and the final model's force histories [N] over every test of ``data``, as
+        the errors above were computed from them (the report's figures draw them; not in the
+        JSON). Empty: not kept.
     """
 
     data: DiagnosisData = field(repr=False)
@@ -166,6 +170,8 @@ class Diagnosis:
     validation: dict | None = None
     alignment: dict | None = None
     validation_histories: tuple = field(default=(), repr=False)
+    forces_before: tuple = field(default=(), repr=False)
+    forces_after: tuple = field(default=(), repr=False)
 
     @property
     def effects(self) -> list[str]:
@@ -661,5 +667,6 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                      trace_before=trace_before, trace_after=trace_after,
                      unexplained=bool(where), unexplained_in=where, errors_by_test=by_test,
                      errors_by_input=by_input, settings=settings, validation=validation,
-                     alignment=alignment, validation_histories=validation_histories)
+                     alignment=alignment, validation_histories=validation_histories,
+                     forces_before=tuple(forces_before), forces_after=tuple(forces_after))
 

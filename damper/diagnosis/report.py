@@ -71,12 +71,18 @@ def _save(fig, path: Path, dpi: int = 90) -> Path:
 def model_forces(diagnosis) -> tuple[list[np.ndarray], list[np.ndarray]]:
     """The base and the final model's force histories [N] over every test of ``diagnosis``.
 
-    Each plot below needs both; :func:`write_report` computes them once and hands them to every
-    plot (``forces=``): four plots computing their own took 3.7 s more of a 67 000-sample
-    recording's diagnosis (``sbib diagnose`` on ``ranran_50``, one core, 2026-11-28: 51.4 s
-    against 47.7 s, the loop 41.0 s in both).
+    Each plot below needs both. The loop keeps the histories it computed its errors from
+    (:attr:`damper.diagnosis.loop.Diagnosis.forces_before`); a diagnosis without them has them
+    simulated here. On a 67 000-sample recording (``ranran_50``, the normalized base's final
+    model, one core, 2026-11-28) :func:`write_report` took 4.7 s of CPU when each of the four
+    plots simulated both models, 2.5 s with one simulation for all, 1.7-2.6 s with the loop's
+    own histories.
     """
     data = diagnosis.data
+    kept_before = getattr(diagnosis, "forces_before", ())
+    kept_after = getattr(diagnosis, "forces_after", ())
+    if len(kept_before) == len(data.motions) and len(kept_after) == len(data.motions):
+        return list(kept_before), list(kept_after)
     before = [diagnosis.base_model.force(m) for m in data.motions]
     after = [diagnosis.final_model.force(m) for m in data.motions]
     return before, after

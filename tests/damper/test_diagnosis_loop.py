@@ -75,6 +75,30 @@ def test_finds_undeclared_stiffness_and_error_falls():
     assert not d.unexplained
 
 
+def test_the_diagnosis_keeps_the_forces_its_errors_come_from(monkeypatch):
+    """The report draws the histories the loop scored (no model simulated a second time)."""
+    from damper.diagnosis import report
+
+    d = diagnose(sinusoidal_tests(_device(Stiffness(3e4)), noise=0.01, seed=1))
+    measured = d.data.measured("heldout")
+    for models, error in ((d.forces_before, d.error_before), (d.forces_after, d.error_after)):
+        assert len(models) == len(d.data.motions)
+        residual = measured - d.data.concat(list(models), "heldout")
+        assert np.linalg.norm(residual) / np.linalg.norm(measured) == pytest.approx(error, rel=1e-12)
+    for i, m in enumerate(d.data.motions):
+        np.testing.assert_array_equal(d.forces_after[i], d.final_model.force(m))
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("the report simulated a model the diagnosis already holds")
+
+    monkeypatch.setattr(AugmentedModel, "force", no_simulation)
+    before, after = report.model_forces(d)
+    assert all(a is b for a, b in zip(after, d.forces_after))
+    # a diagnosis without them (built by hand) has them simulated
+    with pytest.raises(AssertionError, match="simulated"):
+        report.model_forces(dataclasses.replace(d, forces_before=(), forces_after=()))
+
+
 def test_device_without_effect_gets_none():
     d = diagnose(sinusoidal_tests(_device(), noise=0.01, seed=11))
     assert d.effects == []
