@@ -414,7 +414,8 @@ class DiagnosisData:
         """
         return self.measured(which) - self.concat([model.force(m) for m in self.motions], which)
 
-    def relative_error(self, model, which: str = "heldout") -> float:
+    def relative_error(self, model, which: str = "heldout",
+                       forces: Sequence[np.ndarray] | None = None) -> float:
         """:math:`\\|F - \\hat F\\|_2 / \\|F\\|_2` of ``model`` over the ``which`` samples
         (:func:`damper.identification.metrics.relative_rms_error`).
 
@@ -424,14 +425,18 @@ class DiagnosisData:
             Anything with ``force(motion) -> ndarray``.
         which : str, optional
             Samples to use: ``"train"``, ``"heldout"`` or ``"all"``.
+        forces : sequence of ndarray, optional
+            The model's force histories over every test, when they were simulated already (a
+            full-rate simulation of a long recording costs about a second).
 
         Raises
         ------
         InputError
             The measured force is identically zero over those samples.
         """
-        predicted = self.concat([model.force(m) for m in self.motions], which)
-        return relative_rms_error(self.measured(which), predicted)
+        if forces is None:
+            forces = [model.force(m) for m in self.motions]
+        return relative_rms_error(self.measured(which), self.concat(forces, which))
 
     def force_rms(self, which: str = "train") -> float:
         """RMS of the measured force over the ``which`` samples [N].

@@ -459,10 +459,13 @@ def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolera
 
 
 def _full_rate_steps(selection: SelectionResult, final: AugmentedModel, data: DiagnosisData,
-                     base: AugmentedModel) -> SelectionResult:
-    """The steps' held-out errors recomputed on every sample (the last step ends at ``final``)."""
+                     base: AugmentedModel, simulated: dict | None = None) -> SelectionResult:
+    """The steps' held-out errors recomputed on every sample (the last step ends at ``final``);
+    ``simulated`` maps a model to force histories already computed (the base's, the final's)."""
+    simulated = simulated or {}
+
     def err(m):
-        return data.relative_error(m, "heldout")
+        return data.relative_error(m, "heldout", forces=simulated.get(id(m)))
 
     steps, previous = [], err(base)
     for i, s in enumerate(selection.steps):
@@ -623,10 +626,12 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                                deadline=None if time_budget is None else
                                say.start + float(time_budget))
     final = selection.model
-    if work is not data and selection.steps:  # the steps' errors at every sample and the model's tolerance
+    if work is not data and selection.steps:  # the model's tolerance at every sample
         final = _polish(final, data, nodes, polish_nfev, tolerance, say, "final model")
-        selection = _full_rate_steps(selection, final, data, base)
     forces_after = [final.force(m) for m in data.motions]
+    if work is not data and selection.steps:  # the steps' errors at every sample
+        selection = _full_rate_steps(selection, final, data, base,
+                                     {id(base): forces_before, id(final): forces_after})
     residual_after = data.measured("heldout") - data.concat(forces_after, "heldout")
     error_after = float(np.linalg.norm(residual_after) / norm_h)
     trace_after = trace_residual(residual_after, signals)

@@ -79,7 +79,9 @@ def test_the_diagnosis_keeps_the_forces_its_errors_come_from(monkeypatch):
     """The report draws the histories the loop scored (no model simulated a second time)."""
     from damper.diagnosis import report
 
-    d = diagnose(sinusoidal_tests(_device(Stiffness(3e4)), noise=0.01, seed=1))
+    # thinned to a coarse pass, whose steps are rescored on every sample at the end
+    d = diagnose(sinusoidal_tests(_device(Stiffness(3e4)), noise=0.01, seed=1, samples_per_cycle=800),
+                 coarse_samples=1500)
     measured = d.data.measured("heldout")
     for models, error in ((d.forces_before, d.error_before), (d.forces_after, d.error_after)):
         assert len(models) == len(d.data.motions)
@@ -87,6 +89,11 @@ def test_the_diagnosis_keeps_the_forces_its_errors_come_from(monkeypatch):
         assert np.linalg.norm(residual) / np.linalg.norm(measured) == pytest.approx(error, rel=1e-12)
     for i, m in enumerate(d.data.motions):
         np.testing.assert_array_equal(d.forces_after[i], d.final_model.force(m))
+    # the coarse pass's steps are rescored on every sample from the same histories: the chain
+    # of step errors runs from the base's error to the final one, bit for bit
+    assert d.settings["decimation"] > 1 and d.selection.steps
+    assert d.selection.steps[0].error_before == d.error_before
+    assert d.selection.steps[-1].error_after == d.error_after
 
     def no_simulation(*args, **kwargs):
         raise AssertionError("the report simulated a model the diagnosis already holds")
