@@ -77,6 +77,12 @@ def model_forces(diagnosis) -> tuple[list[np.ndarray], list[np.ndarray]]:
     model, one core, 2026-11-28) :func:`write_report` took 4.7 s of CPU when each of the four
     plots simulated both models, 2.5 s with one simulation for all, 1.7-2.6 s with the loop's
     own histories.
+
+    Parameters
+    ----------
+    diagnosis
+        Result of :func:`damper.diagnosis.loop.diagnose` (or anything with ``data``,
+        ``base_model`` and ``final_model``).
     """
     data = diagnosis.data
     kept_before = getattr(diagnosis, "forces_before", ())
