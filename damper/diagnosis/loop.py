@@ -459,18 +459,15 @@ def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolera
 
 
 def _full_rate_steps(selection: SelectionResult, final: AugmentedModel, data: DiagnosisData,
-                     base: AugmentedModel, simulated: dict | None = None) -> SelectionResult:
-    """The steps' held-out errors recomputed on every sample (the last step ends at ``final``);
-    ``simulated`` maps a model to force histories already computed (the base's, the final's)."""
-    simulated = simulated or {}
-
-    def err(m):
-        return data.relative_error(m, "heldout", forces=simulated.get(id(m)))
-
-    steps, previous = [], err(base)
+                     forces_before: list, forces_after: list) -> SelectionResult:
+    """The steps' held-out errors recomputed on every sample: the first step starts from the
+    base model's histories ``forces_before``, the last ends at ``final``'s ``forces_after``
+    (both already simulated), the steps between are simulated."""
+    last = len(selection.steps) - 1
+    steps, previous = [], data.relative_error(None, "heldout", forces=forces_before)
     for i, s in enumerate(selection.steps):
-        model = final if i == len(selection.steps) - 1 else s.model
-        after = err(model)
+        model = final if i == last else s.model
+        after = data.relative_error(model, "heldout", forces=forces_after if i == last else None)
         steps.append(replace(s, error_before=previous, error_after=after, model=model))
         previous = after
     return SelectionResult(final, tuple(steps), selection.rounds, selection.stopped_by_budget)
@@ -630,8 +627,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         final = _polish(final, data, nodes, polish_nfev, tolerance, say, "final model")
     forces_after = [final.force(m) for m in data.motions]
     if work is not data and selection.steps:  # the steps' errors at every sample
-        selection = _full_rate_steps(selection, final, data, base,
-                                     {id(base): forces_before, id(final): forces_after})
+        selection = _full_rate_steps(selection, final, data, forces_before, forces_after)
     residual_after = data.measured("heldout") - data.concat(forces_after, "heldout")
     error_after = float(np.linalg.norm(residual_after) / norm_h)
     trace_after = trace_residual(residual_after, signals)

@@ -73,10 +73,9 @@ def model_forces(diagnosis) -> tuple[list[np.ndarray], list[np.ndarray]]:
 
     Each plot below needs both. The loop keeps the histories it computed its errors from
     (:attr:`damper.diagnosis.loop.Diagnosis.forces_before`); a diagnosis without them has them
-    simulated here. On a 67 000-sample recording (``ranran_50``, the normalized base's final
-    model, one core, 2026-11-28) :func:`write_report` took 4.7 s of CPU when each of the four
-    plots simulated both models, 2.5 s with one simulation for all, 1.7-2.6 s with the loop's
-    own histories.
+    simulated here (by each figure). On a 67 000-sample recording (``ranran_50``, the normalized
+    base's final model, one core, 2026-11-28) :func:`write_report` took 4.7 s of CPU when each
+    of the four figures simulated both models, 1.7-2.6 s with the loop's own histories.
 
     Parameters
     ----------
@@ -94,8 +93,7 @@ def model_forces(diagnosis) -> tuple[list[np.ndarray], list[np.ndarray]]:
     return before, after
 
 
-def plot_residual_trace(diagnosis, path, max_points: int = _MAX_POINTS, dpi: int = 90,
-                        forces=None) -> Path:
+def plot_residual_trace(diagnosis, path, max_points: int = _MAX_POINTS, dpi: int = 90) -> Path:
     """Residual against each traced variable, before and after (held-out samples; at most
     ``max_points`` random samples are drawn as dots, the binned means use all).
 
@@ -109,12 +107,10 @@ def plot_residual_trace(diagnosis, path, max_points: int = _MAX_POINTS, dpi: int
         At most this many random samples are drawn as dots.
     dpi : int, optional
         Resolution of the image [dots per inch].
-    forces : (list of ndarray, list of ndarray), optional
-        The base and final model's force histories (:func:`model_forces`), computed when absent.
     """
     plt = _pyplot()
     data = diagnosis.data
-    before, after = model_forces(diagnosis) if forces is None else forces
+    before, after = model_forces(diagnosis)
     measured = data.measured("heldout")
     r_before = measured - data.concat(before, "heldout")
     r_after = measured - data.concat(after, "heldout")
@@ -166,7 +162,7 @@ def _grid(n: int):
     return rows, cols
 
 
-def plot_force_histories(diagnosis, path, max_tests: int = 6, forces=None) -> Path:
+def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
     """Measured force and both models over the held-out part of each test.
 
     Parameters
@@ -177,12 +173,10 @@ def plot_force_histories(diagnosis, path, max_tests: int = 6, forces=None) -> Pa
         Image file to write (format from the suffix).
     max_tests : int, optional
         At most this many tests are drawn (the first ones).
-    forces : (list of ndarray, list of ndarray), optional
-        The base and final model's force histories (:func:`model_forces`), computed when absent.
     """
     plt = _pyplot()
     data = diagnosis.data
-    before, after = model_forces(diagnosis) if forces is None else forces
+    before, after = model_forces(diagnosis)
     idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
     rows, cols = _grid(len(idx))
     fig, axes = plt.subplots(rows, cols, figsize=(5.2 * cols, 3.4 * rows), squeeze=False)
@@ -257,8 +251,7 @@ def force_window(x: np.ndarray, scored: np.ndarray, reversals: int = 6,
     return start, min(stop, start + max_samples)
 
 
-def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, dpi: int = 90,
-                      forces=None) -> Path:
+def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, dpi: int = 90) -> Path:
     """Measured force and both models over a readable window of each test's held-out part
     (:func:`force_window`), and below it the residual of each model in the same window.
 
@@ -277,11 +270,9 @@ def plot_force_window(diagnosis, path, max_tests: int = 6, reversals: int = 6, d
         Displacement reversals each window spans.
     dpi : int, optional
         Resolution of the image [dots per inch].
-    forces : (list of ndarray, list of ndarray), optional
-        The base and final model's force histories (:func:`model_forces`), computed when absent.
     """
     data = diagnosis.data
-    before, after = model_forces(diagnosis) if forces is None else forces
+    before, after = model_forces(diagnosis)
     panels = []
     for i in [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]:
         m = data.motions[i]
@@ -381,8 +372,7 @@ def _spans(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
 
 
-def plot_heldout_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90, reversals: int = 6,
-                       forces=None) -> Path:
+def plot_heldout_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90, reversals: int = 6) -> Path:
     """Force-displacement and force-velocity loops of each test over the window of its held-out
     part that :func:`plot_force_window` shows (:func:`force_window`).
 
@@ -398,12 +388,10 @@ def plot_heldout_loops(diagnosis, path, max_tests: int = 6, dpi: int = 90, rever
         Resolution of the image [dots per inch].
     reversals : int, optional
         Displacement reversals each window spans.
-    forces : (list of ndarray, list of ndarray), optional
-        The base and final model's force histories (:func:`model_forces`), computed when absent.
     """
     plt = _pyplot()
     data = diagnosis.data
-    before, after = model_forces(diagnosis) if forces is None else forces
+    before, after = model_forces(diagnosis)
     idx = [i for i, k in enumerate(data.heldout) if k.any()][:max_tests]
     # At most three tests side by side (two rows each: displacement, velocity), so that the
     # figure is about 970 px wide and its labels legible on the report page at 100 % zoom.
@@ -634,12 +622,10 @@ def write_report(diagnosis, out_dir, tests=None, keep_flagged: bool = False) -> 
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    forces = model_forces(diagnosis)
-    plots = {"residual trace": plot_residual_trace(diagnosis, out / "residual_trace.png", forces=forces),
-             "force window": plot_force_window(diagnosis, out / "force_window.png", forces=forces),
-             "force histories": plot_force_histories(diagnosis, out / "force_histories.png",
-                                                     forces=forces),
-             "loops": plot_heldout_loops(diagnosis, out / "loops.png", forces=forces)}
+    plots = {"residual trace": plot_residual_trace(diagnosis, out / "residual_trace.png"),
+             "force window": plot_force_window(diagnosis, out / "force_window.png"),
+             "force histories": plot_force_histories(diagnosis, out / "force_histories.png"),
+             "loops": plot_heldout_loops(diagnosis, out / "loops.png")}
     if getattr(diagnosis, "validation_histories", ()):
         plots["validation window"] = plot_validation_window(diagnosis, out / "validation_window.png")
     text = report_markdown(diagnosis, plots)
