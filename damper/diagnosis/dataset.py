@@ -28,7 +28,8 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from damper.io.data import DamperTest
 from damper.io.reader import check_coil_inputs
-from damper.io.screening import band_edge, dominant_frequency, next_reversal, screening_of
+from damper.io.screening import (band_edge, derivative_window, dominant_frequency, next_reversal, screening_of,
+                                 smoothed_derivative)
 from damper.diagnosis.effects import Motion
 from damper.identification.metrics import relative_rms_error
 
@@ -58,17 +59,13 @@ def acceleration_window(t: np.ndarray, velocity: np.ndarray,
     """
     t = np.asarray(t, dtype=float)
     velocity = np.asarray(velocity, dtype=float)
-    steps = np.diff(t)
-    if t.size < 7 or np.ptp(steps) > 1e-6 * np.mean(steps):
+    if t.size < 7:
         return 0
-    dt = float(np.mean(steps))
     x = velocity if displacement is None else np.asarray(displacement, dtype=float)
-    f = max(dominant_frequency(t, x), 0.5 * band_edge(t, velocity))
-    window = int(round(1.0 / (20.0 * f * dt))) if f > 0 else 5
-    window = max(5, min(window, (t.size // 4) | 1))
-    if window % 2 == 0:
-        window += 1
-    return 0 if window >= t.size else window
+    f = dominant_frequency(t, x)
+    # a uniform grid (the screening restored it): a twentieth of the shortest period
+    return derivative_window(t, 1.0 / f if f > 0 else math.inf, band_edge(t, velocity), per_period=20.0,
+                             jitter=1e-6)
 
 
 def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
@@ -101,14 +98,7 @@ def acceleration_from_velocity(t: np.ndarray, velocity: np.ndarray,
     velocity = np.asarray(velocity, dtype=float)
     if window is None:
         window = acceleration_window(t, velocity, displacement)
-    if window == 0:
-        return np.gradient(velocity, t, edge_order=2)
-    dt = float(np.mean(np.diff(t)))
-    # imported here, as in damper/io/screening.py: every building process imports this package
-    # (the augmented model's kernels), and scipy.signal with scipy.stats cost it 0.3 s and ~30 MB
-    from scipy.signal import savgol_filter
-
-    return savgol_filter(velocity, window, 2, deriv=1, delta=dt, mode="interp")
+    return smoothed_derivative(t, velocity, window)
 
 
 def reach_of_flagged(mask: np.ndarray, reach: int) -> np.ndarray:

@@ -42,7 +42,7 @@ from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.file_units import SI_UNIT, STANDARD_GRAVITY, column_name_unit, si_factor
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
-from damper.io.screening import repair_samples, screened, screening_of
+from damper.io.screening import repair_samples, screened, screening_of, smoothed_derivative
 
 __all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files", "read_utfsm_raw", "raw_current_from_name", "UTFSM_RAW_CHANNELS", "UTFSM_RAW_CURRENTS", "is_utfsm_raw_file",
@@ -338,11 +338,6 @@ def _is_float(cell: str) -> bool:
     return True
 
 
-def _derivative(values: np.ndarray, time: np.ndarray) -> np.ndarray:
-    """d(values)/dt, second-order where there are three samples or more (numpy needs them)."""
-    return np.gradient(values, time, edge_order=2 if time.size > 2 else 1)
-
-
 def read_csv(path, voltage: float | None = None, current: float | None = None,
              name: str | None = None, keep_flagged: bool = False) -> DamperTest:
     """Read a damper test CSV file (format in the module docstring), screened.
@@ -448,7 +443,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     if unstated:
         metadata["units_unstated"] = unstated
     if velocity is None:
-        velocity = _derivative(col["displacement"], time)
+        velocity = smoothed_derivative(time, col["displacement"])
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
                       force=col["force"],
                       voltage=col["voltage"] if col.get("voltage") is not None else voltage,  # type: ignore[arg-type]
@@ -659,7 +654,7 @@ def read_utfsm_raw(path, keep_flagged: bool = False) -> DamperTest:
     time, col, excluded, prior = repair_samples(
         time, {"displacement": raw["displacement"] * 10.0 * 1e-3, "force": raw["force"] * 100.0 * _KGF},
         label=str(path), lines=line_nos, keep_flagged=keep_flagged)
-    velocity = _derivative(col["displacement"], time)
+    velocity = smoothed_derivative(time, col["displacement"])
     current = raw_current_from_name(path)
     units = f"CHANNEL0 {names[0]}, CHANNEL1 {names[1]}: force x 980.665 -> N, displacement x 10 -> mm"
     if command:

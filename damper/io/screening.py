@@ -115,7 +115,7 @@ __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
-           "clipped_force_share"]
+           "clipped_force_share", "derivative_window", "smoothed_derivative"]
 
 #: ``held``: two samples are one reading when both the displacement and the force agree to this
 #: share of their ranges (a 30-bit converter's step; the loggers' own arithmetic leaves 1e-13).
@@ -458,24 +458,78 @@ def band_edge(t: np.ndarray, v: np.ndarray, share: float = BAND_EDGE_SHARE) -> f
     return float(np.fft.rfftfreq(n, dt)[1 + min(k, power.size - 1)])
 
 
-def _derivative(t: np.ndarray, x: np.ndarray, period: float, edge: float = 0.0) -> np.ndarray:
-    """Savitzky-Golay derivative over ~1/40 of the dominant period, or of the period at half the
-    velocity's band edge ``edge`` [Hz] when that is shorter (so that noise is not amplified, and a
-    broadband motion, whose dominant period is its slowest drift, keeps its band)."""
+def derivative_window(t: np.ndarray, period: float, edge: float = 0.0, per_period: float = 40.0,
+                      jitter: float = 0.5) -> int:
+    """Samples (odd, at least 5) in the Savitzky-Golay window of :func:`smoothed_derivative`.
+
+    The window spans ``1/per_period`` of ``period``, or of the period at half the velocity's band
+    edge ``edge`` when that is shorter (a broadband motion's dominant period is its slowest
+    drift: over it the derivative would smooth away the band the channels measure), and at most
+    a quarter of the samples. It is 0, where the derivative falls back to :func:`numpy.gradient`
+    (reach one sample each side), for fewer than 7 samples, for steps that spread by more than
+    ``jitter`` times the median step, and for a window as long as the test.
+
+    The screening differentiates the displacement over 1/40 of the period (to compare it with a
+    velocity channel, as little smoothing as the noise allows); the diagnosis differentiates the
+    velocity over 1/20 on its restored, uniform time grid (``jitter=1e-6``; the acceleration of
+    the ``inertia`` term, :func:`damper.diagnosis.dataset.acceleration_window`).
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s].
+    period : float
+        The motion's dominant period [s] (``inf`` or 0 when it has none).
+    edge : float
+        The velocity's band edge [Hz] (:func:`band_edge`; 0: none).
+    per_period : float
+        Windows per period.
+    jitter : float
+        The largest spread of the time steps, as a share of the median step, still taken as uniform.
+    """
+    t = np.asarray(t, dtype=float)
+    if t.size < 7:
+        return 0
     steps = np.diff(t)
     dt = float(np.median(steps))
+    if not dt > 0.0 or np.ptp(steps) > jitter * dt:
+        return 0
     if edge > 0.0:
         period = min(period, 2.0 / edge)
-    window = int(round(period / (40.0 * dt))) | 1
+    window = int(round(period / (per_period * dt))) | 1 if 0.0 < period < math.inf else 5
     window = max(5, min(window, (t.size // 4) | 1))
-    if t.size < 7 or window >= t.size or np.ptp(steps) > 0.5 * dt:
-        return np.gradient(x, t, edge_order=2) if t.size > 2 else np.gradient(x, t)
-    # scipy.signal (and the scipy.stats it pulls in) only where a test is screened: importing it
-    # with this module cost every building process 0.35 s and ~26 MB (the simulator reaches this
-    # module through damper.models.response)
+    return 0 if window >= t.size else window
+
+
+def smoothed_derivative(t: np.ndarray, y: np.ndarray, window: int = 0) -> np.ndarray:
+    """d(y)/dt: the Savitzky-Golay derivative (order 2) over ``window`` samples
+    (:func:`derivative_window`), or :func:`numpy.gradient` (second order where there are three
+    samples or more) for ``window = 0``.
+
+    Parameters
+    ----------
+    t : np.ndarray
+        Sample times [s], uniform where ``window > 0``.
+    y : np.ndarray
+        The signal at ``t``.
+    window : int
+        Samples in the window (odd, at least 5), or 0.
+    """
+    t = np.asarray(t, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if window == 0:
+        return np.gradient(y, t, edge_order=2 if t.size > 2 else 1)
+    # scipy.signal (and the scipy.stats it pulls in) only where a test is differentiated: importing
+    # it with this module cost every building process 0.35 s and ~26 MB (the simulator reaches
+    # this module through damper.models.response)
     from scipy.signal import savgol_filter
 
-    return savgol_filter(x, window, 2, deriv=1, delta=dt, mode="interp")
+    return savgol_filter(y, window, 2, deriv=1, delta=float(np.median(np.diff(t))), mode="interp")
+
+
+def _derivative(t: np.ndarray, x: np.ndarray, period: float, edge: float = 0.0) -> np.ndarray:
+    """The screening's d(x)/dt: over 1/40 of the period (:func:`derivative_window`)."""
+    return smoothed_derivative(t, x, derivative_window(t, period, edge))
 
 
 def next_reversal(x: np.ndarray, start: int, hysteresis: float = 0.25) -> int:

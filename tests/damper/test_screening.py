@@ -589,3 +589,27 @@ def test_acceleration_of_a_broadband_motion_keeps_its_band():
     vs = 0.01 * 2 * np.pi * 2.0 * np.cos(2 * np.pi * 2.0 * t)
     as_ = -0.01 * (2 * np.pi * 2.0) ** 2 * np.sin(2 * np.pi * 2.0 * t)
     assert relative_rms_error(as_[inner], acceleration_from_velocity(t, vs, xs)[inner]) < 5e-3
+
+
+def test_one_smoothed_derivative_serves_the_screening_and_the_diagnosis():
+    """The screening's d(x)/dt and the diagnosis's acceleration are one Savitzky-Golay derivative
+    (damper/io/screening.py ``derivative_window``, ``smoothed_derivative``) with their own share
+    of the period: order 2 is exact on a parabola (to rounding), the band edge shortens the
+    window, and a ragged or short grid falls back to numpy.gradient."""
+    from damper.diagnosis.dataset import acceleration_window
+    from damper.io.screening import derivative_window, smoothed_derivative
+    t = np.linspace(0.0, 1.0, 1001)  # dt = 1 ms
+    y = 3.0 * t**2 - 2.0 * t + 1.0
+    assert derivative_window(t, 1.0, per_period=20.0) == 51     # 50 ms, made odd
+    assert derivative_window(t, 1.0) == 25                      # the screening's 1/40
+    assert derivative_window(t, 1.0, edge=10.0, per_period=20.0) == 11  # 2/edge = 0.2 s is shorter
+    assert derivative_window(t, np.inf) == 5 and derivative_window(t[:6], 1.0) == 0
+    for window in (51, 25, 0):
+        # the fallback is second order too: exact on a parabola
+        assert np.allclose(smoothed_derivative(t, y, window), 6.0 * t - 2.0, rtol=0.0, atol=1e-9)
+    ragged = t + np.where(np.arange(t.size) % 2 == 1, 0.3e-3, 0.0)  # steps of 1.3 and 0.7 ms
+    assert derivative_window(ragged, 1.0) == 0 and derivative_window(ragged, 1.0, jitter=1.0) == 25
+    # the diagnosis's window: a twentieth of the displacement's period, on a uniform grid only
+    x = np.sin(2.0 * np.pi * 2.0 * t)
+    assert acceleration_window(t, np.gradient(x, t), x) == derivative_window(t, 0.5, 2.0, per_period=20.0)
+    assert acceleration_window(ragged, np.gradient(x, ragged), x) == 0
