@@ -131,13 +131,11 @@ def stuck_spans(values: np.ndarray) -> list[tuple[str, int, int, float]]:
         # signal sampled exactly at its peak value (a synthetic sine sweep) only touches it
         if count >= 3 and pile and at_runs.max() >= 2 and (at_runs.size >= 2 or at_runs.max() >= threshold):
             clip_levels.add(level)
-    for s, n_run in zip(starts, lengths):
-        level = float(values[s])
-        e = int(s + n_run)
-        if level in clip_levels:
-            out.append(("clipped", int(s), e, level))
-        elif n_run >= threshold:
-            out.append(("stuck", int(s), e, level))
+    # only the runs that are findings reach Python (a continuous channel has a run per sample)
+    clipped = np.isin(values[starts], np.array(sorted(clip_levels), dtype=float))
+    hit = clipped | (lengths >= threshold)
+    for s, n_run, is_clipped in zip(starts[hit], lengths[hit], clipped[hit]):
+        out.append(("clipped" if is_clipped else "stuck", int(s), int(s + n_run), float(values[s])))
     return out
 
 

@@ -27,7 +27,7 @@ from benchmark.foundation.atomic import atomic_write_text
 from benchmark.foundation.errors import DataNotFoundError, InputError, ParameterError
 from benchmark.foundation.file_units import column_name_unit, si_factor
 from benchmark.foundation.textfile import read_text
-from damper.io.data import COMMENT_MARKS, decimal_points, parse_row, sniff_delimiter, split_rows
+from damper.io.data import COMMENT_MARKS, decimal_points, parse_rows, sniff_delimiter, split_rows
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
 from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
@@ -183,7 +183,7 @@ def read_force_csv(path, need_displacement: bool = True) -> ForceData:
     if not path.is_file():
         raise DataNotFoundError(f"{path}: data file not found")
     header: list[str] | None = None
-    rows: list[list[float]] = []
+    rows: list[list[str]] = []
     lines: list[int] = []
     # the damper tests' reading (damper.io.data): a BOM, ',' ';' tab or spaces, decimal commas
     text = read_text(path, "data file")  # binary or not UTF-8: one-line InputError
@@ -206,13 +206,13 @@ def read_force_csv(path, need_displacement: bool = True) -> ForceData:
             if len(set(header)) != len(header):
                 raise InputError(f"{path}:{line_no}: header: repeated column name")
             continue
-        rows.append(parse_row(path, line_no, header, row))
+        rows.append(row)
         lines.append(line_no)
     if header is None:
         raise InputError(f"{path}: empty file; expected a header line time, force[, displacement]")
     if len(rows) < 2:
         raise InputError(f"{path}: expected at least 2 data lines, got {len(rows)}")
-    data = np.array(rows)
+    data = parse_rows(path, header, rows, lines, missing=False)
     col = {c: data[:, i] * factors[c] for i, c in enumerate(header)}  # SI from here on
     fs, t0 = _uniform_rate(col["time"], path, lines)
     return ForceData(force=col["force"], displacement=col.get("displacement"), fs=fs, t0=t0,

@@ -44,7 +44,7 @@ from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
 from damper.io.screening import repair_samples, screened, screening_of, smoothed_derivative
 
-__all__ = ["DamperTest", "check_samples", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
+__all__ = ["DamperTest", "check_samples", "parse_row", "parse_rows", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files", "read_utfsm_raw", "raw_current_from_name", "UTFSM_RAW_CHANNELS", "UTFSM_RAW_CURRENTS", "is_utfsm_raw_file",
            "split_utfsm_raw"]
 
@@ -242,6 +242,19 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
     With ``missing``, a ``nan`` or empty cell (a logger's dropout) is returned as NaN for the
     screening (:func:`damper.io.screening.repair_samples`) to flag and fill.
 
+    Parameters
+    ----------
+    path : path-like
+        The file, for messages.
+    line_no : int
+        The row's line number in the file.
+    header : list of str
+        The columns' names.
+    row : list of str
+        The row's cells.
+    missing : bool
+        Return a missing cell as NaN instead of refusing it.
+
     Raises
     ------
     InputError
@@ -269,6 +282,42 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
                              f"number, got {cell.strip()!r}")
         values.append(value)
     return values
+
+
+def parse_rows(path, header: list[str], rows: list[list[str]], lines: list[int],
+               missing: bool = True) -> np.ndarray:
+    """The numbers of the data rows as a ``(rows, columns)`` array (:func:`parse_row` of each).
+
+    Rows that all have the header's width and cells numpy reads as finite numbers (a logger's
+    file) are converted at once (numpy reads a number's text as :func:`float` does, to the bit;
+    0.3 s instead of 2.3 s for 191 000 rows); anything else (a missing cell, a Fortran
+    ``D`` exponent, a malformed cell) goes row by row through :func:`parse_row`, for the NaN the
+    screening fills or the message that names the line and the column.
+
+    Parameters
+    ----------
+    path : path-like
+        The file, for messages.
+    header : list of str
+        The columns' names.
+    rows : list of list of str
+        The cells of each data row.
+    lines : list of int
+        Each row's line number in the file.
+    missing : bool
+        As for :func:`parse_row`: a missing cell is NaN (else an error).
+    """
+    width = len(header)
+    if rows and all(len(r) == width for r in rows):
+        try:
+            data = np.array(rows, dtype=np.float64)
+        except ValueError:
+            pass
+        else:
+            if np.isfinite(data).all():
+                return data
+    return np.array([parse_row(path, line_no, header, row, missing=missing) for line_no, row in zip(lines, rows)],
+                    dtype=np.float64)
 
 
 #: Lines starting with these are comments: ``#``, and ``%`` as MATLAB writes its headers.
@@ -373,7 +422,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     comments: dict[str, str] = {}
     header: list[str] | None = None
     header_line = 0
-    rows: list[list[float]] = []
+    rows: list[list[str]] = []
     row_lines: list[int] = []
     text = read_text(path, "damper test file")  # binary or not UTF-8: one-line InputError
     delimiter = sniff_delimiter(text)
@@ -419,7 +468,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                 raise InputError(f"{path}:{line_no}: header: expected a voltage or a current "
                                  "column, not both")
             continue
-        rows.append(parse_row(path, line_no, header, row, missing=True))
+        rows.append(row)
         row_lines.append(line_no)
     if header is None:
         raise InputError(f"{path}: empty file; expected a header line "
@@ -427,7 +476,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     if len(rows) < 2:
         raise InputError(f"{path}: expected at least 2 data lines after the header "
                          f"(line {header_line}), got {len(rows)}")
-    data = np.array(rows)
+    data = parse_rows(path, header, rows, row_lines)
     # units converted at the edge: everything past here is SI (module docstring)
     col = {c: data[:, i] * factors[c] for i, c in enumerate(header)}
     if ("voltage" in col or "current" in col) and (voltage is not None or current is not None):

@@ -35,7 +35,7 @@ import numpy as np
 
 from benchmark.foundation.errors import DataNotFoundError, InputError
 from benchmark.foundation.textfile import read_text
-from damper.io.data import DamperTest, decimal_points, parse_row, sniff_delimiter, split_rows
+from damper.io.data import DamperTest, decimal_points, parse_rows, sniff_delimiter, split_rows
 from damper.io.screening import repair_samples, screened
 
 __all__ = ["read_dyke", "is_dyke_file", "looks_like_dyke_file", "DYKE_COLUMNS"]
@@ -121,7 +121,7 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
         raise InputError(f"{path}:1: header: missing column(s) {', '.join(missing)}; expected "
                          "t [s], D [cm], Y [V], V [cm/s], F [N]")
     index = {c: header.index(c) for c in DYKE_COLUMNS}
-    rows: list[list[float]] = []
+    rows: list[list[str]] = []
     lines: list[int] = []
     started = False
     delimiter = sniff_delimiter(text)
@@ -135,11 +135,11 @@ def read_dyke(path, name: str | None = None, keep_flagged: bool = False) -> Damp
             raise InputError(f"{path}:{line_no}: expected {len(header)} values ({', '.join(header)}), "
                              f"got {len(row)}")
         cells = decimal_points([row[index[c]] for c in DYKE_COLUMNS], delimiter)
-        rows.append(parse_row(path, line_no, list(DYKE_COLUMNS), cells, missing=True))
+        rows.append(cells)
         lines.append(line_no)
     if len(rows) < 2:
         raise InputError(f"{path}: expected at least 2 data lines, got {len(rows)}")
-    data = np.array(rows)
+    data = parse_rows(path, list(DYKE_COLUMNS), rows, lines)
     t, d, y, v, f = (data[:, i] for i in range(5))
     t, col, excluded, prior = repair_samples(
         t, {"displacement": d * _CM, "velocity": v * _CM, "force": f, "voltage": y},

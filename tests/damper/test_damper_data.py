@@ -142,3 +142,35 @@ def test_fortran_d_exponents_are_read_in_csv_and_utfsm_files(tmp_path):
     utfsm.write_text("\n".join(f"{a:.6E} {1e3 * b:.6E} {2e3 * np.pi * 0.01 * np.cos(2 * np.pi * a):.6E} {c:.6E}"
                                .replace("E", "D") for a, b, c in zip(t, x, f)) + "\n")
     np.testing.assert_allclose(read_utfsm(utfsm).displacement, x, rtol=1e-6, atol=1e-12)
+
+
+def test_rows_read_at_once_read_as_one_by_one():
+    """damper/io/data.py parse_rows converts a logger's rows at once and falls back to parse_row
+    row by row for anything numpy does not read as a finite number: the numbers are the same to
+    the bit either way, a Fortran exponent still reads, a missing cell is NaN (or the error that
+    names its line and column), an infinity and a short row are refused."""
+    from damper.io.data import parse_row, parse_rows
+    rng = np.random.default_rng(3)
+    header = ["time", "displacement", "force"]
+    rows = [[repr(float(a)), f"{b:.6e}", f" {c:.3f} "] for a, b, c in rng.normal(size=(500, 3)) * 1e3]
+    lines = list(range(2, 502))
+    expected = np.array([[float(c) for c in r] for r in rows])
+    assert np.array_equal(parse_rows("f.csv", header, rows, lines), expected)
+    fortran = [list(r) for r in rows]
+    fortran[7][1] = "1.5D-03"
+    got = parse_rows("f.csv", header, fortran, lines)
+    assert got[7, 1] == 1.5e-3 and np.array_equal(np.delete(got, 7, 0), np.delete(expected, 7, 0))
+    gap = [list(r) for r in rows]
+    gap[9][2] = ""
+    assert np.isnan(parse_rows("f.csv", header, gap, lines)[9, 2])
+    with pytest.raises(InputError, match=r"f.csv:11: column 'force': expected a number"):
+        parse_rows("f.csv", header, gap, lines, missing=False)
+    bad = [list(r) for r in rows]
+    bad[4][0] = "inf"
+    with pytest.raises(InputError, match=r"f.csv:6: column 'time': expected a finite number"):
+        parse_rows("f.csv", header, bad, lines)
+    short = [list(r) for r in rows]
+    short[5] = short[5][:2]
+    with pytest.raises(InputError, match=r"f.csv:7: expected 3 values"):
+        parse_rows("f.csv", header, short, lines)
+    assert parse_row("f.csv", 2, header, rows[0]) == list(expected[0])
