@@ -37,6 +37,16 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     run is treated as missing (:func:`repair_samples`): the input channels are interpolated
     through it and the samples excluded. A velocity the logger differentiates from such a
     displacement jumps to twice its value and then to zero there: it is interpolated too.
+``spike``
+    Isolated samples of a measured channel (force, displacement, velocity) that jump away from
+    their neighbours and back (a logger's or amplifier's glitch): runs of at most
+    :data:`SPIKE_MAX_RUN` samples on one side of the median of the samples within
+    :data:`SPIKE_REACH` of them, by more than :data:`SPIKE_FACTOR` times the channel's local step
+    (and the step of the line that bridges the run) and :data:`SPIKE_SHARE_OF_RANGE` of its range (:func:`spike_samples`; a step, a ramp or a
+    reversal leaves the median with the sample). Treated as missing (:func:`repair_samples`):
+    interpolated, not fitted. More than :data:`SPIKE_MAX_SHARE` of the samples are something the
+    channel does, not glitches: reported and left as read. Within a dominant period of a stuck,
+    clipped or frozen span or a lurch they are the fault's: excluded, not reported apart.
 ``gap``
     A time step longer than :data:`GAP_FACTOR` times the median step: the motion inside it is
     unknown.
@@ -115,7 +125,8 @@ __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
-           "clipped_force_share", "derivative_window", "smoothed_derivative"]
+           "clipped_force_share", "derivative_window", "smoothed_derivative", "spike_samples",
+           "SPIKE_REACH", "SPIKE_MAX_RUN", "SPIKE_FACTOR", "SPIKE_SHARE_OF_RANGE", "SPIKE_MAX_SHARE"]
 
 #: ``held``: two samples are one reading when both the displacement and the force agree to this
 #: share of their ranges (a 30-bit converter's step; the loggers' own arithmetic leaves 1e-13).
@@ -157,6 +168,22 @@ EXCURSION_FACTOR = 2.0
 #: virtual laboratory 0.71-0.995; a spring-dominated loop nears 0 but does not go negative over
 #: cycles).
 POLARITY_SHARE = 0.2
+#: ``spike``: a sample is compared with the median of the samples within this reach each side
+#: (a run of up to this many samples on one side of it leaves the median with the others).
+SPIKE_REACH = 3
+#: ``spike``: runs of at most this many samples (a logger's glitch; a longer excursion is a fault
+#: or motion, the other checks' matter).
+SPIKE_MAX_RUN = 3
+#: ``spike``: the departure from that median must exceed this many times the channel's local step
+#: (the median |difference| of the samples around it, at least the channel's resolution): a
+#: coarsely sampled peak departs by about one step, a glitch by tens to hundreds.
+SPIKE_FACTOR = 10.0
+#: ``spike``: ... and this share of the channel's range (0.5-99.5th percentile): smaller glitches
+#: change no fit.
+SPIKE_SHARE_OF_RANGE = 0.05
+#: ``spike``: more spikes than this share of the samples are no glitches but something the
+#: channel does (a knock at every reversal): reported, left as read.
+SPIKE_MAX_SHARE = 0.002
 #: Channels screened for stuck values (the coil input is a command: constant runs are normal).
 _MEASURED = ("force", "displacement", "velocity")
 #: A velocity column missing in more than this share of its samples is dropped (a dead channel;
@@ -167,6 +194,9 @@ DEAD_VELOCITY_SHARE = 0.5
 #: files sit within 1.1 % (UTFSM 1.0006-1.0105, docs/diagnosis.md)
 VELOCITY_GAIN_TOLERANCE = 0.1
 _INPUTS = ("displacement", "velocity", "voltage", "current")
+#: Findings whose samples :func:`repair_samples` interpolates over a few slots (no fault of the
+#: rig: no settling after them, and no measurement to keep with ``--keep-flagged``).
+_INTERPOLATED = ("held", "spike")
 
 
 @dataclass(frozen=True)
@@ -176,7 +206,7 @@ class Finding:
     Attributes
     ----------
     kind : str
-        ``nan``, ``time``, ``duplicate``, ``rounded``, ``held``, ``difference``, ``gap``, ``stuck``, ``clipped``,
+        ``nan``, ``time``, ``duplicate``, ``rounded``, ``held``, ``spike``, ``difference``, ``gap``, ``stuck``, ``clipped``,
         ``frozen``, ``idle``, ``velocity``, ``offset``, ``units`` or ``polarity``.
     channel : str
         The channel (``force``, ``displacement``, ``velocity``, ``voltage``, ``current``,
@@ -456,6 +486,53 @@ def band_edge(t: np.ndarray, v: np.ndarray, share: float = BAND_EDGE_SHARE) -> f
         return 0.0
     k = int(np.searchsorted(np.cumsum(power), share * total))
     return float(np.fft.rfftfreq(n, dt)[1 + min(k, power.size - 1)])
+
+
+def spike_samples(values: np.ndarray) -> np.ndarray:
+    """The samples of one channel that are spikes (the module docstring's ``spike``).
+
+    Parameters
+    ----------
+    values : np.ndarray
+        The channel's samples, NaN where missing (never a spike).
+
+    Returns
+    -------
+    np.ndarray of bool
+    """
+    y = np.asarray(values, dtype=float)
+    n = y.size
+    out = np.zeros(n, dtype=bool)
+    finite = np.isfinite(y)
+    if n < 2 * SPIKE_REACH + 3 or finite.sum() < 2 * SPIKE_REACH + 3:
+        return out
+    idx = np.arange(n)
+    yf = y if finite.all() else np.interp(idx, idx[finite], y[finite])
+    lo, hi = np.percentile(yf, [0.5, 99.5])
+    if not hi > lo:
+        return out
+    median = np.median(sliding_window_view(np.pad(yf, SPIKE_REACH, mode="edge"), 2 * SPIKE_REACH + 1), axis=1)
+    departure = yf - median
+    candidate = finite & (np.abs(departure) > SPIKE_SHARE_OF_RANGE * (hi - lo))
+    if not candidate.any():
+        return out
+    levels = np.unique(yf)
+    resolution = float(np.min(np.diff(levels))) if levels.size > 1 else 0.0
+    steps = np.abs(np.diff(yf))
+    reach = 4 * SPIKE_REACH
+    for sign in (1.0, -1.0):
+        for a, b in _runs(candidate & (sign * departure > 0)):
+            if b - a > SPIKE_MAX_RUN:
+                continue
+            # the local step from the differences that do not touch the run (those are the spike's),
+            # and at least the step of the line that bridges it: a sharp but continuous peak (a
+            # force transient of a random test) lies between neighbours that differ as much
+            local = np.concatenate((steps[max(a - 1 - reach, 0):max(a - 1, 0)], steps[b:b + reach]))
+            bridge = abs(yf[min(b, n - 1)] - yf[max(a - 1, 0)]) / (b - a + 1)
+            step = max(float(np.median(local)) if local.size else 0.0, resolution, bridge)
+            if float(np.min(np.abs(departure[a:b]))) > SPIKE_FACTOR * step:
+                out[a:b] = True
+    return out
 
 
 def derivative_window(t: np.ndarray, period: float, edge: float = 0.0, per_period: float = 40.0,
@@ -994,13 +1071,34 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                              f"got {v[i]}")
         if name in _MEASURED and held.any():
             v = np.where(held, np.nan, v)
+        # after the held slots (missing: never a spike; a logger's velocity jumps at them)
+        spiked = spike_samples(v) if name in _MEASURED else np.zeros(v.size, dtype=bool)
+        if spiked.any():
+            runs_spiked = _runs(spiked)
+            many = int(spiked.sum()) > SPIKE_MAX_SHARE * v.size
+            if many:
+                findings.append(Finding("spike", name, float(t[runs_spiked[0][0]]), float(t[runs_spiked[-1][1] - 1]),
+                                        int(spiked.sum()),
+                                        f"{int(spiked.sum())} samples in {len(runs_spiked)} runs jump off their "
+                                        f"neighbours and back, more than {100 * SPIKE_MAX_SHARE:g} % of the samples: "
+                                        "something the channel does, not glitches; left as read", excluded=False))
+            for a, b in ([] if many else runs_spiked):
+                med = float(np.median(v[max(a - SPIKE_REACH, 0):b + SPIKE_REACH]))
+                findings.append(Finding("spike", name, float(t[a]), float(t[b - 1]), b - a,
+                                        f"{b - a} sample(s) jump to {float(v[a]):.4g} off their neighbours' "
+                                        f"{med:.4g} and back (a glitch)"
+                                        + ("" if keep_flagged else ": interpolated, not fitted")
+                                        + f" ({_where(lines, a, label)})", excluded=not keep_flagged))
+            if many or keep_flagged:
+                spiked[:] = False
+            v = np.where(spiked, np.nan, v)
         bad = np.isnan(v)
         if bad.any():
-            missing = bad & ~held  # the file's own missing values (held slots have their finding)
+            missing = bad & ~held & ~spiked  # the file's own missing values (held slots, spikes: their findings)
             if missing.any() and (first_bad is None or int(np.argmax(missing)) < first_bad[0]):
                 first_bad = (int(np.argmax(missing)), name)
             ok = ~bad
-            for a, b in _runs(bad & ~held):
+            for a, b in _runs(bad & ~held & ~spiked):
                 findings.append(Finding("nan", name, float(t[a]), float(t[b - 1]), b - a,
                                         "missing values (NaN): "
                                         + ("interpolated to drive the model" if name in _INPUTS
@@ -1146,14 +1244,14 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
     findings: list[Finding] = list(prior)
     excluded = np.zeros(n, dtype=bool) if prior_excluded is None else np.asarray(prior_excluded, bool).copy()
     input_bad = np.zeros(n, dtype=bool)
-    held = np.zeros(n, dtype=bool)  # a logger's held readings: interpolated, no fault of the rig
+    held = np.zeros(n, dtype=bool)  # a logger's held readings and spikes: interpolated, no fault of the rig
     for fd in prior:
-        if fd.kind == "held" and fd.excluded:
+        if fd.kind in _INTERPOLATED and fd.excluded:
             held |= (t >= fd.t_start) & (t <= fd.t_end)
         # a finding reported only (a rounded time grid, restored) is no fault of the input
-        # a held reading is interpolated over a slot or two in mid-stroke: the model's state
-        # after it is off by that interpolation only, so no settling follows it
-        if (fd.channel in _INPUTS or fd.channel == "time") and fd.excluded and fd.kind != "held":
+        # a held reading or a spike is interpolated over a slot or a few in mid-stroke: the
+        # model's state after it is off by that interpolation only, so no settling follows it
+        if (fd.channel in _INPUTS or fd.channel == "time") and fd.excluded and fd.kind not in _INTERPOLATED:
             sel = (t >= fd.t_start) & (t <= fd.t_end)
             input_bad |= sel & excluded if fd.kind == "nan" else sel
     estimates: dict = {}
@@ -1381,6 +1479,17 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
             findings.append(Finding("island", "time", float(t[a]), float(t[b - 1]), b - a,
                                     f"{b - a} usable samples {where}, less than "
                                     f"one dominant period ({period:.3g} s)"))
+    # a "spike" within a dominant period of a stuck, clipped or frozen span or a lurch (as for the
+    # lurch itself) is the fault's, not a glitch of its own (the Dyke recording's force swings
+    # between two clipped runs): its samples stay excluded, said by the fault's lines
+    faulty = np.zeros(n, dtype=bool)
+    for fd in findings:
+        if fd.kind in ("stuck", "clipped", "frozen", "excursion"):
+            faulty |= (t >= fd.t_start) & (t <= fd.t_end)
+    if faulty.any():
+        by_fault = _within(faulty, near)
+        findings = [fd for fd in findings
+                    if not (fd.kind == "spike" and by_fault[(t >= fd.t_start) & (t <= fd.t_end)].all())]
     findings.sort(key=lambda fd: (fd.t_start, fd.kind))
     return Screening(tuple(findings), ~excluded, estimates, name)
 
@@ -1426,7 +1535,7 @@ def keep_flagged(test: Any) -> Any:
     if result is not None:
         filled = np.zeros(test.n_samples, dtype=bool)
         for fd in result.findings:
-            if fd.kind == "nan" or (fd.kind == "held" and fd.excluded):  # held: interpolated when read
+            if fd.kind == "nan" or (fd.kind in _INTERPOLATED and fd.excluded):  # interpolated when read
                 filled |= (test.time >= fd.t_start) & (test.time <= fd.t_end)
         mask = None if not filled.any() else ~filled
     return dataclasses.replace(test, mask=mask)

@@ -340,3 +340,107 @@ def test_a_utfsm_file_with_decimal_commas_reads(shared_dir, tmp_path):
     path.write_text(text.replace(".", ","))
     a, b = read_utfsm(shared_dir / UTFSM / "10mm1Hz1A.txt"), read_utfsm(path)
     assert np.array_equal(a.force, b.force) and np.array_equal(a.displacement, b.displacement)
+
+
+def _spiked_copy(test, spikes, tmp_path, name="spiked.csv"):
+    """``test`` written with glitches: ``spikes`` maps a channel to ``[(first sample, samples,
+    jump)]``, each jump added to that many samples and gone after them."""
+    cols = {"displacement": test.displacement.copy(), "force": test.force.copy(), "velocity": test.velocity.copy()}
+    for channel, runs in spikes.items():
+        for i, k, jump in runs:
+            cols[channel][i:i + k] += jump
+    path = tmp_path / name
+    write_csv(dataclasses.replace(test, **cols, mask=None, metadata={}), path)
+    return path
+
+
+def test_spikes_in_the_force_and_the_motion_are_found_interpolated_and_left_out(tmp_path):
+    """A logger's glitches (one to three samples far off their neighbours and back) in the force,
+    the displacement and the velocity: each found where it is, interpolated through, left out of
+    fit and error with no settling after it (the motion through it is the line between its
+    neighbours); ``--keep-flagged`` reports them and keeps the file's values. The clean test has
+    none (damper/io/screening.py ``spike_samples``)."""
+    from damper.io.data import read_csv
+    clean = _broadband(seconds=6.0)
+    path = tmp_path / "clean.csv"
+    write_csv(dataclasses.replace(clean, mask=None, metadata={}), path)
+    assert not [fd for fd in read_csv(path).metadata["screening"].findings if fd.kind == "spike"]
+    f_peak, x_peak, v_peak = (float(np.max(np.abs(a))) for a in (clean.force, clean.displacement, clean.velocity))
+    spikes = {"force": [(1500, 1, 4.0 * f_peak), (4100, 2, -1.5 * f_peak)],
+              "displacement": [(2600, 1, 0.5 * x_peak), (7900, 3, -0.8 * x_peak)],
+              "velocity": [(9300, 1, 2.0 * v_peak)]}
+    path = _spiked_copy(clean, spikes, tmp_path)
+    test = read_csv(path)
+    found = sorted((fd.channel, int(round(fd.t_start * 2000.0)), fd.n_samples)
+                   for fd in test.metadata["screening"].findings if fd.kind == "spike")
+    assert found == sorted((ch, i, k) for ch, runs in spikes.items() for i, k, _ in runs), \
+        test.metadata["screening"].lines()
+    hit = {i + j for runs in spikes.values() for i, k, _ in runs for j in range(k)}
+    assert set(np.flatnonzero(~test.mask)) == hit  # nothing else: no settling, no island
+    # interpolated: within the file's digits and the curvature over four samples of the truth
+    for ch, truth in (("force", clean.force), ("displacement", clean.displacement)):
+        for i, k, _ in spikes[ch]:
+            got = getattr(test, ch)[i:i + k]
+            assert np.max(np.abs(got - truth[i:i + k])) < 0.05 * np.ptp(truth), (ch, i)
+    kept = read_csv(path, keep_flagged=True)
+    assert kept.mask is None
+    assert all(not fd.excluded for fd in kept.metadata["screening"].findings if fd.kind == "spike")
+    assert kept.force[1500] == pytest.approx(clean.force[1500] + 4.0 * f_peak, rel=1e-8)
+
+
+def test_spikes_in_the_dyke_recording_are_found_and_only_they_left_out(shared_dir, tmp_path):
+    """Twelve force glitches in the first 6 s of the shared recording (six times the force, as
+    a saturating amplifier writes them): found and left out, so the screened test is the clean
+    one but for those samples."""
+    from damper.io.screening import spike_samples
+    clean = read_dyke(shared_dir / DYKE)
+    n = int(np.searchsorted(clean.time, 6.0))
+    part = dataclasses.replace(clean, time=clean.time[:n], displacement=clean.displacement[:n],
+                               velocity=clean.velocity[:n], force=clean.force[:n], voltage=clean.voltage[:n],
+                               mask=None, metadata={})
+    rng = np.random.default_rng(5)
+    loud = np.flatnonzero(np.abs(part.force) > 0.2 * np.max(np.abs(part.force)))  # a glitch that matters
+    at = np.sort(rng.choice(loud[(loud > 100) & (loud < n - 100)], 12, replace=False))
+    f = part.force.copy()
+    f[at] *= 6.0
+    assert np.flatnonzero(spike_samples(f)).tolist() == at.tolist()
+    assert not spike_samples(part.force).any()  # its clean part: no glitch, sharp transients and all
+    path = tmp_path / "spiked_dyke.csv"
+    write_csv(dataclasses.replace(part, force=f), path)
+    from damper.io.data import read_csv
+    test = read_csv(path)
+    assert sorted(set(np.flatnonzero(~test.mask)) - set(at)) == []  # nothing else left out for them
+    assert set(at) <= set(np.flatnonzero(~test.mask))
+
+
+def test_what_looks_like_a_spike_and_is_not():
+    """A sharp but continuous peak (a force transient of a random test: the neighbours differ
+    as much as the peak stands out), a coarsely sampled sine's crest, a step, a quantised channel
+    toggling by its resolution: none is a spike. Glitches at more than 0.2 % of the samples (a
+    knock at every reversal) are something the channel does: reported, left as read."""
+    from damper.io.screening import SPIKE_MAX_SHARE, repair_samples, spike_samples
+    t = np.arange(2000) / 1000.0
+    sine = np.sin(2 * np.pi * 12.5 * t)          # 80 samples per period
+    assert not spike_samples(sine).any()
+    assert not spike_samples(np.sin(2 * np.pi * 100.0 * t)).any()  # 10 samples per period
+    step = np.where(t < 1.0, 0.0, 1.0) + 0.001 * np.sin(2 * np.pi * 3 * t)
+    assert not spike_samples(step).any()
+    transient = sine.copy()
+    transient[1000:1003] += [0.5, 1.0, 0.6]      # a ramp up and down over neighbours that differ
+    transient[999] += 0.3
+    transient[1003] += 0.3
+    assert not spike_samples(transient).any()
+    toggling = np.round(sine * 1000.0) / 1000.0
+    toggling[500] += 0.001
+    assert not spike_samples(toggling).any()
+    glitch = sine.copy()
+    glitch[700] += 2.0
+    assert np.flatnonzero(spike_samples(glitch)).tolist() == [700]
+    knocks = sine.copy()
+    every = np.arange(20, 2000, 40)              # every reversal
+    knocks[every] += 1.5
+    assert spike_samples(knocks).sum() > SPIKE_MAX_SHARE * t.size
+    _, cols, excluded, findings = repair_samples(t, {"displacement": sine, "force": knocks})
+    assert not excluded.any()
+    assert [fd.kind for fd in findings] == ["spike"] and not findings[0].excluded
+    np.testing.assert_array_equal(cols["force"], knocks)
