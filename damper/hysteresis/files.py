@@ -30,8 +30,8 @@ from benchmark.foundation.textfile import read_text
 from damper.io.data import COMMENT_MARKS, decimal_points, parse_rows, sniff_delimiter, split_rows
 from damper.hysteresis.oscillator import DEFAULT_UPSAMPLE, HystereticOscillator
 from damper.io.model_file import file_provenance, read_model_file, write_model_file
-from benchmark.foundation.channel_runs import spans_by_kind, stuck_spans
-from damper.io.screening import PLAUSIBLE, POLARITY_SHARE, net_work
+from benchmark.foundation.channel_runs import runs, spans_by_kind, stuck_spans
+from damper.io.screening import PLAUSIBLE, POLARITY_SHARE, SPIKE_MAX_SHARE, net_work, spike_samples
 
 __all__ = ["ForceData", "read_data", "read_force_csv", "read_hdf5", "write_displacement_csv",
            "save_model", "load_model", "data_flaws", "sampling_rate_flaw", "MODEL_KIND"]
@@ -91,7 +91,8 @@ def data_flaws(data: ForceData) -> list[str]:
     The damper screening's rules (:mod:`damper.io.screening`) on a force-driven test: a force
     channel clipped or stuck (the force that drove the specimen is unknown there), a
     displacement channel frozen or clipped (the response is unknown there), and a sampling rate
-    no hysteresis test has (a time column in ms declared as s reads as ~1 Hz), and a force
+    no hysteresis test has (a time column in ms declared as s reads as ~1 Hz), spikes in either
+    channel (a logger's glitch, :func:`damper.io.screening.spike_samples`), and a force
     that does net negative work on the response (the specimen dissipates what the force puts in,
     so the force's sign is inverted against the displacement: the benchmark's training data give
     +0.40 of the absolute work, negated -0.40). The output-error fit simulates the whole record,
@@ -118,6 +119,12 @@ def data_flaws(data: ForceData) -> list[str]:
             out.append(f"{channel} {word} in {len(hits)} span{'s' if len(hits) > 1 else ''} "
                        f"({sum(e - s for s, e, _ in hits)} samples; the first at "
                        f"{t[a]:.4g}-{t[b - 1]:.4g} s, {level:.6g} {unit}): {why}")
+        spikes = spike_samples(values)
+        if spikes.any() and spikes.sum() <= SPIKE_MAX_SHARE * values.size:
+            hits = runs(spikes)
+            out.append(f"{channel} spikes in {len(hits)} run{'s' if len(hits) > 1 else ''} ({int(spikes.sum())} "
+                       f"samples; the first at {t[hits[0][0]]:.4g} s): a glitch, which the output-error fit "
+                       "would follow")
     if data.displacement is not None and data.force.size > 8:
         # the damper screening's polarity rule (damper/io/screening.py)
         _, share = net_work(t, data.force, np.gradient(data.displacement, t))

@@ -522,16 +522,22 @@ def spike_samples(values: np.ndarray) -> np.ndarray:
     reach = 4 * SPIKE_REACH
     for sign in (1.0, -1.0):
         for a, b in _runs(candidate & (sign * departure > 0)):
-            if b - a > SPIKE_MAX_RUN:
+            # a coarsely sampled motion's own samples beside a spike depart from the median too
+            # (on the same side): the run is trimmed to its core below
+            if b - a > SPIKE_MAX_RUN + 2 * SPIKE_REACH:
                 continue
-            # the local step from the differences that do not touch the run (those are the spike's),
+            # the local step from the differences that do not touch the run (those are the spike's)
+            local = np.concatenate((steps[max(a - 1 - reach, 0):max(a - 1, 0)], steps[b:b + reach]))
+            step = max(float(np.median(local)) if local.size else 0.0, resolution)
+            core = a + np.flatnonzero(sign * departure[a:b] > SPIKE_FACTOR * step)
+            if core.size == 0 or core.size > SPIKE_MAX_RUN or core[-1] - core[0] + 1 != core.size:
+                continue
+            c, d = int(core[0]), int(core[-1]) + 1
             # and at least the step of the line that bridges it: a sharp but continuous peak (a
             # force transient of a random test) lies between neighbours that differ as much
-            local = np.concatenate((steps[max(a - 1 - reach, 0):max(a - 1, 0)], steps[b:b + reach]))
-            bridge = abs(yf[min(b, n - 1)] - yf[max(a - 1, 0)]) / (b - a + 1)
-            step = max(float(np.median(local)) if local.size else 0.0, resolution, bridge)
-            if float(np.min(np.abs(departure[a:b]))) > SPIKE_FACTOR * step:
-                out[a:b] = True
+            bridge = abs(yf[min(d, n - 1)] - yf[max(c - 1, 0)]) / (d - c + 1)
+            if float(np.min(np.abs(departure[c:d]))) > SPIKE_FACTOR * max(step, bridge):
+                out[c:d] = True
     return out
 
 

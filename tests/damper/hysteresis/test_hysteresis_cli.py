@@ -231,6 +231,16 @@ def test_a_sine_sweep_sampled_at_its_amplitude_is_not_clipped():
     assert data_flaws(ForceData(u, y, hb.FS, 0.0, "sweep")) == []
     clipped = np.clip(u, -30.0, 30.0)
     assert any("force clipped" in f for f in data_flaws(ForceData(clipped, y, hb.FS, 0.0, "clipped")))
+    # a logger's glitch in either channel: the output-error fit would follow it (the sweep's
+    # 5-samples-per-period top and the multisine are no spikes: tests above)
+    spiked = u.copy()
+    spiked[5000] += 400.0
+    flaws = data_flaws(ForceData(spiked, y, hb.FS, 0.0, "spiked"))
+    assert len(flaws) == 1 and flaws[0].startswith("force spikes in 1 run (1 samples; the first at"), flaws
+    jumped = y.copy()
+    jumped[[7000, 9001, 9002]] += 5e-4
+    assert any(f.startswith("displacement spikes in 2 runs (3 samples")
+               for f in data_flaws(ForceData(u, jumped, hb.FS, 0.0, "jumped")))
 
 
 def test_force_data_in_a_rigs_units_are_read_in_si(tmp_path):
