@@ -39,7 +39,8 @@ import numpy as np
 
 from benchmark.foundation.atomic import atomic_path
 from benchmark.foundation.errors import DataNotFoundError, InputError
-from benchmark.foundation.file_units import SI_UNIT, STANDARD_GRAVITY, column_name_unit, si_factor
+from benchmark.foundation.file_units import (COLUMN_ALIASES, QUANTITY_UNITS, SI_UNIT, STANDARD_GRAVITY,
+                                             column_name_unit, si_factor, unit_key)
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
 from damper.io.screening import repair_samples, screened, screening_of, smoothed_derivative
@@ -217,18 +218,26 @@ def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: b
 
 
 
-def _header_name(cell: str, path: Path, line: int) -> tuple[str, float, str | None]:
-    """The column's name, the factor that takes its values to SI and the unit written, if any."""
+def _header_name(cell: str, path: Path, line: int) -> tuple[str | None, float, str | None]:
+    """The column's name (None for a column this reader does not use), the factor that takes its
+    values to SI and the unit written, if any."""
     split = column_name_unit(cell)
     if split is None:
         raise InputError(f"{path}:{line}: header: unreadable column name {cell!r}; expected "
                          "time, displacement, force[, velocity][, voltage|current]")
     name, unit = split
+    if name not in _UNITS and unit is None and "_" in name:
+        # a logger's "force_kN", "disp_mm", "time_s": the unit after the last underscore
+        stem, _, suffix = name.rpartition("_")
+        stem = COLUMN_ALIASES.get(stem, stem)
+        if stem in _UNITS and unit_key(suffix) in QUANTITY_UNITS[_QUANTITY[stem]]:
+            name, unit = stem, cell.strip().strip('"').strip("'").rpartition("_")[2]  # as written: kN
     if name not in _UNITS:
-        hint = (" (D, V, F, Y are the Dyke records' names, read in their units only beside their A and "
-                "fs columns)") if name in ("d", "v", "y") else ""
-        raise InputError(f"{path}:{line}: header: unknown column {name!r}; expected "
-                         f"time, displacement, force[, velocity][, voltage|current]{hint}")
+        if name in ("d", "v", "y"):
+            raise InputError(f"{path}:{line}: header: unknown column {name!r}; expected time, displacement, "
+                             "force[, velocity][, voltage|current] (D, V, F, Y are the Dyke records' names, "
+                             "read in their units only beside their A and fs columns)")
+        return None, 1.0, None  # another channel of the rig (a temperature, a command): not used
     if unit is None:
         return name, 1.0, None
     factor = si_factor(_QUANTITY[name], unit, f"{path}:{line}: header: column {name!r}")
@@ -424,6 +433,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     header_line = 0
     rows: list[list[str]] = []
     row_lines: list[int] = []
+    ignored: list[str] = []
     text = read_text(path, "damper test file")  # binary or not UTF-8: one-line InputError
     delimiter = sniff_delimiter(text)
     trailing = False  # every line ends with the delimiter (as the Dyke files do)
@@ -448,26 +458,36 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                                  + (" (a UTFSM test is recognised by its file name, "
                                     "<amp>mm<freq>Hz<current>A.txt)" if path.suffix.lower() == ".txt" else ""))
             named = [_header_name(c, path, line_no) for c in row]
-            header = [n for n, _, _ in named]
-            factors = {n: f for n, f, _ in named}
-            written = {n: u for n, f, u in named if u is not None and f != 1.0}
+            width = len(row)
+            # the columns used, by position; the others (a temperature, a command, an
+            # acceleration) are named in the report and never parsed
+            used = [i for i, (n, _, _) in enumerate(named) if n is not None]
+            ignored = [row[i].strip().strip('"') for i, (n, _, _) in enumerate(named) if n is None]
+            header = [str(named[i][0]) for i in used]
+            factors = {str(n): f for n, f, _ in named if n is not None}
+            written = {str(n): u for n, f, u in named if n is not None and u is not None and f != 1.0}
             # read as SI because the header names no unit: said with the amplitudes as read
-            unstated = [n for n, _, u in named if u is None and n in ("displacement", "force")]
+            unstated = [str(n) for n, _, u in named if n in ("displacement", "force") and u is None]
             header_line = line_no
             missing = [c for c in _REQUIRED if c not in header]
             if missing:
                 raise InputError(f"{path}:{line_no}: header: missing column(s) "
                                  f"{', '.join(missing)}; expected time, displacement, force"
-                                 "[, velocity][, voltage|current]")
+                                 "[, velocity][, voltage|current]"
+                                 + (f" (not read: {', '.join(repr(c) for c in ignored)})" if ignored else ""))
             if len(set(header)) != len(header):
                 twice = next(n for n in header if header.count(n) > 1)
-                cells = [c.strip() for c, n in zip(row, header) if n == twice]
+                cells = [row[i].strip() for i in used if named[i][0] == twice]
                 raise InputError(f"{path}:{line_no}: header: columns {' and '.join(repr(c) for c in cells)} "
                                  f"both name the {twice}; expected one")
             if "voltage" in header and "current" in header:
                 raise InputError(f"{path}:{line_no}: header: expected a voltage or a current "
                                  "column, not both")
             continue
+        if ignored:
+            if len(row) != width:
+                raise InputError(f"{path}:{line_no}: expected {width} values, got {len(row)}")
+            row = [row[i] for i in used]
         rows.append(row)
         row_lines.append(line_no)
     if header is None:
@@ -491,6 +511,8 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
         metadata["file_units"] = written  # e.g. {"displacement": "mm"}: converted to SI on reading
     if unstated:
         metadata["units_unstated"] = unstated
+    if ignored:
+        metadata["columns_ignored"] = ignored  # the rig's other channels, named in the report
     if velocity is None:
         velocity = smoothed_derivative(time, col["displacement"])
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
@@ -506,7 +528,10 @@ def write_csv(test: DamperTest, path) -> Path:
     """Write ``test`` as CSV (atomically), with ``# name:`` and ``# source:`` comment lines.
 
     The header names each column with its SI unit (``time [s],displacement [m],force [N],
-    velocity [m/s],voltage [V]``); :func:`read_csv` reads it back.
+    velocity [m/s],voltage [V]``); :func:`read_csv` reads it back. The channels keep 10
+    significant digits (more than any sensor resolves); the time keeps as many as its steps need
+    against its largest value (a logger's absolute time stamps, 1.7e9 s at 0.3-ms steps, need
+    17: with 10 every stamp of a second would be one).
 
     Parameters
     ----------
@@ -530,8 +555,17 @@ def write_csv(test: DamperTest, path) -> Path:
                 if value:
                     fh.write(f"# {key}: {' '.join(str(value).split())}\n")
             fh.write(",".join(f"{name} [{_UNITS[name]}]" for name, _ in columns) + "\n")
-            np.savetxt(fh, data, delimiter=",", fmt="%.10g")
+            np.savetxt(fh, data, delimiter=",", fmt=[f"%.{_time_digits(test.time)}g"] + ["%.10g"] * (len(columns) - 1))
     return path
+
+
+def _time_digits(t: np.ndarray) -> int:
+    """Significant digits that keep every step of ``t`` to a millionth of itself (10 to 17)."""
+    steps = np.diff(np.asarray(t, dtype=float))
+    top = float(np.max(np.abs(t))) if t.size else 0.0
+    if steps.size == 0 or not steps.min() > 0.0 or not top > 0.0:
+        return 10
+    return int(min(17, max(10, math.ceil(math.log10(top / float(steps.min()))) + 6)))
 
 
 _UTFSM_NAME = re.compile(r"^(?P<amp>\d+(?:x\d+)?)mm(?P<freq>\d+(?:x\d+)?)Hz(?P<cur>\d+(?:x\d+)?)A$")

@@ -1595,6 +1595,9 @@ def screening_summary(tests: Sequence[Any], keep_flagged: bool = False) -> dict:
         units = (getattr(test, "metadata", None) or {}).get("file_units")
         if units:
             doc["file_units"] = dict(units)  # the columns read in a rig's units, converted to SI
+        ignored = (getattr(test, "metadata", None) or {}).get("columns_ignored")
+        if ignored:
+            doc["columns_ignored"] = list(ignored)
         out[screening_key(test)] = doc
     return out
 
@@ -1647,6 +1650,9 @@ def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[st
         unstated = (getattr(test, "metadata", None) or {}).get("units_unstated")
         if unstated:
             lines.append(f"screening {label}: {unstated_line(test, unstated)}")
+        ignored = (getattr(test, "metadata", None) or {}).get("columns_ignored")
+        if ignored:
+            lines.append(f"screening {label}: column(s) not used: {', '.join(ignored)} (the rig's other channels)")
         if scr.estimate_line():
             lines.append(f"screening {label}: estimated {scr.estimate_line()}")
         if not scr.findings:

@@ -41,7 +41,10 @@ def test_csv_without_velocity_and_with_constant_current(tmp_path):
 @pytest.mark.parametrize("content, match", [
     ("", "empty file"),
     ("time,displacement\n0,0\n1,1\n", r":1: header: missing column\(s\) force"),
-    ("time,displacement,force,speed\n0,0,0,0\n", r":1: header: unknown column 'speed'"),
+    ("time,displacement,force,speed\n0,0,0,0\n", "at least 2 data lines"),  # speed: the velocity
+    ("time,stroke_mm,temperature\n0,0,20\n1,1,21\n",
+     r":1: header: missing column\(s\) force; .*\(not read: 'temperature'\)"),
+    ("time,displacement,force,temp [C]\n0,0,0,20\n1,1\n", r":3: expected 4 values, got 2"),
     ("time,displacement [furlong],force\n0,0,0\n1,1,1\n",
      r":1: header: column 'displacement': unknown length unit 'furlong'; expected one of m, cm, mm, in"),
     ("time,displacement,force [N/m]\n0,0,0\n1,1,1\n", r":1: header: column 'force': unknown force unit"),
@@ -174,3 +177,25 @@ def test_rows_read_at_once_read_as_one_by_one():
     with pytest.raises(InputError, match=r"f.csv:7: expected 3 values"):
         parse_rows("f.csv", header, short, lines)
     assert parse_row("f.csv", 2, header, rows[0]) == list(expected[0])
+
+
+def test_a_rigs_other_channels_are_named_and_not_read(tmp_path):
+    """A rig logs more than the damper test needs (a temperature, the command, an acceleration,
+    a status word): those columns are not read (their cells may be anything), the report names
+    them, and a unit written after an underscore (``force_kN``) is read like one in brackets."""
+    from damper.io.screening import screening_lines, screening_summary
+    t = np.arange(400) / 200.0
+    x = 0.01 * np.sin(2 * np.pi * t)
+    f = 800.0 * np.tanh(50.0 * np.gradient(x, t))
+    lines = ["Time_s,Temperature [C],Disp_mm,Status,Force_kN,Cmd [V]"]
+    lines += [f"{a!r},{20 + a:.3f},{1e3 * b!r},OK,{1e-3 * c!r},2.5" for a, b, c in zip(t.tolist(), x.tolist(), f.tolist())]
+    path = tmp_path / "rig.csv"
+    path.write_text("\n".join(lines) + "\n")
+    test = read_csv(path)
+    np.testing.assert_allclose(test.displacement, x, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(test.force, f, rtol=1e-12, atol=1e-9)
+    assert test.voltage is None
+    assert test.metadata["columns_ignored"] == ["Temperature [C]", "Status", "Cmd [V]"]
+    assert test.metadata["file_units"] == {"displacement": "mm", "force": "kN"}
+    assert any("column(s) not used: Temperature [C], Status, Cmd [V]" in line for line in screening_lines([test]))
+    assert screening_summary([test])["rig.csv"]["columns_ignored"] == ["Temperature [C]", "Status", "Cmd [V]"]
