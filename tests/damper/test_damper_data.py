@@ -199,3 +199,17 @@ def test_a_rigs_other_channels_are_named_and_not_read(tmp_path):
     assert test.metadata["file_units"] == {"displacement": "mm", "force": "kN"}
     assert any("column(s) not used: Temperature [C], Status, Cmd [V]" in line for line in screening_lines([test]))
     assert screening_summary([test])["rig.csv"]["columns_ignored"] == ["Temperature [C]", "Status", "Cmd [V]"]
+
+
+def test_write_csv_keeps_a_loggers_absolute_time_stamps(tmp_path):
+    """damper/io/data.py write_csv: 10 significant digits of 1.7e9 s are whole seconds; the time
+    column keeps as many digits as its steps need (17 here), so the test reads back whole."""
+    from damper.io.data import _time_digits
+    t = 1.7e9 + np.arange(600) / 3004.8
+    x = 0.005 * np.sin(2 * np.pi * 2.0 * (t - t[0]))
+    test = DamperTest(time=t, displacement=x, velocity=np.gradient(x, t), force=1e3 * np.gradient(x, t),
+                      voltage=np.full(t.size, 1.0), name="epoch")
+    assert _time_digits(t) == 17 and _time_digits(t - t[0]) == 10
+    back = read_csv(write_csv(test, tmp_path / "epoch.csv"))
+    assert back.n_samples == t.size
+    np.testing.assert_allclose(np.diff(back.time), np.diff(t), rtol=1e-6)
