@@ -184,6 +184,9 @@ SPIKE_SHARE_OF_RANGE = 0.05
 #: ``spike``: more spikes than this share of the samples are no glitches but something the
 #: channel does (a knock at every reversal): reported, left as read.
 SPIKE_MAX_SHARE = 0.002
+#: ``time``: a backward step followed by at least this many rows on a clock of their own is a
+#: second recording appended, said as such.
+RESTART_ROWS = 100
 #: Channels screened for stuck values (the coil input is a command: constant runs are normal).
 _MEASURED = ("force", "displacement", "velocity")
 #: A velocity column missing in more than this share of its samples is dropped (a dead channel;
@@ -539,6 +542,12 @@ def spike_samples(values: np.ndarray) -> np.ndarray:
             if float(np.min(np.abs(departure[c:d]))) > SPIKE_FACTOR * max(step, bridge):
                 out[c:d] = True
     return out
+
+
+def _restarted_clock(t: np.ndarray) -> bool:
+    """Whether the rows a backward time step drops run on a clock of their own: at least
+    :data:`RESTART_ROWS` rows whose time increases strictly (a logger's glitch drops a few)."""
+    return bool(t.size >= RESTART_ROWS and np.all(np.diff(t) > 0.0))
 
 
 def derivative_window(t: np.ndarray, period: float, edge: float = 0.0, per_period: float = 40.0,
@@ -1014,8 +1023,14 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
             for a, b in _runs(sel):
                 before = kept_t[:a][np.isfinite(kept_t[:a])]
                 t0 = float(before[-1]) if before.size else float(np.nanmin(kept_t))
+                if text.startswith("time goes backwards") and _restarted_clock(t[a:b]):
+                    # a second recording appended to the first: say so, not a glitch per row
+                    text_here = (f"the clock restarts at {t[a]:g} s after {t0:g} s: the {b - a} rows from "
+                                 "there on (a second recording appended?) dropped; split the file to use them")
+                else:
+                    text_here = text
                 findings.append(Finding(kind, "time", t0, t0, b - a,
-                                        f"{text} ({_where(lines, a, label)})"))
+                                        f"{text_here} ({_where(lines, a, label)})"))
     t = t[keep]
     lines = None if lines is None else [ln for ln, k in zip(lines, keep) if k]
     x_stamps = channels.get("displacement")

@@ -444,3 +444,30 @@ def test_what_looks_like_a_spike_and_is_not():
     assert not excluded.any()
     assert [fd.kind for fd in findings] == ["spike"] and not findings[0].excluded
     np.testing.assert_array_equal(cols["force"], knocks)
+
+
+def test_a_second_recording_appended_after_a_clock_restart_is_said_as_such(tmp_path):
+    """Two tests in one file, the clock back at 0 for the second: its rows are dropped as time
+    going backwards, in one finding that says the clock restarts and how to use them (a logger's
+    glitch of a few rows keeps the plain words)."""
+    from damper.io.data import read_csv
+    from damper.io.screening import RESTART_ROWS
+    first = periodic_test("virtual", 0.01, 1.0, 0.5, cycles=4, sample_rate=200.0, noise=0.01, seed=1)
+    second = periodic_test("virtual", 0.01, 2.0, 1.0, cycles=8, sample_rate=200.0, noise=0.01, seed=2)
+    rows = ["time,displacement,force"]
+    for test in (first, second):
+        rows += [f"{a!r},{b!r},{c!r}" for a, b, c in zip(test.time.tolist(), test.displacement.tolist(),
+                                                            test.force.tolist())]
+    path = tmp_path / "two.csv"
+    path.write_text("\n".join(rows) + "\n")
+    test = read_csv(path, voltage=0.5)
+    assert test.n_samples == first.n_samples
+    np.testing.assert_array_equal(test.force, first.force)
+    restart = [fd for fd in test.metadata["screening"].findings if "clock restarts" in fd.message]
+    assert len(restart) == 1 and restart[0].n_samples >= second.n_samples - 1 >= RESTART_ROWS
+    assert f"two.csv:{first.n_samples + 2}" in restart[0].message  # the line where it restarts
+    stale = rows[20].split(",")
+    glitch = rows[:50] + [",".join(stale[:2] + ["1.0"])] + rows[50:first.n_samples + 1]  # a stale stamp
+    path.write_text("\n".join(glitch) + "\n")
+    words = [fd.message for fd in read_csv(path, voltage=0.5).metadata["screening"].findings if fd.kind == "time"]
+    assert words and not any("clock restarts" in w for w in words)
