@@ -18,7 +18,9 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     time so the model can still be simulated through the dropout; the samples are excluded.
 ``time``
     Repeated or backward time stamps (a logger glitch or concatenated files): the offending
-    samples are dropped (:func:`repair_samples`), the step after them excluded.
+    samples are dropped (:func:`repair_samples`), the step after them excluded. A backward step
+    followed by :data:`RESTART_ROWS` rows or more on a clock of their own is said as a clock
+    restart (a second recording appended: split the file to use it).
 ``rounded``
     Time stamps written with too few digits: the steps of a uniformly sampled test vary by
     more than :data:`ROUNDED_STEP_SPREAD` (the Dyke files: 0.1-ms stamps on a 0.333-ms step,
@@ -42,8 +44,9 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     their neighbours and back (a logger's or amplifier's glitch): runs of at most
     :data:`SPIKE_MAX_RUN` samples on one side of the median of the samples within
     :data:`SPIKE_REACH` of them, by more than :data:`SPIKE_FACTOR` times the channel's local step
-    (and the step of the line that bridges the run) and :data:`SPIKE_SHARE_OF_RANGE` of its range (:func:`spike_samples`; a step, a ramp or a
-    reversal leaves the median with the sample). Treated as missing (:func:`repair_samples`):
+    (and the step of the line that bridges the run) and :data:`SPIKE_SHARE_OF_RANGE` of its
+    range (:func:`spike_samples`; a step, a ramp or a reversal leaves the median with the
+    sample). Treated as missing (:func:`repair_samples`):
     interpolated, not fitted. More than :data:`SPIKE_MAX_SHARE` of the samples are something the
     channel does, not glitches: reported and left as read. Within a dominant period of a stuck,
     clipped or frozen span or a lurch they are the fault's: excluded, not reported apart.
@@ -126,7 +129,8 @@ __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
            "clipped_force_share", "derivative_window", "smoothed_derivative", "spike_samples",
-           "SPIKE_REACH", "SPIKE_MAX_RUN", "SPIKE_FACTOR", "SPIKE_SHARE_OF_RANGE", "SPIKE_MAX_SHARE"]
+           "SPIKE_REACH", "SPIKE_MAX_RUN", "SPIKE_FACTOR", "SPIKE_SHARE_OF_RANGE", "SPIKE_MAX_SHARE",
+           "RESTART_ROWS"]
 
 #: ``held``: two samples are one reading when both the displacement and the force agree to this
 #: share of their ranges (a 30-bit converter's step; the loggers' own arithmetic leaves 1e-13).
