@@ -45,7 +45,7 @@ from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
 from damper.io.screening import repair_samples, screened, screening_of, smoothed_derivative
 
-__all__ = ["DamperTest", "check_samples", "parse_row", "parse_rows", "read_csv", "write_csv", "read_utfsm", "parse_utfsm_name",
+__all__ = ["DamperTest", "check_samples", "parse_row", "parse_rows", "read_csv", "build_test", "column_of", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files", "read_utfsm_raw", "raw_current_from_name", "UTFSM_RAW_CHANNELS", "UTFSM_RAW_CURRENTS", "is_utfsm_raw_file",
            "split_utfsm_raw"]
 
@@ -218,12 +218,31 @@ def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: b
 
 
 
-def _header_name(cell: str, path: Path, line: int) -> tuple[str | None, float, str | None]:
-    """The column's name (None for a column this reader does not use), the factor that takes its
-    values to SI and the unit written, if any."""
+def column_of(cell: str, where: str) -> tuple[str | None, float, str | None]:
+    """The quantity a column's name gives (None for a channel no damper test uses), the factor
+    that takes its values to SI and the unit written, if any: the rule of every tabular reader
+    (a CSV header cell, a MATLAB or HDF5 variable's name).
+
+    ``"force [kN]"``, ``"Force (kN)"`` and a logger's ``"force_kN"`` give ``("force", 1000.0,
+    "kN")``; ``"disp"`` gives ``("displacement", 1.0, None)`` (:data:`COLUMN_ALIASES`);
+    ``"temperature [C]"`` gives ``(None, 1.0, None)``.
+
+    Parameters
+    ----------
+    cell : str
+        The name as written, with its unit if any.
+    where : str
+        Where it is written, for messages (``"file.csv:1: header"``).
+
+    Raises
+    ------
+    InputError
+        A cell that is no name, the Dyke records' single letters out of their format, or a unit
+        the quantity does not have.
+    """
     split = column_name_unit(cell)
     if split is None:
-        raise InputError(f"{path}:{line}: header: unreadable column name {cell!r}; expected "
+        raise InputError(f"{where}: unreadable column name {cell!r}; expected "
                          "time, displacement, force[, velocity][, voltage|current]")
     name, unit = split
     if name not in _UNITS and unit is None and "_" in name:
@@ -234,13 +253,13 @@ def _header_name(cell: str, path: Path, line: int) -> tuple[str | None, float, s
             name, unit = stem, cell.strip().strip('"').strip("'").rpartition("_")[2]  # as written: kN
     if name not in _UNITS:
         if name in ("d", "v", "y"):
-            raise InputError(f"{path}:{line}: header: unknown column {name!r}; expected time, displacement, "
+            raise InputError(f"{where}: unknown column {name!r}; expected time, displacement, "
                              "force[, velocity][, voltage|current] (D, V, F, Y are the Dyke records' names, "
                              "read in their units only beside their A and fs columns)")
         return None, 1.0, None  # another channel of the rig (a temperature, a command): not used
     if unit is None:
         return name, 1.0, None
-    factor = si_factor(_QUANTITY[name], unit, f"{path}:{line}: header: column {name!r}")
+    factor = si_factor(_QUANTITY[name], unit, f"{where}: column {name!r}")
     return name, factor, unit
 
 
@@ -457,7 +476,7 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
                                  "line time, displacement, force[, velocity][, voltage|current]"
                                  + (" (a UTFSM test is recognised by its file name, "
                                     "<amp>mm<freq>Hz<current>A.txt)" if path.suffix.lower() == ".txt" else ""))
-            named = [_header_name(c, path, line_no) for c in row]
+            named = [column_of(c, f"{path}:{line_no}: header") for c in row]
             width = len(row)
             # the columns used, by position; the others (a temperature, a command, an
             # acceleration) are named in the report and never parsed
@@ -499,28 +518,61 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
     data = parse_rows(path, header, rows, row_lines)
     # units converted at the edge: everything past here is SI (module docstring)
     col = {c: data[:, i] * factors[c] for i, c in enumerate(header)}
-    if ("voltage" in col or "current" in col) and (voltage is not None or current is not None):
-        raise InputError(f"{path}: the file has a {'voltage' if 'voltage' in col else 'current'} "
-                         "column; do not also give a constant value")
-    time, col, excluded, prior = repair_samples(
-        col["time"], {c: col.get(c) for c in ("displacement", "force", "velocity", "voltage", "current")},
-        label=str(path), lines=row_lines, keep_flagged=keep_flagged)
-    velocity = col.get("velocity")
-    metadata: dict = {"velocity_from_file": velocity is not None}
+    metadata: dict = {}
     if written:
         metadata["file_units"] = written  # e.g. {"displacement": "mm"}: converted to SI on reading
     if unstated:
         metadata["units_unstated"] = unstated
     if ignored:
         metadata["columns_ignored"] = ignored  # the rig's other channels, named in the report
+    return build_test(path, col, voltage=voltage, current=current,
+                             name=name or comments.get("name") or path.stem, lines=row_lines,
+                             metadata={**comments, **metadata}, keep_flagged=keep_flagged)
+
+
+def build_test(path: Path, col: dict, voltage: float | None = None, current: float | None = None,
+                      name: str | None = None, lines: list[int] | None = None, metadata: dict | None = None,
+                      keep_flagged: bool = False) -> DamperTest:
+    """The screened test of a file's columns, already in SI (every reader of a tabular format).
+
+    Parameters
+    ----------
+    path : Path
+        The file, for messages and the test's ``source``.
+    col : dict of str to np.ndarray
+        ``time``, ``displacement``, ``force`` and any of ``velocity``, ``voltage``, ``current``,
+        in SI, NaN where a value is missing.
+    voltage, current : float, optional
+        Constant coil input for a file without that column.
+    name : str, optional
+        The test's name (default: the file's stem).
+    lines : list of int, optional
+        Each sample's line in the file (for the screening's messages).
+    metadata : dict, optional
+        What the reader learnt of the file (units, columns not used, comments).
+    keep_flagged : bool
+        Keep the flagged samples in the mask (only missing values stay out).
+
+    Raises
+    ------
+    InputError
+        A coil-input column beside a constant value, or what the screening's repair refuses.
+    """
+    if ("voltage" in col or "current" in col) and (voltage is not None or current is not None):
+        raise InputError(f"{path}: the file has a {'voltage' if 'voltage' in col else 'current'} "
+                         "column; do not also give a constant value")
+    time, col, excluded, prior = repair_samples(
+        col["time"], {c: col.get(c) for c in ("displacement", "force", "velocity", "voltage", "current")},
+        label=str(path), lines=lines, keep_flagged=keep_flagged)
+    velocity = col.get("velocity")
     if velocity is None:
         velocity = smoothed_derivative(time, col["displacement"])
     test = DamperTest(time=time, displacement=col["displacement"], velocity=velocity,
                       force=col["force"],
                       voltage=col["voltage"] if col.get("voltage") is not None else voltage,  # type: ignore[arg-type]
                       current=col["current"] if col.get("current") is not None else current,  # type: ignore[arg-type]
-                      name=name or comments.get("name") or path.stem,
-                      source=str(path), metadata={**comments, **metadata})
+                      name=name or path.stem, source=str(path),
+                      metadata={**(metadata or {}), "velocity_from_file": col.get("velocity") is not None})
     return screened(test, prior, excluded, keep_flagged=keep_flagged)
 
 

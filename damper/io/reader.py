@@ -4,6 +4,8 @@
 it, so every command accepts the same formats and screens them the same way
 (:mod:`damper.io.screening`):
 
+* a MATLAB (``.mat``) or HDF5 (``.h5``, ``.hdf5``) file of named vectors, recognised by its
+  suffix (:func:`damper.io.arrays.read_arrays`);
 * a UTFSM preprocessed ``.txt`` file, recognised by its name pattern
   (:func:`damper.io.data.read_utfsm`);
 * a Dyke random-voltage record, recognised by its header (``t`` and at least three of
@@ -26,6 +28,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError
 from damper.io.data import (DamperTest, is_utfsm_raw_file, parse_utfsm_name, read_csv, read_utfsm, read_utfsm_raw,
                            split_utfsm_raw)
+from damper.io.arrays import is_array_file, read_arrays
 from damper.io.dyke import looks_like_dyke_file, read_dyke
 from damper.io.screening import CLIPPED_FORCE_SHARE, clipped_force_share, next_reversal, screening_of
 
@@ -42,7 +45,8 @@ def read_test(path, keep_flagged: bool = False) -> DamperTest:
     Parameters
     ----------
     path : str or Path
-        A UTFSM preprocessed ``.txt`` file, a Dyke CSV or a damper CSV.
+        A MATLAB or HDF5 file of named vectors, a UTFSM preprocessed ``.txt`` file, a Dyke CSV or a
+        damper CSV.
     keep_flagged : bool
         Keep the samples the screening flags in fits and errors (the findings are still reported).
 
@@ -57,6 +61,8 @@ def read_test(path, keep_flagged: bool = False) -> DamperTest:
         A file that cannot be read as any of the formats (the message names the file and line).
     """
     p = Path(path)
+    if is_array_file(p):
+        return read_arrays(p, keep_flagged=keep_flagged)
     if p.suffix.lower() == ".txt":
         try:
             parse_utfsm_name(p)
