@@ -132,15 +132,17 @@ def read_arrays(path, voltage: float | None = None, current: float | None = None
     constant: dict[str, float] = {}
     for key, (value, unit) in variables.items():
         cell = key if unit is None else f"{key} [{unit}]"
+        where = f"{path}: variable {key!r}"
         try:
-            quantity, factor, unit_read = column_of(cell, f"{path}: variable {key!r}")
-        except InputError:
-            if unit is None:
-                raise
-            # a units attribute the reader does not know: the name alone, and the message says which
-            quantity, factor, unit_read = column_of(key, f"{path}: variable {key!r}")
+            quantity, factor, unit_read = column_of(cell, where, dyke_letters=False)
+        except InputError as err:
+            try:
+                quantity = column_of(key, where, dyke_letters=False)[0]
+            except InputError:
+                quantity = None  # a name no column rule reads (spaces, symbols): another channel
             if quantity is not None:
-                column_of(cell, f"{path}: variable {key!r}")  # raises with the unit's message
+                raise err from None  # a test's quantity in a unit it does not have
+            factor, unit_read = 1.0, None
         numeric = value.dtype.kind in "fiub"
         data = np.squeeze(value) if numeric else value
         if quantity is None or not numeric or data.ndim > 1:

@@ -218,7 +218,7 @@ def _vector(values, name: str, label: str, n: int | None = None, allow_scalar: b
 
 
 
-def column_of(cell: str, where: str) -> tuple[str | None, float, str | None]:
+def column_of(cell: str, where: str, dyke_letters: bool = True) -> tuple[str | None, float, str | None]:
     """The quantity a column's name gives (None for a channel no damper test uses), the factor
     that takes its values to SI and the unit written, if any: the rule of every tabular reader
     (a CSV header cell, a MATLAB or HDF5 variable's name).
@@ -233,6 +233,9 @@ def column_of(cell: str, where: str) -> tuple[str | None, float, str | None]:
         The name as written, with its unit if any.
     where : str
         Where it is written, for messages (``"file.csv:1: header"``).
+    dyke_letters : bool
+        Refuse ``D``, ``V``, ``Y`` (the Dyke records' columns, in cm and cm/s, out of their
+        format); else they are channels not used (a MATLAB workspace's ``y``).
 
     Raises
     ------
@@ -252,7 +255,7 @@ def column_of(cell: str, where: str) -> tuple[str | None, float, str | None]:
         if stem in _UNITS and unit_key(suffix) in QUANTITY_UNITS[_QUANTITY[stem]]:
             name, unit = stem, cell.strip().strip('"').strip("'").rpartition("_")[2]  # as written: kN
     if name not in _UNITS:
-        if name in ("d", "v", "y"):
+        if dyke_letters and name in ("d", "v", "y"):
             raise InputError(f"{where}: unknown column {name!r}; expected time, displacement, "
                              "force[, velocity][, voltage|current] (D, V, F, Y are the Dyke records' names, "
                              "read in their units only beside their A and fs columns)")

@@ -93,3 +93,18 @@ def test_an_unknown_unit_and_a_file_that_is_not_one_are_refused(tmp_path):
     fake_h5.write_text("not hdf5")
     with pytest.raises(InputError, match="not an HDF5 file that can be read"):
         read_test(fake_h5)
+
+
+def test_a_workspaces_other_names_are_not_read(tmp_path):
+    """MATLAB's ``y`` or ``V`` (the CSV reader's Dyke letters), a dataset named with spaces and
+    symbols, a temperature with its own unit: named in the report, the test read."""
+    t, x, f = _motion()
+    path = tmp_path / "ws.h5"
+    with h5py.File(path, "w") as h5:
+        for key, value in (("time", t), ("displacement", x), ("force", f), ("y", x), ("V", x),
+                           ("Sensor #2 (raw)", f), ("temp", 20.0 + t)):
+            h5[key] = value
+        h5["temp"].attrs["units"] = "degC"
+    test = read_test(path)
+    assert sorted(test.metadata["columns_ignored"]) == sorted(
+        ["y (2000)", "V (2000)", "Sensor #2 (raw) (2000)", "temp (2000)"])
