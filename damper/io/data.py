@@ -43,9 +43,9 @@ from benchmark.foundation.file_units import (COLUMN_ALIASES, QUANTITY_UNITS, SI_
                                              column_name_unit, si_factor, unit_key)
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
-from damper.io.screening import repair_samples, screened, screening_of, smoothed_derivative
+from damper.io.screening import clock_restarts, repair_samples, screened, screening_of, smoothed_derivative
 
-__all__ = ["DamperTest", "check_samples", "parse_row", "parse_rows", "read_csv", "build_test", "column_of", "write_csv", "read_utfsm", "parse_utfsm_name",
+__all__ = ["DamperTest", "check_samples", "parse_row", "parse_rows", "read_csv", "read_csv_parts", "build_test", "column_of", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files", "read_utfsm_raw", "raw_current_from_name", "UTFSM_RAW_CHANNELS", "UTFSM_RAW_CURRENTS", "is_utfsm_raw_file",
            "split_utfsm_raw"]
 
@@ -446,10 +446,66 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
         values or bad time stamps that too little is left.
     """
     path = Path(path)
-    if not path.exists():
-        raise DataNotFoundError(f"{path}: damper test file not found")
     if voltage is not None and current is not None:
         raise InputError("read_csv: give a constant voltage or a current, not both")
+    col, lines, metadata = _csv_columns(path)
+    return build_test(path, col, voltage=voltage, current=current, name=name or metadata.get("name") or path.stem,
+                      lines=lines, metadata=metadata, keep_flagged=keep_flagged)
+
+
+def read_csv_parts(path, voltage: float | None = None, current: float | None = None,
+                   name: str | None = None, keep_flagged: bool = False) -> list[DamperTest]:
+    """The tests of a damper test CSV file: one, or one per recording where the file's clock
+    restarts (a second recording appended, :func:`damper.io.screening.clock_restarts`).
+
+    Each part is screened on its own, named ``<name> part k`` and carries ``span_s`` and
+    ``part`` in its metadata (the report keys its screening by the file and the part).
+    :func:`read_csv` reads the first part and says the rest was dropped.
+
+    Parameters
+    ----------
+    path : path-like
+        The CSV file.
+    voltage, current : float, optional
+        Constant coil voltage [V] or current [A] for a file without that column.
+    name : str, optional
+        Label (default: the ``# name:`` comment, else the file stem).
+    keep_flagged : bool
+        Keep the flagged samples in the mask (only missing values stay out).
+
+    Raises
+    ------
+    DataNotFoundError, InputError
+        As :func:`read_csv`.
+    """
+    path = Path(path)
+    if voltage is not None and current is not None:
+        raise InputError("read_csv: give a constant voltage or a current, not both")
+    col, lines, metadata = _csv_columns(path)
+    label = name or metadata.get("name") or path.stem
+    cuts = clock_restarts(col["time"], {k: v for k, v in col.items() if k != "time"})
+    if not cuts:
+        return [build_test(path, col, voltage=voltage, current=current, name=label, lines=lines,
+                           metadata=metadata, keep_flagged=keep_flagged)]
+    bounds = [0, *cuts, col["time"].size]
+    out = []
+    for k, (a, b) in enumerate(zip(bounds, bounds[1:]), start=1):
+        part = {c: v[a:b] for c, v in col.items()}
+        out.append(build_test(path, part, voltage=voltage, current=current, name=f"{label} part {k}",
+                              lines=lines[a:b],
+                              metadata={**metadata, "part": f"{k} of {len(bounds) - 1}",
+                                        "span_s": (float(part["time"][0]), float(part["time"][-1])),
+                                        "first_line": int(lines[a])},
+                              keep_flagged=keep_flagged))
+    return out
+
+
+def _csv_columns(path: Path) -> tuple[dict[str, np.ndarray], list[int], dict]:
+    """A damper CSV file's columns in SI (NaN where a cell is empty), each row's line, and what
+    the file says of itself (comments, units, columns not used)."""
+    path = Path(path)
+    if not path.exists():
+        raise DataNotFoundError(f"{path}: damper test file not found")
     comments: dict[str, str] = {}
     header: list[str] | None = None
     header_line = 0
@@ -528,14 +584,12 @@ def read_csv(path, voltage: float | None = None, current: float | None = None,
         metadata["units_unstated"] = unstated
     if ignored:
         metadata["columns_ignored"] = ignored  # the rig's other channels, named in the report
-    return build_test(path, col, voltage=voltage, current=current,
-                             name=name or comments.get("name") or path.stem, lines=row_lines,
-                             metadata={**comments, **metadata}, keep_flagged=keep_flagged)
+    return col, row_lines, {**comments, **metadata}
 
 
 def build_test(path: Path, col: dict, voltage: float | None = None, current: float | None = None,
-                      name: str | None = None, lines: list[int] | None = None, metadata: dict | None = None,
-                      keep_flagged: bool = False) -> DamperTest:
+               name: str | None = None, lines: list[int] | None = None, metadata: dict | None = None,
+               keep_flagged: bool = False) -> DamperTest:
     """The screened test of a file's columns, already in SI (every reader of a tabular format).
 
     Parameters

@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from benchmark.foundation.errors import InputError
-from damper.io.data import (DamperTest, is_utfsm_raw_file, parse_utfsm_name, read_csv, read_utfsm, read_utfsm_raw,
-                           split_utfsm_raw)
+from damper.io.data import (DamperTest, is_utfsm_raw_file, parse_utfsm_name, read_csv, read_csv_parts, read_utfsm,
+                            read_utfsm_raw, split_utfsm_raw)
 from damper.io.arrays import is_array_file, read_arrays
 from damper.io.dyke import looks_like_dyke_file, read_dyke
 from damper.io.screening import CLIPPED_FORCE_SHARE, clipped_force_share, next_reversal, screening_of
@@ -98,7 +98,22 @@ def read_tests(path, keep_flagged: bool = False) -> list[DamperTest]:
     if p.is_file() and is_utfsm_raw_file(p):
         test = read_utfsm_raw(p, keep_flagged=keep_flagged)
         return [test] if test.current is not None else split_utfsm_raw(test, keep_flagged=keep_flagged)
+    if p.is_file() and _generic_csv(p):
+        return read_csv_parts(p, keep_flagged=keep_flagged)  # one test per recording where the clock restarts
     return [read_test(p, keep_flagged=keep_flagged)]
+
+
+def _generic_csv(p: Path) -> bool:
+    """Whether :func:`read_test` reads ``p`` as a damper CSV (no other format claims it)."""
+    if is_array_file(p) or looks_like_dyke_file(p) or is_utfsm_raw_file(p):
+        return False
+    if p.suffix.lower() == ".txt":
+        try:
+            parse_utfsm_name(p)
+        except InputError:
+            return True
+        return False
+    return True
 
 
 def count_reversals(x: np.ndarray, most: int = 2, hysteresis: float = 0.05) -> int:

@@ -20,7 +20,8 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     Repeated or backward time stamps (a logger glitch or concatenated files): the offending
     samples are dropped (:func:`repair_samples`), the step after them excluded. A backward step
     followed by :data:`RESTART_ROWS` rows or more on a clock of their own is said as a clock
-    restart (a second recording appended: split the file to use it).
+    restart (a second recording appended): :func:`damper.io.reader.read_tests`, hence the
+    commands, read each recording as a test of its own (:func:`clock_restarts`).
 ``rounded``
     Time stamps written with too few digits: the steps of a uniformly sampled test vary by
     more than :data:`ROUNDED_STEP_SPREAD` (the Dyke files: 0.1-ms stamps on a 0.333-ms step,
@@ -130,7 +131,7 @@ __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
            "clipped_force_share", "derivative_window", "smoothed_derivative", "spike_samples",
            "SPIKE_REACH", "SPIKE_MAX_RUN", "SPIKE_FACTOR", "SPIKE_SHARE_OF_RANGE", "SPIKE_MAX_SHARE",
-           "RESTART_ROWS"]
+           "RESTART_ROWS", "clock_restarts"]
 
 #: ``held``: two samples are one reading when both the displacement and the force agree to this
 #: share of their ranges (a 30-bit converter's step; the loggers' own arithmetic leaves 1e-13).
@@ -552,6 +553,39 @@ def _restarted_clock(t: np.ndarray) -> bool:
     """Whether the rows a backward time step drops run on a clock of their own: at least
     :data:`RESTART_ROWS` rows whose time increases strictly (a logger's glitch drops a few)."""
     return bool(t.size >= RESTART_ROWS and np.all(np.diff(t) > 0.0))
+
+
+def clock_restarts(time: np.ndarray, channels: dict | None = None) -> list[int]:
+    """The rows where a file's clock restarts: a second recording appended to the first.
+
+    A row ``i`` is one when the time steps back there and the :data:`RESTART_ROWS` rows from it
+    run on a clock of their own: strictly increasing and all before the time already reached
+    (a stale stamp rejoins the file's clock at the next row), and they are not copies of earlier
+    rows (a block written again: :func:`repair_samples` drops the copies with nothing lost).
+
+    Parameters
+    ----------
+    time : np.ndarray
+        The file's time column as read [s].
+    channels : dict of str to np.ndarray, optional
+        The other columns, to tell a block written again from a new recording.
+    """
+    t = np.asarray(time, dtype=float)
+    cuts: list[int] = []
+    reached = np.fmax.accumulate(t) if t.size else t
+    for i in (np.flatnonzero(np.diff(t) < 0.0) + 1).tolist():
+        run = t[i:i + RESTART_ROWS]
+        if run.size < RESTART_ROWS or not (np.all(np.diff(run) > 0.0) and run[-1] < reached[i - 1]):
+            continue
+        if channels:
+            earlier = {float(v): k for k, v in enumerate(t[:i])}
+            same = [earlier.get(float(v)) for v in run[:5]]
+            if all(j is not None for j in same) and all(
+                    np.array_equal(np.asarray(c, dtype=float)[i:i + 5], np.asarray(c, dtype=float)[same], equal_nan=True)
+                    for c in channels.values() if c is not None):
+                continue  # the rows again, not a new recording
+        cuts.append(int(i))
+    return cuts
 
 
 def derivative_window(t: np.ndarray, period: float, edge: float = 0.0, per_period: float = 40.0,
@@ -1030,7 +1064,7 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                 if text.startswith("time goes backwards") and _restarted_clock(t[a:b]):
                     # a second recording appended to the first: say so, not a glitch per row
                     text_here = (f"the clock restarts at {t[a]:g} s after {t0:g} s: the {b - a} rows from "
-                                 "there on (a second recording appended?) dropped; split the file to use them")
+                                 "there on (a second recording appended?) dropped; the commands read it as a test of its own")
                 else:
                     text_here = text
                 findings.append(Finding(kind, "time", t0, t0, b - a,
@@ -1672,6 +1706,11 @@ def screening_lines(tests: Sequence[Any], keep_flagged: bool = False) -> list[st
         ignored = (getattr(test, "metadata", None) or {}).get("columns_ignored")
         if ignored:
             lines.append(f"screening {label}: column(s) not used: {', '.join(ignored)} (the rig's other channels)")
+        part = (getattr(test, "metadata", None) or {}).get("part")
+        if part and not part.startswith("1 "):
+            first = test.metadata.get("first_line")
+            lines.append(f"screening {label}: the file's clock restarts at line {first}: part {part}, read as a "
+                         "test of its own (a recording appended to the one before)")
         if scr.estimate_line():
             lines.append(f"screening {label}: estimated {scr.estimate_line()}")
         if not scr.findings:

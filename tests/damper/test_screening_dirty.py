@@ -471,3 +471,34 @@ def test_a_second_recording_appended_after_a_clock_restart_is_said_as_such(tmp_p
     path.write_text("\n".join(glitch) + "\n")
     words = [fd.message for fd in read_csv(path, voltage=0.5).metadata["screening"].findings if fd.kind == "time"]
     assert words and not any("clock restarts" in w for w in words)
+
+
+def test_commands_read_each_recording_of_a_file_whose_clock_restarts(tmp_path):
+    """damper/io/reader.py read_tests: two recordings in one file (the clock back at 0 for the
+    second) are two tests, each screened on its own and keyed by its part in the report; a
+    stale stamp or a block written again does not split the file."""
+    from damper.io.reader import read_tests
+    from damper.io.screening import clock_restarts, screening_lines
+    first = periodic_test("virtual", 0.01, 1.0, 0.5, cycles=4, sample_rate=200.0, noise=0.01, seed=1)
+    second = periodic_test("virtual", 0.01, 2.0, 0.5, cycles=8, sample_rate=200.0, noise=0.01, seed=2)
+    rows = ["time,displacement,force,voltage"]
+    for test in (first, second):
+        rows += [f"{a!r},{b!r},{c!r},0.5" for a, b, c in zip(test.time.tolist(), test.displacement.tolist(),
+                                                              test.force.tolist())]
+    path = tmp_path / "two.csv"
+    path.write_text("\n".join(rows) + "\n")
+    one, two = read_tests(path)
+    np.testing.assert_array_equal(one.force, first.force)
+    np.testing.assert_array_equal(two.force, second.force)
+    assert (one.name, two.name) == ("two part 1", "two part 2")
+    lines = screening_lines([one, two])
+    assert any(f"two.csv (two part 2): the file's clock restarts at line {first.n_samples + 2}" in line
+               for line in lines), lines
+    t = np.arange(300) / 100.0
+    stale = t.copy()
+    stale[150] = 0.2
+    assert clock_restarts(stale) == []                     # rejoins the clock at the next row
+    again = np.r_[t, t[:150]]
+    x = np.sin(again)
+    assert clock_restarts(again, {"x": x}) == []           # the same rows written again
+    assert clock_restarts(again, {"x": np.r_[x[:300], np.cos(t[:150])]}) == [300]  # another recording
