@@ -65,13 +65,14 @@ def test_one_model_per_level_predicts_every_test(level_tests):
 def test_identify_reads_every_file_once_and_prints_levels(level_files, level_tests, tmp_path, monkeypatch,
                                                           capsys):
     calls = []
-    original = reader.read_csv
+    # the commands read a damper CSV through read_csv_parts (one test per recording of the file)
+    original = reader.read_csv_parts
 
     def counting(path, **kw):
         calls.append(str(path))
         return original(path, **kw)
 
-    monkeypatch.setattr(reader, "read_csv", counting)
+    monkeypatch.setattr(reader, "read_csv_parts", counting)
     assert main(["identify", "--data", *level_files, "--model", "normalized", "--bootstrap", "0",
                  "--no-plots", "--out", str(tmp_path)]) == 0
     assert sorted(calls) == sorted(level_files)  # each file once
