@@ -61,20 +61,35 @@ def read_test(path, keep_flagged: bool = False) -> DamperTest:
         A file that cannot be read as any of the formats (the message names the file and line).
     """
     p = Path(path)
-    if is_array_file(p):
+    kind = _file_format(p)
+    if kind == "arrays":
         return read_arrays(p, keep_flagged=keep_flagged)
+    if kind == "utfsm":
+        return read_utfsm(p, keep_flagged=keep_flagged)
+    if kind == "dyke":
+        return read_dyke(p, keep_flagged=keep_flagged)
+    if kind == "utfsm_raw":
+        return read_utfsm_raw(p, keep_flagged=keep_flagged)
+    return read_csv(p, keep_flagged=keep_flagged)
+
+
+def _file_format(p: Path) -> str:
+    """Which reader a damper-test file is for (module docstring): ``arrays``, ``utfsm``, ``dyke``,
+    ``utfsm_raw`` or ``csv``."""
+    if is_array_file(p):
+        return "arrays"
     if p.suffix.lower() == ".txt":
         try:
             parse_utfsm_name(p)
         except InputError:
             pass
         else:
-            return read_utfsm(p, keep_flagged=keep_flagged)
+            return "utfsm"
     if p.is_file() and looks_like_dyke_file(p):  # a Dyke header, complete or not (read_dyke names what is missing)
-        return read_dyke(p, keep_flagged=keep_flagged)
+        return "dyke"
     if p.is_file() and is_utfsm_raw_file(p):
-        return read_utfsm_raw(p, keep_flagged=keep_flagged)
-    return read_csv(p, keep_flagged=keep_flagged)
+        return "utfsm_raw"
+    return "csv"
 
 
 def read_tests(path, keep_flagged: bool = False) -> list[DamperTest]:
@@ -95,25 +110,13 @@ def read_tests(path, keep_flagged: bool = False) -> list[DamperTest]:
         As :func:`read_test`; a raw export whose spans of motion are not one per current.
     """
     p = Path(path)
-    if p.is_file() and is_utfsm_raw_file(p):
+    kind = _file_format(p)
+    if kind == "utfsm_raw":
         test = read_utfsm_raw(p, keep_flagged=keep_flagged)
         return [test] if test.current is not None else split_utfsm_raw(test, keep_flagged=keep_flagged)
-    if p.is_file() and _generic_csv(p):
+    if kind == "csv":
         return read_csv_parts(p, keep_flagged=keep_flagged)  # one test per recording where the clock restarts
     return [read_test(p, keep_flagged=keep_flagged)]
-
-
-def _generic_csv(p: Path) -> bool:
-    """Whether :func:`read_test` reads ``p`` as a damper CSV (no other format claims it)."""
-    if is_array_file(p) or looks_like_dyke_file(p) or is_utfsm_raw_file(p):
-        return False
-    if p.suffix.lower() == ".txt":
-        try:
-            parse_utfsm_name(p)
-        except InputError:
-            return True
-        return False
-    return True
 
 
 def count_reversals(x: np.ndarray, most: int = 2, hysteresis: float = 0.05) -> int:

@@ -549,12 +549,6 @@ def spike_samples(values: np.ndarray) -> np.ndarray:
     return out
 
 
-def _restarted_clock(t: np.ndarray) -> bool:
-    """Whether the rows a backward time step drops run on a clock of their own: at least
-    :data:`RESTART_ROWS` rows whose time increases strictly (a logger's glitch drops a few)."""
-    return bool(t.size >= RESTART_ROWS and np.all(np.diff(t) > 0.0))
-
-
 def clock_restarts(time: np.ndarray, channels: dict | None = None) -> list[int]:
     """The rows where a file's clock restarts: a second recording appended to the first.
 
@@ -1055,13 +1049,14 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                                     f"{rows.size} row(s) copy an earlier row exactly (time and every channel; "
                                     f"first at {_where(lines, int(rows[0]), label)}): the copies dropped, "
                                     "nothing lost", excluded=False))
+        restarts = set(clock_restarts(t, channels))  # the rule read_tests splits a file by
         for kind, sel, text in (("time", ~finite_t, "time stamp missing: sample dropped"),
                                 ("time", finite_t & (tt == prev) & ~exact, "repeated time stamp: sample dropped"),
                                 ("time", finite_t & (tt < prev) & ~exact, "time goes backwards: sample dropped")):
             for a, b in _runs(sel):
                 before = kept_t[:a][np.isfinite(kept_t[:a])]
                 t0 = float(before[-1]) if before.size else float(np.nanmin(kept_t))
-                if text.startswith("time goes backwards") and _restarted_clock(t[a:b]):
+                if text.startswith("time goes backwards") and a in restarts:
                     # a second recording appended to the first: say so, not a glitch per row
                     text_here = (f"the clock restarts at {t[a]:g} s after {t0:g} s: the {b - a} rows from "
                                  "there on (a second recording appended?) dropped; the commands read it as a test of its own")
