@@ -51,6 +51,13 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     interpolated, not fitted. More than :data:`SPIKE_MAX_SHARE` of the samples are something the
     channel does, not glitches: reported and left as read. Within a dominant period of a stuck,
     clipped or frozen span or a lurch they are the fault's: excluded, not reported apart.
+``lost``
+    A single sample missing from a uniform grid (a logger that missed a sample period and wrote
+    no row for it: one step of two, :func:`lost_slots`). Left as read, the double step spread the
+    steps: rounded stamps were not restored and every derivative taken on the median step was
+    off (11 % on a Dyke file with one row deleted). The slot is put back on the grid
+    (:func:`repair_samples`), the input channels interpolated through it like a held reading,
+    and the sample excluded; no settling follows it.
 ``gap``
     A time step longer than :data:`GAP_FACTOR` times the median step: the motion inside it is
     unknown.
@@ -125,7 +132,7 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
-           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
@@ -192,6 +199,9 @@ SPIKE_MAX_SHARE = 0.002
 #: ``time``: a backward step followed by at least this many rows on a clock of their own is a
 #: second recording appended, said as such.
 RESTART_ROWS = 100
+#: ``lost``: at most this share of a test's steps may be a lost sample's double step for the
+#: uniform grid to be restored with the lost slots (:func:`lost_slots`; more is irregular sampling).
+LOST_MAX_SHARE = 0.01
 #: Channels screened for stuck values (the coil input is a command: constant runs are normal).
 _MEASURED = ("force", "displacement", "velocity")
 #: A velocity column missing in more than this share of its samples is dropped (a dead channel;
@@ -204,7 +214,7 @@ VELOCITY_GAIN_TOLERANCE = 0.1
 _INPUTS = ("displacement", "velocity", "voltage", "current")
 #: Findings whose samples :func:`repair_samples` interpolates over a few slots (no fault of the
 #: rig: no settling after them, and no measurement to keep with ``--keep-flagged``).
-_INTERPOLATED = ("held", "spike")
+_INTERPOLATED = ("held", "spike", "lost")
 
 
 @dataclass(frozen=True)
@@ -214,7 +224,8 @@ class Finding:
     Attributes
     ----------
     kind : str
-        ``nan``, ``time``, ``duplicate``, ``rounded``, ``held``, ``spike``, ``difference``, ``gap``, ``stuck``, ``clipped``,
+        ``nan``, ``time``, ``duplicate``, ``rounded``, ``lost``, ``held``, ``spike``, ``difference``, ``gap``,
+        ``stuck``, ``clipped``,
         ``frozen``, ``idle``, ``velocity``, ``offset``, ``units`` or ``polarity``.
     channel : str
         The channel (``force``, ``displacement``, ``velocity``, ``voltage``, ``current``,
@@ -788,8 +799,8 @@ def rounded_time_grid(t: np.ndarray, x: np.ndarray | None = None) -> tuple[np.nd
     spread by more than :data:`ROUNDED_STEP_SPREAD` of the median step and every stamp lies
     within half its own last digit (:func:`_last_digit`; at most the median stamp's, ``q``) of the
     least-squares line ``t0 + k dt``, with a margin of ``q / 20`` for the line's own error. Irregular
-    sampling fails that test and is left alone; so does a grid with a gap or a lost sample (its
-    stamps are then kept as read).
+    sampling fails that test and is left alone; so does a grid with a gap or a lost sample (a
+    lost sample's slot is :func:`lost_slots`'s to put back, with the grid).
 
     A stamp resolution as coarse as the step itself leaves one ambiguity: a grid whose step is
     a little longer than ``q`` gives a rare step of ``2q``, and so does a lost sample on a grid of
@@ -845,6 +856,56 @@ def _lost_samples(d: np.ndarray, x: np.ndarray, median: float) -> bool:
     if not moving.any():
         return False
     return float(np.median(dx[long][moving] / beside[moving])) >= 1.5
+
+
+def lost_slots(t: np.ndarray, x: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray] | None:
+    """The uniform grid behind stamps from which single samples were lost, or ``None``.
+
+    A logger that misses a sample period and writes nothing for it leaves one step twice as long
+    as the others (on the Dyke files' 0.1-ms stamps of a 0.333-ms step: 0.7 ms among 0.3 and 0.4
+    ms). Left as read, such a step spreads the steps beyond any uniform grid: the rounding of
+    :func:`rounded_time_grid` is not restored, and every derivative taken on the median step
+    (0.3 ms there, against 0.333) is 11 % off. Accepted when each step is one or two median steps
+    (rounded to the nearest), at most :data:`LOST_MAX_SHARE` of them two, and every stamp lies on
+    one line ``t0 + k dt`` of the slot numbers ``k`` within half its last digit (with a margin of
+    a twentieth of the stamps' resolution and 1e-6 of a step). Where the stamps are as coarse as
+    half a step, a rare step of two is also what rounding gives, and a smooth channel ``x`` must
+    move across the long steps twice as far as beside them (:func:`_lost_samples`). Longer holes
+    are gaps (:data:`GAP_FACTOR`), irregular stamps stay as read.
+
+    Parameters
+    ----------
+    t : ndarray (n,)
+        Strictly increasing, finite time stamps [s].
+    x : ndarray (n,), optional
+        A smooth channel at the stamps (the displacement).
+
+    Returns
+    -------
+    (slot, grid) or None
+        The slot number of each stamp (int, ``slot[0] = 0``) and the grid's stamps
+        ``t0 + dt * arange(slot[-1] + 1)`` [s].
+    """
+    n = t.size
+    if n < 8:
+        return None
+    d = np.diff(t)
+    median = float(np.median(d))
+    if not median > 0.0:
+        return None
+    r = np.rint(d / median)
+    long = r == 2.0
+    if not long.any() or np.any((r < 1.0) | (r > 2.0)) or long.sum() > LOST_MAX_SHARE * d.size:
+        return None
+    slot = np.r_[0, np.cumsum(r.astype(np.int64))]
+    dt, t0 = np.polyfit(slot.astype(float), t, 1)
+    digit = _last_digit(t)
+    q = float(np.median(digit))
+    if not dt > 0.0 or np.any(np.abs(t - (t0 + dt * slot)) > 0.5 * np.minimum(digit, q) + 0.05 * q + 1e-6 * dt):
+        return None
+    if q >= 0.5 * dt and (x is None or not _lost_samples(d, np.asarray(x, dtype=float), median)):
+        return None
+    return slot, t0 + dt * np.arange(int(slot[-1]) + 1, dtype=float)
 
 
 def _decimal_resolution(value: float) -> float:
@@ -1066,27 +1127,56 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                                         f"{text_here} ({_where(lines, a, label)})"))
     t = t[keep]
     lines = None if lines is None else [ln for ln, k in zip(lines, keep) if k]
-    x_stamps = channels.get("displacement")
-    rounded = rounded_time_grid(t, None if x_stamps is None else np.asarray(x_stamps, dtype=float)[keep])
-    if rounded is not None:
-        grid, q, largest = rounded
-        d = np.diff(t)
-        step = (grid[-1] - grid[0]) / (grid.size - 1)
-        moved = int(np.count_nonzero(np.abs(t - grid) > 0.01 * step))
-        findings.append(Finding("rounded", "time", float(grid[0]), float(grid[-1]), moved,
-                                f"time stamps rounded to {q:g} s: steps {d.min() * 1e3:.4g}-{d.max() * 1e3:.4g} ms "
-                                f"on a uniform {step * 1e3:.4g} ms grid ({1.0 / step:.5g} Hz; stamps off it by up to "
-                                f"{largest * 1e3:.3g} ms, {100.0 * largest / step:.0f} % of a step): the grid restored",
-                                excluded=False))
-        t = grid
+    channels = {name: None if values is None else np.asarray(values, dtype=float)[keep]
+                for name, values in channels.items()}
+    # single samples lost from a uniform grid: their slots put back, missing in every channel
+    lost = np.zeros(t.size, dtype=bool)
+    slots = lost_slots(t, channels.get("displacement"))
+    if slots is not None:
+        slot, grid = slots
+        lost = np.ones(grid.size, dtype=bool)
+        lost[slot] = False
+        for name, values in channels.items():
+            if values is not None:
+                channels[name] = np.full(grid.size, np.nan)
+                channels[name][slot] = values
+        if lines is not None:  # a lost slot is named by the file line after it
+            after = np.searchsorted(slot, np.arange(grid.size))
+            lines = [lines[int(i)] for i in after]
+        stamps, t = t, grid
+        for a, b in _runs(lost):
+            findings.append(Finding("lost", "time", float(t[a]), float(t[b - 1]), b - a,
+                                    f"no row for {b - a} slot(s) of the uniform {1e3 * (t[1] - t[0]):.4g} ms grid "
+                                    "(a logger's lost sample): put back, interpolated to drive the model, "
+                                    f"not fitted ({_where(lines, a, label)})"))
+        moved = np.abs(stamps - grid[slot])
+        if np.count_nonzero(moved > 0.01 * (t[1] - t[0])):
+            q = float(np.median(_last_digit(stamps)))
+            findings.append(Finding("rounded", "time", float(t[0]), float(t[-1]),
+                                    int(np.count_nonzero(moved > 0.01 * (t[1] - t[0]))),
+                                    f"time stamps rounded to {q:g} s on a uniform {1e3 * (t[1] - t[0]):.4g} ms grid "
+                                    f"({1.0 / (t[1] - t[0]):.5g} Hz; stamps off it by up to {1e3 * moved.max():.3g} ms): "
+                                    "the grid restored", excluded=False))
+    else:
+        rounded = rounded_time_grid(t, channels.get("displacement"))
+        if rounded is not None:
+            grid, q, largest = rounded
+            d = np.diff(t)
+            step = (grid[-1] - grid[0]) / (grid.size - 1)
+            moved_n = int(np.count_nonzero(np.abs(t - grid) > 0.01 * step))
+            findings.append(Finding("rounded", "time", float(grid[0]), float(grid[-1]), moved_n,
+                                    f"time stamps rounded to {q:g} s: steps {d.min() * 1e3:.4g}-{d.max() * 1e3:.4g} ms "
+                                    f"on a uniform {step * 1e3:.4g} ms grid ({1.0 / step:.5g} Hz; stamps off it by up to "
+                                    f"{largest * 1e3:.3g} ms, {100.0 * largest / step:.0f} % of a step): the grid restored",
+                                    excluded=False))
+            t = grid
     excluded = np.zeros(t.size, dtype=bool)
     out: dict = {}
     first_bad = None
     # readings written into more than one time slot: missing values in every measured channel
     held = np.zeros(t.size, dtype=bool)
     if channels.get("displacement") is not None and channels.get("force") is not None:
-        runs_held = held_runs(np.asarray(channels["displacement"], dtype=float)[keep],
-                              np.asarray(channels["force"], dtype=float)[keep])
+        runs_held = held_runs(channels["displacement"], channels["force"])
         if _held_throughout(runs_held, t.size):
             slots = sum(b - a + 1 for a, b in runs_held)
             # repeated throughout: the file's make-up, not missed samples; said once, left as read
@@ -1108,13 +1198,13 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
         if values is None:
             out[name] = None
             continue
-        v = np.asarray(values, dtype=float)[keep]
-        if name == "velocity" and np.mean(np.isnan(v) & ~held) > DEAD_VELOCITY_SHARE:
+        v = values
+        if name == "velocity" and np.mean(np.isnan(v) & ~held & ~lost) > DEAD_VELOCITY_SHARE:
             # a dead optional channel: the displacement's derivative drives the model instead,
             # as for a file without the column (excluding its samples would empty the test)
-            lost = int(np.count_nonzero(np.isnan(v)))
+            n_missing = int(np.count_nonzero(np.isnan(v)))
             findings.append(Finding("velocity", "velocity", float(t[0]), float(t[-1]), 0,
-                                    f"the velocity column is missing in {lost} of {v.size} samples: the "
+                                    f"the velocity column is missing in {n_missing} of {v.size} samples: the "
                                     "column is dropped and the central difference of the displacement "
                                     "drives the model", excluded=False))
             out[name] = None
@@ -1148,11 +1238,12 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
             v = np.where(spiked, np.nan, v)
         bad = np.isnan(v)
         if bad.any():
-            missing = bad & ~held & ~spiked  # the file's own missing values (held slots, spikes: their findings)
+            # the file's own missing values (held slots, spikes, lost slots: their findings)
+            missing = bad & ~held & ~spiked & ~lost
             if missing.any() and (first_bad is None or int(np.argmax(missing)) < first_bad[0]):
                 first_bad = (int(np.argmax(missing)), name)
             ok = ~bad
-            for a, b in _runs(bad & ~held & ~spiked):
+            for a, b in _runs(bad & ~held & ~spiked & ~lost):
                 findings.append(Finding("nan", name, float(t[a]), float(t[b - 1]), b - a,
                                         "missing values (NaN): "
                                         + ("interpolated to drive the model" if name in _INPUTS

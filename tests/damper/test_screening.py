@@ -525,7 +525,7 @@ def test_rounded_time_stamps_are_restored_to_their_grid():
     np.round(_grid() + np.random.default_rng(1).uniform(-0.3, 0.3, 9000) / 3004.8, 4),  # jitter beyond the rounding
     np.round(_grid(rate=1.0e3), 3),                                       # rounded, but the step is a multiple of q
     1000.0 + np.round(_grid() + np.random.default_rng(2).uniform(-0.3, 0.3, 9000) / 3004.8, 4),  # the same, late
-    np.delete(np.round(_grid(), 4), 4000),                                # rounded, with a sample lost
+    np.delete(np.round(_grid() + np.random.default_rng(3).uniform(-0.3, 0.3, 9000) / 3004.8, 4), 4000),  # and a row lost
 ])
 def test_stamps_that_are_not_a_rounded_grid_are_left_alone(stamps):
     from damper.io.screening import rounded_time_grid
@@ -539,19 +539,73 @@ def test_stamps_that_are_not_a_rounded_grid_are_left_alone(stamps):
 def test_a_lost_sample_on_a_grid_as_coarse_as_its_stamps_is_not_rounding():
     # 1 kHz stamps written in ms, one row deleted mid-test: the least-squares line is off by half
     # a step on both sides, like a 999.8-Hz grid rounded to ms; the displacement moves twice as
-    # far across the long step, so the stamps are kept (they had been re-timed by 0.52 ms)
-    from damper.io.screening import rounded_time_grid
-    t = np.round(np.arange(4308) / 1e3, 3)
-    x = 0.005 * np.sin(2 * np.pi * 3.0 * t)
-    t, x = np.delete(t, 2000), np.delete(x, 2000)
+    # far across the long step, so the stamps are not re-timed (they had been by 0.52 ms): the
+    # lost slot is put back on the 1-ms grid instead
+    from damper.io.screening import lost_slots, rounded_time_grid
+    full = np.round(np.arange(4308) / 1e3, 3)
+    x_full = 0.005 * np.sin(2 * np.pi * 3.0 * full)
+    t, x = np.delete(full, 2000), np.delete(x_full, 2000)
     assert rounded_time_grid(t) is not None  # the stamps alone cannot tell
     assert rounded_time_grid(t, x) is None
-    kept, _, _, findings = repair_samples(t, {"displacement": x, "force": np.ones(t.size)})
+    assert lost_slots(t) is None  # as coarse as a step: not without the displacement's word
+    kept, channels, excluded, findings = repair_samples(t, {"displacement": x, "force": np.ones(t.size)})
     assert not [f for f in findings if f.kind == "rounded"]
-    np.testing.assert_array_equal(kept, t)
+    np.testing.assert_allclose(kept, full, rtol=0, atol=1e-9)
+    (lost,) = [f for f in findings if f.kind == "lost"]
+    assert lost.n_samples == 1 and lost.t_start == pytest.approx(2.0) and lost.excluded
+    assert np.flatnonzero(excluded).tolist() == [2000]
+    # interpolated through the slot: a sine's chord over 2 ms, off the true value by ~x (w dt)^2 / 2
+    assert abs(channels["displacement"][2000] - x_full[2000]) < 1e-6
     # a grid that is rounded indeed (steps of 1 and 2 ms on 1.5 ms) keeps its finding with x
     true = np.arange(3000) * 1.5e-3
     assert rounded_time_grid(np.round(true, 3), 0.005 * np.sin(2 * np.pi * 3.0 * true)) is not None
+
+
+@pytest.mark.parametrize("rounded", [True, False])
+def test_a_lost_sample_is_put_back_on_the_grid(rounded):
+    """One or two rows missing from a uniform grid (a logger's lost sample period): left as read,
+    the double step spread the steps, the rounded stamps were not restored and the screening's
+    derivative, taken on the median step (0.3 ms on the 0.333-ms grid), put the velocity's gain
+    at 0.95. The slots are put back, interpolated and excluded, and the grid restored."""
+    from damper.io.screening import velocity_scale
+    true = _grid(12000)
+    x_true = 0.004 * np.sin(2 * np.pi * 1.7 * true) + 0.001 * np.sin(2 * np.pi * 11.0 * true)
+    v_true = np.gradient(x_true, true)
+    lost_at = [3000, 7001]
+    t = np.delete(np.round(true, 4) if rounded else true, lost_at)
+    x, v = np.delete(x_true, lost_at), np.delete(v_true, lost_at)
+    f = np.delete(300.0 * np.tanh(v_true / 0.02), lost_at)
+    kept, channels, excluded, findings = repair_samples(t, {"displacement": x, "velocity": v, "force": f},
+                                                        label="r.csv", lines=list(range(2, t.size + 2)))
+    # the least-squares line through n stamps rounded to q is off by ~q/sqrt(n): far below q
+    np.testing.assert_allclose(kept, true, rtol=0, atol=0.02e-4 if rounded else 1e-12)
+    lost = [fd for fd in findings if fd.kind == "lost"]
+    assert [fd.n_samples for fd in lost] == [1, 1] and all(fd.excluded for fd in lost)
+    assert "r.csv:3002" in lost[0].message  # the file line after the lost slot
+    assert np.flatnonzero(excluded).tolist() == lost_at
+    assert bool([fd for fd in findings if fd.kind == "rounded"]) == rounded
+    assert not [fd for fd in findings if fd.kind == "nan"]  # the slots are the lost finding's
+    for name, truth in (("displacement", x_true), ("velocity", v_true)):
+        assert np.all(np.isfinite(channels[name]))
+        np.testing.assert_allclose(channels[name][lost_at], truth[lost_at], atol=0.01 * np.ptp(truth))
+    assert velocity_scale(kept, channels["displacement"], channels["velocity"], ~excluded) == pytest.approx(1.0, abs=0.01)
+    # screened as a test: the slots are interpolated readings, no fault of the rig: nothing settles after them
+    test = screened(DamperTest(kept, channels["displacement"], channels["velocity"], channels["force"],
+                               mask=~excluded, name="r"), prior=findings, prior_excluded=excluded)
+    result = test.metadata["screening"]
+    assert not [fd for fd in result.findings if fd.kind in ("settling", "gap", "velocity")]
+    assert int((~result.usable).sum()) == 2
+
+
+def test_irregular_or_holed_stamps_get_no_lost_slots():
+    from damper.io.screening import lost_slots
+    true = _grid(6000)
+    rng = np.random.default_rng(4)
+    assert lost_slots(np.delete(true, [100, 101])) is None        # two in a row: a gap, not a lost sample
+    assert lost_slots(np.delete(true, rng.choice(5990, 120, replace=False) + 5)) is None  # 2 %: irregular
+    jitter = np.delete(true + rng.normal(0.0, 0.05 / 3004.8, true.size), 3000)
+    assert lost_slots(jitter) is None                             # a clock's jitter is not a grid
+    assert lost_slots(true) is None                               # nothing lost
 
 
 def test_dyke_time_stamps_are_rounded_and_restored(shared_dir):
