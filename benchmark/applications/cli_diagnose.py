@@ -40,6 +40,7 @@ from damper.io.reader import read_usable, unique_names
 from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
+from damper.diagnosis.interference import interference_lines
 from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import format_parameters, input_word, residual_not_white, write_report
@@ -206,6 +207,8 @@ def run(args) -> int:
             print(f"the measured force is {1e3 * al['shift_s']:+.3g} ms ({al['shift_samples']:+.1f} samples) off "
                   f"the final model (error {al['error_unshifted']:.4f} -> {al['error_shifted']:.4f} if shifted): "
                   "check the force and motion channels' timing; nothing was shifted")
+        for line in interference_lines(getattr(result, "interference", None)):
+            print(line)
         if result.settings.get("stopped_by_budget"):
             print(f"stopped by the time budget ({result.settings['time_budget']:g} s): the model "
                   "so far is reported")

@@ -31,6 +31,7 @@ import numpy as np
 
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.diagnosis.alignment import force_alignment
+from damper.diagnosis.interference import interference_lines, mains_lines
 from damper.diagnosis.augmented import AugmentedModel, base_at_bounds, refit
 from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base, fit_spencer_base
@@ -144,6 +145,9 @@ class Diagnosis:
     alignment : dict or None
         The measured force's time shift against the final model
         (:func:`damper.diagnosis.alignment.force_alignment`); None when it cannot be searched.
+    interference : dict or None
+        Mains lines of the final residual (:func:`damper.diagnosis.interference.mains_lines`:
+        ``lines``, ``searched``, ``error``, ``error_without``); None when no test could be searched.
     validation_histories : tuple of ValidationHistory
         The ``cross_validate`` recordings with both models' forces, for the report's figure
         (not in the JSON).
@@ -170,6 +174,7 @@ class Diagnosis:
     validation: dict | None = None
     alignment: dict | None = None
     validation_histories: tuple = field(default=(), repr=False)
+    interference: dict | None = None
     forces_before: tuple = field(default=(), repr=False)
     forces_after: tuple = field(default=(), repr=False)
 
@@ -195,7 +200,8 @@ class Diagnosis:
         :func:`damper.diagnosis.augmented.base_at_bounds`), ``validation`` (errors on the
         ``cross_validate`` recordings) when there are some, and
         ``force_alignment`` (the measured force's time shift against the final model,
-        :func:`damper.diagnosis.alignment.force_alignment`).
+        :func:`damper.diagnosis.alignment.force_alignment`) and ``interference`` (mains lines of the
+        final residual, :func:`damper.diagnosis.interference.mains_lines`) when they could be searched.
         """
         final_effects = {e.name: e.parameters for e in self.final_model.effects}
         return {
@@ -226,6 +232,10 @@ class Diagnosis:
             "settings": dict(self.settings),
             **({} if self.validation is None else {"validation": self.validation}),
             **({} if self.alignment is None else {"force_alignment": dict(self.alignment)}),
+            **({} if self.interference is None else {"interference": {
+                **self.interference,
+                "lines": [{k: (float(v) if isinstance(v, (float, np.floating)) else v) for k, v in line.items()}
+                          for line in self.interference["lines"]]}}),
         }
 
 
@@ -641,6 +651,12 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
         say(f"the measured force is {1e3 * alignment['shift_s']:+.3g} ms ({alignment['shift_samples']:+.1f} "
             f"samples) off the final model: error {alignment['error_unshifted']:.4f} -> "
             f"{alignment['error_shifted']:.4f} if shifted; check the channels' timing")
+    # a mains hum on the force channel: a line of the residual no motion drives
+    interference = mains_lines([m.name for m in data.motions], [m.t for m in data.motions], data.forces,
+                               forces_after, [m.xdot for m in data.motions],
+                               [tr | ho for tr, ho in zip(data.train, data.heldout)], data.heldout)
+    for line in interference_lines(interference):
+        say(line)
     for s in selection.steps:
         say(f"added {s.name} {s.parameters}: held-out error {s.error_before:.4f} -> {s.error_after:.4f}")
     if where:
@@ -669,5 +685,6 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                      unexplained=bool(where), unexplained_in=where, errors_by_test=by_test,
                      errors_by_input=by_input, settings=settings, validation=validation,
                      alignment=alignment, validation_histories=validation_histories,
+                     interference=interference,
                      forces_before=tuple(forces_before), forces_after=tuple(forces_after))
 

@@ -30,6 +30,7 @@ from benchmark.foundation.figures import save_figure
 from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
 from damper.diagnosis.effects import EFFECTS
+from damper.diagnosis.interference import interference_lines
 from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.io.screening import screening_lines, screening_summary
 from damper.lab.plots import draw_loops
@@ -508,6 +509,8 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
             lines[-1:-1] = [f"- Force channel against the final model: best alignment at {1e3 * al['shift_s']:+.3g} ms "
                             f"({al['shift_samples']:+.2f} samples, searched ±{1e3 * al['searched_s']:.3g} ms): "
                             "no skew between force and motion channels."]
+    lines[-1:-1] = [f"- **{text[0].upper()}{text[1:]}**." if "interference" in text else f"- {text[0].upper()}{text[1:]}."
+                    for text in interference_lines(getattr(d, "interference", None))]
     if d.settings.get("coarse_windows"):
         lines[-1:-1] = [f"- The base fit and the effect selection ran on {d.settings['coarse_windows']} windows of "
                         f"the tests (one sample in {d.settings.get('decimation')}, each window simulated from "
