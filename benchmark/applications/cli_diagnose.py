@@ -209,6 +209,9 @@ def run(args) -> int:
                   "check the force and motion channels' timing; nothing was shifted")
         for line in interference_lines(getattr(result, "interference", None)):
             print(line)
+        if result.settings.get("dropped_at_full_rate"):
+            print(f"left out: {', '.join(result.settings['dropped_at_full_rate'])} (chosen on the coarse pass, "
+                  "no lower held-out error at every sample)")
         if result.settings.get("stopped_by_budget"):
             print(f"stopped by the time budget ({result.settings['time_budget']:g} s): the model "
                   "so far is reported")

@@ -636,8 +636,21 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     if work is not data and selection.steps:  # the model's tolerance at every sample
         final = _polish(final, data, nodes, polish_nfev, tolerance, say, "final model")
     forces_after = [final.force(m) for m in data.motions]
+    dropped: list[str] = []
     if work is not data and selection.steps:  # the steps' errors at every sample
         selection = _full_rate_steps(selection, final, data, forces_before, forces_after)
+        # an effect chosen on the coarse pass that does not lower the held-out error at every
+        # sample did not pay: the last such steps go (a probe's noisy copy of ranran_50 had
+        # ended with fade at 0.1305 -> 0.1309); an earlier step stays, the later ones build on it
+        while selection.steps and selection.steps[-1].error_after >= selection.steps[-1].error_before:
+            last = selection.steps[-1]
+            say(f"{last.name}: held-out error at every sample {last.error_before:.4f} -> {last.error_after:.4f}; "
+                "it paid on the coarse pass only: left out")
+            dropped.append(last.name)
+            steps = selection.steps[:-1]
+            final = steps[-1].model if steps else base
+            selection = SelectionResult(final, steps, selection.rounds, selection.stopped_by_budget)
+            forces_after = [final.force(m) for m in data.motions]
     residual_after = data.measured("heldout") - data.concat(forces_after, "heldout")
     error_after = float(np.linalg.norm(residual_after) / norm_h)
     trace_after = trace_residual(residual_after, signals)
@@ -672,6 +685,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                 "coarse_windows": n_windows,
                 "tolerance": tolerance, "trace_share": trace_share, "joint_trials": joint_trials,
                 "time_budget": time_budget, "stopped_by_budget": selection.stopped_by_budget,
+                "dropped_at_full_rate": dropped,
                 "seconds": round(say.elapsed, 3)}
     validation, validation_histories = None, ()
     if recordings is not None:

@@ -511,6 +511,9 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
                             "no skew between force and motion channels."]
     lines[-1:-1] = [f"- **{text[0].upper()}{text[1:]}**." if "interference" in text else f"- {text[0].upper()}{text[1:]}."
                     for text in interference_lines(getattr(d, "interference", None))]
+    if d.settings.get("dropped_at_full_rate"):
+        lines[-1:-1] = [f"- Left out: {', '.join(d.settings['dropped_at_full_rate'])}, chosen on the coarse pass "
+                        "but without a lower held-out error over every sample."]
     if d.settings.get("coarse_windows"):
         lines[-1:-1] = [f"- The base fit and the effect selection ran on {d.settings['coarse_windows']} windows of "
                         f"the tests (one sample in {d.settings.get('decimation')}, each window simulated from "

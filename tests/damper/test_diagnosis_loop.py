@@ -106,6 +106,36 @@ def test_the_diagnosis_keeps_the_forces_its_errors_come_from(monkeypatch):
         report.model_forces(dataclasses.replace(d, forces_before=(), forces_after=()))
 
 
+def test_an_effect_that_pays_on_the_coarse_pass_only_is_left_out(monkeypatch):
+    """The coarse pass chooses, every sample judges: a last step whose held-out error at every
+    sample does not fall (a noisy copy of ranran_50 had ended with fade at 0.1305 -> 0.1309) is
+    left out, said, and the final model, its forces and its error are the step before's."""
+    import damper.diagnosis.loop as loop
+
+    rescore = loop._full_rate_steps
+
+    def worse_last_step(selection, final, data, before, after):
+        result = rescore(selection, final, data, before, after)
+        last = result.steps[-1]
+        return dataclasses.replace(result, steps=result.steps[:-1] + (
+            dataclasses.replace(last, error_after=last.error_before + 1e-4),))
+
+    monkeypatch.setattr(loop, "_full_rate_steps", worse_last_step)
+    tests = sinusoidal_tests(_device(Stiffness(3e4)), noise=0.01, seed=1, samples_per_cycle=800)
+    lines: list[str] = []
+    d = diagnose(tests, coarse_samples=1500, progress=lines.append)
+    assert d.settings["dropped_at_full_rate"] == ["stiffness"]
+    assert d.effects == [] and d.final_model.effects == ()
+    assert any("stiffness: held-out error at every sample" in ln and "left out" in ln for ln in lines)
+    # the final model is the base: its forces and error are the base's
+    assert d.error_after == pytest.approx(d.error_before, rel=1e-12)
+    for m, f in zip(d.data.motions, d.forces_after):
+        np.testing.assert_array_equal(f, d.final_model.force(m))
+    monkeypatch.setattr(loop, "_full_rate_steps", rescore)
+    kept = diagnose(tests, coarse_samples=1500)
+    assert kept.effects == ["stiffness"] and kept.settings["dropped_at_full_rate"] == []
+
+
 def test_device_without_effect_gets_none():
     d = diagnose(sinusoidal_tests(_device(), noise=0.01, seed=11))
     assert d.effects == []
