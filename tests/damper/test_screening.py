@@ -597,6 +597,20 @@ def test_a_lost_sample_is_put_back_on_the_grid(rounded):
     assert int((~result.usable).sum()) == 2
 
 
+def test_a_derivative_over_uneven_stamps_takes_the_mean_step():
+    """Stamps rounded to 0.1 ms that no single grid explains (a file spliced from two, its second
+    half 0.02 ms off) stay as read; their steps of 0.3 and 0.4 ms on a 0.333-ms grid have a
+    median of 0.3 ms, which had put the velocity's gain against d(x)/dt at 0.90 (a "unit or gain
+    error", and a good velocity column replaced). The mean step gives 1."""
+    from damper.io.screening import lost_slots, rounded_time_grid, velocity_scale
+    true = _grid(12000)
+    stamps = np.round(true, 4) + np.where(np.arange(true.size) >= 6000, 2e-5, 0.0)
+    assert rounded_time_grid(stamps) is None and lost_slots(stamps) is None
+    x = 0.004 * np.sin(2 * np.pi * 1.7 * true) + 0.001 * np.sin(2 * np.pi * 11.0 * true)
+    v = np.gradient(x, true)
+    assert velocity_scale(stamps, x, v) == pytest.approx(1.0, abs=0.01)
+
+
 def test_irregular_or_holed_stamps_get_no_lost_slots():
     from damper.io.screening import lost_slots
     true = _grid(6000)
