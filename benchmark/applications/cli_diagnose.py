@@ -207,8 +207,8 @@ def run(args) -> int:
             print(f"the measured force is {1e3 * al['shift_s']:+.3g} ms ({al['shift_samples']:+.1f} samples) off "
                   f"the final model (error {al['error_unshifted']:.4f} -> {al['error_shifted']:.4f} if shifted): "
                   "check the force and motion channels' timing; nothing was shifted")
-        for line in interference_lines(getattr(result, "interference", None)):
-            print(line)
+        for text, _ in interference_lines(getattr(result, "interference", None)):
+            print(text)
         if result.settings.get("dropped_at_full_rate"):
             print(f"left out: {', '.join(result.settings['dropped_at_full_rate'])} (chosen on the coarse pass, "
                   "no lower held-out error at every sample)")

@@ -147,7 +147,8 @@ class Diagnosis:
         (:func:`damper.diagnosis.alignment.force_alignment`); None when it cannot be searched.
     interference : dict or None
         Mains lines of the final residual (:func:`damper.diagnosis.interference.mains_lines`:
-        ``lines``, ``searched``, ``error``, ``error_without``); None when no test could be searched.
+        ``lines``, ``searched``, ``tests``, ``error``, ``error_without``,
+        ``error_without_by_frequency``); None when no test could be searched.
     validation_histories : tuple of ValidationHistory
         The ``cross_validate`` recordings with both models' forces, for the report's figure
         (not in the JSON).
@@ -234,8 +235,8 @@ class Diagnosis:
             **({} if self.alignment is None else {"force_alignment": dict(self.alignment)}),
             **({} if self.interference is None else {"interference": {
                 **self.interference,
-                "lines": [{k: (float(v) if isinstance(v, (float, np.floating)) else v) for k, v in line.items()}
-                          for line in self.interference["lines"]]}}),
+                "error_without_by_frequency": {f"{k:g}": v for k, v in
+                                               self.interference["error_without_by_frequency"].items()}}}),
         }
 
 
@@ -651,6 +652,13 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
             final = steps[-1].model if steps else base
             selection = SelectionResult(final, steps, selection.rounds, selection.stopped_by_budget)
             forces_after = [final.force(m) for m in data.motions]
+        if dropped and selection.steps and polish_nfev > 0:
+            # the model the loop ends with is polished on every sample, as the dropped one was
+            final = _polish(final, data, nodes, polish_nfev, tolerance, say, "final model")
+            forces_after = [final.force(m) for m in data.motions]
+            last = replace(selection.steps[-1], model=final,
+                           error_after=data.relative_error(None, "heldout", forces=forces_after))
+            selection = replace(selection, model=final, steps=selection.steps[:-1] + (last,))
     residual_after = data.measured("heldout") - data.concat(forces_after, "heldout")
     error_after = float(np.linalg.norm(residual_after) / norm_h)
     trace_after = trace_residual(residual_after, signals)
@@ -666,10 +674,10 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
             f"{alignment['error_shifted']:.4f} if shifted; check the channels' timing")
     # a mains hum on the force channel: a line of the residual no motion drives
     interference = mains_lines([m.name for m in data.motions], [m.t for m in data.motions], data.forces,
-                               forces_after, [m.xdot for m in data.motions],
+                               forces_after, [m.x for m in data.motions], [m.xdot for m in data.motions],
                                [tr | ho for tr, ho in zip(data.train, data.heldout)], data.heldout)
-    for line in interference_lines(interference):
-        say(line)
+    for text, _ in interference_lines(interference):
+        say(text)
     for s in selection.steps:
         say(f"added {s.name} {s.parameters}: held-out error {s.error_before:.4f} -> {s.error_after:.4f}")
     if where:

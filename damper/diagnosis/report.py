@@ -509,8 +509,12 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
             lines[-1:-1] = [f"- Force channel against the final model: best alignment at {1e3 * al['shift_s']:+.3g} ms "
                             f"({al['shift_samples']:+.2f} samples, searched ±{1e3 * al['searched_s']:.3g} ms): "
                             "no skew between force and motion channels."]
-    lines[-1:-1] = [f"- **{text[0].upper()}{text[1:]}**." if "interference" in text else f"- {text[0].upper()}{text[1:]}."
-                    for text in interference_lines(getattr(d, "interference", None))]
+    found = getattr(d, "interference", None)
+    lines[-1:-1] = [f"- **{text[0].upper()}{text[1:]}**." if finding else f"- {text[0].upper()}{text[1:]}."
+                    for text, finding in interference_lines(found)]
+    if found is not None and not found["lines"]:
+        lines[-1:-1] = [f"- Mains lines (50 or 60 Hz and harmonics) in the final residual: none in the "
+                        f"{len(found['searched'])} of {found['tests']} test(s) long and uniform enough to search."]
     if d.settings.get("dropped_at_full_rate"):
         lines[-1:-1] = [f"- Left out: {', '.join(d.settings['dropped_at_full_rate'])}, chosen on the coarse pass "
                         "but without a lower held-out error over every sample."]
@@ -543,8 +547,10 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
         lines.append(f"**Round {r}.** Screening: " + ", ".join(
             f"`{s.name}` {s.score:.3f}" + (f" ({s.reason})" if s.reason else "")
             for s in sorted(screens.values(), key=lambda s: -s.score)) + ".")
+        dropped = set(d.settings.get("dropped_at_full_rate") or ())
         for t in trials:
-            verdict = "**added**" if t.accepted else "not added"
+            verdict = ("added on the coarse pass, left out (no lower held-out error over every sample)"
+                       if t.accepted and t.name in dropped else "**added**" if t.accepted else "not added")
             lines.append(f"- `{t.name}`: held-out error {t.error:.4f}, BIC change {t.bic_delta:+.1f}, "
                          f"{_fmt_params(t.parameters, t.name)} — {verdict}" + (f" ({t.note})" if t.note else ""))
         lines.append("")

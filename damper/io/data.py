@@ -43,7 +43,8 @@ from benchmark.foundation.file_units import (COLUMN_ALIASES, QUANTITY_UNITS, SI_
                                              column_name_unit, si_factor, unit_key)
 from benchmark.foundation.paths import shared_dir as _shared
 from benchmark.foundation.textfile import parse_float, read_text
-from damper.io.screening import clock_restarts, repair_samples, screened, screening_of, smoothed_derivative
+from damper.io.screening import (clock_restarts, filled_samples, repair_samples, screened, screening_of,
+                                 smoothed_derivative)
 
 __all__ = ["DamperTest", "check_samples", "parse_row", "parse_rows", "read_csv", "read_csv_parts", "build_test", "column_of", "write_csv", "read_utfsm", "parse_utfsm_name",
            "utfsm_files", "read_utfsm_raw", "raw_current_from_name", "UTFSM_RAW_CHANNELS", "UTFSM_RAW_CURRENTS", "is_utfsm_raw_file",
@@ -932,8 +933,12 @@ def split_utfsm_raw(test: DamperTest, currents=UTFSM_RAW_CURRENTS, keep_flagged:
                          f"({', '.join(f'{v:.4g}' for v in peaks)} N, 95th percentiles) does not rise with "
                          f"the coil currents {', '.join(f'{c:g}' for c in currents)} A assumed in order")
     metadata = {k: v for k, v in test.metadata.items() if k != "screening"}
+    findings = screening_of(test).findings
     out = []
     for (a, b), current in zip(runs, currents):
+        # what the reader filled in the level (missing values, held readings, spikes, lost
+        # slots) carries no measurement: it stays out of the level's fit and error
+        prior, filled = filled_samples(findings, t[a:b])
         level = DamperTest(time=t[a:b], displacement=np.asarray(test.displacement)[a:b],
                            velocity=np.asarray(test.velocity)[a:b], force=np.asarray(test.force)[a:b],
                            current=np.full(b - a, float(current)), name=f"{test.name} {current:g} A",
@@ -941,7 +946,7 @@ def split_utfsm_raw(test: DamperTest, currents=UTFSM_RAW_CURRENTS, keep_flagged:
                            metadata={**metadata, "current_from": "the order of the levels in the file "
                                                                  "(UTFSM_RAW_CURRENTS)",
                                      "span_s": (float(t[a]), float(t[b - 1]))})
-        out.append(screened(level, keep_flagged=keep_flagged))
+        out.append(screened(level, prior=prior, prior_excluded=filled, keep_flagged=keep_flagged))
     return out
 
 

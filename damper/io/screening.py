@@ -132,7 +132,7 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
-           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "filled_samples", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
@@ -851,7 +851,11 @@ def _lost_samples(d: np.ndarray, x: np.ndarray, median: float) -> bool:
     dx = np.abs(np.diff(x))
     long = np.flatnonzero(d >= 1.5 * median)
     long = long[(long > 0) & (long < d.size - 1)]
-    if long.size == 0 or long.size > 0.05 * d.size or not np.all(np.isfinite(dx)):
+    if long.size == 0 or long.size > 0.05 * d.size:
+        return False
+    # a long step next to a missing value (NaN, filled later) cannot be judged; the others can
+    long = long[np.isfinite(dx[long - 1]) & np.isfinite(dx[long]) & np.isfinite(dx[long + 1])]
+    if long.size == 0:
         return False
     beside = 0.5 * (dx[long - 1] + dx[long + 1])
     moving = beside > 1e-6 * (float(np.ptp(x[np.isfinite(x)])) if np.isfinite(x).any() else 0.0)
@@ -873,7 +877,9 @@ def lost_slots(t: np.ndarray, x: np.ndarray | None = None) -> tuple[np.ndarray, 
     a twentieth of the stamps' resolution and 1e-6 of a step). Where the stamps are as coarse as
     half a step, a rare step of two is also what rounding gives, and a smooth channel ``x`` must
     move across the long steps twice as far as beside them (:func:`_lost_samples`). Longer holes
-    are gaps (:data:`GAP_FACTOR`), irregular stamps stay as read.
+    are gaps (:data:`GAP_FACTOR`), irregular stamps stay as read; a file with such a gap anywhere,
+    or too short for one double step to be within :data:`LOST_MAX_SHARE` of its steps (about
+    100 samples), keeps its stamps as read.
 
     Parameters
     ----------
@@ -1049,6 +1055,19 @@ def _copies_of_kept_rows(t: np.ndarray, keep: np.ndarray, channels: dict) -> np.
     return out
 
 
+def _rounded_finding(stamps: np.ndarray, grid: np.ndarray, q: float) -> Finding:
+    """The ``rounded`` finding of stamps restored to ``grid`` (the same samples), written to ``q``."""
+    d = np.diff(stamps)
+    step = float((grid[-1] - grid[0]) / (grid.size - 1))
+    off = np.abs(stamps - grid)
+    largest = float(off.max())
+    return Finding("rounded", "time", float(grid[0]), float(grid[-1]), int(np.count_nonzero(off > 0.01 * step)),
+                   f"time stamps rounded to {q:g} s: steps {d.min() * 1e3:.4g}-{d.max() * 1e3:.4g} ms "
+                   f"on a uniform {step * 1e3:.4g} ms grid ({1.0 / step:.5g} Hz; stamps off it by up to "
+                   f"{largest * 1e3:.3g} ms, {100.0 * largest / step:.0f} % of a step): the grid restored",
+                   excluded=False)
+
+
 def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                    lines: Sequence[int] | None = None, min_usable: int = 10,
                    keep_flagged: bool = False) -> tuple[np.ndarray, dict, np.ndarray, list]:
@@ -1133,9 +1152,9 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                 for name, values in channels.items()}
     # single samples lost from a uniform grid: their slots put back, missing in every channel
     lost = np.zeros(t.size, dtype=bool)
-    slots = lost_slots(t, channels.get("displacement"))
-    if slots is not None:
-        slot, grid = slots
+    restored = lost_slots(t, channels.get("displacement"))
+    if restored is not None:
+        slot, grid = restored
         lost = np.ones(grid.size, dtype=bool)
         lost[slot] = False
         for name, values in channels.items():
@@ -1151,26 +1170,13 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                                     f"no row for {b - a} slot(s) of the uniform {1e3 * (t[1] - t[0]):.4g} ms grid "
                                     "(a logger's lost sample): put back, interpolated to drive the model, "
                                     f"not fitted ({_where(lines, a, label)})"))
-        moved = np.abs(stamps - grid[slot])
-        if np.count_nonzero(moved > 0.01 * (t[1] - t[0])):
-            q = float(np.median(_last_digit(stamps)))
-            findings.append(Finding("rounded", "time", float(t[0]), float(t[-1]),
-                                    int(np.count_nonzero(moved > 0.01 * (t[1] - t[0]))),
-                                    f"time stamps rounded to {q:g} s on a uniform {1e3 * (t[1] - t[0]):.4g} ms grid "
-                                    f"({1.0 / (t[1] - t[0]):.5g} Hz; stamps off it by up to {1e3 * moved.max():.3g} ms): "
-                                    "the grid restored", excluded=False))
+        if np.any(np.abs(stamps - grid[slot]) > 0.01 * (t[1] - t[0])):
+            findings.append(_rounded_finding(stamps, grid[slot], float(np.median(_last_digit(stamps)))))
     else:
         rounded = rounded_time_grid(t, channels.get("displacement"))
         if rounded is not None:
-            grid, q, largest = rounded
-            d = np.diff(t)
-            step = (grid[-1] - grid[0]) / (grid.size - 1)
-            moved_n = int(np.count_nonzero(np.abs(t - grid) > 0.01 * step))
-            findings.append(Finding("rounded", "time", float(grid[0]), float(grid[-1]), moved_n,
-                                    f"time stamps rounded to {q:g} s: steps {d.min() * 1e3:.4g}-{d.max() * 1e3:.4g} ms "
-                                    f"on a uniform {step * 1e3:.4g} ms grid ({1.0 / step:.5g} Hz; stamps off it by up to "
-                                    f"{largest * 1e3:.3g} ms, {100.0 * largest / step:.0f} % of a step): the grid restored",
-                                    excluded=False))
+            grid, q, _ = rounded
+            findings.append(_rounded_finding(t, grid, q))
             t = grid
     excluded = np.zeros(t.size, dtype=bool)
     out: dict = {}
@@ -1204,7 +1210,7 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
         if name == "velocity" and np.mean(np.isnan(v) & ~held & ~lost) > DEAD_VELOCITY_SHARE:
             # a dead optional channel: the displacement's derivative drives the model instead,
             # as for a file without the column (excluding its samples would empty the test)
-            n_missing = int(np.count_nonzero(np.isnan(v)))
+            n_missing = int(np.count_nonzero(np.isnan(v) & ~lost))
             findings.append(Finding("velocity", "velocity", float(t[0]), float(t[-1]), 0,
                                     f"the velocity column is missing in {n_missing} of {v.size} samples: the "
                                     "column is dropped and the central difference of the displacement "
@@ -1680,12 +1686,35 @@ def keep_flagged(test: Any) -> Any:
     result = test.metadata.get("screening")
     mask = None
     if result is not None:
-        filled = np.zeros(test.n_samples, dtype=bool)
-        for fd in result.findings:
-            if fd.kind == "nan" or (fd.kind in _INTERPOLATED and fd.excluded):  # interpolated when read
-                filled |= (test.time >= fd.t_start) & (test.time <= fd.t_end)
+        filled = filled_samples(result.findings, test.time)[1]
         mask = None if not filled.any() else ~filled
     return dataclasses.replace(test, mask=mask)
+
+
+def filled_samples(findings: Sequence[Finding], time: np.ndarray) -> tuple[list, np.ndarray]:
+    """The findings of samples that carry no measurement (missing values filled, held readings,
+    spikes and lost slots interpolated when read: :func:`repair_samples`) and those samples.
+
+    Parameters
+    ----------
+    findings : sequence of Finding
+        A test's findings.
+    time : ndarray (n,)
+        The samples' times [s] (a part of the test's may be given: the findings over it count).
+
+    Returns
+    -------
+    (list of Finding, ndarray of bool)
+    """
+    t = np.asarray(time, dtype=float)
+    kept, filled = [], np.zeros(t.size, dtype=bool)
+    for fd in findings:
+        if fd.kind == "nan" or (fd.kind in _INTERPOLATED and fd.excluded):
+            sel = (t >= fd.t_start) & (t <= fd.t_end)
+            if sel.any():
+                kept.append(fd)
+                filled |= sel
+    return kept, filled
 
 
 def screening_of(test: Any) -> Screening:

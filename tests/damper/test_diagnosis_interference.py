@@ -33,7 +33,12 @@ def _search(t, measured, predicted, velocity, scored=None):
     mask = np.ones(t.size, bool) if scored is None else scored
     held = np.zeros(t.size, bool)
     held[int(0.75 * t.size):] = True
-    return mains_lines(["test"], [t], [measured], [predicted], [velocity], [mask], [held & mask])
+    f_test = _search.f_test
+    displacement = 0.01 * np.sin(2 * np.pi * f_test * t)
+    return mains_lines(["test"], [t], [measured], [predicted], [displacement], [velocity], [mask], [held & mask])
+
+
+_search.f_test = 1.0  # the displacement's frequency, set by the tests that change it
 
 
 @pytest.mark.parametrize("hum_hz, rate", [(50.0, 1000.0), (60.0, 1000.0), (50.0, 200.0), (120.0, 3000.0)])
@@ -46,18 +51,34 @@ def test_a_hum_is_found_with_its_amplitude(hum_hz, rate):
     assert line["amplitude_n"] == pytest.approx(25.0, rel=0.03)
     assert not line["in_motion"] and line["ratio"] >= LINE_RATIO
     assert result["error_without"] < result["error"]
-    (text,) = interference_lines(result)
-    assert f"{hum_hz:g}-Hz line" in text and "mains interference" in text
+    assert result["error_without_by_frequency"] == {round(hum_hz): result["error_without"]}
+    ((text, finding),) = interference_lines(result)
+    assert f"{hum_hz:g}-Hz line" in text and "mains interference" in text and finding
 
 
-@pytest.mark.parametrize("f_test", [1.0, 5.0, 0.5])
-def test_a_residual_without_hum_has_no_line(f_test):
-    """The residual's own harmonic series (odd harmonics at 49 and 51 Hz for a 1-Hz test, 45
-    and 55 Hz at 5 Hz) stands out of no band: no line."""
+@pytest.mark.parametrize("f_test", [1.0, 5.0, 0.5, 50 / 7, 10.0, 12.5, 15.0, 20.0, 25.0])
+def test_a_residual_without_hum_has_no_line(monkeypatch, f_test):
+    """The residual's own harmonic series stands out of no band: odd harmonics at 49 and 51 Hz
+    for a 1-Hz test, 45 and 55 Hz at 5 Hz; a 7.14-Hz test's 7th harmonic at 50 Hz, a 20-Hz
+    test's 3rd at 60 Hz and 5th at 100 Hz against the harmonics two orders away, which the band
+    (2.5 test frequencies at least) holds (a review had found them flagged at 10-25 Hz)."""
+    monkeypatch.setattr(_search, "f_test", f_test)
     t, f, p, v = _residual_case(f_test=f_test)
     result = _search(t, f, p, v)
     assert result["lines"] == [] and result["error_without"] == result["error"]
     assert interference_lines(result) == []
+
+
+def test_a_hum_beside_a_periodic_tests_harmonics_is_found(monkeypatch):
+    """A 12.5-Hz test (odd harmonics of 10 and 6 N at 37.5 and 62.5 Hz, in the band) with a
+    50-Hz hum of 60 N (36 times the 3rd harmonic's power): found; at 25 N (6 times) it could be
+    the test's own and is not claimed."""
+    monkeypatch.setattr(_search, "f_test", 12.5)
+    t, f, p, v = _residual_case(f_test=12.5, hum=25.0)
+    assert _search(t, f, p, v)["lines"] == []
+    t, f, p, v = _residual_case(f_test=12.5, hum=60.0)
+    (line,) = _search(t, f, p, v)["lines"]
+    assert line["frequency_hz"] == pytest.approx(50.0, abs=0.05) and not line["in_motion"]
 
 
 def test_a_line_the_velocity_has_too_is_the_motions():
@@ -66,15 +87,18 @@ def test_a_line_the_velocity_has_too_is_the_motions():
     result = _search(t, f, p, v)
     (line,) = result["lines"]
     assert line["in_motion"] and result["error_without"] == result["error"]
-    assert "not the force channel's interference" in interference_lines(result)[0]
+    ((text, finding),) = interference_lines(result)
+    assert "the motion channels carry it" in text and not finding
 
 
 def test_short_irregular_or_unscored_tests_are_not_searched():
     t, f, p, v = _residual_case(seconds=3.0, hum=25.0)
     assert _search(t, f, p, v) is None  # 3 s: a resolution coarser than the mains' tolerance
     t, f, p, v = _residual_case(hum=25.0)
-    jittered = t + np.random.default_rng(1).uniform(-1e-4, 1e-4, t.size)
+    jittered = t + np.random.default_rng(1).uniform(-1e-4, 1e-4, t.size)  # 20 % of a step
     assert _search(jittered, f, p, v) is None
+    # absolute stamps (a logger's clock, 1.7e9 s): uniform to the float's 2.4e-7 s, searched
+    assert _search(1.7e9 + t, f, p, v)["lines"]
     scored = np.zeros(t.size, bool)
     scored[:3000] = True  # 3 s scored of 8
     assert _search(t, f, p, v, scored) is None

@@ -66,6 +66,30 @@ def test_a_level_missing_or_out_of_order_is_refused_in_one_line(tmp_path, shared
         read_tests(_levels_file(tmp_path, shared_dir, swap=True))
 
 
+def test_a_levels_filled_samples_stay_out_of_it(tmp_path, shared_dir):
+    """A raw export with a spike and a lost row inside its third level: the level read from it
+    leaves both samples out (they carry no measurement), with their findings; before, the level
+    was screened afresh and scored the interpolated samples as data."""
+    path = shared_dir / RAW / "ME5mm4Hz.txt"
+    lines = path.read_text().splitlines()
+    head, body = lines[:7], lines[7:]
+    a, b = read_tests(path)[2].metadata["span_s"]
+    t_whole = read_test(path).time
+    middle = int(np.searchsorted(t_whole, 0.5 * (a + b)))
+    cells = body[middle].split(",")
+    cells[2] = f" {8.0 * float(cells[2]) + 5.0:.4f}"  # the first channel (the force) jumps and comes back
+    body[middle] = ",".join(cells)
+    del body[middle + 100]  # a row the logger never wrote (its sample number missing)
+    out = tmp_path / "ME5mm4Hz.txt"
+    out.write_text("\n".join(head + body) + "\n")
+    level = read_tests(out)[2]
+    kinds = {f.kind for f in level.metadata["screening"].findings}
+    assert {"spike", "lost"} <= kinds
+    missing = level.time[~level.usable & (np.abs(level.time - t_whole[middle]) < 0.2)]
+    assert np.isclose(missing, t_whole[middle]).any() and np.isclose(missing, t_whole[middle + 100]).any()
+    assert missing.size == 2
+
+
 def test_split_refuses_a_file_with_no_idle_span():
     t = np.arange(0.0, 10.0, 0.005)
     x = 0.01 * np.sin(2 * np.pi * t)
