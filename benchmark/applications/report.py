@@ -28,6 +28,7 @@ from benchmark.foundation.errors import InputError
 from benchmark.simulator.evaluation import J_DESCRIPTIONS, J_NAMES
 from benchmark.simulator.criteria import CRITERIA
 from benchmark.foundation.provenance import provenance
+from damper.diagnosis.interference import interference_lines
 
 __all__ = ["write_report", "build_report_html", "REPORT_NAME"]
 
@@ -418,6 +419,12 @@ def _diagnosis_section(root: Path) -> str:
         screening = d.get("screening")
         if isinstance(screening, dict) and screening:
             out.append("<p>Screening of the measured data:</p>" + _screening_table(screening))
+        checks = [text for text, _ in interference_lines(d.get("interference") if isinstance(d.get("interference"), dict)
+                                                       else None)]
+        if settings.get("dropped_at_full_rate"):
+            checks.append("left out: " + ", ".join(map(str, settings["dropped_at_full_rate"]))
+                          + " (chosen on the coarse pass, no lower held-out error over every sample)")
+        out += [f'<p class="note">{_e(text[0].upper() + text[1:])}.</p>' for text in checks]
         out.append(_figure(root, case / "force_window.png",
                            f"{case.name}: measured force, base model and augmented model over a window of "
                            "the held-out part (top) and the residual of each (bottom).", data))

@@ -229,7 +229,8 @@ def interference_lines(result: dict | None) -> list[tuple[str, bool]]:
                         "channels carry it (the rig's motion, or the same hum on them), not the force channel alone",
                         False))
         else:
-            without = result.get("error_without_by_frequency", {}).get(freq, result["error_without"])
+            by_frequency = result.get("error_without_by_frequency") or {}  # int keys, or str from JSON
+            without = by_frequency.get(freq, by_frequency.get(f"{freq:g}", result["error_without"]))
             out.append((f"the force holds a {freq:g}-Hz line {where} that the motion does not have ({amp}, "
                         f"{share} % of the residual's power): mains interference on the force channel? Held-out "
                         f"error {result['error']:.4f} -> {without:.4f} without it (a diagnostic: nothing was "

@@ -61,3 +61,27 @@ def test_without_the_dyke_case_the_page_says_how_to_add_it(tmp_path):
                                 "effects": [{"name": "stiffness"}], "settings": {"seconds": 1.0}})
     section = build_report_html(tmp_path)
     assert "sbib study --dyke" in section and "cut short" not in section
+
+
+def test_a_mains_line_and_a_dropped_effect_are_said_on_the_page(tmp_path):
+    """The fitted-model checks of diagnosis.json (damper/diagnosis/interference.py and the loop's
+    full-rate rescoring) reach the page as notes; a case without them shows none."""
+    base = {"model": "normalized", "error_before": 0.145, "error_after": 0.078,
+            "effects": [{"name": "roll_off"}], "unexplained_in": []}
+    line = {"test": "10mm1Hz1A", "frequency_hz": 50.001, "amplitude_n": 40.06, "share": 0.2, "ratio": 1100.0,
+            "in_motion": False}
+    _case(tmp_path, "utfsm_1A", {**base, "settings": {"seconds": 9.0, "dropped_at_full_rate": ["fade"]},
+                                 "interference": {"lines": [line], "searched": ["10mm1Hz1A", "5mm3Hz1A"], "tests": 2,
+                                                  "error": 0.078, "error_without": 0.0742,
+                                                  "error_without_by_frequency": {"50": 0.0741}}})
+    _case(tmp_path, "virtual", {**base, "settings": {"seconds": 1.0},
+                                "interference": {"lines": [], "searched": ["a"], "tests": 1, "error": 0.01,
+                                                 "error_without": 0.01, "error_without_by_frequency": {}}})
+    page = build_report_html(tmp_path)
+    section = page[page.index('id="diagnosis"'):page.index('id="records"')]
+    utfsm = section[section.index('id="diagnosis-utfsm_1A"'):]
+    assert "50-Hz line in 1 of 2 test(s) searched (10mm1Hz1A)" in utfsm
+    assert "0.0780 -&gt; 0.0741 without it" in utfsm       # the frequency's own figure, read back from JSON
+    assert "Left out: fade" in utfsm
+    virtual = section[section.index('id="diagnosis-virtual"'):section.index('id="diagnosis-utfsm_1A"')]
+    assert "Hz line" not in virtual and "Left out" not in virtual
