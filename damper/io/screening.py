@@ -30,6 +30,8 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     (a finding, no sample excluded): the model steps over the true intervals and the
     derivatives (acceleration, the velocity check) are not taken over ±15 % jitter. Stamps off
     the grid by more than their rounding are a real irregular sampling and are kept as read.
+    A clock coarser than the sampling step (stamps repeated in a fifth of the steps or more, a
+    1-ms clock at 3 kHz) is restored the same way, every row kept (:func:`coarse_time_grid`).
 ``held``
     One acquisition written into two or more consecutive time slots (a logger that missed a
     sample period and repeated a reading): the displacement *and* the force repeat to within
@@ -132,7 +134,7 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
-           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "filled_samples", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "filled_samples", "coarse_time_grid", "COARSE_REPEAT_SHARE", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
@@ -199,6 +201,9 @@ SPIKE_MAX_SHARE = 0.002
 #: ``time``: a backward step followed by at least this many rows on a clock of their own is a
 #: second recording appended, said as such.
 RESTART_ROWS = 100
+#: ``rounded``: a clock coarser than the sampling repeats stamps in at least this share of the
+#: steps (:func:`coarse_time_grid`; fewer repeats are a logger's glitches, dropped).
+COARSE_REPEAT_SHARE = 0.2
 #: ``lost``: at most this share of a test's steps may be a lost sample's double step for the
 #: uniform grid to be restored with the lost slots (:func:`lost_slots`; more is irregular sampling).
 LOST_MAX_SHARE = 0.01
@@ -864,6 +869,55 @@ def _lost_samples(d: np.ndarray, x: np.ndarray, median: float) -> bool:
     return float(np.median(dx[long][moving] / beside[moving])) >= 1.5
 
 
+def coarse_time_grid(t: np.ndarray, channels: dict | None = None) -> tuple[np.ndarray, float, int] | None:
+    """The uniform grid behind time stamps coarser than the sampling step, or ``None``.
+
+    A logger whose clock ticks more slowly than it samples (a 1-ms clock at 3 kHz) writes each
+    stamp two or three times. Read as glitches, the repeated stamps had their rows dropped: two
+    thirds of such a test lost, and the rows kept stamped up to a tick early. Accepted when the
+    stamps never go back, at least :data:`COARSE_REPEAT_SHARE` of the steps repeat a stamp, the
+    stamps' resolution ``q`` (their last written digit, :func:`_last_digit`) is coarser than the
+    mean step, every stamp lies within ``q/2`` (and a twentieth of ``q``) of one line
+    ``t0 + k dt`` of the row numbers (rounded or truncated stamps: a truncating clock's half tick
+    goes into ``t0``; the grid returned starts at the first stamp), and no row copies the one before it in every channel (a logger's double
+    write is :func:`repair_samples`' ``duplicate``).
+
+    Parameters
+    ----------
+    t : ndarray (n,)
+        Time stamps as read [s].
+    channels : dict of str to ndarray or None, optional
+        The other columns as read (a row equal to the one before in every channel is a copy).
+
+    Returns
+    -------
+    (grid, q, repeats) or None
+        The restored stamps [s], the stamps' resolution [s] and how many rows repeat a stamp.
+    """
+    n = t.size
+    if n < 16 or not np.all(np.isfinite(t)):
+        return None
+    d = np.diff(t)
+    repeats = int(np.count_nonzero(d == 0.0))
+    if np.any(d < 0.0) or repeats < COARSE_REPEAT_SHARE * d.size:
+        return None
+    k = np.arange(n, dtype=float)
+    dt, t0 = np.polyfit(k, t, 1)
+    q = float(np.median(_last_digit(t)))
+    if not (dt > 0.0 and q > dt) or np.any(np.abs(t - (t0 + dt * k)) > 0.55 * q):
+        return None
+    same = np.ones(n - 1, dtype=bool)
+    for values in (channels or {}).values():
+        if values is not None:
+            v = np.asarray(values, dtype=float)
+            same &= (v[1:] == v[:-1]) | (np.isnan(v[1:]) & np.isnan(v[:-1]))
+    if channels and any(v is not None for v in channels.values()) and same.any():
+        return None
+    # anchored at the first stamp (a truncating clock's line starts half a tick before it; a
+    # constant shift of every channel changes nothing the model sees)
+    return t[0] + dt * k, q, repeats
+
+
 def lost_slots(t: np.ndarray, x: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray] | None:
     """The uniform grid behind stamps from which single samples were lost, or ``None``.
 
@@ -1110,6 +1164,17 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
     n = t.size
     need = max(min_usable, int(math.ceil(0.1 * n)))
     findings: list[Finding] = []
+    coarse = coarse_time_grid(t, channels)
+    if coarse is not None:
+        # a clock coarser than the sampling (a 1-ms clock at 3 kHz): every row is a sample, the
+        # repeated stamps are the clock's, not the logger's glitches
+        grid, q, repeats = coarse
+        step = float((grid[-1] - grid[0]) / (grid.size - 1))
+        findings.append(Finding("rounded", "time", float(grid[0]), float(grid[-1]), repeats,
+                                f"time stamps written to {q:g} s, coarser than the {1e3 * step:.4g} ms step "
+                                f"({repeats} rows repeat the stamp before them): the uniform grid restored "
+                                f"({1.0 / step:.5g} Hz), every row kept", excluded=False))
+        t = grid
     finite_t = np.isfinite(t)
     tt = np.where(finite_t, t, -np.inf)
     prev = np.maximum.accumulate(np.r_[-np.inf, tt[:-1]])

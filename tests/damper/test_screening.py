@@ -611,6 +611,50 @@ def test_a_derivative_over_uneven_stamps_takes_the_mean_step():
     assert velocity_scale(stamps, x, v) == pytest.approx(1.0, abs=0.01)
 
 
+@pytest.mark.parametrize("clock", [np.floor, np.round])
+def test_a_clock_coarser_than_the_sampling_keeps_every_row(clock):
+    """3 kHz written with a 1-ms clock (truncated or rounded): each stamp two or three times. The
+    repeated stamps had been dropped as glitches (two thirds of the test, the rest stamped up to
+    a tick early); now the uniform grid is restored and every row kept."""
+    from damper.io.screening import coarse_time_grid
+    true = _grid(9000)
+    stamps = clock(true * 1e3) / 1e3
+    x = 0.004 * np.sin(2 * np.pi * 1.7 * true)
+    f = 300.0 * np.cos(2 * np.pi * 1.7 * true)
+    grid, q, repeats = coarse_time_grid(stamps, {"displacement": x, "force": f})
+    assert q == pytest.approx(1e-3) and repeats > 5000
+    # the least-squares slope through n stamps off by up to q/2 is off by ~q sqrt(12) / n^1.5
+    # (1.2e-9 s, 4e-6 of the step, at n = 9000); anchored at the first stamp, a truncating
+    # clock's grid is the true one, a rounding clock's within half a tick of it
+    np.testing.assert_allclose(np.diff(grid), 1.0 / 3004.8, rtol=2e-5)
+    assert np.max(np.abs(grid - true)) < 0.5e-3 + 1e-9
+    t, channels, excluded, findings = repair_samples(stamps, {"displacement": x, "force": f}, label="ms.csv")
+    assert t.size == 9000 and not excluded.any()
+    assert [fd.kind for fd in findings] == ["rounded"] and "every row kept" in findings[0].message
+    np.testing.assert_array_equal(channels["force"], f)
+
+
+def test_repeated_stamps_that_are_no_coarse_clock_are_still_dropped():
+    from damper.io.screening import coarse_time_grid
+    true = _grid(9000)
+    x = 0.004 * np.sin(2 * np.pi * 1.7 * true)
+    glitches = true.copy()
+    glitches[100:160:3] = glitches[99:159:3]  # 20 repeats among 9000 steps: a logger's glitches
+    assert coarse_time_grid(glitches, {"displacement": x}) is None
+    t, _, excluded, findings = repair_samples(glitches, {"displacement": x})
+    # the rows of the repeated stamps dropped, their slots put back as lost samples (interpolated)
+    assert sum(fd.n_samples for fd in findings if fd.kind == "time") == 20
+    assert sum(fd.n_samples for fd in findings if fd.kind == "lost") == 20
+    assert t.size == 9000 and int(excluded.sum()) == 20
+    coarse = np.floor(true * 1e3) / 1e3
+    doubled = np.repeat(x, 2)[:9000]  # every row written twice: copies, not samples
+    assert coarse_time_grid(coarse, {"displacement": doubled}) is None
+    backwards = coarse.copy()
+    backwards[5000] -= 0.002
+    assert coarse_time_grid(backwards, {"displacement": x}) is None
+    assert coarse_time_grid(np.round(true, 4), {"displacement": x}) is None  # finer than a step: no repeats
+
+
 def test_irregular_or_holed_stamps_get_no_lost_slots():
     from damper.io.screening import lost_slots
     true = _grid(6000)
