@@ -110,7 +110,7 @@ def si_factor(quantity: str, unit: str, where: str = "units") -> float:
 #: Other names loggers give the columns of a test (matched without regard to case).
 COLUMN_ALIASES = {"t": "time", "disp": "displacement", "x": "displacement", "position": "displacement",
                   "stroke": "displacement", "vel": "velocity", "xdot": "velocity", "speed": "velocity", "f": "force",
-                  "load": "force", "tout": "time"}
+                  "load": "force", "tout": "time", "timestamp": "time", "datetime": "time"}
 
 _COLUMN = re.compile(r"([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\]|\(\s*([^)]*)\s*\))?")
 

@@ -316,6 +316,65 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
     return values
 
 
+_TIME_OF_DAY = re.compile(r"^\s*(\d{1,2}):(\d{2}):(\d{2}(?:\.\d*)?)\s*$")
+
+
+def clock_seconds(cells: list[str]) -> tuple[np.ndarray, str] | None:
+    """Seconds since the first stamp of a time column written as a clock, or ``None`` when its
+    first cell is a number (or no clock).
+
+    Two forms are read: ISO 8601 date-times (``2022-05-13 17:06:51.728``, ``2022-05-13T17:06:51``;
+    numpy's ``datetime64`` to the nanosecond) and times of day (``17:06:51.728``; a return to an
+    earlier time of day is the next day). A cell that is neither stays as it is, for
+    :func:`parse_row`'s message.
+
+    Parameters
+    ----------
+    cells : list of str
+        The time column's cells, in file order.
+
+    Returns
+    -------
+    (seconds, origin) or None
+        The seconds since the first stamp (NaN where a cell is not a clock) and the first stamp
+        as written.
+    """
+    first = next((c.strip().strip('"') for c in cells if c.strip()), "")
+    if not first or _is_float(first):
+        return None
+    text = [c.strip().strip('"') for c in cells]
+    if _TIME_OF_DAY.match(first):
+        out = np.full(len(text), np.nan)
+        day = 0.0
+        last = -math.inf
+        for i, c in enumerate(text):
+            m = _TIME_OF_DAY.match(c)
+            if m is None:
+                continue
+            value = 3600.0 * int(m.group(1)) + 60.0 * int(m.group(2)) + float(m.group(3)) + day
+            if value < last - 43200.0:  # past midnight
+                day += 86400.0
+                value += 86400.0
+            out[i] = value
+            last = value
+        return out - out[np.isfinite(out)][0], first
+    try:
+        stamp0 = np.datetime64(first, "ns")
+    except ValueError:
+        return None
+    try:  # a logger's column at once; a malformed cell, cell by cell
+        return (np.array(text, dtype="datetime64[ns]") - stamp0) / np.timedelta64(1, "ns") * 1e-9, first
+    except ValueError:
+        pass
+    out = np.full(len(text), np.nan)
+    for i, c in enumerate(text):
+        try:
+            out[i] = (np.datetime64(c, "ns") - stamp0) / np.timedelta64(1, "ns") * 1e-9
+        except ValueError:
+            continue
+    return out, first
+
+
 def parse_rows(path, header: list[str], rows: list[list[str]], lines: list[int],
                missing: bool = True) -> np.ndarray:
     """The numbers of the data rows as a ``(rows, columns)`` array (:func:`parse_row` of each).
@@ -575,6 +634,16 @@ def _csv_columns(path: Path) -> tuple[dict[str, np.ndarray], list[int], dict]:
     if len(rows) < 2:
         raise InputError(f"{path}: expected at least 2 data lines after the header "
                          f"(line {header_line}), got {len(rows)}")
+    clock = clock_seconds([r[header.index("time")] if len(r) == len(header) else "" for r in rows])
+    if clock is not None:
+        # date-time stamps (a logger's wall clock): seconds since the first, in the cells' place
+        seconds, origin = clock
+        i_time = header.index("time")
+        for r, value in zip(rows, seconds):
+            if len(r) == len(header):
+                r[i_time] = repr(float(value))
+        factors["time"] = 1.0
+        comments["time_origin"] = origin
     data = parse_rows(path, header, rows, row_lines)
     # units converted at the edge: everything past here is SI (module docstring)
     col = {c: data[:, i] * factors[c] for i, c in enumerate(header)}
