@@ -32,6 +32,7 @@ import csv
 import io
 import math
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -316,17 +317,47 @@ def parse_row(path, line_no: int, header: list[str], row: list[str],
     return values
 
 
+#: :func:`clock_seconds` takes the time column's form from the first of this many non-empty cells
+#: that is a clock.
+CLOCK_PROBE = 5
 _TIME_OF_DAY = re.compile(r"^\s*(\d{1,2}):(\d{2}):(\d{2}(?:\.\d*)?)\s*$")
 
 
-def clock_seconds(cells: list[str]) -> tuple[np.ndarray, str] | None:
-    """Seconds since the first stamp of a time column written as a clock, or ``None`` when its
-    first cell is a number (or no clock).
+def _time_of_day(cell: str) -> float | None:
+    """Seconds since midnight of ``HH:MM:SS[.fff]`` (None: not a valid time of day)."""
+    m = _TIME_OF_DAY.match(cell)
+    if m is None:
+        return None
+    h, mi, sec = int(m.group(1)), int(m.group(2)), float(m.group(3))
+    if h > 23 or mi > 59 or sec >= 61.0:
+        return None
+    return 3600.0 * h + 60.0 * mi + sec
 
-    Two forms are read: ISO 8601 date-times (``2022-05-13 17:06:51.728``, ``2022-05-13T17:06:51``;
-    numpy's ``datetime64`` to the nanosecond) and times of day (``17:06:51.728``; a return to an
-    earlier time of day is the next day). A cell that is neither stays as it is, for
-    :func:`parse_row`'s message.
+
+def _date_time(cell: str) -> np.datetime64 | None:
+    """``cell`` as an ISO 8601 date-time (UTC where a zone is written), or None."""
+    if not any(ch in cell for ch in "-:") or _is_float(cell):
+        return None
+    with warnings.catch_warnings():  # numpy warns that it converts a written zone to UTC
+        warnings.simplefilter("ignore", UserWarning)
+        try:
+            return np.datetime64(cell, "ns")
+        except ValueError:
+            return None
+
+
+def clock_seconds(cells: list[str]) -> tuple[np.ndarray, str] | None:
+    """Seconds since the first stamp of a time column written as a clock, or ``None`` when the
+    column is numbers (or no clock).
+
+    Two forms are read: ISO 8601 date-times (``2022-05-13 17:06:51.728``, ``2022-05-13T17:06:51``,
+    a zone such as ``Z`` or ``+02:00`` taken to UTC; numpy's ``datetime64`` to the nanosecond)
+    and times of day (``17:06:51.728``). The form is that of the first of the first
+    :data:`CLOCK_PROBE` non-empty cells that is one (a first cell written as ``n/a`` does not
+    decide it); a first non-empty cell that is a number means a numeric column. A time of day
+    that returns to the early hours within an hour after a late one is the next day; any other
+    step back stays a step back, for the screening. A cell that is no clock is NaN (a missing
+    stamp).
 
     Parameters
     ----------
@@ -339,40 +370,43 @@ def clock_seconds(cells: list[str]) -> tuple[np.ndarray, str] | None:
         The seconds since the first stamp (NaN where a cell is not a clock) and the first stamp
         as written.
     """
-    first = next((c.strip().strip('"') for c in cells if c.strip()), "")
-    if not first or _is_float(first):
+    text = [c.strip().strip('"').strip() for c in cells]
+    probe = [c for c in text[:10 * CLOCK_PROBE] if c][:CLOCK_PROBE]
+    if not probe or _is_float(probe[0]):
         return None
-    text = [c.strip().strip('"') for c in cells]
-    if _TIME_OF_DAY.match(first):
+    if any(_time_of_day(c) is not None for c in probe):
         out = np.full(len(text), np.nan)
         day = 0.0
         last = -math.inf
         for i, c in enumerate(text):
-            m = _TIME_OF_DAY.match(c)
-            if m is None:
+            value = _time_of_day(c)
+            if value is None:
                 continue
-            value = 3600.0 * int(m.group(1)) + 60.0 * int(m.group(2)) + float(m.group(3)) + day
-            if value < last - 43200.0:  # past midnight
-                day += 86400.0
+            value += day
+            if value < last and 0.0 <= value + 86400.0 - last < 3600.0:
+                day += 86400.0  # past midnight: 23:59:59.9 then 00:00:00.1
                 value += 86400.0
             out[i] = value
-            last = value
-        return out - out[np.isfinite(out)][0], first
-    try:
-        stamp0 = np.datetime64(first, "ns")
-    except ValueError:
+            if value >= last:
+                last = value  # a stamp that steps back is the screening's, not a new reference
+        first = int(np.flatnonzero(np.isfinite(out))[0])
+        return out - out[first], text[first]
+    origin = next((c for c in probe if _date_time(c) is not None), None)
+    if origin is None:
         return None
-    try:  # a logger's column at once; a malformed cell, cell by cell
-        return (np.array(text, dtype="datetime64[ns]") - stamp0) / np.timedelta64(1, "ns") * 1e-9, first
-    except ValueError:
-        pass
+    stamp0 = _date_time(origin)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        try:  # a logger's column at once; a malformed cell, cell by cell
+            return (np.array(text, dtype="datetime64[ns]") - stamp0) / np.timedelta64(1, "ns") * 1e-9, origin
+        except ValueError:
+            pass
     out = np.full(len(text), np.nan)
     for i, c in enumerate(text):
-        try:
-            out[i] = (np.datetime64(c, "ns") - stamp0) / np.timedelta64(1, "ns") * 1e-9
-        except ValueError:
-            continue
-    return out, first
+        stamp = _date_time(c)
+        if stamp is not None:
+            out[i] = (stamp - stamp0) / np.timedelta64(1, "ns") * 1e-9
+    return out, origin
 
 
 def parse_rows(path, header: list[str], rows: list[list[str]], lines: list[int],
@@ -643,7 +677,8 @@ def _csv_columns(path: Path) -> tuple[dict[str, np.ndarray], list[int], dict]:
             if len(r) == len(header):
                 r[i_time] = repr(float(value))
         factors["time"] = 1.0
-        comments["time_origin"] = origin
+        written.pop("time", None)  # a unit beside a clock (timestamp [ms]) says nothing of seconds
+        comments["clock_origin"] = origin
     data = parse_rows(path, header, rows, row_lines)
     # units converted at the edge: everything past here is SI (module docstring)
     col = {c: data[:, i] * factors[c] for i, c in enumerate(header)}

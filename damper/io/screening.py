@@ -30,8 +30,8 @@ Checks (no threshold is in physical units except the plausibility ranges of the 
     (a finding, no sample excluded): the model steps over the true intervals and the
     derivatives (acceleration, the velocity check) are not taken over ±15 % jitter. Stamps off
     the grid by more than their rounding are a real irregular sampling and are kept as read.
-    A clock coarser than the sampling step (stamps repeated in a fifth of the steps or more, a
-    1-ms clock at 3 kHz) is restored the same way, every row kept (:func:`coarse_time_grid`).
+    A clock coarser than the sampling step (stamps repeated as such a clock repeats them: a 1-ms
+    clock at 3 kHz) is restored the same way, every row kept (:func:`coarse_time_grid`).
 ``held``
     One acquisition written into two or more consecutive time slots (a logger that missed a
     sample period and repeated a reading): the displacement *and* the force repeat to within
@@ -134,7 +134,7 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
-           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "filled_samples", "coarse_time_grid", "COARSE_REPEAT_SHARE", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "filled_samples", "coarse_time_grid", "COARSE_MIN_REPEATS", "COARSE_MISSING_SHARE", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
@@ -201,9 +201,11 @@ SPIKE_MAX_SHARE = 0.002
 #: ``time``: a backward step followed by at least this many rows on a clock of their own is a
 #: second recording appended, said as such.
 RESTART_ROWS = 100
-#: ``rounded``: a clock coarser than the sampling repeats stamps in at least this share of the
-#: steps (:func:`coarse_time_grid`; fewer repeats are a logger's glitches, dropped).
-COARSE_REPEAT_SHARE = 0.2
+#: ``rounded``: a clock coarser than the sampling (:func:`coarse_time_grid`) shows at least this
+#: many repeated stamps ...
+COARSE_MIN_REPEATS = 3
+#: ... and at most this share of its stamps missing (NaN: their rows get their slots' times).
+COARSE_MISSING_SHARE = 0.01
 #: ``lost``: at most this share of a test's steps may be a lost sample's double step for the
 #: uniform grid to be restored with the lost slots (:func:`lost_slots`; more is irregular sampling).
 LOST_MAX_SHARE = 0.01
@@ -875,12 +877,17 @@ def coarse_time_grid(t: np.ndarray, channels: dict | None = None) -> tuple[np.nd
     A logger whose clock ticks more slowly than it samples (a 1-ms clock at 3 kHz) writes each
     stamp two or three times. Read as glitches, the repeated stamps had their rows dropped: two
     thirds of such a test lost, and the rows kept stamped up to a tick early. Accepted when the
-    stamps never go back, at least :data:`COARSE_REPEAT_SHARE` of the steps repeat a stamp, the
-    stamps' resolution ``q`` (their last written digit, :func:`_last_digit`) is coarser than the
-    mean step, every stamp lies within ``q/2`` (and a twentieth of ``q``) of one line
-    ``t0 + k dt`` of the row numbers (rounded or truncated stamps: a truncating clock's half tick
-    goes into ``t0``; the grid returned starts at the first stamp), and no row copies the one before it in every channel (a logger's double
-    write is :func:`repair_samples`' ``duplicate``).
+    stamps never go back, the stamps' resolution ``q`` (their last written digit,
+    :func:`_last_digit`) is coarser than the mean step ``dt``, every stamp lies within ``q/2``
+    (and a twentieth of ``q``) of one line ``t0 + k dt`` of the row numbers (rounded or truncated
+    stamps: a truncating clock's half tick goes into ``t0``; the grid returned starts at the first
+    stamp), the stamps repeat in about the share ``1 - dt/q`` of the steps such a clock gives
+    (half to one and a half times it, at least :data:`COARSE_MIN_REPEATS`), at most
+    :data:`COARSE_MISSING_SHARE` of the stamps are missing (their rows get their slots' times),
+    and the rows that repeat a stamp are not mostly copies of the row before in every channel (a
+    logger's double writes are :func:`repair_samples`' ``duplicate``; a held reading or a test at
+    rest copies a few). A clock that also lost a row is not restored: its line is a step off from
+    there on, and its repeated stamps are dropped as glitches.
 
     Parameters
     ----------
@@ -895,24 +902,30 @@ def coarse_time_grid(t: np.ndarray, channels: dict | None = None) -> tuple[np.nd
         The restored stamps [s], the stamps' resolution [s] and how many rows repeat a stamp.
     """
     n = t.size
-    if n < 16 or not np.all(np.isfinite(t)):
+    finite = np.isfinite(t)
+    if n < 16 or not finite[0] or finite.sum() < (1.0 - COARSE_MISSING_SHARE) * n:
         return None
-    d = np.diff(t)
+    tf = t[finite]
+    d = np.diff(tf)
     repeats = int(np.count_nonzero(d == 0.0))
-    if np.any(d < 0.0) or repeats < COARSE_REPEAT_SHARE * d.size:
+    if np.any(d < 0.0) or repeats < COARSE_MIN_REPEATS:
         return None
     k = np.arange(n, dtype=float)
-    dt, t0 = np.polyfit(k, t, 1)
-    q = float(np.median(_last_digit(t)))
-    if not (dt > 0.0 and q > dt) or np.any(np.abs(t - (t0 + dt * k)) > 0.55 * q):
+    dt, t0 = np.polyfit(k[finite], tf, 1)
+    q = float(np.median(_last_digit(tf)))
+    if not (dt > 0.0 and q > dt) or np.any(np.abs(tf - (t0 + dt * k[finite])) > 0.55 * q):
         return None
-    same = np.ones(n - 1, dtype=bool)
-    for values in (channels or {}).values():
-        if values is not None:
-            v = np.asarray(values, dtype=float)
+    # a clock of tick q at step dt repeats a stamp in a share 1 - dt/q of the steps
+    expected = (1.0 - dt / q) * d.size
+    if not 0.5 * expected <= repeats <= 1.5 * expected + COARSE_MIN_REPEATS:
+        return None
+    present = [np.asarray(v, dtype=float) for v in (channels or {}).values() if v is not None]
+    if present:
+        same = t[1:] == t[:-1]  # the stamp repeats ...
+        for v in present:       # ... and so does every channel: a copy of the row before
             same &= (v[1:] == v[:-1]) | (np.isnan(v[1:]) & np.isnan(v[:-1]))
-    if channels and any(v is not None for v in channels.values()) and same.any():
-        return None
+        if np.count_nonzero(same) > 0.5 * repeats:
+            return None
     # anchored at the first stamp (a truncating clock's line starts half a tick before it; a
     # constant shift of every channel changes nothing the model sees)
     return t[0] + dt * k, q, repeats

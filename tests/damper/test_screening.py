@@ -634,6 +634,28 @@ def test_a_clock_coarser_than_the_sampling_keeps_every_row(clock):
     np.testing.assert_array_equal(channels["force"], f)
 
 
+@pytest.mark.parametrize("rate", [1024.0, 1200.0, 3004.8, 20000.0])
+def test_a_coarse_clock_with_a_missing_stamp_and_rows_at_rest_keeps_every_row(rate):
+    """A review's cases: a 1-ms clock at 1024 Hz repeats 2.4 % of its stamps, at 1200 Hz 17 %
+    (the share 1 - dt/q such a clock gives, not a fixed one); a missing stamp (NaN) gets its
+    slot's time; a test at rest for its first 50 ms (rows equal to the one before: a tenth of
+    the rows at 20 kHz) and a held reading are no double writes."""
+    from damper.io.screening import coarse_time_grid
+    n = 9000
+    true = np.arange(n) / rate
+    stamps = np.floor(true * 1e3 + 1e-9) / 1e3  # a tick counter's truncation (no float rounding below a tick)
+    stamps[4000] = np.nan
+    x = np.where(true < 0.05, 0.0, 0.004 * np.sin(2 * np.pi * 1.7 * (true - 0.05)))
+    f = np.where(true < 0.05, 0.0, 300.0 * np.cos(2 * np.pi * 1.7 * (true - 0.05)))
+    x[6001], f[6001] = x[6000], f[6000]  # a held reading
+    grid, q, _ = coarse_time_grid(stamps, {"displacement": x, "force": f})
+    assert q == pytest.approx(1e-3)
+    # the least-squares slope is off by ~q sqrt(12) / n^1.5: the grid within 5 % of a step at its end
+    np.testing.assert_allclose(grid, true, rtol=0, atol=0.05 / rate)
+    t, _, _, findings = repair_samples(stamps, {"displacement": x, "force": f})
+    assert t.size == n and not [fd for fd in findings if fd.kind == "time"]
+
+
 def test_repeated_stamps_that_are_no_coarse_clock_are_still_dropped():
     from damper.io.screening import coarse_time_grid
     true = _grid(9000)

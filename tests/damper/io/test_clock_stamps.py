@@ -42,7 +42,7 @@ def test_clock_stamps_read_as_seconds_since_the_first(tmp_path, column, start, f
     # microsecond stamps of a 1-ms grid: exact to the float's rounding of the seconds
     np.testing.assert_allclose(test.time, t, rtol=0, atol=1e-9)
     assert test.n_samples == t.size and test.usable.all()
-    assert test.metadata["time_origin"] == stamps[0]
+    assert test.metadata["clock_origin"] == stamps[0]
 
 
 def test_numbers_are_no_clock_and_a_bad_clock_cell_is_named():
@@ -62,3 +62,35 @@ def test_a_clock_cell_that_is_not_one_is_dropped_and_said(tmp_path):
     assert test.n_samples == t.size  # the row dropped, its slot put back (lost)
     with pytest.raises(InputError, match="time"):
         read_test(_write(tmp_path / "none.csv", "timestamp,disp [mm],force [N]", ["n/a"] * t.size, x, f))
+
+
+def test_a_review_of_the_clock_reader():
+    """A stray 00:00:00 in a 17:06 file is a step back for the screening, not a day later for
+    every row after it; out-of-range times are no clock; a first cell written as n/a does not
+    decide the column's form; zones are taken to UTC."""
+    seconds, _ = clock_seconds(["17:06:51", "17:06:52", "00:00:00", "17:06:53"])
+    assert seconds[[0, 1, 3]].tolist() == [0.0, 1.0, 2.0] and seconds[2] < 0
+    seconds, _ = clock_seconds(["23:59:59.5", "00:00:00.5", "00:00:01.5"])
+    assert seconds.tolist() == [0.0, 1.0, 2.0]
+    assert np.isnan(clock_seconds(["17:00:00", "25:61:61"])[0][1])
+    seconds, origin = clock_seconds(["n/a", "2022-05-13T17:00:00Z", "2022-05-13T19:00:01+02:00"])
+    assert origin == "2022-05-13T17:00:00Z" and np.isnan(seconds[0]) and seconds[2] == pytest.approx(1.0)
+
+
+def test_a_millisecond_wall_clock_at_3_khz_with_a_bad_cell_keeps_every_row(tmp_path):
+    """A wall clock in ms at 3 kHz (each stamp two or three times) with one cell that is no
+    stamp: the coarse clock's grid gives that row its slot's time, and every row is kept."""
+    n = 9000
+    t = np.arange(n) / 3004.8
+    x = 0.01 * np.sin(2 * np.pi * 2.0 * t)
+    f = 500.0 * np.cos(2 * np.pi * 2.0 * t) + 120.0 * np.sin(2 * np.pi * 6.0 * t)
+    start = dt.datetime(2022, 5, 13, 17, 0, 0)
+    stamps = [(start + dt.timedelta(milliseconds=int(s * 1e3 + 1e-9))).isoformat(sep=" ", timespec="milliseconds")
+              for s in t]
+    stamps[4000] = "n/a"
+    test = read_test(_write(tmp_path / "ms.csv", "timestamp [ms],disp [mm],force [N]", stamps, x, f))
+    assert test.n_samples == n and test.usable.all()
+    np.testing.assert_allclose(np.diff(test.time), 1.0 / 3004.8, rtol=1e-4)
+    kinds = [fd.kind for fd in test.metadata["screening"].findings]
+    assert kinds.count("rounded") == 1 and "time" not in kinds
+    assert "time" not in test.metadata.get("file_units", {})  # the [ms] beside a clock is not reported
