@@ -470,18 +470,21 @@ def _polish(model: AugmentedModel, data: DiagnosisData, nodes, nfev: int, tolera
 
 
 def _full_rate_steps(selection: SelectionResult, final: AugmentedModel, data: DiagnosisData,
-                     forces_before: list, forces_after: list) -> SelectionResult:
+                     forces_before: list, forces_after: list) -> tuple[SelectionResult, list]:
     """The steps' held-out errors recomputed on every sample: the first step starts from the
     base model's histories ``forces_before``, the last ends at ``final``'s ``forces_after``
-    (both already simulated), the steps between are simulated."""
+    (both already simulated), the steps between are simulated. Also returns each step's force
+    histories (the loop falls back on them when it leaves a last step out)."""
     last = len(selection.steps) - 1
-    steps, previous = [], data.relative_error(None, "heldout", forces=forces_before)
+    steps, histories, previous = [], [], data.relative_error(None, "heldout", forces=forces_before)
     for i, s in enumerate(selection.steps):
         model = final if i == last else s.model
-        after = data.relative_error(model, "heldout", forces=forces_after if i == last else None)
+        forces = forces_after if i == last else [model.force(m) for m in data.motions]
+        after = data.relative_error(None, "heldout", forces=forces)
         steps.append(replace(s, error_before=previous, error_after=after, model=model))
+        histories.append(forces)
         previous = after
-    return SelectionResult(final, tuple(steps), selection.rounds, selection.stopped_by_budget)
+    return SelectionResult(final, tuple(steps), selection.rounds, selection.stopped_by_budget), histories
 
 
 def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
@@ -639,7 +642,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     forces_after = [final.force(m) for m in data.motions]
     dropped: list[str] = []
     if work is not data and selection.steps:  # the steps' errors at every sample
-        selection = _full_rate_steps(selection, final, data, forces_before, forces_after)
+        selection, histories = _full_rate_steps(selection, final, data, forces_before, forces_after)
         # an effect chosen on the coarse pass that does not lower the held-out error at every
         # sample did not pay: the last such steps go (a probe's noisy copy of ranran_50 had
         # ended with fade at 0.1305 -> 0.1309); an earlier step stays, the later ones build on it
@@ -651,7 +654,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
             steps = selection.steps[:-1]
             final = steps[-1].model if steps else base
             selection = SelectionResult(final, steps, selection.rounds, selection.stopped_by_budget)
-            forces_after = [final.force(m) for m in data.motions]
+            forces_after = histories[len(steps) - 1] if steps else forces_before
         if dropped and selection.steps and polish_nfev > 0:
             # the model the loop ends with is polished on every sample, as the dropped one was
             final = _polish(final, data, nodes, polish_nfev, tolerance, say, "final model")

@@ -801,6 +801,15 @@ def _last_digit(t: np.ndarray) -> np.ndarray:
     return q
 
 
+def _stamp_line(slot: np.ndarray, t: np.ndarray) -> tuple[float, float, np.ndarray, np.ndarray, float]:
+    """The least-squares line ``t0 + dt * slot`` through the stamps ``t`` (the uniform grid the
+    time-grid checks test), each stamp's distance from it, each stamp's last written digit
+    (:func:`_last_digit`) and their median ``q``: ``(dt, t0, off, digit, q)``."""
+    dt, t0 = np.polyfit(slot, t, 1)
+    digit = _last_digit(t)
+    return float(dt), float(t0), np.abs(t - (t0 + dt * slot)), digit, float(np.median(digit))
+
+
 def rounded_time_grid(t: np.ndarray, x: np.ndarray | None = None) -> tuple[np.ndarray, float, float] | None:
     """The uniform grid behind rounded time stamps, or ``None``.
 
@@ -838,12 +847,9 @@ def rounded_time_grid(t: np.ndarray, x: np.ndarray | None = None) -> tuple[np.nd
     if not (median > 0.0) or (float(d.max()) - float(d.min())) <= ROUNDED_STEP_SPREAD * median:
         return None
     k = np.arange(n, dtype=float)
-    dt, t0 = np.polyfit(k, t, 1)
-    grid = t0 + dt * k
-    off = np.abs(t - grid)
     # a stamp that happens to end in zeros (12.0 written as 12) is as coarse as the others
-    digit = _last_digit(t)
-    q = float(np.median(digit))
+    dt, t0, off, digit, q = _stamp_line(k, t)
+    grid = t0 + dt * k
     if not q > 0.01 * dt or np.any(off > 0.5 * np.minimum(digit, q) + 0.05 * q):
         return None
     if x is not None and _lost_samples(d, np.asarray(x, dtype=float), median):
@@ -911,9 +917,8 @@ def coarse_time_grid(t: np.ndarray, channels: dict | None = None) -> tuple[np.nd
     if np.any(d < 0.0) or repeats < COARSE_MIN_REPEATS:
         return None
     k = np.arange(n, dtype=float)
-    dt, t0 = np.polyfit(k[finite], tf, 1)
-    q = float(np.median(_last_digit(tf)))
-    if not (dt > 0.0 and q > dt) or np.any(np.abs(tf - (t0 + dt * k[finite])) > 0.55 * q):
+    dt, _, off, _, q = _stamp_line(k[finite], tf)
+    if not (dt > 0.0 and q > dt) or np.any(off > 0.55 * q):
         return None
     # a clock of tick q at step dt repeats a stamp in a share 1 - dt/q of the steps
     expected = (1.0 - dt / q) * d.size
@@ -973,10 +978,8 @@ def lost_slots(t: np.ndarray, x: np.ndarray | None = None) -> tuple[np.ndarray, 
     if not long.any() or np.any((r < 1.0) | (r > 2.0)) or long.sum() > LOST_MAX_SHARE * d.size:
         return None
     slot = np.r_[0, np.cumsum(r.astype(np.int64))]
-    dt, t0 = np.polyfit(slot.astype(float), t, 1)
-    digit = _last_digit(t)
-    q = float(np.median(digit))
-    if not dt > 0.0 or np.any(np.abs(t - (t0 + dt * slot)) > 0.5 * np.minimum(digit, q) + 0.05 * q + 1e-6 * dt):
+    dt, t0, off, digit, q = _stamp_line(slot.astype(float), t)
+    if not dt > 0.0 or np.any(off > 0.5 * np.minimum(digit, q) + 0.05 * q + 1e-6 * dt):
         return None
     if q >= 0.5 * dt and (x is None or not _lost_samples(d, np.asarray(x, dtype=float), median)):
         return None

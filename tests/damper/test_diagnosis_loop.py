@@ -115,10 +115,10 @@ def test_an_effect_that_pays_on_the_coarse_pass_only_is_left_out(monkeypatch):
     rescore = loop._full_rate_steps
 
     def worse_last_step(selection, final, data, before, after):
-        result = rescore(selection, final, data, before, after)
+        result, histories = rescore(selection, final, data, before, after)
         last = result.steps[-1]
         return dataclasses.replace(result, steps=result.steps[:-1] + (
-            dataclasses.replace(last, error_after=last.error_before + 1e-4),))
+            dataclasses.replace(last, error_after=last.error_before + 1e-4),)), histories
 
     monkeypatch.setattr(loop, "_full_rate_steps", worse_last_step)
     tests = sinusoidal_tests(_device(Stiffness(3e4)), noise=0.01, seed=1, samples_per_cycle=800)
