@@ -41,6 +41,7 @@ from damper.io.screening import screening_lines, screening_summary
 from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
 from damper.diagnosis.interference import interference_lines
+from damper.diagnosis.coverage import coverage_lines
 from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import format_parameters, input_word, residual_not_white, write_report
@@ -202,6 +203,8 @@ def run(args) -> int:
                 print(f"  {name}: {c['samples']} scored samples ({100 * c['share']:.0f} %) of the "
                       f"{result.data.input_name} outside the fitted levels ({c['levels'][0]:.4g}-"
                       f"{c['levels'][1]:.4g} {result.data.input_unit}): the laws extrapolate there")
+            for text, _ in coverage_lines(v.get("coverage")):
+                print(f"  {text}")
         al = getattr(result, "alignment", None)
         if al is not None and al["finding"]:
             print(f"the measured force is {1e3 * al['shift_s']:+.3g} ms ({al['shift_samples']:+.1f} samples) off "

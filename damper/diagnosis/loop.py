@@ -36,6 +36,7 @@ from damper.diagnosis.augmented import AugmentedModel, base_at_bounds, refit
 from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base, fit_spencer_base
 from damper.diagnosis.coarse import DEFAULT_COARSE_SAMPLES, Progress, coarse_pass, decimation_factor
+from damper.diagnosis.coverage import coverage_lines, motion_coverage
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT, DiagnosisData
 from damper.io.reader import check_coil_inputs, count_reversals
 from damper.diagnosis.effects import Motion
@@ -704,6 +705,11 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                                                              data.levels() if data.input_recorded else None)
         say(f"validation on {', '.join(validation['tests'])}: error "
             f"{validation['error_before']:.4f} -> {validation['error_after']:.4f}")
+        # what of that error is extrapolation: the other recordings' motion beyond the fitted tests'
+        validation["coverage"] = motion_coverage(
+            data.motions, [tr | ho for tr, ho in zip(data.train, data.heldout)], validation_histories)
+        for text, _ in coverage_lines(validation["coverage"]):
+            say(text)
     return Diagnosis(data=data, model_kind=model, base_model=base, final_model=final,
                      error_before=error_before, error_after=error_after, selection=selection,
                      trace_before=trace_before, trace_after=trace_after,

@@ -31,6 +31,7 @@ from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
 from damper.diagnosis.effects import EFFECTS
 from damper.diagnosis.interference import interference_lines
+from damper.diagnosis.coverage import coverage_lines
 from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.io.screening import screening_lines, screening_summary
 from damper.lab.plots import draw_loops
@@ -497,6 +498,8 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
                         f"lie outside the fitted levels ({c['levels'][0]:.4g}–{c['levels'][1]:.4g} {unit}): "
                         "there the voltage laws extrapolate."
                         for name, c in (v.get("input_beyond_levels") or {}).items()]
+        lines[-1:-1] = [f"- **{text}**." if finding else f"- {text}."  # each starts with a recording's name
+                        for text, finding in coverage_lines(v.get("coverage"))]
     al = getattr(d, "alignment", None)
     if al is not None:
         if al["finding"]:
