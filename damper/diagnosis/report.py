@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from benchmark.foundation.atomic import atomic_write_text
-from benchmark.foundation.figures import save_figure
+from benchmark.foundation.figures import fixed_layout, save_figure
 from benchmark.foundation.display_units import axis_label, to_display
 from damper.diagnosis.trace import TRACE_VARIABLES
 from damper.diagnosis.effects import EFFECTS
@@ -154,7 +154,8 @@ def plot_residual_trace(diagnosis, path, max_points: int = _MAX_POINTS, dpi: int
     effects = ", ".join(diagnosis.effects) or "none"
     fig.suptitle(f"Held-out residual: {diagnosis.model_kind} model (grey, black line = binned mean) "
                  f"and after adding {effects} (blue, red line)", fontsize=11)
-    fig.tight_layout(rect=(0, 0, 1, 0.96))
+    # fixed margins: tight_layout measured the eight panels' labels for a third of the figure's cost
+    fixed_layout(fig, left=0.75, right=0.2, top=0.65, bottom=0.55, hgap=0.85, wgap=0.6)
     return _save(fig, Path(path), dpi)
 
 
@@ -198,7 +199,7 @@ def plot_force_histories(diagnosis, path, max_tests: int = 6) -> Path:
         ax.axis("off")
     axes[0, 0].legend(fontsize=8)
     fig.suptitle("Held-out force histories", fontsize=11)
-    fig.tight_layout(rect=(0, 0, 1, 0.95))
+    fixed_layout(fig, left=0.8, right=0.2, top=0.7, bottom=0.55, hgap=0.85, wgap=0.8)
     return _save(fig, Path(path))
 
 
