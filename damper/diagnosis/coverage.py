@@ -125,6 +125,15 @@ def _lowpass(t: np.ndarray, y: np.ndarray, band: float) -> tuple[np.ndarray, sli
     return sosfiltfilt(sos, np.asarray(y, dtype=float)), slice(edge, t.size - edge)
 
 
+def _defined(value: float) -> float | None:
+    return value if math.isfinite(value) else None
+
+
+def _share(value) -> float:
+    """A share of :func:`motion_coverage` for comparisons (None, undefined, as 0)."""
+    return 0.0 if value is None else float(value)
+
+
 def motion_coverage(fitted_motions: Sequence, fitted_masks: Sequence[np.ndarray], histories: Sequence) -> dict:
     """How far each other recording's motion lies outside the fitted tests' (module docstring).
 
@@ -154,7 +163,8 @@ def motion_coverage(fitted_motions: Sequence, fitted_masks: Sequence[np.ndarray]
     speed = float(v.max()) if v.size else math.nan
     lo, hi = (float(x.min()), float(x.max())) if x.size else (math.nan, math.nan)
     stroke = hi - lo
-    out: dict = {"band_hz": band, "speed_max": speed, "displacement_range": [lo, hi], "recordings": {}}
+    out: dict = {"band_hz": _defined(band), "speed_max": _defined(speed),
+                 "displacement_range": [_defined(lo), _defined(hi)], "recordings": {}}
     for h in histories:
         m, k = h.motion, np.asarray(h.scored, dtype=bool)
         n = int(k.sum())
@@ -166,13 +176,10 @@ def motion_coverage(fitted_motions: Sequence, fitted_masks: Sequence[np.ndarray]
         above = total = 0.0
         sums = {"force": [0.0, 0.0], "before": [0.0, 0.0], "after": [0.0, 0.0]}  # [in band, all]
         filtered = False
-        for run in _runs(k):
-            if math.isfinite(band):
-                f, p = _spectrum(m.t, m.xdot, run)
-                above += float(p[f > band].sum())
-                total += float(p.sum())
-            if not math.isfinite(band):
-                continue
+        for run in (_runs(k) if math.isfinite(band) else ()):  # no fitted band: nothing to compare with
+            f, p = _spectrum(m.t, m.xdot, run)
+            above += float(p[f > band].sum())
+            total += float(p.sum())
             force = h.force[run]
             series = {"force": force, "before": force - h.before[run], "after": force - h.after[run]}
             for name, y in series.items():
@@ -191,10 +198,10 @@ def motion_coverage(fitted_motions: Sequence, fitted_masks: Sequence[np.ndarray]
             errors[label] = math.sqrt(sums[label][0] / sums["force"][0]) if ok else None
         finding = bool((math.isfinite(share_above) and share_above >= BEYOND_BAND_SHARE)
                        or (math.isfinite(beyond) and beyond >= BEYOND_AMPLITUDE_SHARE))
-        out["recordings"][m.name] = {
-            "power_beyond_band": share_above, "beyond_amplitude": beyond,
-            "faster": share_faster, "beyond_displacement": share_wider,
-            "speed_max": float(np.max(np.abs(m.xdot[k]))) if n else math.nan,
+        out["recordings"][m.name] = {  # None, not NaN, where undefined: diagnosis.json stays strict JSON
+            "power_beyond_band": _defined(share_above), "beyond_amplitude": _defined(beyond),
+            "faster": _defined(share_faster), "beyond_displacement": _defined(share_wider),
+            "speed_max": float(np.max(np.abs(m.xdot[k]))) if n else None,
             "in_band_power": in_band if filtered else None,
             "error_before_in_band": errors["before"] if filtered else None,
             "error_after_in_band": errors["after"] if filtered else None,
@@ -215,18 +222,21 @@ def coverage_lines(coverage: dict | None) -> list[tuple[str, bool]]:
         return []
     band, speed = coverage["band_hz"], coverage["speed_max"]
     lo, hi = coverage["displacement_range"]
+    # fitted tests without a run of MIN_RUN counted samples have no measured band
+    band_text = f"band ({band:.3g} Hz)" if band is not None else f"band (not measured: no run of {MIN_RUN} samples)"
+    speed_text = f"{speed:.3g} m/s" if speed is not None else "speed"
     lines = []
     for name, c in coverage["recordings"].items():
         parts = []
-        if math.isfinite(c["power_beyond_band"]) and c["power_beyond_band"] >= 0.005:
+        if _share(c["power_beyond_band"]) >= 0.005:
             parts.append(f"{100 * c['power_beyond_band']:.0f} % of its velocity power lies above the fitted "
-                         f"tests' band ({band:.3g} Hz)")
-        if math.isfinite(c["faster"]) and c["faster"] >= 0.005:
+                         f"tests' {band_text}")
+        if _share(c["faster"]) >= 0.005:
             parts.append(f"{100 * c['faster']:.0f} % of its scored samples move faster than their "
-                         f"{speed:.3g} m/s (up to {c['speed_max']:.3g} m/s)")
-        if math.isfinite(c["beyond_displacement"]) and c["beyond_displacement"] >= 0.005:
-            parts.append(f"{100 * c['beyond_displacement']:.0f} % of its scored samples lie outside their displacements "
-                         f"({1e3 * lo:.3g} to {1e3 * hi:.3g} mm)")
+                         f"{speed_text} (up to {c['speed_max']:.3g} m/s)")
+        if _share(c["beyond_displacement"]) >= 0.005:
+            parts.append(f"{100 * c['beyond_displacement']:.0f} % of its scored samples lie outside their "
+                         f"displacements ({1e3 * lo:.3g} to {1e3 * hi:.3g} mm)")
         if c["finding"]:
             text = f"{name} asks the model to extrapolate: " + "; ".join(parts)
             if c["error_before_in_band"] is not None and c["in_band_power"] < 0.99:
@@ -236,8 +246,8 @@ def coverage_lines(coverage: dict | None) -> list[tuple[str, bool]]:
                 text += (f"; only {100 * c['in_band_power']:.0f} % of its force power lies below {band:.3g} Hz, "
                          "too little for an in-band error")
         else:
-            text = (f"{name} moves within the fitted tests' band ({band:.3g} Hz) and amplitudes "
-                    f"({speed:.3g} m/s)" + (" but for small shares: " + "; ".join(parts) if parts else "")
+            text = (f"{name} moves within the fitted tests' {band_text} and amplitudes ({speed_text})"
+                    + (" but for small shares: " + "; ".join(parts) if parts else "")
                     + ": its error is not an extrapolation in frequency or amplitude")
         lines.append((text, c["finding"]))
     return lines

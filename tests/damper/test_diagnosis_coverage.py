@@ -107,7 +107,7 @@ def test_only_scored_runs_count_and_too_short_ones_are_skipped():
     sparse[::2] = True
     c = motion_coverage([fitted], [np.ones(t.size, bool)], [_history(t2, v_low, v_high, "sparse", sparse)])
     r = c["recordings"]["sparse"]
-    assert math.isnan(r["power_beyond_band"]) and r["in_band_power"] is None and r["error_before_in_band"] is None
+    assert r["power_beyond_band"] is None and r["in_band_power"] is None and r["error_before_in_band"] is None
     assert coverage_lines(c)  # still one sentence
 
 
@@ -129,3 +129,19 @@ def test_diagnose_with_other_recordings_reports_their_coverage():
     assert not cov["recordings"]["same"]["finding"]
     fast = cov["recordings"]["fast"]
     assert fast["finding"] and fast["power_beyond_band"] > 0.9 and fast["faster"] > 0.5
+
+
+def test_fitted_tests_too_short_for_a_spectrum_give_no_band_and_the_text_says_so():
+    t, v_fit = _band_noise(0.2, 5.0, 8.0, 0.1, seed=10)  # 200 samples: below MIN_RUN
+    fitted = _motion(t, v_fit, "short")
+    t2, v_low = _band_noise(5.0, 1.0, 20.0, 0.3, seed=11)
+    cov = motion_coverage([fitted], [np.ones(t.size, bool)], [_history(t2, v_low, 0.0 * v_low, "other")])
+    c = cov["recordings"]["other"]
+    assert cov["band_hz"] is None and c["power_beyond_band"] is None and c["in_band_power"] is None
+    assert c["faster"] > 0.05 and c["finding"]  # three times the speed is still seen
+    import json
+    json.dumps(cov, allow_nan=False)  # strict JSON: no NaN
+    text, _ = coverage_lines(cov)[0]
+    assert "faster than their" in text
+    cov["recordings"]["other"].update(faster=0.0, beyond_displacement=0.0, beyond_amplitude=0.0, finding=False)
+    assert "band (not measured" in coverage_lines(cov)[0][0]
