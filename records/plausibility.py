@@ -73,6 +73,11 @@ MIN_DURATION_S = 5.0
 
 
 def _units_hint(record: Record) -> str:
+    origin = str(record.metadata.get("units_from", ""))
+    if origin in ("header", "file", "file comments", "file header") or origin.startswith("header"):
+        # --units may not contradict a unit the file states: the file itself must be corrected
+        return (f"values read as {units_assumed(record)}; the file states that unit: if its values are in "
+                "another one, correct the file (--units cannot override what a file states)")
     return f"values read as {units_assumed(record)}; wrong units? (give --units, e.g. cm/s2 or g)"
 
 

@@ -317,7 +317,9 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
     if npts_value != int(npts_value) or npts_value < 2:
         raise InputError(f"{where}:4: NPTS = {npts_text}; expected an integer >= 2")
     npts = int(npts_value)
-    dt = _check_dt(_number(dt_text, path, 4, "DT in seconds"), f"{where}:4")
+    # "DT= 10.0 MSEC": a step written in milliseconds (read as seconds it is a 10-s step)
+    dt_scale = 1e-3 if re.search(r"DT\s*=\s*\S+?\s*(?:MSEC|MS)\b", lines[3], re.IGNORECASE) else 1.0
+    dt = _check_dt(_number(dt_text, path, 4, "DT in seconds") * dt_scale, f"{where}:4")
 
     found_units = _header_units(lines[2], f"{where}:3")
     if found_units is None and re.search(r"\bG\s*$", lines[2].strip(), re.IGNORECASE):
@@ -363,9 +365,9 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str | N
     ----------
     path : path-like
         The file: one number per line; blank lines and lines starting with ``#`` or ``%`` skipped.
-    dt : float
-        Time step [s]; the file does not hold it, so it must be given (SLAMMER lists it in its
-        ``eq.sql`` table).
+    dt : float or None
+        Time step [s]; required unless a comment line states it (SLAMMER's files do not: it lists
+        the step in its ``eq.sql`` table).
     units : str, optional
         Units of the values (default g, as in SLAMMER; ``metadata["units_from"]`` says which).
     name, label : str, optional
@@ -374,16 +376,42 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str | N
     Raises
     ------
     InputError
-        ``dt`` missing or not positive, more than one value on a line, text or non-finite values.
+        ``dt`` neither given nor stated, an argument that contradicts the file's comments, more
+        than one value on a line, text or non-finite values.
+
+    Notes
+    -----
+    Comment lines (``#``, ``%``) and a first text line (a column title such as
+    ``Acceleration (g)``) may state the step (``dt=0.01 s``) and the unit (``units: m/s2``,
+    ``[cm/s2]``), read as in the benchmark's headers; given arguments must agree with them.
     """
     where = str(path)
-    if dt is None:
-        raise InputError(f"{where}: a single-column file holds no time step; give dt (option --dt)")
-    dt = _check_dt(dt, f"{where}: dt")
-    units_from = "argument" if units is not None else "default for single-column files, give --units"
-    units = "g" if units is None else units
-    factor = unit_factor(units, f"{where}: units")
     path, lines = _read_lines(path)
+    lines = list(lines)
+    first = next((i for i, line in enumerate(lines) if line.strip() and not line.lstrip().startswith(("#", "%"))), None)
+    if first is not None and not any(_is_number(t) for t in lines[first].replace(",", " ").replace(";", " ").split()):
+        lines[first] = "#" + lines[first]  # a column title: read for a step or a unit, not as a value
+    header = "\n".join(line.lstrip()[1:] for line in lines if line.lstrip().startswith(("#", "%")))
+    header_dt = _header_dt(header, where)
+    if dt is not None:
+        dt = _check_dt(dt, f"{where}: dt")
+        if header_dt is not None and not math.isclose(dt, header_dt, rel_tol=1e-9):
+            raise InputError(f"{where}: dt = {dt} s given but the file says dt = {header_dt} s")
+    elif header_dt is not None:
+        dt = header_dt
+    else:
+        raise InputError(f"{where}: a single-column file holds no time step; give dt (option --dt)")
+    found_units = _header_units(header, f"{where}: comments")
+    if units is not None:
+        factor = unit_factor(units, f"{where}: units")
+        if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
+            raise InputError(f"{where}: units {units!r} given but the file says {found_units!r}")
+        units_from = "argument"
+    elif found_units is not None:
+        units, units_from = found_units, "file comments"
+    else:
+        units, units_from = "g", "default for single-column files, give --units"
+    factor = unit_factor(units, f"{where}: units")
     values, _ = _parse_table(lines, path, 1, 1, ("#", "%"), "one acceleration value per line")
     return _record(
         path,
@@ -882,6 +910,14 @@ def _first_column_is_time(rows: Sequence[str], stated_dt: float | None = None) -
     return bool(np.mean(np.diff(first) > 0) >= 0.95)
 
 
+def _one_value_per_line(rows: Sequence[str]) -> bool:
+    """Whether the data rows hold one number each (after at most one text line: a column title)."""
+    data = [r for r in rows[:50] if r.strip()]
+    if data and not any(_is_number(t) for t in data[0].replace(",", " ").replace(";", " ").split()):
+        data = data[1:]  # a column title (no number in it)
+    return bool(data) and all(len(r.split()) == 1 and _is_number(r.strip()) for r in data)
+
+
 def detect_format(path: str | os.PathLike) -> str:
     """Guess a file's format from its name and first lines (``benchmark``, ``at2``, ``single``,
     ``csv``, ``knet``, ``esm`` or ``cosmos``).
@@ -895,7 +931,8 @@ def detect_format(path: str | os.PathLike) -> str:
     -----
     Rules, in order: a COSMOS first line (``(Format v01.20 with N text lines)``) → cosmos, a K-NET/KiK-net header (``Origin Time`` ... ``Scale Factor``) → knet, an ESM
     header (``EVENT_NAME:``, ``SAMPLING_INTERVAL_S:``) → esm (:mod:`records.station_files`); suffix ``.at2`` → at2, ``.csv`` → csv; ``NPTS`` within the first four
-    lines or a first line starting with ``PEER`` → at2; a first line starting with ``%`` →
+    lines or a first line starting with ``PEER`` → at2; every data row one number (after at most
+    one text line, a column title) → single; a first line starting with ``%`` →
     benchmark, unless the first column is time (below; where the ``%`` lines state a step, only
     a first column that steps by it); a comma or semicolon in the first
     data line → csv; one value per line → single; a header row → csv; numeric columns whose
@@ -925,6 +962,8 @@ def detect_format(path: str | os.PathLike) -> str:
     # whatever they do, unless the first steps by that dt (a time column under a stated step); a
     # '%' header without a step over a time column is a CSV with comments
     percent = "\n".join(line[1:] for line in nonblank if line.startswith("%"))
+    if _one_value_per_line(rows):  # under '%' or '#' comments, or a one-line text header
+        return "single"
     if nonblank[0].startswith("%") and not _first_column_is_time(rows, _header_dt(percent, str(path))):
         return "benchmark"
     if not data:
@@ -943,7 +982,7 @@ def detect_format(path: str | os.PathLike) -> str:
     if width == 2:
         return "benchmark"
     raise InputError(f"{path}: {width} columns without a header; cannot tell the format "
-                     "(give format='csv' with a time column, or 'benchmark')")
+                     "(give --format csv for a time column then accelerations, or --format benchmark)")
 
 
 def load_record(path: str | os.PathLike, format: str = "auto", dt: float | None = None,
@@ -982,7 +1021,15 @@ def load_record(path: str | os.PathLike, format: str = "auto", dt: float | None 
         raise InputError(f"format {format!r} is not known; expected one of {', '.join(FORMATS)}")
     fmt = detect_format(path) if format == "auto" else format
     if fmt == "benchmark":
-        return read_benchmark(path, dt=dt, units=units, name=name)
+        record = read_benchmark(path, dt=dt, units=units, name=name)
+        if format == "auto" and str(record.metadata.get("dt_from", "")).startswith("benchmark default"):
+            # two columns of numbers taken for the benchmark's format: its 0.005-s step is a guess
+            # that stretches or squeezes the whole record (a file at 0.01 s had run twice as fast,
+            # nothing on screen); the benchmark's own files are read by name, or with --format benchmark
+            raise InputError(f"{path}: two columns of acceleration and no time step (no 'dt=' in a '%' or '#' "
+                             "line); give --dt (the benchmark's own records need none: by name, e.g. "
+                             "--record newhall, or with --format benchmark, at 0.005 s)")
+        return record
     if fmt == "at2":
         record = read_at2(path, units=units, name=name)
         if dt is not None and not math.isclose(_check_dt(dt, f"{path}: dt argument"), record.dt, rel_tol=1e-6):

@@ -253,6 +253,6 @@ def units_assumed(record: Record) -> str:
         origin = {"at2": "file header", "single": "--units / default g"}.get(meta.get("format"), "file")
     text = f"{units} ({origin})"
     if str(meta.get("dt_from", "")).startswith("benchmark default"):
-        # a headerless two-column file: its step is as much an assumption as its units
+        # read with --format benchmark and no step: the benchmark's, an assumption like its units
         text += f", at a step of {record.dt:g} s (the benchmark's; not in the file: give --dt)"
     return text

@@ -88,6 +88,45 @@ def record_files(spec: str | os.PathLike) -> list[Path]:
     return [Path(p).expanduser() for p in (_pair(text) or [text])]
 
 
+#: The phrase of a record flaw that states an assumed unit (:func:`unit_not_stated`); the commands
+#: print such flaws as warnings, as they print implausible ones (:func:`is_warning`).
+UNIT_NOT_STATED = "the file does not state the unit of its values"
+
+
+def unit_not_stated(record: Record) -> str | None:
+    """A warning when a record file's values were read in a format's default unit (the file names
+    none, no ``--units`` was given), else None.
+
+    A default unit is right for the format's own files (the benchmark's cm/s², SLAMMER's g) and a
+    factor of 9.81 or 981 off for anyone else's, which no plausibility bound catches within a
+    factor of 9.81 (a record of 0.02 g read as m/s² is still a record). The unit is read from the
+    file wherever it is written (a header, a comment, a column title); this says where it was not.
+
+    Parameters
+    ----------
+    record : Record
+        One file's record, as its reader returned it.
+    """
+    origin = str(record.metadata.get("units_from", ""))
+    if "default" not in origin:
+        return None
+    units = record.metadata.get("units_in_file", "?")
+    return (f"{record.name}: values read as {units}: {UNIT_NOT_STATED} (the {record.metadata.get('format', '?')} "
+            f"format's default); give --units to confirm, e.g. --units {units}")
+
+
+def is_warning(flaw: str) -> bool:
+    """Whether a record flaw is printed as a warning by the commands (implausible values, a unit
+    the file does not state) rather than only kept in the results.
+
+    Parameters
+    ----------
+    flaw : str
+        A message of ``metadata["flaws"]``.
+    """
+    return "implausible" in flaw or UNIT_NOT_STATED in flaw
+
+
 def join_components(x: Record, y: Record) -> Record:
     """One two-component record from two one-component records (``x`` on x for ``FN-x``).
 
@@ -250,9 +289,10 @@ def resolve_record(spec: str | os.PathLike, orientation: str = "FN-x", records_d
                 raise DataNotFoundError(f"record {path}: file not found" if not path.exists()
                                         else f"record {path}: not a regular file")
             parts.append(load_record(path, format=format or "auto", dt=dt, units=units))
+        assumed = [unit_not_stated(p) for p in parts]
         record = join_components(*parts) if len(parts) == 2 else parts[0]
         meta = dict(record.metadata)
-        meta["flaws"] = [f.message for f in check_record(record)]
+        meta["flaws"] = [a for a in assumed if a] + [f.message for f in check_record(record)]
         record = _orient_file_record(record.replace(metadata=meta), orientation)
         meta = dict(record.metadata)
     meta["units_assumed"] = units_assumed(record)

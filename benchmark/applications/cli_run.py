@@ -66,6 +66,7 @@ from benchmark.simulator.isolation.configurations import DEFAULT_NONLINEAR, ISOL
 from benchmark.simulator.results import write_result
 from benchmark.simulator.plots import plot_run
 from records.options import add_record_options
+from records.resolve import is_warning
 from benchmark.simulator.case import Case, run_case
 from benchmark.simulator.criteria import SOURCE, key_json
 from benchmark.simulator.building import Building
@@ -210,7 +211,7 @@ def run_command(record: str, orientation: str = "FN-x", isolation: str | None = 
     moved = motion_notes(used, *device_motion(result)) if result is not reference else []
     if warn:
         for note in [*run.notes, *moved]:
-            flag = "warning: " if "implausible" in note and not note.startswith("warning: ") else ""
+            flag = "warning: " if is_warning(note) and not note.startswith("warning: ") else ""
             print(f"sbib run: {flag}{note}", file=sys.stderr, flush=True)
     orientation = rec.metadata.get("orientation", orientation)
     layer = building.isolation

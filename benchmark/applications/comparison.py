@@ -35,7 +35,7 @@ from benchmark.foundation.paths import structure_file
 from benchmark.applications.run_inputs import controller_identity, damper_identities, record_identity
 from benchmark.applications import comparison_plots
 from controllers.registry import get_controller
-from records.resolve import resolve_record
+from records.resolve import is_warning, resolve_record
 from records.resolve import looks_like_file
 from records.catalogue import ORIENTATION_ALIASES
 from benchmark.simulator.simulation import check_control_step
@@ -389,7 +389,7 @@ def _check_records(record_list: list[str], orientation: str, settings: dict, war
             identities[label] = record_identity(list(files) if files else getattr(record, "source", ""))
         steps[label] = settings["control_step"] or DEFAULT_CONTROL_STEP  # checked once, in compare()
         for flaw in record.metadata.get("flaws", []):
-            if "implausible" in flaw:
+            if is_warning(flaw):
                 messages.append(f"sbib compare: warning: {flaw}")
     return labels, units, steps, messages
 

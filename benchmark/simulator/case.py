@@ -33,7 +33,7 @@ from benchmark.simulator.simulation import SimulationResult, check_control_step,
 from controllers.registry import get_controller
 from damper.models.base import DamperModel
 from records.record import Record
-from records.resolve import resolve_record
+from records.resolve import is_warning, resolve_record
 
 __all__ = ["Case", "CaseResult", "ReferenceCache", "REFERENCES", "run_case",
            "DEFAULT_CONTROL_STEP", "resolve_case_record", "with_record_note"]
@@ -292,7 +292,7 @@ def run_case(case: Case, reference: bool = True, cache: ReferenceCache | None = 
     """
     record = resolve_case_record(case)
     controller = get_controller(case.controller) if isinstance(case.controller, str) else case.controller
-    notes = [f for f in record.metadata.get("flaws", []) if "implausible" in str(f)]
+    notes = [f for f in record.metadata.get("flaws", []) if is_warning(str(f))]
     # without a controller the control step sets only the time grid, which the reference of a
     # controlled run shares
     control_step = DEFAULT_CONTROL_STEP if case.control_step is None else case.control_step

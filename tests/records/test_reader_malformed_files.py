@@ -191,15 +191,16 @@ def test_a_time_column_in_ms_read_as_s_is_refused(tmp_path):
     _refused(path, "a step in ms given as s?")
 
 
-def test_a_headerless_two_column_file_says_its_step_was_assumed(tmp_path):
-    # read as the benchmark's format (cm/s², 0.005 s): both assumptions are said wherever the
-    # units are (a file at 0.01 s had run as half its length, its step said nowhere)
-    from records.record import units_assumed
+def test_a_headerless_two_column_file_needs_its_step_and_says_its_unit_was_assumed(tmp_path):
+    # read as the benchmark's format: a file at 0.01 s had run at 0.005 s (twice as fast) and
+    # g read as cm/s² (981 times too weak), both said only inside the summary's units string
+    from records.resolve import UNIT_NOT_STATED, resolve_record
     path = _write(tmp_path, "two.txt", "".join(f"{np.sin(0.1 * k):.4f} {np.cos(0.1 * k):.4f}\n" for k in range(200)))
-    rec = load_record(path)
-    assert rec.dt == 0.005
-    assert "at a step of 0.005 s" in units_assumed(rec) and "give --dt" in units_assumed(rec)
-    assert "at a step of" not in units_assumed(load_record(path, dt=0.01))
+    _refused(path, "no time step")
+    rec = resolve_record(str(path), dt=0.01)
+    assert rec.dt == 0.01 and any(UNIT_NOT_STATED in f for f in rec.metadata["flaws"])
+    stated = resolve_record(str(path), dt=0.01, units="g")
+    assert not any(UNIT_NOT_STATED in f for f in stated.metadata["flaws"])
 
 
 @pytest.mark.parametrize("opener", ["zip", "gzip"])
@@ -215,3 +216,54 @@ def test_a_compressed_record_is_named_as_such(tmp_path, opener):
     else:
         path.write_bytes(gzip.compress(text.encode()))
     _refused(path, f"a {opener}")
+
+
+# ------------------------------------------------------------------- what a file states of itself
+# Probed 2026-11-28 (evening) with files as users write them: a single-column file whose comment
+# said "units: m/s2" ran 9.81 times too strong (the comment was not read, the default g was), one
+# stating "dt=0.01 s" was refused for lack of --dt, one under '%' comments or a column title was
+# taken for another format and refused, and an AT2 step in milliseconds was read as seconds.
+_WAVE = [0.3 * np.sin(0.2 * k) * np.exp(-0.002 * k) for k in range(800)]
+
+
+def _single(lines_before, values=_WAVE):
+    return "".join(line + "\n" for line in lines_before) + "".join(f"{v:.6f}\n" for v in values)
+
+
+@pytest.mark.parametrize("header, dt, units, factor", [
+    (["# El Centro 270, units: m/s2"], 0.01, None, 1.0),
+    (["# Rinaldi 228, dt=0.01 s, units: cm/s2"], None, None, 0.01),
+    (["% my record, acceleration in m/s^2, dt=0.02 sec"], None, None, 1.0),
+    (["Acceleration (g)"], 0.01, None, STANDARD_GRAVITY),
+    (["# units: g"], 0.01, "g", STANDARD_GRAVITY),
+])
+def test_a_single_column_file_reads_its_step_and_unit_from_its_comments(tmp_path, header, dt, units, factor):
+    path = _write(tmp_path, "one.txt", _single(header))
+    assert detect_format(path) == "single"
+    rec = load_record(path, dt=dt, units=units)
+    assert np.allclose(rec.acceleration[:, 0], np.asarray(_WAVE) * factor, rtol=0, atol=1e-6 * factor)  # 6 decimals written
+    assert rec.dt == (dt or (0.02 if "0.02" in header[0] else 0.01))
+
+
+def test_a_single_column_file_with_arguments_against_its_comments_is_refused(tmp_path):
+    path = _write(tmp_path, "one.txt", _single(["# dt=0.01 s, units: m/s2"]))
+    _refused(path, "given but the file says dt = 0.01 s", dt=0.02)
+    _refused(path, "given but the file says 'm/s2'", units="g")
+    # a step stated nowhere is still asked for
+    _refused(_write(tmp_path, "bare.txt", _single(["# El Centro"])), "give dt")
+
+
+def test_an_at2_step_in_milliseconds_is_read_as_such(tmp_path):
+    values = "".join(f"{v:15.7E}" + ("\n" if (k + 1) % 5 == 0 else "") for k, v in enumerate(_WAVE))
+    path = _write(tmp_path, "ms.AT2", "PEER NGA STRONG MOTION DATABASE RECORD\nQuake, 1/1/2000, STA, 90\n"
+                  "ACCELERATION TIME SERIES IN UNITS OF G\nNPTS=   800, DT=   10.0 MSEC\n" + values)
+    assert read_at2(path).dt == pytest.approx(0.01)
+
+
+def test_an_assumed_unit_is_a_warning_of_the_run(tmp_path):
+    # the unit a format assumes is printed as a warning, not only kept in the results
+    from records.resolve import UNIT_NOT_STATED, is_warning, resolve_record
+    path = _write(tmp_path, "acc.csv", "time,acc\n" + "".join(f"{0.01 * k:.2f},{v:.6f}\n" for k, v in enumerate(_WAVE)))
+    flaws = resolve_record(str(path)).metadata["flaws"]
+    assert [f for f in flaws if is_warning(f)] and UNIT_NOT_STATED in flaws[0]
+    assert not any(UNIT_NOT_STATED in f for f in resolve_record(str(path), units="m/s2").metadata["flaws"])

@@ -39,7 +39,7 @@ def _two_columns(header: str) -> str:
 def test_header_units_in_any_spelling_the_unit_table_knows(tmp_path, header, factor):
     path = tmp_path / "rec.txt"
     path.write_text(_two_columns(header), encoding="utf-8")
-    rec = load_record(path)
+    rec = load_record(path, dt=None if "dt=" in header else 0.005)  # two columns: the step stated or given
     np.testing.assert_allclose(rec.acceleration[:, 0], np.array(VALUES) * factor, rtol=1e-12, atol=0)
     assert rec.metadata["units_from"] == "header"
 

@@ -34,10 +34,16 @@ def test_benchmark_file_crlf_tabs_header_dt_units(tmp_path):
 
 
 def test_benchmark_file_without_dt_uses_the_benchmark_step(tmp_path):
+    # read as the benchmark's format (read_benchmark, or --format benchmark): its step
     path = _write(tmp_path, "nodt.txt", "%Newhall-like header without dt\n1 2\n3 4\n")
     rec = read_benchmark(path)
     assert rec.dt == 0.005 and "default" in rec.metadata["dt_from"]
     assert np.allclose(rec.acceleration, [[0.01, 0.02], [0.03, 0.04]])
+    # taken for it from two columns of numbers, the step is not guessed (a file at 0.01 s had run
+    # twice as fast, with nothing on screen)
+    with pytest.raises(InputError, match="no time step.*give --dt"):
+        load_record(path)
+    assert load_record(path, format="benchmark").dt == 0.005 and load_record(path, dt=0.01).dt == 0.01
 
 
 def test_benchmark_header_conflicts_are_errors(tmp_path):
@@ -246,7 +252,13 @@ def test_benchmark_files_load_with_catalogue_pgas(records_dir):
                 "rinaldi": (0.840, 0.476), "kobe": (0.841, 0.631), "jiji": (0.512, 0.369),
                 "erzikan": (0.515, 0.496)}
     for name, pga in expected.items():
-        rec = load_record(records_dir / f"{name}.txt")   # auto-detected as the benchmark format
+        path = records_dir / f"{name}.txt"
+        if name == "newhall":  # its header states no step: not guessed from two columns of numbers
+            with pytest.raises(InputError, match="no time step"):
+                load_record(path)
+            rec = load_record(path, format="benchmark")
+        else:
+            rec = load_record(path)   # auto-detected as the benchmark format
         assert rec.metadata["format"] == "benchmark" and rec.dt == 0.005
         assert np.allclose(rec.pga_g, pga, atol=6e-4), name
 
