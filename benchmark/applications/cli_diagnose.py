@@ -42,6 +42,7 @@ from damper.diagnosis.effects import EFFECTS, effect_names
 from damper.diagnosis import diagnose
 from damper.diagnosis.interference import interference_lines
 from damper.diagnosis.coverage import coverage_lines
+from damper.diagnosis.levels import level_lines
 from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.diagnosis.dataset import DEFAULT_HOLDOUT
 from damper.diagnosis.report import format_parameters, input_word, residual_not_white, write_report
@@ -211,6 +212,8 @@ def run(args) -> int:
                   f"the final model (error {al['error_unshifted']:.4f} -> {al['error_shifted']:.4f} if shifted): "
                   "check the force and motion channels' timing; nothing was shifted")
         for text, _ in interference_lines(getattr(result, "interference", None)):
+            print(text)
+        for text, _ in level_lines(getattr(result, "force_levels", None)):
             print(text)
         if result.settings.get("dropped_at_full_rate"):
             print(f"left out: {', '.join(result.settings['dropped_at_full_rate'])} (chosen on the coarse pass, "

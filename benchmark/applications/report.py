@@ -29,6 +29,7 @@ from benchmark.simulator.evaluation import J_DESCRIPTIONS, J_NAMES
 from benchmark.simulator.criteria import CRITERIA
 from benchmark.foundation.provenance import provenance
 from damper.diagnosis.interference import interference_lines
+from damper.diagnosis.levels import level_lines
 
 __all__ = ["write_report", "build_report_html", "REPORT_NAME"]
 
@@ -421,6 +422,8 @@ def _diagnosis_section(root: Path) -> str:
             out.append("<p>Screening of the measured data:</p>" + _screening_table(screening))
         checks = [text for text, _ in interference_lines(d.get("interference") if isinstance(d.get("interference"), dict)
                                                        else None)]
+        levels = d.get("force_levels")
+        checks += [text for text, _ in level_lines(levels if isinstance(levels, dict) else None)]
         if settings.get("dropped_at_full_rate"):
             checks.append("left out: " + ", ".join(map(str, settings["dropped_at_full_rate"]))
                           + " (chosen on the coarse pass, no lower held-out error over every sample)")

@@ -32,6 +32,7 @@ import numpy as np
 from benchmark.foundation.errors import InputError, NumericalError, ParameterError
 from damper.diagnosis.alignment import force_alignment
 from damper.diagnosis.interference import interference_lines, mains_lines
+from damper.diagnosis.levels import force_levels, level_lines
 from damper.diagnosis.augmented import AugmentedModel, base_at_bounds, refit
 from damper.io.data import DamperTest
 from damper.diagnosis.base_fit import fit_base, fit_spencer_base
@@ -150,6 +151,9 @@ class Diagnosis:
         Mains lines of the final residual (:func:`damper.diagnosis.interference.mains_lines`:
         ``lines``, ``searched``, ``tests``, ``error``, ``error_without``,
         ``error_without_by_frequency``); None when no test could be searched.
+    force_levels : dict or None
+        Each test's force level against the final model and the held-out error with one level
+        per test (:func:`damper.diagnosis.levels.force_levels`); None with fewer than two tests.
     validation_histories : tuple of ValidationHistory
         The ``cross_validate`` recordings with both models' forces, for the report's figure
         (not in the JSON).
@@ -177,6 +181,7 @@ class Diagnosis:
     alignment: dict | None = None
     validation_histories: tuple = field(default=(), repr=False)
     interference: dict | None = None
+    force_levels: dict | None = None
     forces_before: tuple = field(default=(), repr=False)
     forces_after: tuple = field(default=(), repr=False)
 
@@ -238,6 +243,7 @@ class Diagnosis:
                 **self.interference,
                 "error_without_by_frequency": {f"{k:g}": v for k, v in
                                                self.interference["error_without_by_frequency"].items()}}}),
+            **({} if self.force_levels is None else {"force_levels": self.force_levels}),
         }
 
 
@@ -682,6 +688,10 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                                [tr | ho for tr, ho in zip(data.train, data.heldout)], data.heldout)
     for text, _ in interference_lines(interference):
         say(text)
+    # the force level of each test against the final model: a device that changed between tests
+    levels = force_levels([m.name for m in data.motions], data.forces, forces_after, data.train, data.heldout)
+    for text, _ in level_lines(levels):
+        say(text)
     for s in selection.steps:
         say(f"added {s.name} {s.parameters}: held-out error {s.error_before:.4f} -> {s.error_after:.4f}")
     if where:
@@ -716,6 +726,6 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
                      unexplained=bool(where), unexplained_in=where, errors_by_test=by_test,
                      errors_by_input=by_input, settings=settings, validation=validation,
                      alignment=alignment, validation_histories=validation_histories,
-                     interference=interference,
+                     interference=interference, force_levels=levels,
                      forces_before=tuple(forces_before), forces_after=tuple(forces_after))
 

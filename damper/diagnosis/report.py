@@ -32,6 +32,7 @@ from damper.diagnosis.trace import TRACE_VARIABLES
 from damper.diagnosis.effects import EFFECTS
 from damper.diagnosis.interference import interference_lines
 from damper.diagnosis.coverage import coverage_lines
+from damper.diagnosis.levels import level_lines
 from damper.diagnosis.loop import force_zero_text, tare_matters
 from damper.io.screening import screening_lines, screening_summary
 from damper.lab.plots import draw_loops
@@ -513,6 +514,8 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
             lines[-1:-1] = [f"- Force channel against the final model: best alignment at {1e3 * al['shift_s']:+.3g} ms "
                             f"({al['shift_samples']:+.2f} samples, searched ±{1e3 * al['searched_s']:.3g} ms): "
                             "no skew between force and motion channels."]
+    lines[-1:-1] = [f"- **{text[0].upper()}{text[1:]}**." if finding else f"- {text[0].upper()}{text[1:]}."
+                    for text, finding in level_lines(getattr(d, "force_levels", None))]
     found = getattr(d, "interference", None)
     lines[-1:-1] = [f"- **{text[0].upper()}{text[1:]}**." if finding else f"- {text[0].upper()}{text[1:]}."
                     for text, finding in interference_lines(found)]
