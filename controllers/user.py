@@ -306,8 +306,8 @@ class GuardedController(Controller):
             bad = np.flatnonzero(np.isfinite(v) & ((v < -tol) | (v > vmax + tol)))
             if bad.size:
                 j = int(bad[0])
-                raise UserCodeError(f"controller {self.spec!r}: command {v[j]:.6g} for device {j} at t = {t:.6g} s is "
-                                 f"outside [0, {vmax[j]:g}] (the device's input range)"
+                raise UserCodeError(f"controller {self.spec!r}: command {v[j]:.10g} for device {j} at t = {t:.6g} s is "
+                                 f"outside [0, {vmax[j]:.10g}] (the device's input range, in its model's unit: V or A)"
                                  + (f"; {bad.size} devices" if bad.size > 1 else ""))
         return v
 

@@ -24,7 +24,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from benchmark.foundation.cache import register_cache
-from benchmark.foundation.errors import InputError, UserCodeError
+from benchmark.foundation.errors import InputError, NumericalError, UserCodeError
 from benchmark.simulator.building import Building
 from controllers.registry import controller_names
 from records import BENCHMARK_RECORDS, ORIENTATIONS
@@ -490,6 +490,9 @@ def _run_one(task) -> tuple:
         out = run_case(case, cache=_WORKER_REFERENCES)
     except UserCodeError as exc:  # a user's controller failed: say in which of the runs
         raise UserCodeError(f"{label[0] if label else record_name} {orientation}: {exc}") from None
+    except NumericalError as exc:  # a run that failed numerically (a controller's NaN too): which one
+        where = f"{label[0] if label else record_name} {orientation}" + (f" ({damper})" if damper else "")
+        raise NumericalError(f"{where}: {exc}") from None
     result, reference = out.result, out.reference
     run = ComparisonRun(record=label[0] if label else record_name, orientation=orientation,
                         controller=_controller_label(spec),
@@ -680,7 +683,8 @@ def compare(records: str | Sequence[str] = "all", orientations: str | Sequence[s
         if full is not None:
             measured[run.key] = full
     if isinstance(building, dict):  # several dampers: each model replayed under the first one's runs
-        model_comparison.add_replays(runs, building)
+        model_comparison.add_replays(runs, building, None if damper_info is None else
+                                     {label: command_unit(damper_info, label) for label in building})
     public_settings = {k: v for k, v in settings.items() if k != "noise"}
     public_settings["noise"] = None if noise is None else repr(noise)
     public_settings["controllers"] = labels

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from benchmark.applications.damper_choice import command_unit
 from benchmark.foundation.figures import save_figure
 from benchmark.foundation.paths import file_label
 from benchmark.simulator.criteria import J_NAMES
@@ -27,7 +28,7 @@ from damper.models.response import simulate
 __all__ = ["differences", "force_difference", "table_lines", "plot_force_differences", "add_replays"]
 
 
-def add_replays(runs: list, buildings: dict) -> None:
+def add_replays(runs: list, buildings: dict, units: dict | None = None) -> None:
     """For each run of a model other than the first: the force of its model, at the reference
     run's most loaded device, under that device's motion and commands in the first model's run
     (``histories["replay_force"]``; the seed's Fig. 11 compares models under the same motion).
@@ -40,6 +41,11 @@ def add_replays(runs: list, buildings: dict) -> None:
         The others get ``histories["replay_force"]`` [N], in place.
     buildings : dict
         ``{damper label: Building}`` in the comparison's model order (first: the reference).
+    units : dict, optional
+        ``{damper label: input unit}`` (``"V"``, ``"A"``). A model read in another unit than the
+        reference's gets the reference's commands mapped by their share of the top of each
+        model's range (the controllers command each device from 0 to the top of its own model's
+        range): 2.7 V of a model up to 2.7 V is 1 A of one up to 1 A, never 2.7 A clipped to 1 A.
     """
     order = list(buildings)
     groups: dict[tuple, list] = {}
@@ -53,10 +59,16 @@ def add_replays(runs: list, buildings: dict) -> None:
             continue
         device = int(np.argmax(np.max(np.abs(np.asarray(h["device_force"])), axis=0)))
         t = np.asarray(h["t_full"])
+        reference_model = buildings[first.damper].devices.models[device]
         for r in members[1:]:
             model = buildings[r.damper].devices.models[device]
             lo, hi = model.voltage_range
-            v = np.clip(np.asarray(h["voltage_full"])[:, device], lo, hi)
+            v = np.asarray(h["voltage_full"])[:, device]
+            if units and units.get(r.damper, "V") != units.get(first.damper, "V"):
+                # the controllers command u in [0, top of the model's range] (damper_choice's input mapping)
+                hi0 = reference_model.voltage_range[1]
+                v = (np.clip(v / hi0, 0.0, 1.0) if hi0 > 0 else np.zeros_like(v)) * hi
+            v = np.clip(v, lo, hi)
             r.histories["replay_force"] = simulate(model, t, np.asarray(h["device_displacement"])[:, device],
                                                    np.asarray(h["device_velocity"])[:, device], v).force
 
@@ -156,9 +168,19 @@ def table_lines(result: Any) -> list[str]:
                                  f"{fd['peak'] / 1e3:.4g} kN, RMS {fd['rms'] / 1e3:.4g} kN ({100 * fd['relative_rms']:.1f} % "
                                  "of the reference force RMS)")
                 if fd and "replay_rms" in fd:
-                    lines.append(f"    under the reference run's motion and commands: peak {fd['replay_peak'] / 1e3:.4g} kN, "
+                    unit_ref, unit = (command_unit(_damper_summary(result), label)
+                                      for label in (entry["reference"], name))
+                    mapped = (f" (commands mapped by their share of each model's top, {unit_ref} to {unit})"
+                              if unit != unit_ref else "")
+                    lines.append(f"    under the reference run's motion and commands{mapped}: peak "
+                                 f"{fd['replay_peak'] / 1e3:.4g} kN, "
                                  f"RMS {fd['replay_rms'] / 1e3:.4g} kN ({100 * fd['replay_relative_rms']:.1f} %)")
     return lines
+
+
+def _damper_summary(result: Any) -> dict | None:
+    summary = getattr(result, "settings", {}).get("damper")
+    return summary if isinstance(summary, dict) else None
 
 
 def _pyplot():

@@ -146,6 +146,10 @@ def write_identified_models(result: dict, out: str | Path, inputs: Sequence[str]
                                                                        by_level[lv][0]["errors"]["rel_rms_error"]},
                                                      "at_bounds": by_level[lv][0].get("at_bounds")})
                                 for lv in levels}}
+        seen = [s["fitted_motion"] for s in tests if s.get("fitted_motion")]
+        if seen:  # as sbib diagnose's files: a building run far beyond it is said to extrapolate
+            quality["fitted_motion"] = {"stroke_m": max(m["stroke_m"] for m in seen),
+                                        "velocity_m_s": max(m["velocity_m_s"] for m in seen)}
         notes = [f"parameters at each {quantity} level: one model fitted over all the files at that level "
                  "(errors under it in quality.by_level)"
                  + ("; PCHIP laws between the levels" if len(levels) > 1 else "")]

@@ -201,6 +201,10 @@ def identify_files(files: Sequence, models: Sequence[str] = ("normalized", "exte
         s["units"] = {k: si_unit(parameter_kind(k)) for k in s["parameters"]}
         s["held_out"] = per_model[ident.model_name].get(ident.name, {})
         s["at_bounds"] = parameters_at_bounds(ident.fit.parameters, ident.fit.start, ident.fit.free)
+        # the motion the fit has seen: a building run far beyond it extrapolates (said by sbib run)
+        w = ident.window
+        s["fitted_motion"] = {"stroke_m": float(np.max(np.abs(ident.x[w]))),
+                              "velocity_m_s": float(np.max(np.abs(ident.xdot[w])))}
         tests.append(s)
     levels = fit_levels(idents)
     figures: list[str] = []
