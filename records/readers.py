@@ -151,6 +151,30 @@ def _header_dt(header: str, where: str) -> float | None:
     return _check_dt(parse_float(m.group(1)) * scale, f"{where}: header dt")
 
 
+def _stated(header: str, where: str, dt: float | None, units: str | None, said: str,
+            origin: str) -> tuple[float | None, str, str | None, str]:
+    """The step and the unit of a file from its arguments and its comment lines (``header``):
+    ``(dt, dt_from, units, units_from)``, None where neither gives them (the caller's default).
+    An argument must agree with what the file states (``said``: "the header", "the file")."""
+    header_dt = _header_dt(header, where)
+    dt_from = "argument"
+    if dt is not None:
+        dt = _check_dt(dt, f"{where}: dt argument")
+        if header_dt is not None and not math.isclose(dt, header_dt, rel_tol=1e-9):
+            raise InputError(f"{where}: dt = {dt} s given but {said} says dt = {header_dt} s")
+    elif header_dt is not None:
+        dt, dt_from = header_dt, origin
+    found_units = _header_units(header, f"{where}: {origin}")
+    units_from = "argument"
+    if units is not None:
+        factor = unit_factor(units, f"{where}: units argument")
+        if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
+            raise InputError(f"{where}: units {units!r} given but {said} says {found_units!r}")
+    elif found_units is not None:
+        units, units_from = found_units, origin
+    return dt, dt_from, units, units_from
+
+
 def _header_units(header: str, where: str = "header") -> str | None:
     """The acceleration unit a header names, looked up in the project's unit table.
 
@@ -213,26 +237,10 @@ def read_benchmark(path: str | os.PathLike, dt: float | None = None, units: str 
     header = "\n".join(line.lstrip()[1:] for line in lines if line.lstrip().startswith(("%", "#")))
     where = str(path)
 
-    header_dt = _header_dt(header, where)
-    if dt is not None:
-        dt = _check_dt(dt, f"{where}: dt argument")
-        if header_dt is not None and not math.isclose(dt, header_dt, rel_tol=1e-9):
-            raise InputError(f"{where}: dt = {dt} s given but the header says dt = {header_dt} s")
-        dt_from = "argument"
-    elif header_dt is not None:
-        dt, dt_from = header_dt, "header"
-    else:
+    dt, dt_from, units, units_from = _stated(header, where, dt, units, "the header", "header")
+    if dt is None:
         dt, dt_from = BENCHMARK_DT, "benchmark default 0.005 s (not in the header)"
-
-    found_units = _header_units(header, f"{where}: header")
-    if units is not None:
-        factor = unit_factor(units, f"{where}: units argument")
-        if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
-            raise InputError(f"{where}: units {units!r} given but the header says {found_units!r}")
-        units_from = "argument"
-    elif found_units is not None:
-        units, units_from = found_units, "header"
-    else:
+    if units is None:
         units, units_from = "cm/s2", "benchmark default, not in the header"
     factor = unit_factor(units, where)
 
@@ -392,24 +400,10 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str | N
     if first is not None and not any(_is_number(t) for t in lines[first].replace(",", " ").replace(";", " ").split()):
         lines[first] = "#" + lines[first]  # a column title: read for a step or a unit, not as a value
     header = "\n".join(line.lstrip()[1:] for line in lines if line.lstrip().startswith(("#", "%")))
-    header_dt = _header_dt(header, where)
-    if dt is not None:
-        dt = _check_dt(dt, f"{where}: dt")
-        if header_dt is not None and not math.isclose(dt, header_dt, rel_tol=1e-9):
-            raise InputError(f"{where}: dt = {dt} s given but the file says dt = {header_dt} s")
-    elif header_dt is not None:
-        dt = header_dt
-    else:
+    dt, _, units, units_from = _stated(header, where, dt, units, "the file", "file comments")
+    if dt is None:
         raise InputError(f"{where}: a single-column file holds no time step; give dt (option --dt)")
-    found_units = _header_units(header, f"{where}: comments")
-    if units is not None:
-        factor = unit_factor(units, f"{where}: units")
-        if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
-            raise InputError(f"{where}: units {units!r} given but the file says {found_units!r}")
-        units_from = "argument"
-    elif found_units is not None:
-        units, units_from = found_units, "file comments"
-    else:
+    if units is None:
         units, units_from = "g", "default for single-column files, give --units"
     factor = unit_factor(units, f"{where}: units")
     values, _ = _parse_table(lines, path, 1, 1, ("#", "%"), "one acceleration value per line")
