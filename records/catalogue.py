@@ -285,8 +285,10 @@ def _read_catalogue_file(path: Path, entry: CatalogueEntry) -> Record:
     """A catalogue file read with the benchmark's step as known, not assumed: not every file
     states it (newhall.txt does not), but the catalogue does (every benchmark record is sampled
     at 0.005 s), so a record given by name needs no ``--dt``."""
-    record = read_benchmark(path, dt=BENCHMARK_DT, name=entry.name, labels=entry.column_labels)
-    return record.replace(metadata=dict(record.metadata, dt_from=f"benchmark catalogue ({BENCHMARK_DT:g} s)"))
+    record = read_benchmark(path, name=entry.name, labels=entry.column_labels)  # the header's step, else 0.005 s
+    if str(record.metadata.get("dt_from", "")).startswith("benchmark default"):
+        record = record.replace(metadata=dict(record.metadata, dt_from=f"benchmark catalogue ({BENCHMARK_DT:g} s)"))
+    return record
 
 
 def load_benchmark_record(name: str, orientation: str = "FN-x", records_dir: str | os.PathLike | None = None,

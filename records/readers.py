@@ -152,10 +152,15 @@ def _header_dt(header: str, where: str) -> float | None:
 
 
 def _stated(header: str, where: str, dt: float | None, units: str | None, said: str,
-            origin: str) -> tuple[float | None, str, str | None, str]:
+            origin: str, free: bool = False) -> tuple[float | None, str, str | None, str]:
     """The step and the unit of a file from its arguments and its comment lines (``header``):
     ``(dt, dt_from, units, units_from)``, None where neither gives them (the caller's default).
-    An argument must agree with what the file states (``said``: "the header", "the file")."""
+    An argument must agree with what the file states (``said``: "the header", "the file").
+
+    ``free``: the lines are a user's free comments, not a format's header: a unit counts only
+    where they state it as the values' (``units: m/s2``, ``in cm/s2``, ``[g]``; not ``converted
+    from cm/s2``), and a ``--units`` argument wins over it (``in cm/s2, scaled to g`` states a
+    unit the values no longer have)."""
     header_dt = _header_dt(header, where)
     dt_from = "argument"
     if dt is not None:
@@ -164,8 +169,11 @@ def _stated(header: str, where: str, dt: float | None, units: str | None, said: 
             raise InputError(f"{where}: dt = {dt} s given but {said} says dt = {header_dt} s")
     elif header_dt is not None:
         dt, dt_from = header_dt, origin
-    found_units = _header_units(header, f"{where}: {origin}")
     units_from = "argument"
+    if units is not None and free:
+        unit_factor(units, f"{where}: units argument")
+        return dt, dt_from, units, units_from
+    found_units = _header_units(header, f"{where}: {origin}", stated_only=free)
     if units is not None:
         factor = unit_factor(units, f"{where}: units argument")
         if found_units is not None and not math.isclose(factor, unit_factor(found_units)):
@@ -175,14 +183,15 @@ def _stated(header: str, where: str, dt: float | None, units: str | None, said: 
     return dt, dt_from, units, units_from
 
 
-def _header_units(header: str, where: str = "header") -> str | None:
+def _header_units(header: str, where: str = "header", stated_only: bool = False) -> str | None:
     """The acceleration unit a header names, looked up in the project's unit table.
 
     Any spelling the table knows is found (``cm/sec^2``, ``m/s**2``, ``m/s²``, ``m/sec/sec``,
     ``mm/s2``, ``gal``); a bare ``g`` or ``gal`` only where the header states it as a unit
     (after ``in``, ``of``, ``units:``, ``acc``, ``=`` or inside brackets: ``PGA 0.8 g`` is a value, not the
     file's unit). A number's unit (``0.35 g``) is never the file's. Two different units stated
-    as the file's are refused.
+    as the file's are refused. ``stated_only``: every unit, not only a bare ``g``, must be stated
+    so (a user's free comments: ``converted from cm/s2`` names no unit of the values).
     """
     table = QUANTITY_UNITS["acceleration"]
     stated: dict[float, str] = {}
@@ -196,7 +205,7 @@ def _header_units(header: str, where: str = "header") -> str | None:
             continue  # "0.35 g": a value's unit
         bare = "/" not in key
         after = header[m.end():m.end() + 2].lstrip()
-        if bare and not (_UNIT_CONTEXT.search(before) or after.startswith((")", "]"))):
+        if (bare or stated_only) and not (_UNIT_CONTEXT.search(before) or after.startswith((")", "]"))):
             continue
         stated.setdefault(table[key], key if bare else word)
     if len(stated) > 1:
@@ -327,6 +336,7 @@ def read_at2(path: str | os.PathLike, units: str | None = None, name: str | None
     npts = int(npts_value)
     # "DT= 10.0 MSEC": a step written in milliseconds (read as seconds it is a 10-s step)
     dt_scale = 1e-3 if re.search(r"DT\s*=\s*\S+?\s*(?:MSEC|MS)\b", lines[3], re.IGNORECASE) else 1.0
+    dt_text = re.sub(r"(?i)(?<=[0-9.])(?:msec|ms|sec\w*|s)$", "", dt_text)  # "10.0MSEC", ".005SEC"
     dt = _check_dt(_number(dt_text, path, 4, "DT in seconds") * dt_scale, f"{where}:4")
 
     found_units = _header_units(lines[2], f"{where}:3")
@@ -400,7 +410,7 @@ def read_single_column(path: str | os.PathLike, dt: float | None, units: str | N
     if first is not None and not any(_is_number(t) for t in lines[first].replace(",", " ").replace(";", " ").split()):
         lines[first] = "#" + lines[first]  # a column title: read for a step or a unit, not as a value
     header = "\n".join(line.lstrip()[1:] for line in lines if line.lstrip().startswith(("#", "%")))
-    dt, _, units, units_from = _stated(header, where, dt, units, "the file", "file comments")
+    dt, _, units, units_from = _stated(header, where, dt, units, "the file", "file comments", free=True)
     if dt is None:
         raise InputError(f"{where}: a single-column file holds no time step; give dt (option --dt)")
     if units is None:

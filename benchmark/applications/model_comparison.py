@@ -42,10 +42,13 @@ def add_replays(runs: list, buildings: dict, units: dict | None = None) -> None:
     buildings : dict
         ``{damper label: Building}`` in the comparison's model order (first: the reference).
     units : dict, optional
-        ``{damper label: input unit}`` (``"V"``, ``"A"``). A model read in another unit than the
-        reference's gets the reference's commands mapped by their share of the top of each
-        model's range (the controllers command each device from 0 to the top of its own model's
-        range): 2.7 V of a model up to 2.7 V is 1 A of one up to 1 A, never 2.7 A clipped to 1 A.
+        ``{damper label: input unit}`` (``"V"``, ``"A"``). Models in one unit get the same
+        physical commands (clipped to each model's range: the same volts are the same coil
+        input). A model read in another unit than the reference's, between which no physical
+        conversion exists without the coil's resistance, gets the reference's commands mapped by
+        their share of the top of each model's range, as the controllers command each device
+        (from 0 to the top of its own model's range): 2.7 V of a model up to 2.7 V is 1 A of one
+        up to 1 A, never 2.7 A clipped to 1 A.
     """
     order = list(buildings)
     groups: dict[tuple, list] = {}

@@ -55,22 +55,23 @@ def force_levels(names: Sequence[str], forces: Sequence[np.ndarray], predicted: 
     Returns
     -------
     dict or None
-        ``levels`` (name -> factor), ``spread``, ``error`` (held-out, as scored),
-        ``error_with_levels``, ``finding``.
+        ``levels`` (name -> factor), ``spread``, ``error`` (held-out, as scored: every test with
+        held-out samples), ``error_with_levels`` (a test whose level cannot be estimated keeps
+        1), ``finding``.
     """
     levels: dict[str, float] = {}
     num = num_levels = den = 0.0
     for name, f, g, tr, ho in zip(names, forces, predicted, train, heldout):
         tr, ho = np.asarray(tr, dtype=bool), np.asarray(ho, dtype=bool)
-        if int(tr.sum()) < MIN_TRAIN or not ho.any():
+        if not ho.any():
             continue
-        gg = float(g[tr] @ g[tr])
-        if not gg > 0:
-            continue
-        a = float(g[tr] @ f[tr]) / gg
-        if not math.isfinite(a) or a <= 0:
-            continue
-        levels[name] = a
+        # a test whose level cannot be estimated keeps the model's (1): the sums stay the loop's
+        gg = float(g[tr] @ g[tr]) if int(tr.sum()) >= MIN_TRAIN else 0.0
+        a = float(g[tr] @ f[tr]) / gg if gg > 0 else math.nan
+        if math.isfinite(a) and a > 0:
+            levels[name] = a
+        else:
+            a = 1.0
         r, r_level = f[ho] - g[ho], f[ho] - a * g[ho]
         num += float(r @ r)
         num_levels += float(r_level @ r_level)
@@ -101,7 +102,7 @@ def level_lines(found: dict | None) -> list[tuple[str, bool]]:
             f"{levels[lo]:.3f} ({lo}) to {levels[hi]:.3f} ({hi}); with one level per test the held-out "
             f"error would be {found['error']:.4f} -> {found['error_with_levels']:.4f}")
     if found["finding"]:
-        text += (": the tests differ in force level by more than the model's error explains (a device that "
-                 "changed between tests, as MR fluid does with temperature, or a term that differs by test); "
-                 "no model of the motion alone reaches below that")
+        text += (": the tests differ in force level by more than the model's error explains: a device that "
+                 "changed between tests (as MR fluid does with temperature), which no model of the motion "
+                 "predicts, or a term missing from the model that grows with a test's amplitude or frequency")
     return [(text, found["finding"])]

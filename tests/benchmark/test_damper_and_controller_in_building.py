@@ -83,6 +83,9 @@ BAD_CONTROLLERS = {
     "raises": ("class C:\n    def step(self, y):\n        return 1 / 0\n", "raised ZeroDivisionError"),
     "out_of_range": ("import numpy as np\nclass C:\n    def reset(self, context):\n        self.n = context.n_devices\n"
                      "    def step(self, y):\n        return np.full(self.n, 5.0)\n", "outside [0, 1]"),
+    # a probe (2026-11-28): 1.000001 had been printed as "command 1 ... outside [0, 1]"
+    "just_over": ("import numpy as np\nclass C:\n    def reset(self, context):\n        self.n = context.n_devices\n"
+                  "    def step(self, y):\n        return np.full(self.n, 1.000001)\n", "command 1.000001 for device 0"),
     "wrong_count": ("class C:\n    def step(self, y):\n        return [0.0, 0.0]\n", "shape (2,)"),
     "no_step": ("class C:\n    pass\n", "has no step"),
     "syntax": ("class C(:\n", "SyntaxError"),
@@ -587,3 +590,32 @@ def test_a_registered_model_without_defaults_says_a_model_file_is_needed(capsys,
     assert main(["run", "--record", short_record, "--controller", "passive-on", "--damper", "spencer"]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "has no default parameters; give a model file" in err and "virtual" in err, err
+
+
+def test_compare_names_the_run_a_controller_fails_numerically_in(capsys, tmp_path, short_record):
+    # a probe (2026-11-28): a NaN in the second record's run was printed without its record and
+    # orientation, where a controller's exception named them
+    path = tmp_path / "nan.py"
+    path.write_text("import numpy as np\nclass C:\n    def reset(self, context):\n        self.n = context.n_devices\n"
+                    "    def step(self, y):\n        return np.full(self.n, np.nan)\n")
+    status = main(["compare", "--records", short_record, "--orientations", "FP-x", "--controllers", f"{path}:C",
+                   "--jobs", "1", "--no-progress"])
+    err = capsys.readouterr().err.strip()
+    assert status == 3 and "\n" not in err and "kobe6 FP-x: controller" in err and "non-finite" in err, err
+
+
+def test_identified_model_files_carry_the_fitted_motion(tmp_path):
+    # a probe (2026-11-28): sbib identify --data's files had no quality.fitted_motion, so a run far
+    # beyond the tests was not said to extrapolate, as it is for sbib diagnose's files
+    from benchmark.applications.model_files import write_identified_models
+    from damper.identification.measured import identify_files
+    from damper.io.data import write_csv
+    from damper.lab.laboratory import periodic_test
+
+    path = tmp_path / "t.csv"
+    write_csv(periodic_test("virtual", 0.02, 1.0, 0.0, cycles=3, sample_rate=100.0), path)
+    result = identify_files([path], models=("normalized",), n_bootstrap=0)
+    files = write_identified_models(result, tmp_path / "m", [str(path)])
+    fitted = read_model_file(files["normalized"]).quality["fitted_motion"]
+    assert fitted["stroke_m"] == pytest.approx(0.02, rel=0.02)
+    assert fitted["velocity_m_s"] == pytest.approx(2 * np.pi * 0.02, rel=0.05)

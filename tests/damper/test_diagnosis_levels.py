@@ -50,6 +50,19 @@ def test_a_small_spread_counts_only_when_it_pays_on_the_held_out_part():
     assert not noisy["finding"] and noisy["error_with_levels"] > 0.9 * noisy["error"]
 
 
+def test_a_test_without_a_level_still_counts_in_both_errors():
+    # a review: a test skipped for too few training samples had dropped out of the "as scored"
+    # error, so the line did not show the loop's error
+    names, forces, predicted, train, heldout = _tests([0.9, 1.0, 1.2])
+    train[2] = np.zeros_like(train[2])  # no training part: no level, but held-out samples
+    found = force_levels(names, forces, predicted, train, heldout)
+    assert set(found["levels"]) == {"test0", "test1"}
+    num = sum(float(np.sum((f[h] - g[h]) ** 2)) for f, g, h in zip(forces, predicted, heldout))
+    den = sum(float(np.sum(f[h] ** 2)) for f, h in zip(forces, heldout))
+    assert found["error"] == pytest.approx(np.sqrt(num / den), rel=1e-12)
+    assert found["error_with_levels"] > 0.5 * found["error"]  # test2's miss stays in it
+
+
 def test_fewer_than_two_tests_with_both_parts_give_nothing():
     names, forces, predicted, train, heldout = _tests([0.9, 1.1])
     heldout[1] = np.zeros_like(heldout[1])  # a test without held-out samples

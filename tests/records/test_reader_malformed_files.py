@@ -245,10 +245,10 @@ def test_a_single_column_file_reads_its_step_and_unit_from_its_comments(tmp_path
     assert rec.dt == (dt or (0.02 if "0.02" in header[0] else 0.01))
 
 
-def test_a_single_column_file_with_arguments_against_its_comments_is_refused(tmp_path):
+def test_a_single_column_file_with_a_step_against_its_comments_is_refused(tmp_path):
     path = _write(tmp_path, "one.txt", _single(["# dt=0.01 s, units: m/s2"]))
     _refused(path, "given but the file says dt = 0.01 s", dt=0.02)
-    _refused(path, "given but the file says 'm/s2'", units="g")
+    assert load_record(path, units="g").metadata["units_from"] == "argument"  # --units wins over comments
     # a step stated nowhere is still asked for
     _refused(_write(tmp_path, "bare.txt", _single(["# El Centro"])), "give dt")
 
@@ -267,3 +267,25 @@ def test_an_assumed_unit_is_a_warning_of_the_run(tmp_path):
     flaws = resolve_record(str(path)).metadata["flaws"]
     assert [f for f in flaws if is_warning(f)] and UNIT_NOT_STATED in flaws[0]
     assert not any(UNIT_NOT_STATED in f for f in resolve_record(str(path), units="m/s2").metadata["flaws"])
+
+
+def test_free_comments_name_a_unit_only_where_they_state_it_and_units_wins(tmp_path):
+    # a review: "# converted from cm/s2 to g" had made the values cm/s² (981 times too weak) and
+    # refused --units g; in free comments a unit counts only where stated as the values', and a
+    # --units argument wins over them ("in cm/s2, scaled to g" states a unit the values lost)
+    converted = _write(tmp_path, "conv.txt", _single(["# converted from cm/s2 to g"]))
+    rec = load_record(converted, dt=0.01)
+    assert rec.metadata["units_from"].startswith("default")  # stated nowhere: the default, warned
+    scaled = _write(tmp_path, "scaled.txt", _single(["# original record in cm/s2, scaled by 0.01 to g"]))
+    assert load_record(scaled, dt=0.01).metadata["units_in_file"] == "cm/s2"
+    rec = load_record(scaled, dt=0.01, units="g")
+    assert rec.metadata["units_from"] == "argument"
+    assert np.allclose(rec.acceleration[:, 0], np.asarray(_WAVE) * STANDARD_GRAVITY, atol=1e-5)
+
+
+def test_an_at2_step_glued_to_its_unit_is_read(tmp_path):
+    values = "".join(f"{v:15.7E}" + ("\n" if (k + 1) % 5 == 0 else "") for k, v in enumerate(_WAVE))
+    for dt_text, dt in (("10.0MSEC", 0.01), (".0100SEC", 0.01)):
+        path = _write(tmp_path, "g.AT2", "PEER NGA STRONG MOTION DATABASE RECORD\nQuake, 1/1/2000, STA, 90\n"
+                      f"ACCELERATION TIME SERIES IN UNITS OF G\nNPTS=   800, DT=   {dt_text}\n" + values)
+        assert read_at2(path).dt == pytest.approx(dt)
