@@ -3,11 +3,11 @@
 ``sbib diagnose --data A --validate B`` scores a model fitted on A over all of B. When B moves
 faster or at higher frequencies than A did, part of that error is extrapolation, not a fault the
 loop could have found in A: no fit on A sees how the device behaves there. Fitted on the shared
-Dyke recording (``ransim_u``: 90 % of its velocity power below 10 Hz, 99 % below 28.9 Hz,
+Dyke recording (``ransim_u``: 90 % of its velocity power below 10 Hz, 99 % below 29.8 Hz in its fitted part,
 speeds up to 0.29 m/s) and scored on ``ranran_50`` (a random displacement up to 50 Hz: half of
 its velocity power above 22 Hz, speeds up to 0.59 m/s), the Spencer-type model's error was
-0.192 → 0.195, and 0.123 → 0.123 over the part of ``ranran_50``'s force below 28.9 Hz (65 % of
-its force power; measured 2026-11-28, docs/diagnosis.md). This module says so, per recording:
+0.192 → 0.195, and 0.127 → 0.130 over the part of ``ranran_50``'s force in the 29.8-Hz band of
+the fitted part (81 % of its force power; measured 2026-11-28, docs/diagnosis.md). This module says so, per recording:
 
 * the **fitted band**: the frequency below which :data:`BAND_POWER` of the fitted tests' velocity
   power lies (their usable samples, pooled over every contiguous run of at least

@@ -4,7 +4,7 @@
 Before: a model fitted on the shared Dyke recording (99 % of its velocity power below 29 Hz)
 scored 0.192 → 0.195 on ``ranran_50`` (a random motion up to 50 Hz, twice the speed), and nothing
 said that a third of that recording's velocity power lay where the fit had never seen the
-device; below the fitted band the same models scored 0.121 → 0.122."""
+device; in the fitted band the same models scored 0.127 → 0.130."""
 
 from __future__ import annotations
 
