@@ -134,7 +134,7 @@ from benchmark.foundation.channel_runs import runs as _runs, stuck_spans
 from benchmark.foundation.errors import InputError
 
 __all__ = ["Finding", "Screening", "screen", "screened", "repair_samples", "keep_flagged", "next_reversal",
-           "screening_of", "screening_summary", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "filled_samples", "coarse_time_grid", "COARSE_MIN_REPEATS", "COARSE_MISSING_SHARE", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
+           "screening_of", "screening_summary", "steady_level", "STEADY_SHARE", "STEADY_FLOOR", "screening_key", "screening_lines", "units_line", "rounded_time_grid", "ROUNDED_STEP_SPREAD", "lost_slots", "LOST_MAX_SHARE", "filled_samples", "coarse_time_grid", "COARSE_MIN_REPEATS", "COARSE_MISSING_SHARE", "band_edge", "BAND_EDGE_SHARE", "dominant_frequency", "stroke_rate", "DRIFT_SHARE", "stuck_spans", "GAP_FACTOR", "IDLE_FRACTION", "PLAUSIBLE", "EXCURSION_FACTOR",
            "POLARITY_SHARE", "net_work", "held_samples", "held_runs", "HELD_TOLERANCE", "HELD_STEPS", "HELD_MAX_SLOTS", "HELD_MAX_SHARE",
            "one_sided_difference", "DIFFERENCE_TOLERANCE", "DIFFERENCE_EXCEPTIONS", "velocity_scale",
            "DEAD_VELOCITY_SHARE", "VELOCITY_GAIN_TOLERANCE", "finding_lines", "GROUPED_SPANS", "CLIPPED_FORCE_SHARE",
@@ -1369,7 +1369,59 @@ def repair_samples(time: np.ndarray, channels: dict, label: str = "test",
                                         f"the velocity column is {scale:.4g} times the derivative of the "
                                         f"displacement ({what}): replaced by the central difference",
                                         excluded=False))
+    # a measured coil input that only wanders around its level (a current sensor's noise, a
+    # converter's 1-mA steps): the level, not a command that changes within the test
+    for name, unit in (("current", "A"), ("voltage", "V")):
+        u = out.get(name)
+        if u is None:
+            continue
+        level = steady_level(u[~excluded] if (~excluded).any() else u)
+        if level is not None and np.ptp(u) > 0:
+            spread = float(np.max(np.abs(u[~excluded] - level))) if (~excluded).any() else float(np.ptp(u))
+            out[name] = np.full(u.shape, level)
+            findings.append(Finding("steady", name, float(t[0]), float(t[-1]), 0,
+                                    f"the {name} stays within {spread:.3g} {unit} of {level:.6g} {unit} "
+                                    f"(a measured level's noise or a converter's steps, under "
+                                    f"{100 * STEADY_SHARE:g} % of it or {STEADY_FLOOR:g} {unit}): read as the "
+                                    f"constant {level:.6g} {unit}", excluded=False))
     return t, out, excluded, findings
+
+
+#: The force-velocity cross-correlation above which the force column is a velocity's (no damper
+#: force has so little hysteresis: 72 measured files, UTFSM, Dyke and LabControl, peak at 0.84-0.98).
+VELOCITY_LIKE_CORRELATION = 0.999
+
+
+#: A coil input within this share of its median (or :data:`STEADY_FLOOR`, the larger) over a
+#: whole test is one level measured with noise (the tolerance ``--validate`` grants a recording's
+#: level, :func:`damper.diagnosis.loop.check_recordings`) ...
+STEADY_SHARE = 0.05
+#: ... or within this many amperes (volts) of it: a sensor's offset around 0 A.
+STEADY_FLOOR = 0.02
+
+
+def steady_level(u: np.ndarray) -> float | None:
+    """The level a measured coil input holds within noise (its median), or None when it changes.
+
+    A probe (2026-11-28) gave the residual loop a current of 1 A measured with 0.5 % noise, and
+    one read by a converter in 1-mA steps: the Spencer base fitted its voltage laws on nodes
+    0.999 and 1.001 A (c1 from 86 to 16 kN s/m across 2 mA) and scored 0.105 where the same test
+    at a constant 1 A scores 0.078; ``sbib identify --data`` refused it ("current varies over
+    the test"). Every sample within :data:`STEADY_SHARE` of the median, or :data:`STEADY_FLOOR`,
+    reads as that median.
+
+    Parameters
+    ----------
+    u : ndarray
+        The input's usable samples (A or V).
+    """
+    u = np.asarray(u, dtype=float)
+    if u.size == 0 or not np.all(np.isfinite(u)):
+        return None
+    level = float(np.median(u))
+    if float(np.max(np.abs(u - level))) <= max(STEADY_SHARE * abs(level), STEADY_FLOOR):
+        return level
+    return None
 
 
 def velocity_scale(t: np.ndarray, x: np.ndarray, v: np.ndarray, usable: np.ndarray | None = None) -> float | None:
@@ -1648,6 +1700,15 @@ def screen(test: Any, prior: Sequence[Finding] = (), prior_excluded: np.ndarray 
         fs, ds = (f[stretch], deriv[stretch]) if stretch is not None and np.ptp(f[stretch]) > 0 else (f[ok], deriv[ok])
         lag, corr = _lag(fs, ds, max_lag)
         estimates.update(force_velocity_lag_s=lag * dt, force_velocity_correlation=corr)
+        if corr >= VELOCITY_LIKE_CORRELATION:
+            # a damper's force has hysteresis (a yield force, a field, friction): one that follows
+            # the velocity to the last per mille is a velocity channel read as force (a probe's
+            # headerless file with its columns in another order fitted to 0.0025)
+            findings.append(Finding(
+                "velocity_like", "force", float(t[0]), float(t[-1]), 0,
+                f"the force follows the velocity to a correlation of {corr:.4f} at a lag of "
+                f"{1e3 * lag * dt:.3g} ms: no hysteresis at all, which no MR damper gives; a velocity "
+                "channel read as force? (check the column order)", excluded=False))
 
     # polarity: a damper only dissipates, so a force doing net negative work is read with the
     # wrong sign against the motion; the motion is the displacement's derivative (a velocity

@@ -747,3 +747,35 @@ def test_one_smoothed_derivative_serves_the_screening_and_the_diagnosis():
     x = np.sin(2.0 * np.pi * 2.0 * t)
     assert acceleration_window(t, np.gradient(x, t), x) == derivative_window(t, 0.5, 2.0, per_period=20.0)
     assert acceleration_window(ragged, np.gradient(x, ragged), x) == 0
+
+
+def test_a_measured_current_that_wanders_around_its_level_reads_as_that_level():
+    # a probe (2026-11-28): 1 A measured with 0.5 % noise, or in 1-mA converter steps, made the
+    # Spencer base fit voltage laws on nodes 0.999 and 1.001 A (0.105 where 1 A gives 0.078)
+    from damper.io.screening import STEADY_FLOOR, repair_samples, steady_level
+    rng = np.random.default_rng(3)
+    t = np.arange(2000) * 1e-3
+    x = 0.005 * np.sin(2 * np.pi * 3 * t)
+    noisy = 1.0 + 0.005 * rng.standard_normal(t.size)
+    _, out, _, findings = repair_samples(t, {"displacement": x, "current": noisy, "force": 1e3 * np.cos(6 * np.pi * t)})
+    assert np.all(out["current"] == out["current"][0]) and abs(out["current"][0] - 1.0) < 1e-3
+    assert [f.kind for f in findings] == ["steady"] and "read as the constant" in findings[0].message
+    assert steady_level(np.round(noisy, 3)) is not None  # a converter's 1-mA steps
+    assert steady_level(np.full(10, 0.0) + 0.5 * STEADY_FLOOR) is not None  # a sensor's offset near 0 A
+    # a command that changes within the test is not a level
+    assert steady_level(np.where(t < 1.0, 0.0, 1.0)) is None
+    assert steady_level(1.0 + 0.1 * np.sin(t)) is None
+
+
+def test_a_force_that_follows_the_velocity_exactly_is_named():
+    # a probe (2026-11-28): a headerless file in another column order had its velocity fitted
+    # as force (held-out error 0.0025, nothing said)
+    from damper.io.screening import screen
+    from damper.io.data import DamperTest
+    t = np.arange(4000) * 1e-3
+    x = 0.005 * np.sin(2 * np.pi * 3 * t)
+    v = 0.005 * 2 * np.pi * 3 * np.cos(2 * np.pi * 3 * t)
+    as_velocity = screen(DamperTest(t, x, v, 1e3 * v, current=np.ones(t.size)))
+    assert any(f.kind == "velocity_like" for f in as_velocity.findings)
+    damper = screen(DamperTest(t, x, v, 500.0 * np.tanh(v / 0.01) + 2000.0 * v, current=np.ones(t.size)))
+    assert not any(f.kind == "velocity_like" for f in damper.findings)
