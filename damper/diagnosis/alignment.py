@@ -55,8 +55,64 @@ def _error(times, forces, predicted, masks, tau: float) -> float:
     return float(np.sqrt(num / den)) if den > 0 else float("nan")
 
 
+#: A test whose velocity holds this share of its power within :data:`LINE_WIDTH` of its peak
+#: frequency moves as one sinusoid ...
+SINUSOID_SHARE = 0.9
+#: ... (relative width of that neighbourhood) ...
+LINE_WIDTH = 0.25
+#: ... and sinusoidal tests whose frequencies span less than this ratio leave a skew of the force
+#: channel indistinguishable from a phase of the model (a shift is a phase at one frequency).
+FREQUENCY_SPAN = 1.5
+
+
+def _sinusoid_frequency(t: np.ndarray, v: np.ndarray, mask: np.ndarray) -> float | None:
+    """The frequency [Hz] of a velocity that is one sinusoid over its longest counted run, else
+    None (a broadband or multi-frequency motion, or too short a run)."""
+    m = np.asarray(mask, dtype=bool)
+    if m.sum() < 64:
+        return None
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], m.view(np.int8), [0]))))
+    a, b = max(zip(edges[::2], edges[1::2]), key=lambda r: r[1] - r[0])
+    if b - a < 64:
+        return None
+    seg = np.asarray(v[a:b], dtype=float)
+    seg = seg - seg.mean()
+    power = np.abs(np.fft.rfft(seg * np.hanning(seg.size))) ** 2
+    f = np.fft.rfftfreq(seg.size, float(t[b - 1] - t[a]) / (b - a - 1))
+    if not power.sum() > 0:
+        return None
+    peak = float(f[int(np.argmax(power))])
+    near = np.abs(f - peak) <= max(LINE_WIDTH * peak, 2.0 * f[1])
+    return peak if power[near].sum() >= SINUSOID_SHARE * power.sum() else None
+
+
+def skew_identifiable(times: Sequence[np.ndarray], velocities: Sequence[np.ndarray],
+                      masks: Sequence[np.ndarray]) -> tuple[bool, list[float]]:
+    """Whether the tests' motion can tell a skew of the force channel from a phase of the model:
+    some test is not one sinusoid, or the sinusoidal tests' frequencies span
+    :data:`FREQUENCY_SPAN`. Returns that and the sinusoidal tests' frequencies [Hz].
+
+    A probe (2026-11-28) delayed the force of one 3-Hz UTFSM test by 8 ms: the model's hysteresis
+    took the delay as its phase (the error fell, 0.078 to 0.056) and the search found the force
+    0.05 ms off, which the report read as "no skew".
+
+    Parameters
+    ----------
+    times, velocities, masks : sequence of ndarray
+        Each test's time [s], velocity [m/s] and counted samples.
+    """
+    freqs = []
+    for t, v, m in zip(times, velocities, masks):
+        f = _sinusoid_frequency(t, v, m)
+        if f is None:
+            return True, freqs
+        freqs.append(f)
+    return bool(freqs and max(freqs) >= FREQUENCY_SPAN * min(freqs)), freqs
+
+
 def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
-                    predicted: Sequence[np.ndarray], masks: Sequence[np.ndarray]) -> dict | None:
+                    predicted: Sequence[np.ndarray], masks: Sequence[np.ndarray],
+                    velocities: Sequence[np.ndarray] | None = None) -> dict | None:
     """The time shift of the measured force against a model's prediction (module docstring).
 
     Parameters
@@ -69,6 +125,9 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
         The model's force at the same samples [N].
     masks : sequence of bool ndarray
         The samples that count (usable, not excluded by the screening).
+    velocities : sequence of ndarray, optional
+        Each test's velocity [m/s]: with it, ``identifiable`` and ``frequencies``
+        (:func:`skew_identifiable`); a skew that is not identifiable is never a finding.
 
     Returns
     -------
@@ -112,8 +171,10 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
     # at the edge of the search the shift is only a bound (the skew, or the model's phase error,
     # may be larger): no finding, said by ``at_limit``
     at_limit = k in (0, shifts.size - 1)
-    finding = bool(abs(tau) >= min(dt, MIN_FINDING_S) - 1e-12 and not at_limit
+    identifiable, freqs = (True, []) if velocities is None else skew_identifiable(times, velocities, masks)
+    finding = bool(abs(tau) >= min(dt, MIN_FINDING_S) - 1e-12 and not at_limit and identifiable
                    and error_shifted <= (1.0 - MIN_GAIN) * error_unshifted)
     return {"shift_s": tau, "shift_samples": best, "step_s": dt,
             "error_unshifted": error_unshifted, "error_shifted": error_shifted,
-            "finding": finding, "searched_s": j_max * dt, "at_limit": bool(at_limit)}
+            "finding": finding, "searched_s": j_max * dt, "at_limit": bool(at_limit),
+            "identifiable": bool(identifiable), "frequencies": [float(f) for f in freqs]}

@@ -677,7 +677,8 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     by_test, by_input = _errors(data, forces_before, forces_after)
     # the force channel's skew against the final model, over every usable sample
     alignment = force_alignment([m.t for m in data.motions], data.forces, forces_after,
-                                [tr | ho for tr, ho in zip(data.train, data.heldout)])
+                                [tr | ho for tr, ho in zip(data.train, data.heldout)],
+                                velocities=[m.xdot for m in data.motions])
     if alignment is not None and alignment["finding"]:
         say(f"the measured force is {1e3 * alignment['shift_s']:+.3g} ms ({alignment['shift_samples']:+.1f} "
             f"samples) off the final model: error {alignment['error_unshifted']:.4f} -> "

@@ -513,6 +513,14 @@ def report_markdown(diagnosis, plots: dict | None = None) -> str:
                             f"{al['error_unshifted']:.4f} → {al['error_shifted']:.4f}. A skew between the force "
                             "and motion channels (or a lag the model lacks): check the rig's timing; nothing "
                             "was shifted."]
+        elif not al.get("identifiable", True):
+            freqs = al.get("frequencies") or []
+            span = (f"{min(freqs):.3g} Hz" if len(freqs) == 1 or max(freqs) < 1.05 * min(freqs)
+                    else f"{min(freqs):.3g}-{max(freqs):.3g} Hz")
+            lines[-1:-1] = [f"- Force channel against the final model: best alignment at {1e3 * al['shift_s']:+.3g} ms; "
+                            f"every test moves as one sinusoid at {span}, where a skew between the force and motion "
+                            "channels reads as the model's phase: these tests cannot tell them apart (tests at "
+                            "other frequencies, or a broadband test, can)."]
         else:
             lines[-1:-1] = [f"- Force channel against the final model: best alignment at {1e3 * al['shift_s']:+.3g} ms "
                             f"({al['shift_samples']:+.2f} samples, searched ±{1e3 * al['searched_s']:.3g} ms): "

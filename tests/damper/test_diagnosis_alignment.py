@@ -93,3 +93,19 @@ def test_a_shift_beyond_the_search_is_a_bound_not_a_finding():
     out = force_alignment([t[coarse]], [late[coarse]], [f[coarse]], [np.ones(t[coarse].size, bool)])
     assert out["at_limit"] and not out["finding"]
     assert force_alignment([t], [np.zeros(t.size)], [np.zeros(t.size)], [np.ones(t.size, bool)]) is None
+
+
+def test_a_skew_is_not_identifiable_from_tests_at_one_frequency():
+    # a probe (2026-11-28): an 8-ms skew on one 3-Hz test was taken by the model as its phase and
+    # the report said "no skew"; at one frequency the two cannot be told apart
+    from damper.diagnosis.alignment import skew_identifiable
+    t = np.arange(0.0, 4.0, 1e-3)
+    ones = np.ones(t.size, bool)
+    sine = lambda f: 0.05 * np.cos(2 * np.pi * f * t)  # noqa: E731
+    ok, freqs = skew_identifiable([t], [sine(3.0)], [ones])
+    assert not ok and freqs == pytest.approx([3.0], abs=0.3)
+    assert not skew_identifiable([t, t], [sine(3.0), sine(3.5)], [ones, ones])[0]
+    assert skew_identifiable([t, t], [sine(1.0), sine(3.0)], [ones, ones])[0]
+    rng = np.random.default_rng(0)
+    broadband = np.convolve(rng.standard_normal(t.size), np.ones(20) / 20, mode="same")
+    assert skew_identifiable([t], [broadband], [ones])[0]
