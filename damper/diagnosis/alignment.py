@@ -87,10 +87,12 @@ def _sinusoid_frequency(t: np.ndarray, v: np.ndarray, mask: np.ndarray) -> float
 
 
 def skew_identifiable(times: Sequence[np.ndarray], velocities: Sequence[np.ndarray],
-                      masks: Sequence[np.ndarray]) -> tuple[bool, list[float]]:
-    """Whether the tests' motion can tell a skew of the force channel from a phase of the model:
-    some test is not one sinusoid, or the sinusoidal tests' frequencies span
-    :data:`FREQUENCY_SPAN`. Returns that and the sinusoidal tests' frequencies [Hz].
+                      masks: Sequence[np.ndarray], inputs: Sequence[np.ndarray] | None = None
+                      ) -> tuple[bool, list[float]]:
+    """Whether the tests can tell a skew of the force channel from a phase of the model: the
+    coil input changes within some test (its steps are events the force follows in time), some
+    test is not one sinusoid, or the sinusoidal tests' frequencies span :data:`FREQUENCY_SPAN`.
+    Returns that and the sinusoidal tests' frequencies [Hz].
 
     A probe (2026-11-28) delayed the force of one 3-Hz UTFSM test by 8 ms: the model's hysteresis
     took the delay as its phase (the error fell, 0.078 to 0.056) and the search found the force
@@ -100,7 +102,11 @@ def skew_identifiable(times: Sequence[np.ndarray], velocities: Sequence[np.ndarr
     ----------
     times, velocities, masks : sequence of ndarray
         Each test's time [s], velocity [m/s] and counted samples.
+    inputs : sequence of ndarray, optional
+        Each test's coil input (V or A).
     """
+    if inputs is not None and any(np.ptp(np.asarray(u, dtype=float)) > 1e-12 for u in inputs):
+        return True, []
     freqs = []
     for t, v, m in zip(times, velocities, masks):
         f = _sinusoid_frequency(t, v, m)
@@ -112,7 +118,8 @@ def skew_identifiable(times: Sequence[np.ndarray], velocities: Sequence[np.ndarr
 
 def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
                     predicted: Sequence[np.ndarray], masks: Sequence[np.ndarray],
-                    velocities: Sequence[np.ndarray] | None = None) -> dict | None:
+                    velocities: Sequence[np.ndarray] | None = None,
+                    inputs: Sequence[np.ndarray] | None = None) -> dict | None:
     """The time shift of the measured force against a model's prediction (module docstring).
 
     Parameters
@@ -128,6 +135,8 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
     velocities : sequence of ndarray, optional
         Each test's velocity [m/s]: with it, ``identifiable`` and ``frequencies``
         (:func:`skew_identifiable`); a skew that is not identifiable is never a finding.
+    inputs : sequence of ndarray, optional
+        Each test's coil input, for :func:`skew_identifiable`.
 
     Returns
     -------
@@ -171,7 +180,8 @@ def force_alignment(times: Sequence[np.ndarray], forces: Sequence[np.ndarray],
     # at the edge of the search the shift is only a bound (the skew, or the model's phase error,
     # may be larger): no finding, said by ``at_limit``
     at_limit = k in (0, shifts.size - 1)
-    identifiable, freqs = (True, []) if velocities is None else skew_identifiable(times, velocities, masks)
+    identifiable, freqs = ((True, []) if velocities is None
+                           else skew_identifiable(times, velocities, masks, inputs))
     finding = bool(abs(tau) >= min(dt, MIN_FINDING_S) - 1e-12 and not at_limit and identifiable
                    and error_shifted <= (1.0 - MIN_GAIN) * error_unshifted)
     return {"shift_s": tau, "shift_samples": best, "step_s": dt,

@@ -678,7 +678,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     # the force channel's skew against the final model, over every usable sample
     alignment = force_alignment([m.t for m in data.motions], data.forces, forces_after,
                                 [tr | ho for tr, ho in zip(data.train, data.heldout)],
-                                velocities=[m.xdot for m in data.motions])
+                                velocities=[m.xdot for m in data.motions], inputs=[m.v for m in data.motions])
     if alignment is not None and alignment["finding"]:
         say(f"the measured force is {1e3 * alignment['shift_s']:+.3g} ms ({alignment['shift_samples']:+.1f} "
             f"samples) off the final model: error {alignment['error_unshifted']:.4f} -> "

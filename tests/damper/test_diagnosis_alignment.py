@@ -109,3 +109,6 @@ def test_a_skew_is_not_identifiable_from_tests_at_one_frequency():
     rng = np.random.default_rng(0)
     broadband = np.convolve(rng.standard_normal(t.size), np.ones(20) / 20, mode="same")
     assert skew_identifiable([t], [broadband], [ones])[0]
+    # voltage steps within a test: events the force follows in time
+    assert skew_identifiable([t], [sine(3.0)], [ones], inputs=[np.where(t < 2.0, 0.0, 1.0)])[0]
+    assert not skew_identifiable([t], [sine(3.0)], [ones], inputs=[np.ones(t.size)])[0]
