@@ -32,6 +32,9 @@ from typing import Sequence
 
 import numpy as np
 
+from benchmark.foundation.channel_runs import runs
+from damper.diagnosis.coverage import periodogram
+
 __all__ = ["force_alignment", "MAX_SHIFT_SAMPLES", "MAX_SHIFT_S", "MIN_GAIN", "MIN_FINDING_S"]
 
 #: Widest shift searched, in samples of the finest sampling step ...
@@ -68,17 +71,11 @@ FREQUENCY_SPAN = 1.5
 def _sinusoid_frequency(t: np.ndarray, v: np.ndarray, mask: np.ndarray) -> float | None:
     """The frequency [Hz] of a velocity that is one sinusoid over its longest counted run, else
     None (a broadband or multi-frequency motion, or too short a run)."""
-    m = np.asarray(mask, dtype=bool)
-    if m.sum() < 64:
-        return None
-    edges = np.flatnonzero(np.diff(np.concatenate(([0], m.view(np.int8), [0]))))
-    a, b = max(zip(edges[::2], edges[1::2]), key=lambda r: r[1] - r[0])
+    spans = runs(mask)
+    a, b = max(spans, key=lambda r: r[1] - r[0]) if spans else (0, 0)
     if b - a < 64:
         return None
-    seg = np.asarray(v[a:b], dtype=float)
-    seg = seg - seg.mean()
-    power = np.abs(np.fft.rfft(seg * np.hanning(seg.size))) ** 2
-    f = np.fft.rfftfreq(seg.size, float(t[b - 1] - t[a]) / (b - a - 1))
+    f, power = periodogram(t, v, slice(a, b))
     if not power.sum() > 0:
         return None
     peak = float(f[int(np.argmax(power))])

@@ -36,7 +36,9 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["velocity_band", "motion_coverage", "coverage_lines", "BAND_POWER", "MIN_RUN", "CUTOFF_FACTOR", "LEAKAGE_BINS",
+from benchmark.foundation.channel_runs import runs
+
+__all__ = ["velocity_band", "motion_coverage", "coverage_lines", "periodogram", "BAND_POWER", "MIN_RUN", "CUTOFF_FACTOR", "LEAKAGE_BINS",
            "AMPLITUDE_MARGIN", "BEYOND_BAND_SHARE", "BEYOND_AMPLITUDE_SHARE", "MIN_IN_BAND_POWER"]
 
 #: The fitted band's edge: this share of the fitted tests' velocity power lies below it.
@@ -70,15 +72,19 @@ EDGE_PERIODS = 3.0
 
 def _runs(mask: np.ndarray) -> list[slice]:
     """Contiguous runs of True in ``mask`` at least :data:`MIN_RUN` long."""
-    m = np.asarray(mask, dtype=bool)
-    if not m.any():
-        return []
-    edges = np.flatnonzero(np.diff(np.concatenate(([0], m.view(np.int8), [0]))))
-    return [slice(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2]) if b - a >= MIN_RUN]
+    return [slice(a, b) for a, b in runs(mask) if b - a >= MIN_RUN]
 
 
-def _spectrum(t: np.ndarray, y: np.ndarray, run: slice) -> tuple[np.ndarray, np.ndarray]:
-    """Frequencies [Hz] and energy-weighted periodogram of ``y`` over ``run`` (mean removed, Hann)."""
+def periodogram(t: np.ndarray, y: np.ndarray, run: slice) -> tuple[np.ndarray, np.ndarray]:
+    """Frequencies [Hz] and energy-weighted periodogram of ``y`` over ``run`` (mean removed, Hann).
+
+    Parameters
+    ----------
+    t, y : ndarray
+        Times [s] (uniform over ``run``) and the signal.
+    run : slice
+        The samples taken.
+    """
     seg = np.asarray(y[run], dtype=float)
     dt = float(t[run.stop - 1] - t[run.start]) / max(1, seg.size - 1)
     seg = seg - seg.mean()
@@ -101,7 +107,7 @@ def velocity_band(motions: Sequence, masks: Sequence[np.ndarray]) -> float:
     freqs, powers = [], []
     for m, k in zip(motions, masks):
         for run in _runs(k):
-            f, p = _spectrum(m.t, m.xdot, run)
+            f, p = periodogram(m.t, m.xdot, run)
             freqs.append(f)
             powers.append(p)
     if not freqs:
@@ -186,7 +192,7 @@ def motion_coverage(fitted_motions: Sequence, fitted_masks: Sequence[np.ndarray]
         sums = {"force": [0.0, 0.0], "before": [0.0, 0.0], "after": [0.0, 0.0]}  # [in band, all]
         filtered = False
         for run in (_runs(k) if math.isfinite(band) else ()):  # no fitted band: nothing to compare with
-            f, p = _spectrum(m.t, m.xdot, run)
+            f, p = periodogram(m.t, m.xdot, run)
             # the Hann window spreads a line over two bins each side: a recording shorter than the
             # fitted tests (coarser bins) would otherwise put its leakage "above" their band
             above += float(p[f > band + LEAKAGE_BINS * f[1]].sum())

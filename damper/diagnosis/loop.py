@@ -675,9 +675,9 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     f_rms = float(norm_h / math.sqrt(residual_after.size))
     where = unexplained_structure(trace_after, f_rms, structure_share, structure_level)
     by_test, by_input = _errors(data, forces_before, forces_after)
+    seen = [tr | ho for tr, ho in zip(data.train, data.heldout)]  # every usable sample of each test
     # the force channel's skew against the final model, over every usable sample
-    alignment = force_alignment([m.t for m in data.motions], data.forces, forces_after,
-                                [tr | ho for tr, ho in zip(data.train, data.heldout)],
+    alignment = force_alignment([m.t for m in data.motions], data.forces, forces_after, seen,
                                 velocities=[m.xdot for m in data.motions], inputs=[m.v for m in data.motions])
     if alignment is not None and alignment["finding"]:
         say(f"the measured force is {1e3 * alignment['shift_s']:+.3g} ms ({alignment['shift_samples']:+.1f} "
@@ -686,7 +686,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
     # a mains hum on the force channel: a line of the residual no motion drives
     interference = mains_lines([m.name for m in data.motions], [m.t for m in data.motions], data.forces,
                                forces_after, [m.x for m in data.motions], [m.xdot for m in data.motions],
-                               [tr | ho for tr, ho in zip(data.train, data.heldout)], data.heldout)
+                               seen, data.heldout)
     for text, _ in interference_lines(interference):
         say(text)
     # the force level of each test against the final model: a device that changed between tests
@@ -718,7 +718,7 @@ def diagnose(tests: Sequence[DamperTest], model: str = "normalized",
             f"{validation['error_before']:.4f} -> {validation['error_after']:.4f}")
         # what of that error is extrapolation: the other recordings' motion beyond the fitted tests'
         validation["coverage"] = motion_coverage(
-            data.motions, [tr | ho for tr, ho in zip(data.train, data.heldout)], validation_histories)
+            data.motions, seen, validation_histories)
         for text, _ in coverage_lines(validation["coverage"]):
             say(text)
     return Diagnosis(data=data, model_kind=model, base_model=base, final_model=final,
